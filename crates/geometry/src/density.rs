@@ -1,0 +1,37 @@
+//! The density ρ of eq. (2): constant by default, or a user function for graded meshes.
+use glam::DVec2;
+use std::sync::Arc;
+
+/// A non-negative density ρ(x) on the region (eq. 2). `Uniform` is ρ ≡ 1.
+#[derive(Clone, Default)]
+pub enum Density {
+    /// ρ ≡ 1: a uniform mesh, as in all of the paper's experiments.
+    #[default]
+    Uniform,
+    /// A user function; it must be finite and non-negative on the region.
+    Function(Arc<dyn Fn(DVec2) -> f64 + Send + Sync>),
+}
+
+impl Density {
+    /// ρ at `p`.
+    pub fn at(&self, p: DVec2) -> f64 {
+        match self {
+            Density::Uniform => 1.0,
+            Density::Function(f) => f(p),
+        }
+    }
+
+    /// True for ρ ≡ 1, where exact polygon moments replace quadrature.
+    pub fn is_uniform(&self) -> bool {
+        matches!(self, Density::Uniform)
+    }
+}
+
+impl std::fmt::Debug for Density {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Density::Uniform => write!(f, "Uniform"),
+            Density::Function(_) => write!(f, "Function(..)"),
+        }
+    }
+}

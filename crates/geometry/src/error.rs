@@ -1,0 +1,34 @@
+use thiserror::Error;
+
+/// Everything that can be wrong with a region or its file. Messages name the file and the
+/// problem so that a user can fix the input.
+#[derive(Debug, Error)]
+pub enum GeometryError {
+    /// The file could not be read.
+    #[error("cannot read region file {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The file is not valid region JSON.
+    #[error("region file {path}: {message}")]
+    Parse {
+        /// The file (or `<string>`).
+        path: String,
+        /// What is wrong, with line/column where known.
+        message: String,
+    },
+    /// The geometry is invalid (open loop, self-intersection, hole outside, NaN, ...).
+    #[error("region {region}: {message}")]
+    Invalid {
+        /// Region name or file.
+        region: String,
+        /// What is wrong, with coordinates where useful (e.g. the crossing point).
+        message: String,
+    },
+    /// No built-in region has this name.
+    #[error("unknown region '{0}'; built-in regions are: {1}")]
+    UnknownBuiltin(String, String),
+}

@@ -1,0 +1,23 @@
+//! Planar regions of the paper (Section 2.2): an outer boundary loop and hole loops, each a
+//! chain of smooth *boundary pieces* joined at *corners*.
+//!
+//! Everything downstream (tessellation, methods, measures) sees a region only through
+//! [`Region`] and the straight-edged [`Polygon`] it polygonizes to.
+#![forbid(unsafe_code)]
+
+mod density;
+mod error;
+mod expand;
+mod file;
+mod piece;
+mod polygon;
+mod region;
+mod rng;
+
+pub use density::Density;
+pub use error::GeometryError;
+pub use glam::DVec2;
+pub use piece::Piece;
+pub use polygon::{Polygon, Ring};
+pub use region::{BoundaryPoint, Corner, Loop, LoopRole, PieceId, Region};
+pub use rng::Rng;

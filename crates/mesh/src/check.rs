@@ -1,0 +1,113 @@
+//! The conformity check every method's mesh must pass (and every test asserts).
+use crate::Mesh;
+use geometry::Region;
+use std::collections::HashMap;
+use thiserror::Error;
+
+/// The first way in which a mesh fails to conform to its region.
+#[derive(Debug, Error, PartialEq)]
+pub enum ConformityError {
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {0} is not finite")]
+    NotFinite(usize),
+    /// A vertex lies outside the region.
+    #[error("vertex {0} at ({1}, {2}) lies outside the region (distance {3:e})")]
+    VertexOutside(usize, f64, f64, f64),
+    /// A vertex marked as boundary is not on the boundary.
+    #[error("vertex {0} is marked as a boundary vertex but lies {1:e} from the boundary")]
+    MarkerOffBoundary(usize, f64),
+    /// A triangle index is out of range, repeated, or the triangle is not CCW with positive area.
+    #[error("triangle {0} is inverted or degenerate (area {1:e})")]
+    Degenerate(usize, f64),
+    /// Part of a triangle lies outside the region or inside a hole.
+    #[error("triangle {0} reaches outside the region or into a hole near ({1}, {2})")]
+    TriangleOutside(usize, f64, f64),
+    /// An edge is shared by more than two triangles or twice in the same direction.
+    #[error("edge ({0}, {1}) is not manifold")]
+    NonManifold(u32, u32),
+    /// A mesh-boundary edge has an interior vertex: the mesh does not reach the region boundary.
+    #[error("boundary edge ({0}, {1}) of the mesh has an interior vertex")]
+    OpenBoundary(u32, u32),
+    /// A vertex belongs to no triangle.
+    #[error("vertex {0} belongs to no triangle")]
+    Orphan(usize),
+    /// The mesh is not one piece with the region's number of holes (Euler characteristic).
+    #[error("Euler characteristic {0}, expected {1} (overlapping or missing triangles)")]
+    Topology(i64, i64),
+}
+
+/// Check that `mesh` conforms to `region`: finite vertices inside Ω̄, boundary markers on the
+/// boundary, CCW non-degenerate triangles whose interiors stay in Ω (sampled along edges with
+/// the allowance a straight chord of a curved piece needs), a manifold with no orphan vertices
+/// whose boundary edges join boundary vertices, and the region's topology (V − E + F = 1 − holes).
+pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityError> {
+    let eps = 1e-9 * region.diameter();
+    for (i, p) in mesh.points.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(ConformityError::NotFinite(i));
+        }
+        let sd = region.signed_distance(*p);
+        if sd > eps {
+            return Err(ConformityError::VertexOutside(i, p.x, p.y, sd));
+        }
+        if mesh.markers[i].on_boundary() && sd.abs() > eps {
+            return Err(ConformityError::MarkerOffBoundary(i, sd.abs()));
+        }
+    }
+    let n = mesh.points.len() as u32;
+    let mean_area = region.area() / mesh.triangles.len().max(1) as f64;
+    let mut used = vec![false; mesh.points.len()];
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        if tri.iter().any(|&v| v >= n) || tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+            return Err(ConformityError::Degenerate(t, 0.0));
+        }
+        let [a, b, c] = mesh.triangle(t);
+        let area = 0.5 * (b - a).perp_dot(c - a);
+        if area <= 1e-10 * mean_area {
+            return Err(ConformityError::Degenerate(t, area));
+        }
+        let centroid = (a + b + c) / 3.0;
+        if region.signed_distance(centroid) > eps {
+            return Err(ConformityError::TriangleOutside(t, centroid.x, centroid.y));
+        }
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            let allowance = eps + 0.13 * (q - p).length();
+            for s in 1..8 {
+                let x = p.lerp(q, s as f64 / 8.0);
+                if region.signed_distance(x) > allowance {
+                    return Err(ConformityError::TriangleOutside(t, x.x, x.y));
+                }
+            }
+        }
+        for k in 0..3 {
+            used[tri[k] as usize] = true;
+            let e = (tri[k], tri[(k + 1) % 3]);
+            let count = edges.entry(e).or_insert(0);
+            *count += 1;
+            if *count > 1 {
+                return Err(ConformityError::NonManifold(e.0, e.1));
+            }
+        }
+    }
+    if let Some(i) = used.iter().position(|u| !u) {
+        return Err(ConformityError::Orphan(i));
+    }
+    let mut undirected = 0i64;
+    for &(a, b) in edges.keys() {
+        if !edges.contains_key(&(b, a)) {
+            undirected += 1;
+            if !mesh.markers[a as usize].on_boundary() || !mesh.markers[b as usize].on_boundary() {
+                return Err(ConformityError::OpenBoundary(a, b));
+            }
+        } else if a < b {
+            undirected += 1;
+        }
+    }
+    let chi = mesh.points.len() as i64 - undirected + mesh.triangles.len() as i64;
+    let expected = 2 - region.loops().len() as i64;
+    if chi != expected {
+        return Err(ConformityError::Topology(chi, expected));
+    }
+    Ok(())
+}

@@ -1,0 +1,14 @@
+//! The one triangle mesh type every method produces, the [`Mesher`] interface they share,
+//! the conformity check every mesh must pass, and mesh file formats.
+#![forbid(unsafe_code)]
+
+mod check;
+mod error;
+pub mod io;
+mod mesher;
+mod types;
+
+pub use check::{check_conforming, ConformityError};
+pub use error::MeshError;
+pub use mesher::{MeshRequest, MeshResult, Mesher, Progress, Size};
+pub use types::{Mesh, VertexMarker};
