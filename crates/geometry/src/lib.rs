@@ -8,7 +8,9 @@
 mod density;
 mod error;
 mod expand;
+pub mod expr;
 mod file;
+pub mod formats;
 mod piece;
 mod polygon;
 mod region;

@@ -1,0 +1,1 @@
+//! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists.
