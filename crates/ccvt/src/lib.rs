@@ -1,1 +1,18 @@
-//! placeholder
+//! Constrained centroidal Voronoi tessellation meshes: Algorithms 1 and 2 of Section 2.4.
+//!
+//! * [`Algorithm::One`] — Lloyd's method in which boundary cells' generators go to the
+//!   projection of their centroid onto their own boundary piece and corner cells' generators
+//!   to their corner (the CCVT of Section 2.2.3, eq. (8)).
+//! * [`Algorithm::Two`] — first an ordinary CVT of the ε-expanded region Ω_ε with ε chosen
+//!   adaptively, then Algorithm 1 on Ω_ε with boundary centroids projected onto ∂Ω.
+//! * [`Solver::Anderson`] accelerates either with Anderson mixing of the fixed-point map,
+//!   safeguarded by the CVT energy (a step that raises it is replaced by the plain Lloyd step).
+#![forbid(unsafe_code)]
+
+mod anderson;
+mod init;
+mod iterate;
+mod method;
+
+pub use init::{initial_points, Init};
+pub use method::{Algorithm, Ccvt, Solver};

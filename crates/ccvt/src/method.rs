@@ -1,0 +1,172 @@
+//! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
+use crate::init::{initial_points, Init};
+use crate::iterate::{run, Phase, Role};
+use geometry::Region;
+use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
+
+/// Which algorithm of Section 2.4.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Algorithm {
+    /// Algorithm 1: CCVT by constrained Lloyd iteration on Ω.
+    One,
+    /// Algorithm 2: adaptive ε-expansion, then Algorithm 1 on Ω_ε projecting onto ∂Ω.
+    Two,
+}
+
+/// The fixed-point iteration used inside each phase.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Solver {
+    /// Plain Lloyd: every generator to its (constrained) centroid.
+    Lloyd,
+    /// Anderson mixing of the last `depth` Lloyd maps, rejected when it raises the energy.
+    Anderson {
+        /// History depth (5 is a good default).
+        depth: usize,
+    },
+}
+
+/// CCVT mesher. Defaults: Algorithm 2, Lloyd, random initial points (as in the paper),
+/// polygonization tolerance 1e-4 of the mean spacing, ε tolerance 1e-2 of the spacing with at
+/// most 30 ε-updates.
+#[derive(Clone, Debug)]
+pub struct Ccvt {
+    /// Algorithm 1 or 2.
+    pub algorithm: Algorithm,
+    /// Lloyd or Anderson.
+    pub solver: Solver,
+    /// Initial generators.
+    pub init: Init,
+    /// Chord tolerance of the domain polygon, relative to the mean spacing.
+    pub polygon_tol: f64,
+    /// Algorithm 2 stops updating ε when |ε_new − ε| < eps_tol·spacing.
+    pub eps_tol: f64,
+    /// Cap on ε-updates of Algorithm 2.
+    pub max_eps_updates: usize,
+}
+
+impl Default for Ccvt {
+    fn default() -> Self {
+        Ccvt {
+            algorithm: Algorithm::Two,
+            solver: Solver::Lloyd,
+            init: Init::Random,
+            polygon_tol: 1e-4,
+            eps_tol: 1e-2,
+            max_eps_updates: 30,
+        }
+    }
+}
+
+impl Ccvt {
+    /// Algorithm 1 with Lloyd iteration.
+    pub fn algorithm1() -> Self {
+        Ccvt { algorithm: Algorithm::One, ..Ccvt::default() }
+    }
+    /// Algorithm 2 with Lloyd iteration.
+    pub fn algorithm2() -> Self {
+        Ccvt::default()
+    }
+    /// Algorithm 2 with Anderson acceleration: the fast solver.
+    pub fn fast() -> Self {
+        Ccvt { solver: Solver::Anderson { depth: 5 }, init: Init::Lattice, ..Ccvt::default() }
+    }
+}
+
+impl Mesher for Ccvt {
+    fn name(&self) -> &'static str {
+        match (self.algorithm, self.solver) {
+            (Algorithm::One, Solver::Lloyd) => "ccvt1",
+            (Algorithm::Two, Solver::Lloyd) => "ccvt2",
+            (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-fast",
+            (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-fast",
+        }
+    }
+
+    fn mesh(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<MeshResult, MeshError> {
+        let k = request.size.points(region);
+        let corners = region.corners().len();
+        if k < corners.max(3) || k < 3 * region.loops().len() + corners {
+            return Err(MeshError::BadRequest(format!(
+                "K = {k} is too small for region '{}': it has {corners} corners and {} boundary loops (need at least {})",
+                region.name(),
+                region.loops().len(),
+                (3 * region.loops().len() + corners).max(3)
+            )));
+        }
+        let spacing = request.spacing(region);
+        let tol_poly = self.polygon_tol * spacing;
+        let omega = region.polygonize(tol_poly);
+        let mut z = initial_points(region, k, self.init, request.seed);
+        let (mut energies, mut moves, mut notes) = (Vec::new(), Vec::new(), Vec::new());
+        let mut iterations = 0;
+        let mut converged = true;
+        let solver = self.solver;
+        fn phase<'a>(region: &'a Region, domain: &'a geometry::Polygon, request: &'a MeshRequest, constrained: bool, solver: Solver, spacing: f64) -> Phase<'a> {
+            Phase { region, domain, density: &request.density, constrained, solver, tol: request.tol, max_iter: request.max_iter, spacing }
+        }
+        let final_domain = match self.algorithm {
+            Algorithm::One => omega,
+            Algorithm::Two => {
+                // Steps 1–3: ordinary CVTs of Ω_ε with ε updated until it settles.
+                let (mut eps, mut domain) = (0.0, omega);
+                let mut settled = false;
+                for _ in 0..self.max_eps_updates {
+                    let r = run(&phase(region, &domain, request, false, solver, spacing), z, &mut energies, &mut moves, progress);
+                    iterations += r.iterations;
+                    converged &= r.converged;
+                    z = r.z;
+                    let boundary: Vec<f64> = r.cells.cells.iter().filter(|c| c.on_boundary()).map(|c| c.h).collect();
+                    let eps_new = boundary.iter().sum::<f64>() / boundary.len().max(1) as f64;
+                    if (eps_new - eps).abs() < self.eps_tol * spacing {
+                        settled = true;
+                        break;
+                    }
+                    eps = eps_new;
+                    domain = expanded(region, &mut eps, tol_poly, &mut notes);
+                }
+                converged &= settled;
+                notes.push(format!("epsilon = {eps:.6e} ({:.4} of the spacing){}", eps / spacing, if settled { "" } else { ", not settled" }));
+                domain
+            }
+        };
+        // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
+        let r = run(&phase(region, &final_domain, request, true, solver, spacing), z, &mut energies, &mut moves, progress);
+        iterations += r.iterations;
+        converged &= r.converged;
+        let markers: Vec<VertexMarker> = r
+            .z
+            .iter()
+            .zip(&r.roles)
+            .map(|(p, role)| match *role {
+                Role::Interior => VertexMarker::Interior,
+                Role::Corner(c) => {
+                    let corner = &region.corners()[c];
+                    VertexMarker::Corner { loop_index: corner.loop_index, corner: c, loop_param: corner.loop_param }
+                }
+                Role::Boundary(j) => {
+                    let bp = region.project_onto_piece(*p, j);
+                    VertexMarker::Boundary { loop_index: bp.loop_index, piece: j, loop_param: bp.loop_param }
+                }
+            })
+            .collect();
+        let mesh = tessellation::conforming_mesh(&r.z, &markers, region)?;
+        if mesh.num_vertices() < k {
+            notes.push(format!("{} generators outside the boundary polygon were dropped from the mesh", k - mesh.num_vertices()));
+        }
+        Ok(MeshResult { mesh, iterations, converged, energy_history: energies, move_history: moves, notes })
+    }
+}
+
+/// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
+/// meshed); the reduction is reported.
+fn expanded(region: &Region, eps: &mut f64, tol: f64, notes: &mut Vec<String>) -> geometry::Polygon {
+    loop {
+        let poly = region.expand(*eps, tol);
+        if poly.rings.len() == region.loops().len() {
+            return poly;
+        }
+        let reduced = *eps * 0.8;
+        notes.push(format!("epsilon {:.4e} closes a hole; reduced to {reduced:.4e}", *eps));
+        *eps = reduced;
+    }
+}
