@@ -1,0 +1,237 @@
+//! The four subcommands.
+use crate::inputs;
+use anyhow::{bail, Result};
+use clap::Args;
+use geometry::Region;
+use indicatif::{ProgressBar, ProgressStyle};
+use mesh::{MeshRequest, Size};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `cvtmesh mesh`.
+#[derive(Args)]
+pub struct MeshArgs {
+    /// Region file (.json, .geojson, .poly, .txt loop list) or built-in name (see `cvtmesh regions`).
+    region: String,
+    /// Number of vertices K.
+    #[arg(long, short = 'n', conflicts_with = "size", required_unless_present = "size")]
+    points: Option<usize>,
+    /// Target edge length h (K follows from the region's area).
+    #[arg(long)]
+    size: Option<f64>,
+    /// Method: ccvt (Algorithm 2, Anderson-accelerated; default), ccvt2, ccvt1, distmesh, meshgen, vtm, refine.
+    #[arg(long, short = 'm', default_value = "ccvt")]
+    method: String,
+    /// Density ρ(x, y) for graded meshes, e.g. '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)'.
+    #[arg(long)]
+    density: Option<String>,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Convergence tolerance: largest generator move relative to the mean spacing.
+    #[arg(long, default_value_t = 1e-4)]
+    tol: f64,
+    /// Iteration cap.
+    #[arg(long, default_value_t = 2000)]
+    max_iter: usize,
+    /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines.
+    #[arg(long)]
+    corner_angle: Option<f64>,
+    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence.
+    #[arg(long)]
+    strict: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Output file; the format follows the extension.
+    #[arg(long, short)]
+    output: PathBuf,
+}
+
+/// `cvtmesh mesh`: mesh, report, write.
+pub fn mesh(a: MeshArgs) -> Result<()> {
+    inputs::output_kind(&a.output)?;
+    let method = inputs::method(&a.method)?;
+    let region = inputs::region(&a.region, a.corner_angle)?;
+    if let Some(deg) = region.corner_threshold() {
+        eprintln!("corner-angle threshold {deg}° applied: {} corners kept", region.corners().len());
+    }
+    let size = match (a.points, a.size) {
+        (Some(k), _) => Size::Points(k),
+        (None, Some(h)) if h.is_finite() && h > 0.0 => Size::EdgeLength(h),
+        (None, Some(h)) => bail!("--size must be a positive number, got {h}"),
+        (None, None) => bail!("give --points K or --size H"),
+    };
+    let k = size.points(&region);
+    let needed = region.corners().len() + 3 * region.loops().len();
+    if k < needed {
+        bail!(
+            "K = {k} is too small for region '{}': it has {} corners and {} boundary loops, so at least {needed} vertices are needed{}",
+            region.name(),
+            region.corners().len(),
+            region.loops().len(),
+            if a.size.is_some() { " (the --size is too large for the region)" } else { "" }
+        );
+    }
+    if !(a.tol.is_finite() && a.tol > 0.0) {
+        bail!("--tol must be a positive number, got {}", a.tol);
+    }
+    let density = inputs::density(a.density.as_deref(), &region)?;
+    let request = MeshRequest { size, seed: a.seed, tol: a.tol, max_iter: a.max_iter, density };
+    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(a.max_iter as u64) };
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed})")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(format!("{} K={k}", method.name()));
+    let start = Instant::now();
+    let result = method.mesh(&region, &request, &mut |p| {
+        bar.set_position(p.iteration as u64);
+        bar.set_message(format!("energy {:.6e}  move {:.2e}", p.energy, p.max_move));
+    })?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    let title = format!("{} {} K={}", region.name(), method.name(), result.mesh.num_vertices());
+    inputs::write(&result.mesh, &region, &a.output, &title)?;
+    for note in &result.notes {
+        eprintln!("note: {note}");
+    }
+    let energy = result.energy_history.last().copied().unwrap_or(f64::NAN);
+    println!(
+        "K={} K~={} min-angle={:.2}deg iterations={} energy={:.6e} {} {:.2}s -> {}",
+        result.mesh.num_vertices(),
+        result.mesh.num_triangles(),
+        result.mesh.min_angle_deg(),
+        result.iterations,
+        energy,
+        if result.converged { "converged" } else { "NOT CONVERGED (iteration cap reached)" },
+        seconds,
+        a.output.display()
+    );
+    if a.strict && !result.converged {
+        bail!("--strict: {} did not converge within {} iterations (mesh written anyway)", method.name(), a.max_iter);
+    }
+    Ok(())
+}
+
+/// `cvtmesh measure`.
+#[derive(Args)]
+pub struct MeasureArgs {
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it) or Gmsh FILE.msh.
+    mesh: PathBuf,
+    /// The region the mesh is of (file or built-in name).
+    #[arg(long, short)]
+    region: String,
+    /// Two CSV lines (header, values at full precision) instead of a table.
+    #[arg(long)]
+    csv: bool,
+    /// Also print the paper-style Monte-Carlo estimate with this many samples.
+    #[arg(long)]
+    sampled: Option<usize>,
+    /// Coordinate scale for the sampled estimate (the paper's circle/annulus τ, d match 0.5).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+}
+
+/// `cvtmesh measure`: the 12 measures of Section 3.
+pub fn measure(a: MeasureArgs) -> Result<()> {
+    let region = inputs::region(&a.region, None)?;
+    let mesh = inputs::mesh(&a.mesh)?;
+    if let Err(e) = mesh::check_conforming(&mesh, &region) {
+        eprintln!("warning: the mesh does not conform to region '{}': {e}", region.name());
+    }
+    let m = metrics::measures(&mesh, &region)?;
+    let sampled = match a.sampled {
+        Some(n) => Some(metrics::sampled_measures(&mesh, &region, &metrics::SampleParams { samples: n, seed: 1, scale: a.scale })?),
+        None => None,
+    };
+    if a.csv {
+        println!("{}", metrics::Measures::csv_header());
+        println!("{}", m.csv_row());
+        if let Some(s) = sampled {
+            println!("{}", s.csv_row());
+        }
+        return Ok(());
+    }
+    println!("mesh {}  region {}", a.mesh.display(), region.name());
+    let names = metrics::Measures::NAMES;
+    let values = m.values();
+    let svalues = sampled.map(|s| s.values());
+    for (i, name) in names.iter().enumerate() {
+        match svalues {
+            Some(s) => println!("{name:>8}  {:>14.6e}  sampled {:>14.6e}", values[i], s[i]),
+            None => println!("{name:>8}  {:>14.6e}", values[i]),
+        }
+    }
+    Ok(())
+}
+
+/// `cvtmesh show`.
+#[derive(Args)]
+pub struct ShowArgs {
+    /// A mesh (.node/.msh) or a region (file or built-in name).
+    input: String,
+    /// The region of a mesh (defaults to drawing the mesh's input as a region).
+    #[arg(long, short)]
+    region: Option<String>,
+    /// Colour triangles by: min-angle, q (circle ratio R/2r), area.
+    #[arg(long)]
+    colour: Option<String>,
+    /// Output picture (.png or .svg).
+    #[arg(long, short)]
+    output: PathBuf,
+}
+
+/// `cvtmesh show`: a picture of a region or mesh.
+pub fn show(a: ShowArgs) -> Result<()> {
+    let kind = inputs::output_kind(&a.output)?;
+    if kind != "png" && kind != "svg" {
+        bail!("'{}': show writes .png or .svg", a.output.display());
+    }
+    let is_mesh = a.input.ends_with(".node") || a.input.ends_with(".msh") || a.input.ends_with(".ele");
+    if !is_mesh {
+        if a.colour.is_some() {
+            bail!("--colour needs a mesh, but '{}' is a region", a.input);
+        }
+        let region = inputs::region(&a.input, None)?;
+        return inputs::draw(None, &region, &a.output, region.name(), None);
+    }
+    let Some(region_spec) = a.region.as_deref() else {
+        bail!("showing a mesh needs --region (file or built-in name) to draw its boundary");
+    };
+    let region = inputs::region(region_spec, None)?;
+    let mesh = inputs::mesh(PathBuf::from(&a.input).as_path())?;
+    let colour = match a.colour.as_deref() {
+        None => None,
+        Some(c) => Some((triangle_values(&mesh, c)?, c.to_string())),
+    };
+    let title = format!("{} K={} K~={}", region.name(), mesh.num_vertices(), mesh.num_triangles());
+    inputs::draw(Some(&mesh), &region, &a.output, &title, colour)
+}
+
+fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
+    let f: fn([geometry::DVec2; 3]) -> f64 = match what {
+        "min-angle" => |[a, b, c]| {
+            let ang = |p: geometry::DVec2, q: geometry::DVec2, r: geometry::DVec2| (q - p).angle_to(r - p).abs();
+            ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b)).to_degrees()
+        },
+        "q" => |[a, b, c]| {
+            let (x, y, z) = ((b - c).length(), (c - a).length(), (a - b).length());
+            x * y * z / ((y + z - x) * (z + x - y) * (x + y - z))
+        },
+        "area" => |[a, b, c]| 0.5 * (b - a).perp_dot(c - a),
+        other => bail!("unknown --colour '{other}'; choose min-angle, q or area"),
+    };
+    Ok((0..mesh.num_triangles()).map(|t| f(mesh.triangle(t))).collect())
+}
+
+/// `cvtmesh regions`.
+pub fn regions() -> Result<()> {
+    println!("{:<16} {:>14} {:>6} {:>8}  title", "name", "area", "holes", "corners");
+    for name in Region::builtin_names() {
+        let r = Region::builtin(name)?;
+        println!("{:<16} {:>14.6} {:>6} {:>8}", name, r.area(), r.loops().len() - 1, r.corners().len());
+    }
+    Ok(())
+}

@@ -1,0 +1,114 @@
+//! Turning command-line words into regions, meshes, methods and densities, with errors that
+//! name the problem.
+use anyhow::{anyhow, bail, Context, Result};
+use geometry::{Density, Region};
+use mesh::{Mesh, Mesher};
+use std::path::Path;
+
+/// A region from a file (any supported format) or, if no such file exists, a built-in name.
+/// `corner_angle` keeps only corners turning more than that many degrees.
+pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
+    let path = Path::new(spec);
+    let region = if path.exists() || spec.contains('.') || spec.contains('/') {
+        geometry::formats::read_region(path)?
+    } else {
+        Region::builtin(spec)?
+    };
+    Ok(match corner_angle {
+        Some(deg) if !(0.0..180.0).contains(&deg) => bail!("--corner-angle must be in [0, 180) degrees, got {deg}"),
+        Some(deg) => region.with_corner_angle(deg),
+        None => region,
+    })
+}
+
+/// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.
+pub fn mesh(path: &Path) -> Result<Mesh> {
+    Ok(mesh::io::read_mesh(path)?)
+}
+
+/// Method names accepted by `--method`, best first.
+pub const METHODS: &[&str] = &["ccvt", "ccvt2", "ccvt1", "distmesh", "meshgen", "vtm", "refine"];
+
+/// The mesher behind a `--method` word.
+pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
+    Ok(match name {
+        "ccvt" | "ccvt-fast" => Box::new(ccvt::Ccvt::fast()),
+        "ccvt2" => Box::new(ccvt::Ccvt::algorithm2()),
+        "ccvt1" => Box::new(ccvt::Ccvt::algorithm1()),
+        "distmesh" => Box::new(distmesh::DistMesh::default()),
+        "meshgen" => Box::new(meshgen::MeshGen::default()),
+        "vtm" => Box::new(vtm::Vtm::default()),
+        "refine" | "triangle" => Box::new(refine::Refine::default()),
+        other => bail!("unknown method '{other}'; choose one of: {}", METHODS.join(", ")),
+    })
+}
+
+/// Parse `--density` and check it is finite and non-negative over the region (sampled on a
+/// 200×200 grid of the bounding box, points inside the region).
+pub fn density(expr: Option<&str>, region: &Region) -> Result<Density> {
+    let Some(text) = expr else { return Ok(Density::Uniform) };
+    let d = geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))?;
+    let (lo, hi) = region.bbox();
+    let n = 200;
+    let mut positive = false;
+    for i in 0..=n {
+        for j in 0..=n {
+            let p = lo + (hi - lo) * geometry::DVec2::new(i as f64 / n as f64, j as f64 / n as f64);
+            if !region.contains(p) {
+                continue;
+            }
+            let v = d.at(p);
+            if !v.is_finite() || v < 0.0 {
+                bail!("--density '{text}' is {v} at ({}, {}): it must be finite and non-negative on the region", p.x, p.y);
+            }
+            positive |= v > 0.0;
+        }
+    }
+    if !positive {
+        bail!("--density '{text}' is zero everywhere on the region");
+    }
+    Ok(d)
+}
+
+/// Output kind from the extension.
+pub fn output_kind(path: &Path) -> Result<&'static str> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    Ok(match ext.as_str() {
+        "node" | "ele" => "triangle",
+        "msh" => "msh",
+        "vtu" => "vtu",
+        "obj" => "obj",
+        "svg" => "svg",
+        "png" => "png",
+        _ => bail!(
+            "cannot write '{}': unknown extension '.{ext}'; use .node, .msh, .vtu, .obj, .svg or .png",
+            path.display()
+        ),
+    })
+}
+
+/// Write a mesh in the format its extension names (temp file + rename in every writer).
+pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
+    match output_kind(path)? {
+        "svg" | "png" => draw(Some(mesh), region, path, title, None),
+        _ => Ok(mesh::io::write_mesh(mesh, path).with_context(|| format!("writing {}", path.display()))?),
+    }
+}
+
+/// Draw a region, or a mesh on it, optionally coloured per triangle.
+pub fn draw(mesh: Option<&Mesh>, region: &Region, path: &Path, title: &str, colour: Option<(Vec<f64>, String)>) -> Result<()> {
+    let mut panel = render::Panel::new(title, region);
+    if let Some(m) = mesh {
+        panel = panel.with_mesh(m);
+    }
+    if let Some((values, label)) = colour {
+        panel = panel.with_colour(values, label);
+    }
+    let layout = render::Layout::new(1).panel_px(1200);
+    match output_kind(path)? {
+        "png" => render::render_png(&[panel], &layout, path)?,
+        "svg" => render::render_svg(&[panel], &layout, path)?,
+        _ => bail!("'{}': pictures are .png or .svg", path.display()),
+    }
+    Ok(())
+}
