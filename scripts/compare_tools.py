@@ -1,0 +1,257 @@
+"""Mesh the same regions at the same K with Triangle, Gmsh and DistMesh, and with cvtmesh;
+score every mesh with `cvtmesh measure --csv`; write results/compare/compare.{csv,md}.
+
+Each external tool is timed around its mesher call only. K is matched by a short search on
+the tool's size parameter (area bound, characteristic length, h0).
+"""
+import argparse, json, math, os, subprocess, sys, time, multiprocessing as mp
+import numpy as np
+
+MEASURES = "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p".split(",")
+
+
+def loops_of(domain_file, h):
+    """Boundary loops as (N,2) arrays, curves sampled at spacing ~h, outer first."""
+    d = json.load(open(domain_file))
+    loops = []
+    for lp in d["loops"]:
+        pts = []
+        for seg in lp["segments"]:
+            k = seg["kind"]
+            if k == "circle":
+                c, r = seg["center"], seg["radius"]
+                n = max(8, int(round(2 * math.pi * r / h)))
+                t = np.linspace(0, 2 * math.pi, n, endpoint=False)
+                if lp["orientation"] == "cw":
+                    t = -t
+                pts += list(zip(c[0] + r * np.cos(t), c[1] + r * np.sin(t)))
+            elif k == "polyline":
+                p = seg["points"]
+                if p[0] == p[-1]:
+                    p = p[:-1]
+                pts += [tuple(q) for q in (p if not pts else p[1:] if tuple(p[0]) == pts[-1] else p)]
+            else:
+                raise SystemExit(f"compare_tools: segment kind {k} not supported here")
+        if len(pts) > 1 and np.allclose(pts[0], pts[-1]):
+            pts = pts[:-1]
+        loops.append(np.array(pts, float))
+    return d, loops
+
+
+def write_node_ele(base, p, t):
+    with open(base + ".node", "w") as f:
+        f.write(f"{len(p)} 2 0 0\n")
+        for i, (x, y) in enumerate(p):
+            f.write(f"{i+1} {x!r} {y!r}\n")
+    with open(base + ".ele", "w") as f:
+        f.write(f"{len(t)} 3 0\n")
+        for i, (a, b, c) in enumerate(t):
+            f.write(f"{i+1} {a+1} {b+1} {c+1}\n")
+
+
+def compact(p, t):
+    used = np.unique(t)
+    remap = -np.ones(len(p), int)
+    remap[used] = np.arange(len(used))
+    return p[used], remap[t]
+
+
+def run_triangle(domain_file, k, area):
+    import triangle
+    h = math.sqrt(2 * area / (math.sqrt(3) * k))
+    d, loops = loops_of(domain_file, h)
+    verts, segs, holes, off = [], [], [], 0
+    for i, lp in enumerate(loops):
+        n = len(lp)
+        verts += lp.tolist()
+        segs += [[off + j, off + (j + 1) % n] for j in range(n)]
+        off += n
+    holes = d.get("hole_points", [])
+    a = math.sqrt(3) / 4 * h * h
+    best = None
+    for _ in range(8):
+        geom = {"vertices": verts, "segments": segs}
+        if holes:
+            geom["holes"] = holes
+        t0 = time.perf_counter()
+        m = triangle.triangulate(geom, f"pq30a{a:.17g}Y")
+        sec = time.perf_counter() - t0
+        kk = len(m["vertices"])
+        if best is None or abs(kk - k) < abs(best[2] - k):
+            best = (m["vertices"], m["triangles"], kk, sec)
+        if abs(kk - k) <= 0.005 * k:
+            break
+        a *= kk / k
+    return best[0], best[1], best[3]
+
+
+def run_gmsh(domain_file, k, area, algo):
+    import gmsh
+    h0 = math.sqrt(2 * area / (math.sqrt(3) * k))
+    d, loops = loops_of(domain_file, h0 / 4)
+    best, h = None, h0
+    for _ in range(5):
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("m")
+        curve_loops = []
+        for i, lp in enumerate(loops):
+            seg = d["loops"][i]["segments"]
+            if len(seg) == 1 and seg[0]["kind"] == "circle":
+                c, r = seg[0]["center"], seg[0]["radius"]
+                cl = gmsh.model.occ.addCurveLoop([gmsh.model.occ.addCircle(c[0], c[1], 0, r)])
+            else:
+                pts = [gmsh.model.occ.addPoint(x, y, 0) for x, y in lp]
+                lines = [gmsh.model.occ.addLine(pts[j], pts[(j + 1) % len(pts)]) for j in range(len(pts))]
+                cl = gmsh.model.occ.addCurveLoop(lines)
+            curve_loops.append(cl)
+        gmsh.model.occ.addPlaneSurface(curve_loops)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMin", h)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+        gmsh.option.setNumber("Mesh.Algorithm", algo)
+        t0 = time.perf_counter()
+        gmsh.model.mesh.generate(2)
+        sec = time.perf_counter() - t0
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        et, etags, enodes = gmsh.model.mesh.getElements(2)
+        gmsh.finalize()
+        p = xyz.reshape(-1, 3)[:, :2]
+        index = {int(tg): i for i, tg in enumerate(tags)}
+        tri = np.array([index[int(n)] for n in enodes[0]]).reshape(-1, 3)
+        p, tri = compact(p, tri)
+        if best is None or abs(len(p) - k) < abs(len(best[0]) - k):
+            best = (p, tri, sec)
+        if abs(len(p) - k) <= 0.01 * k:
+            break
+        h *= math.sqrt(len(p) / k)
+    return best
+
+
+def run_distmesh(domain_file, k, area):
+    from distmeshpy import distmesh2d
+    from distmeshpy.utils import huniform
+    h = math.sqrt(2 * area / (math.sqrt(3) * k))
+    d, loops = loops_of(domain_file, h / 8)
+
+    def dist(p):
+        best = np.full(len(p), np.inf)
+        inside = np.zeros(len(p), bool)
+        for lp in loops:
+            a, b = lp, np.roll(lp, -1, axis=0)
+            for j in range(len(a)):
+                ab = b[j] - a[j]
+                t = np.clip(((p - a[j]) @ ab) / (ab @ ab), 0, 1)
+                best = np.minimum(best, np.linalg.norm(p - (a[j] + t[:, None] * ab), axis=1))
+                cond = ((a[j][1] > p[:, 1]) != (b[j][1] > p[:, 1])) & (
+                    p[:, 0] < a[j][0] + (p[:, 1] - a[j][1]) * ab[0] / (ab[1] if ab[1] != 0 else 1e-300))
+                inside ^= cond
+        return np.where(inside, -best, best)
+
+    if all(len(lp["segments"]) == 1 and lp["segments"][0]["kind"] == "circle" for lp in d["loops"]):
+        def dist(p):  # exact for concentric circles
+            r = np.linalg.norm(p - np.array(d["loops"][0]["segments"][0]["center"]), axis=1)
+            out = r - d["loops"][0]["segments"][0]["radius"]
+            for lp in d["loops"][1:]:
+                out = np.maximum(out, lp["segments"][0]["radius"] - r)
+            return out
+
+    x0, y0, x1, y1 = d["bbox"]
+    fixed = np.array(d["corners"]) if d["corners"] else None
+    t0 = time.perf_counter()
+    p, t = distmesh2d(dist, huniform, h, ((x0, x1), (y0, y1)), fixed_points=fixed)
+    sec = time.perf_counter() - t0
+    return np.asarray(p), np.asarray(t), sec
+
+
+def cvtmesh_run(exe, region, k, base):
+    t0 = time.perf_counter()
+    out = subprocess.run([exe, "mesh", region, "--points", str(k), "--quiet", "-o", base + ".node"],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr)
+    return time.perf_counter() - t0
+
+
+def measure(exe, base, region):
+    out = subprocess.run([exe, "measure", base + ".node", "--region", region, "--csv"], capture_output=True, text=True)
+    if out.returncode != 0:
+        raise RuntimeError(out.stderr)
+    return dict(zip(MEASURES, map(float, out.stdout.strip().splitlines()[1].split(","))))
+
+
+def _worker(q, fn, args):
+    try:
+        p, t, sec = fn(*args)
+        q.put((np.asarray(p), np.asarray(t), sec))
+    except Exception as e:  # reported as a failed row
+        q.put(e)
+
+
+def with_timeout(fn, args, timeout):
+    q = mp.Queue()
+    pr = mp.Process(target=_worker, args=(q, fn, args))
+    pr.start()
+    pr.join(timeout)
+    if pr.is_alive():
+        pr.terminate()
+        return None
+    r = q.get()
+    if isinstance(r, Exception):
+        raise r
+    return r
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--cvtmesh", required=True)
+    ap.add_argument("--domains", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--sizes", default="10000,100000")
+    ap.add_argument("--regions", default="circle,lake")
+    ap.add_argument("--timeout", type=float, default=600)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    tools = [("triangle", run_triangle, ()), ("gmsh-delaunay", run_gmsh, (5,)),
+             ("gmsh-frontal", run_gmsh, (6,)), ("distmeshpy", run_distmesh, ())]
+    for region in a.regions.split(","):
+        dfile = os.path.join(a.domains, region + ".json")
+        area = json.load(open(dfile))["area"]
+        for k in map(int, a.sizes.split(",")):
+            for name, fn, extra in tools:
+                base = os.path.join(a.out, f"{region}_{k}_{name}")
+                try:
+                    r = with_timeout(fn, (dfile, k, area) + extra, a.timeout)
+                except Exception as e:
+                    print(f"{region} {k} {name}: failed: {e}", file=sys.stderr)
+                    continue
+                if r is None:
+                    print(f"{region} {k} {name}: no result within {a.timeout:.0f} s", file=sys.stderr)
+                    rows.append(dict(region=region, K_requested=k, tool=name, seconds=float("nan"), note="timeout"))
+                    continue
+                p, t, sec = r
+                write_node_ele(base, p, t)
+                m = measure(a.cvtmesh, base, region)
+                rows.append(dict(region=region, K_requested=k, tool=name, seconds=sec, note="", **m))
+                print(f"{region} {k} {name}: K={m['K']:.0f} {sec:.2f}s", file=sys.stderr)
+            base = os.path.join(a.out, f"{region}_{k}_cvtmesh")
+            sec = cvtmesh_run(a.cvtmesh, region, k, base)
+            m = measure(a.cvtmesh, base, region)
+            rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=sec, note="whole command", **m))
+            print(f"{region} {k} cvtmesh: K={m['K']:.0f} {sec:.2f}s", file=sys.stderr)
+    cols = ["region", "K_requested", "tool", "seconds"] + MEASURES + ["note"]
+    with open(os.path.join(a.out, "compare.csv"), "w") as f:
+        f.write(",".join(cols) + "\n")
+        for r in rows:
+            f.write(",".join(str(r.get(c, "")) for c in cols) + "\n")
+    with open(os.path.join(a.out, "compare.md"), "w") as f:
+        f.write("| " + " | ".join(cols[:-1]) + " |\n|" + "---|" * (len(cols) - 1) + "\n")
+        for r in rows:
+            cells = [str(r.get(c, "")) if not isinstance(r.get(c), float) else f"{r[c]:.3g}" for c in cols[:-1]]
+            f.write("| " + " | ".join(cells) + " |\n")
+    print(open(os.path.join(a.out, "compare.md")).read())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Side-by-side: cvtmesh vs Triangle, Gmsh (Delaunay, Frontal-Delaunay) and DistMesh (distmeshpy)
+# on the same regions at the same K, scored by `cvtmesh measure`, timed per mesher call.
+# Needs the network once (PyPI) for its own virtual environment; not part of CI.
+#   scripts/compare_tools.sh [--sizes 10000,100000] [--regions circle,lake] [--timeout 600]
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+top="$(dirname "$here")"
+venv="$here/.venv"
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install --quiet numpy triangle gmsh distmeshpy
+fi
+cargo build --release -p cli --manifest-path "$top/Cargo.toml"
+exec "$venv/bin/python" "$here/compare_tools.py" --cvtmesh "$top/target/release/cvtmesh" --domains "$top/domains" --out "$top/results/compare" "$@"
