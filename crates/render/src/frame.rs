@@ -24,8 +24,6 @@ pub(crate) struct PanelFrame {
     pub lo: DVec2,
     pub hi: DVec2,
     pub scale: f64,
-    /// Drawing size.
-    pub size: (f64, f64),
     pub bar: Option<BarFrame>,
 }
 
@@ -49,7 +47,9 @@ pub(crate) struct Frame {
 
 /// Panel title size in pixels.
 pub(crate) fn title_px(layout: &Layout) -> f32 {
-    layout.font_px.unwrap_or_else(|| (layout.panel_px as f32 / 24.0).clamp(11.0, 22.0))
+    layout
+        .font_px
+        .unwrap_or_else(|| (layout.panel_px as f32 / 24.0).clamp(11.0, 22.0))
 }
 
 pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame {
@@ -57,7 +57,7 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
     let small = (0.85 * f).max(9.0);
     let big = 1.3 * f;
     let pad = (0.7 * f).max(0.5 * layout.boundary_stroke_px + 2.0).round();
-    let gap = (0.4 * small).round();
+    let gap = (0.5 * small).round();
     let bar_h = (0.8 * small).round();
 
     // Natural size of each cell, and the contents' widths for centring later.
@@ -83,7 +83,11 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
                     };
                     let label = c.label.clone().unwrap_or_default();
                     let bar_w = (0.5 * draw.0 as f32).clamp(100.0, 260.0).round();
-                    let mut row = fonts.measure(&lo, small, false) + gap + bar_w + gap + fonts.measure(&hi, small, false);
+                    let mut row = fonts.measure(&lo, small, false)
+                        + gap
+                        + bar_w
+                        + gap
+                        + fonts.measure(&hi, small, false);
                     if !label.is_empty() {
                         row += fonts.measure(&label, small, false) + 2.0 * gap;
                     }
@@ -93,9 +97,16 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
             let content_w = (draw.0 as f32).max(title_w).max(bar_row_w);
             let mut h = pad + f + 0.5 * pad + draw.1 as f32 + pad;
             if bar_texts.is_some() {
-                h += gap + small.max(bar_h);
+                h += gap + 0.5 * layout.boundary_stroke_px + small.max(bar_h);
             }
-            Cell { w: (content_w + 2.0 * pad).ceil(), h: h.ceil(), draw, bar_texts, bar_row_w, bar_w }
+            Cell {
+                w: (content_w + 2.0 * pad).ceil(),
+                h: h.ceil(),
+                draw,
+                bar_texts,
+                bar_row_w,
+                bar_w,
+            }
         })
         .collect();
 
@@ -135,7 +146,7 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
             let ox = (centre - 0.5 * c.draw.0 as f32).round();
             let oy = oy.round();
             let bar = c.bar_texts.as_ref().map(|[label, lo, hi]| {
-                let row_top = oy + c.draw.1 as f32 + gap;
+                let row_top = oy + c.draw.1 as f32 + gap + 0.5 * layout.boundary_stroke_px;
                 let mut x = (centre - 0.5 * c.bar_row_w).round();
                 let mut texts = Vec::new();
                 if !label.is_empty() {
@@ -146,7 +157,12 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
                 let t = fonts.at(lo, x, row_top, small, false);
                 x += t.width + gap;
                 texts.push(t);
-                let rect = (x.round(), (row_top + 0.5 * (small - bar_h)).round(), c.bar_w, bar_h);
+                let rect = (
+                    x.round(),
+                    (row_top + 0.5 * (small - bar_h)).round(),
+                    c.bar_w,
+                    bar_h,
+                );
                 x += c.bar_w + gap;
                 texts.push(fonts.at(hi, x, row_top, small, false));
                 BarFrame { rect, texts }
@@ -157,11 +173,15 @@ pub(crate) fn compute(scenes: &[Scene], layout: &Layout, fonts: &Fonts) -> Frame
                 lo: s.lo,
                 hi: s.hi,
                 scale: s.scale,
-                size: c.draw,
                 bar,
             }
         })
         .collect();
 
-    Frame { width: width.ceil() as u32, height: (top + grid_h).ceil() as u32, title, panels }
+    Frame {
+        width: width.ceil() as u32,
+        height: (top + grid_h).ceil() as u32,
+        title,
+        panels,
+    }
 }

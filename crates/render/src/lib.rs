@@ -123,7 +123,13 @@ pub struct Panel<'a> {
 impl<'a> Panel<'a> {
     /// A panel showing just `region`.
     pub fn new(title: impl Into<String>, region: &'a Region) -> Panel<'a> {
-        Panel { title: title.into(), mesh: None, region, colour_by: None, colour_label: None }
+        Panel {
+            title: title.into(),
+            mesh: None,
+            region,
+            colour_by: None,
+            colour_label: None,
+        }
     }
     /// Draw this mesh's triangles.
     pub fn with_mesh(mut self, mesh: &'a Mesh) -> Panel<'a> {
@@ -180,7 +186,10 @@ impl Default for Layout {
 impl Layout {
     /// Defaults with `columns` panels per row.
     pub fn new(columns: usize) -> Layout {
-        Layout { columns, ..Layout::default() }
+        Layout {
+            columns,
+            ..Layout::default()
+        }
     }
     /// Set [`Layout::panel_px`].
     pub fn panel_px(mut self, px: u32) -> Layout {
@@ -231,7 +240,10 @@ impl Layout {
                 return bad("font_px must be in 4..=400");
             }
         }
-        for (name, w) in [("mesh_stroke_px", self.mesh_stroke_px), ("boundary_stroke_px", self.boundary_stroke_px)] {
+        for (name, w) in [
+            ("mesh_stroke_px", self.mesh_stroke_px),
+            ("boundary_stroke_px", self.boundary_stroke_px),
+        ] {
             if !(w.is_finite() && w > 0.0 && w <= 50.0) {
                 return Err(RenderError::BadLayout(format!("{name} must be in (0, 50]")));
             }
@@ -244,7 +256,9 @@ impl Layout {
 pub fn png_bytes(panels: &[Panel], layout: &Layout) -> Result<Vec<u8>, RenderError> {
     let scenes = scene::from_panels(panels, layout)?;
     let pixmap = png::draw(&scenes, layout)?;
-    pixmap.encode_png().map_err(|e| RenderError::Encode(e.to_string()))
+    pixmap
+        .encode_png()
+        .map_err(|e| RenderError::Encode(e.to_string()))
 }
 
 /// Render the panels to an SVG document.
@@ -268,11 +282,21 @@ pub fn render_svg(panels: &[Panel], layout: &Layout, path: &Path) -> Result<(), 
 
 /// Write `bytes` to a temporary file in `path`'s directory, then rename it over `path`.
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RenderError> {
-    let io = |source| RenderError::Io { path: path.to_path_buf(), source };
-    let name = path
-        .file_name()
-        .ok_or_else(|| io(std::io::Error::new(std::io::ErrorKind::InvalidInput, "no file name")))?;
-    let tmp = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let io = |source| RenderError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let name = path.file_name().ok_or_else(|| {
+        io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "no file name",
+        ))
+    })?;
+    let tmp = path.with_file_name(format!(
+        ".{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
     let result = std::fs::File::create(&tmp)
         .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
         .and_then(|_| std::fs::rename(&tmp, path));

@@ -3,20 +3,30 @@ use crate::frame::{self, Frame, PanelFrame};
 use crate::scene::{edge_width, unique_edges, Scene};
 use crate::text::Fonts;
 use crate::{colormap, Layout, RenderError, BOUNDARY_COLOUR, NO_DATA_COLOUR, TEXT_COLOUR};
-use tiny_skia::{Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform};
+use tiny_skia::{
+    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform,
+};
 
 /// Draw the figure into a new pixmap.
 pub(crate) fn draw(scenes: &[Scene], layout: &Layout) -> Result<Pixmap, RenderError> {
     let fonts = Fonts::load()?;
     let frame = frame::compute(scenes, layout, &fonts);
-    let mut pixmap = Pixmap::new(frame.width, frame.height)
-        .ok_or(RenderError::TooLarge { width: frame.width, height: frame.height })?;
+    let mut pixmap = Pixmap::new(frame.width, frame.height).ok_or(RenderError::TooLarge {
+        width: frame.width,
+        height: frame.height,
+    })?;
     pixmap.fill(Color::WHITE);
     draw_frame(&mut pixmap, scenes, &frame, layout, &fonts);
     Ok(pixmap)
 }
 
-pub(crate) fn draw_frame(pixmap: &mut Pixmap, scenes: &[Scene], frame: &Frame, layout: &Layout, fonts: &Fonts) {
+pub(crate) fn draw_frame(
+    pixmap: &mut Pixmap,
+    scenes: &[Scene],
+    frame: &Frame,
+    layout: &Layout,
+    fonts: &Fonts,
+) {
     if let Some(t) = &frame.title {
         fonts.draw(pixmap, t, TEXT_COLOUR);
     }
@@ -55,14 +65,21 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
 
     // Region tint; even-odd so that holes stay white.
     if let Some(path) = &outline {
-        pixmap.fill_path(path, &paint(layout.region_tint, true), FillRule::EvenOdd, id, None);
+        pixmap.fill_path(
+            path,
+            &paint(layout.region_tint, true),
+            FillRule::EvenOdd,
+            id,
+            None,
+        );
     }
 
     if let Some(m) = s.mesh {
         // Per-triangle colours: one path per colour bin. Not anti-aliased, so that adjacent
         // triangles leave no faint seams; the edge strokes cover the jagged borders.
         if let Some(c) = &s.colours {
-            let mut builders: Vec<Option<PathBuilder>> = (0..=colormap::BINS).map(|_| None).collect();
+            let mut builders: Vec<Option<PathBuilder>> =
+                (0..=colormap::BINS).map(|_| None).collect();
             for (t, b) in c.bins.iter().enumerate() {
                 let slot = b.unwrap_or(colormap::BINS);
                 let pb = builders[slot].get_or_insert_with(PathBuilder::new);
@@ -73,7 +90,11 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
                 pb.close();
             }
             for (slot, pb) in builders.into_iter().enumerate() {
-                let rgb = if slot == colormap::BINS { NO_DATA_COLOUR } else { colormap::bin_colour(slot) };
+                let rgb = if slot == colormap::BINS {
+                    NO_DATA_COLOUR
+                } else {
+                    colormap::bin_colour(slot)
+                };
                 if let Some(path) = pb.and_then(PathBuilder::finish) {
                     pixmap.fill_path(&path, &paint(rgb, false), FillRule::Winding, id, None);
                 }
@@ -83,12 +104,18 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
         let edges = unique_edges(m);
         let mut pb = PathBuilder::new();
         for &(a, b) in &edges {
-            let (p, q) = (pf.to_px(m.points[a as usize]), pf.to_px(m.points[b as usize]));
+            let (p, q) = (
+                pf.to_px(m.points[a as usize]),
+                pf.to_px(m.points[b as usize]),
+            );
             pb.move_to(p.0, p.1);
             pb.line_to(q.0, q.1);
         }
         if let Some(path) = pb.finish() {
-            let stroke = Stroke { width: edge_width(s, &edges, layout), ..Stroke::default() };
+            let stroke = Stroke {
+                width: edge_width(s, &edges, layout),
+                ..Stroke::default()
+            };
             pixmap.stroke_path(&path, &paint(layout.mesh_colour, true), &stroke, id, None);
         }
     }
@@ -108,7 +135,11 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
         // One column of the gradient per pixel.
         let n = w.round().max(1.0) as usize;
         for i in 0..n {
-            let t = if n > 1 { i as f64 / (n - 1) as f64 } else { 0.5 };
+            let t = if n > 1 {
+                i as f64 / (n - 1) as f64
+            } else {
+                0.5
+            };
             if let Some(r) = Rect::from_xywh(x + i as f32, y, 1.0, h) {
                 pixmap.fill_rect(r, &paint(colormap::viridis(t), false), id, None);
             }
@@ -118,7 +149,10 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
             pb.push_rect(r);
         }
         if let Some(path) = pb.finish() {
-            let stroke = Stroke { width: 1.0, ..Stroke::default() };
+            let stroke = Stroke {
+                width: 1.0,
+                ..Stroke::default()
+            };
             pixmap.stroke_path(&path, &paint(TEXT_COLOUR, true), &stroke, id, None);
         }
         for t in &bar.texts {

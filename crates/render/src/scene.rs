@@ -36,7 +36,10 @@ impl Scene<'_> {
 }
 
 /// Resolve every panel (polygonizing each region to a quarter-pixel chord error).
-pub(crate) fn from_panels<'a>(panels: &[Panel<'a>], layout: &Layout) -> Result<Vec<Scene<'a>>, RenderError> {
+pub(crate) fn from_panels<'a>(
+    panels: &[Panel<'a>],
+    layout: &Layout,
+) -> Result<Vec<Scene<'a>>, RenderError> {
     layout.validate()?;
     if panels.is_empty() {
         return Err(RenderError::NoPanels);
@@ -92,26 +95,54 @@ pub(crate) fn build<'a>(
         (Some(_), None) => return Err(RenderError::ColourWithoutMesh(index)),
         (Some(v), Some(m)) => {
             if v.len() != m.num_triangles() {
-                return Err(RenderError::ColourCount { panel: index, expected: m.num_triangles(), got: v.len() });
+                return Err(RenderError::ColourCount {
+                    panel: index,
+                    expected: m.num_triangles(),
+                    got: v.len(),
+                });
             }
-            let range = v.iter().filter(|x| x.is_finite()).fold(None, |acc: Option<(f64, f64)>, &x| {
-                Some(acc.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
-            });
+            let range =
+                v.iter()
+                    .filter(|x| x.is_finite())
+                    .fold(None, |acc: Option<(f64, f64)>, &x| {
+                        Some(acc.map_or((x, x), |(a, b)| (a.min(x), b.max(x))))
+                    });
             let (a, b) = range.unwrap_or((0.0, 0.0));
             let bins = v.iter().map(|&x| colormap::bin(x, a, b)).collect();
-            Some(Colours { bins, range, label: colour_label.map(str::to_string) })
+            Some(Colours {
+                bins,
+                range,
+                label: colour_label.map(str::to_string),
+            })
         }
     };
-    Ok(Scene { title: title.to_string(), polygon, mesh, colours, lo, hi, scale })
+    Ok(Scene {
+        title: title.to_string(),
+        polygon,
+        mesh,
+        colours,
+        lo,
+        hi,
+        scale,
+    })
 }
 
 fn check_mesh(index: usize, m: &Mesh) -> Result<(), RenderError> {
-    let bad = |reason: String| Err(RenderError::BadMesh { panel: index, reason });
+    let bad = |reason: String| {
+        Err(RenderError::BadMesh {
+            panel: index,
+            reason,
+        })
+    };
     if let Some(p) = m.points.iter().position(|p| !p.is_finite()) {
         return bad(format!("vertex {p} is not finite"));
     }
     let n = m.points.len();
-    if let Some(t) = m.triangles.iter().position(|t| t.iter().any(|&v| v as usize >= n)) {
+    if let Some(t) = m
+        .triangles
+        .iter()
+        .position(|t| t.iter().any(|&v| v as usize >= n))
+    {
         return bad(format!("triangle {t} refers to a vertex beyond {n}"));
     }
     Ok(())
@@ -130,19 +161,30 @@ pub(crate) fn unique_edges(m: &Mesh) -> Vec<(u32, u32)> {
     }
     keys.sort_unstable();
     keys.dedup();
-    keys.into_iter().map(|k| ((k >> 32) as u32, k as u32)).collect()
+    keys.into_iter()
+        .map(|k| ((k >> 32) as u32, k as u32))
+        .collect()
 }
 
 /// Mesh edge width in pixels: the layout's width, thinned when edges are short on screen
 /// (mean edge under 5 px) so that a dense mesh stays readable instead of turning solid.
 pub(crate) fn edge_width(scene: &Scene, edges: &[(u32, u32)], layout: &Layout) -> f32 {
-    let Some(m) = scene.mesh else { return layout.mesh_stroke_px };
+    let Some(m) = scene.mesh else {
+        return layout.mesh_stroke_px;
+    };
     if edges.is_empty() {
         return layout.mesh_stroke_px;
     }
-    let total: f64 = edges.iter().map(|&(a, b)| (m.points[a as usize] - m.points[b as usize]).length()).sum();
+    let total: f64 = edges
+        .iter()
+        .map(|&(a, b)| (m.points[a as usize] - m.points[b as usize]).length())
+        .sum();
     let mean_px = total / edges.len() as f64 * scene.scale;
-    let w = if mean_px < 5.0 { layout.mesh_stroke_px as f64 * mean_px / 5.0 } else { layout.mesh_stroke_px as f64 };
+    let w = if mean_px < 5.0 {
+        layout.mesh_stroke_px as f64 * mean_px / 5.0
+    } else {
+        layout.mesh_stroke_px as f64
+    };
     w.max(0.15) as f32
 }
 

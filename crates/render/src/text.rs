@@ -27,6 +27,7 @@ pub(crate) struct TextItem {
     pub width: f32,
 }
 
+#[cfg(test)]
 impl TextItem {
     /// Top of the line box (baseline − ascent).
     pub fn top(&self, fonts: &Fonts) -> f32 {
@@ -36,7 +37,8 @@ impl TextItem {
 
 impl Fonts {
     pub fn load() -> Result<Fonts, RenderError> {
-        let regular = FontRef::try_from_slice(dejavu::sans::regular()).map_err(|_| RenderError::Font)?;
+        let regular =
+            FontRef::try_from_slice(dejavu::sans::regular()).map_err(|_| RenderError::Font)?;
         let bold = FontRef::try_from_slice(dejavu::sans::bold()).map_err(|_| RenderError::Font)?;
         Ok(Fonts { regular, bold })
     }
@@ -80,7 +82,14 @@ impl Fonts {
     pub fn at(&self, text: &str, x: f32, top: f32, size: f32, bold: bool) -> TextItem {
         let width = self.measure(text, size, bold);
         let baseline = top + self.ascent(size, bold);
-        TextItem { text: text.to_string(), x, baseline, size, bold, width }
+        TextItem {
+            text: text.to_string(),
+            x,
+            baseline,
+            size,
+            bold,
+            width,
+        }
     }
 
     /// Rasterize `item` onto an opaque pixmap: each glyph's coverage alpha-blends `rgb` over
@@ -100,7 +109,9 @@ impl Fonts {
             let glyph = id.with_scale_and_position(item.size, point(x, item.baseline));
             x += font.h_advance(id);
             prev = Some(id);
-            let Some(outlined) = face.outline_glyph(glyph) else { continue };
+            let Some(outlined) = face.outline_glyph(glyph) else {
+                continue;
+            };
             let b = outlined.px_bounds();
             let (x0, y0) = (b.min.x as i64, b.min.y as i64);
             outlined.draw(|gx, gy, cov| {
