@@ -6,9 +6,15 @@ use geometry::{DVec2, Region, Rng};
 pub enum Init {
     /// Uniform random in Ω (rejection sampling in the bounding box).
     Random,
-    /// An equilateral lattice of the hexagonal spacing, randomly shifted, clipped to Ω, with
+    /// An equilateral lattice of the hexagonal spacing centred on Ω's centroid and rotated by a
+    /// seeded random angle, clipped to Ω, with
     /// surplus points dropped (or missing ones drawn at random) to reach exactly K.
     Lattice,
+    /// Uniform random, then an ordinary (unconstrained) CVT of Ω (Algorithm 1, step 0, third
+    /// option). Under the labels of Section 2.2.3 a generator once on Γ never leaves it, so a
+    /// random start over-populates the boundary; an ordinary CVT keeps the first boundary layer
+    /// one cell deep.
+    Cvt,
 }
 
 /// K initial generators strictly inside `region`, reproducible from `seed`.
@@ -22,18 +28,19 @@ pub fn initial_points(region: &Region, k: usize, init: Init, seed: u64) -> Vec<D
         }
     };
     match init {
-        Init::Random => (0..k).map(|_| random_inside(&mut rng)).collect(),
+        Init::Random | Init::Cvt => (0..k).map(|_| random_inside(&mut rng)).collect(),
         Init::Lattice => {
+            // Centred on the region's centroid, rotated by a seeded angle: a disc then gets
+            // the hexagonal numbers 1, 7, 19, ... in rings, as in Table 1.
             let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
-            let shift = DVec2::new(rng.range(0.0, h), rng.range(0.0, h));
-            let dy = h * 3f64.sqrt() / 2.0;
+            let centre = region.polygonize(1e-3 * h).centroid();
+            let angle = rng.range(0.0, std::f64::consts::FRAC_PI_3);
+            let (u, v) = (DVec2::from_angle(angle) * h, DVec2::from_angle(angle + std::f64::consts::FRAC_PI_3) * h);
+            let reach = ((hi - lo).length() / h).ceil() as i64 + 1;
             let mut pts = Vec::new();
-            let rows = ((hi.y - lo.y) / dy).ceil() as i64 + 1;
-            let cols = ((hi.x - lo.x) / h).ceil() as i64 + 2;
-            for r in 0..rows {
-                for c in -1..cols {
-                    let x = lo.x + shift.x + c as f64 * h + if r % 2 == 1 { h / 2.0 } else { 0.0 };
-                    let p = DVec2::new(x, lo.y + shift.y * 0.5 + r as f64 * dy);
+            for i in -reach..=reach {
+                for j in -reach..=reach {
+                    let p = centre + u * i as f64 + v * j as f64;
                     if region.signed_distance(p) < -1e-3 * h {
                         pts.push(p);
                     }

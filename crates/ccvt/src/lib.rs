@@ -15,4 +15,4 @@ mod iterate;
 mod method;
 
 pub use init::{initial_points, Init};
-pub use method::{Algorithm, Ccvt, Solver};
+pub use method::{Algorithm, Ccvt, Generators, Solver};

@@ -25,7 +25,8 @@ pub enum Solver {
     },
 }
 
-/// CCVT mesher. Defaults: Algorithm 2, Lloyd, random initial points (as in the paper),
+/// CCVT mesher. Defaults: Algorithm 2, Lloyd, the centred equilateral lattice start
+/// ([`Init::Lattice`], one of step 0's options),
 /// polygonization tolerance 1e-4 of the mean spacing, ε tolerance 1e-2 of the spacing with at
 /// most 30 ε-updates.
 #[derive(Clone, Debug)]
@@ -49,7 +50,7 @@ impl Default for Ccvt {
         Ccvt {
             algorithm: Algorithm::Two,
             solver: Solver::Lloyd,
-            init: Init::Random,
+            init: Init::Lattice,
             polygon_tol: 1e-4,
             eps_tol: 1e-2,
             max_eps_updates: 30,
@@ -68,21 +69,32 @@ impl Ccvt {
     }
     /// Algorithm 2 with Anderson acceleration: the fast solver.
     pub fn fast() -> Self {
-        Ccvt { solver: Solver::Anderson { depth: 5 }, init: Init::Lattice, ..Ccvt::default() }
+        Ccvt { solver: Solver::Anderson { depth: 5 }, ..Ccvt::default() }
     }
 }
 
-impl Mesher for Ccvt {
-    fn name(&self) -> &'static str {
-        match (self.algorithm, self.solver) {
-            (Algorithm::One, Solver::Lloyd) => "ccvt1",
-            (Algorithm::Two, Solver::Lloyd) => "ccvt2",
-            (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-fast",
-            (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-fast",
-        }
-    }
+/// Converged (or capped) generators with their boundary markers, before triangulation.
+#[derive(Clone, Debug)]
+pub struct Generators {
+    /// The generators z_k.
+    pub points: Vec<geometry::DVec2>,
+    /// Interior / boundary piece / corner of each generator (from the last iteration's labels).
+    pub markers: Vec<VertexMarker>,
+    /// Lloyd iterations over all phases.
+    pub iterations: usize,
+    /// Every phase met its tolerance (and ε settled, for Algorithm 2).
+    pub converged: bool,
+    /// CVT energy (4) per iteration.
+    pub energy_history: Vec<f64>,
+    /// Largest move / mean spacing per iteration.
+    pub move_history: Vec<f64>,
+    /// What the user should know (ε, reductions).
+    pub notes: Vec<String>,
+}
 
-    fn mesh(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<MeshResult, MeshError> {
+impl Ccvt {
+    /// Run the algorithm and return the generators (no triangulation).
+    pub fn generators(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<Generators, MeshError> {
         let k = request.size.points(region);
         let corners = region.corners().len();
         if k < corners.max(3) || k < 3 * region.loops().len() + corners {
@@ -105,7 +117,15 @@ impl Mesher for Ccvt {
             Phase { region, domain, density: &request.density, constrained, solver, tol: request.tol, max_iter: request.max_iter, spacing }
         }
         let final_domain = match self.algorithm {
-            Algorithm::One => omega,
+            Algorithm::One => {
+                if self.init == Init::Cvt {
+                    let r = run(&phase(region, &omega, request, false, solver, spacing), z, &mut energies, &mut moves, progress);
+                    iterations += r.iterations;
+                    converged &= r.converged;
+                    z = r.z;
+                }
+                omega
+            }
             Algorithm::Two => {
                 // Steps 1–3: ordinary CVTs of Ω_ε with ε updated until it settles.
                 let (mut eps, mut domain) = (0.0, omega);
@@ -149,11 +169,28 @@ impl Mesher for Ccvt {
                 }
             })
             .collect();
-        let mesh = tessellation::conforming_mesh(&r.z, &markers, region)?;
-        if mesh.num_vertices() < k {
-            notes.push(format!("{} generators outside the boundary polygon were dropped from the mesh", k - mesh.num_vertices()));
+        Ok(Generators { points: r.z, markers, iterations, converged, energy_history: energies, move_history: moves, notes })
+    }
+}
+
+impl Mesher for Ccvt {
+    fn name(&self) -> &'static str {
+        match (self.algorithm, self.solver) {
+            (Algorithm::One, Solver::Lloyd) => "ccvt1",
+            (Algorithm::Two, Solver::Lloyd) => "ccvt2",
+            (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-fast",
+            (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-fast",
         }
-        Ok(MeshResult { mesh, iterations, converged, energy_history: energies, move_history: moves, notes })
+    }
+
+    fn mesh(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<MeshResult, MeshError> {
+        let g = self.generators(region, request, progress)?;
+        let mesh = tessellation::conforming_mesh(&g.points, &g.markers, region)?;
+        let mut notes = g.notes;
+        if mesh.num_vertices() < g.points.len() {
+            notes.push(format!("{} generators outside the boundary polygon were dropped from the mesh", g.points.len() - mesh.num_vertices()));
+        }
+        Ok(MeshResult { mesh, iterations: g.iterations, converged: g.converged, energy_history: g.energy_history, move_history: g.move_history, notes })
     }
 }
 
