@@ -59,7 +59,9 @@ fn lloyd_energy_never_increases_while_labels_are_fixed() {
     for w in e[start..].windows(2) {
         assert!(w[1] <= w[0] * (1.0 + 1e-12), "energy rose from {} to {}", w[0], w[1]);
     }
-    assert!(e.last().unwrap() < &e[0]);
+    // Constraining generators onto Γ raises the energy above the unconstrained start, so
+    // compare within the tail only: the iteration must still make progress there.
+    assert!(e.last().unwrap() < &e[start], "no decrease over the tail");
 }
 
 #[test]

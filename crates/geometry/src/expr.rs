@@ -132,7 +132,9 @@ fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
         let col = i + 1;
         if c.is_whitespace() {
             i += 1;
-        } else if c.is_ascii_digit() || (c == '.' && chars.get(i + 1).is_some_and(|d| d.is_ascii_digit())) {
+        } else if c.is_ascii_digit()
+            || (c == '.' && chars.get(i + 1).is_some_and(|d| d.is_ascii_digit()))
+        {
             let start = i;
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
                 i += 1;
@@ -151,8 +153,10 @@ fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
                 }
             }
             let s: String = chars[start..i].iter().collect();
-            let v: f64 =
-                s.parse().map_err(|_| ExprError { message: format!("invalid number '{s}'"), column: col })?;
+            let v: f64 = s.parse().map_err(|_| ExprError {
+                message: format!("invalid number '{s}'"),
+                column: col,
+            })?;
             out.push((Tok::Num(v), col));
         } else if c.is_alphabetic() || c == '_' {
             let start = i;
@@ -164,7 +168,10 @@ fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
             out.push((Tok::Op(c), col));
             i += 1;
         } else {
-            return Err(ExprError { message: format!("unexpected character '{c}'"), column: col });
+            return Err(ExprError {
+                message: format!("unexpected character '{c}'"),
+                column: col,
+            });
         }
     }
     out.push((Tok::End, chars.len() + 1));
@@ -196,7 +203,10 @@ impl Parser {
         t
     }
     fn err<T>(&self, message: impl Into<String>) -> Result<T, ExprError> {
-        Err(ExprError { message: message.into(), column: self.col() })
+        Err(ExprError {
+            message: message.into(),
+            column: self.col(),
+        })
     }
     fn eat(&mut self, op: char) -> bool {
         if *self.peek() == Tok::Op(op) {
@@ -245,7 +255,9 @@ impl Parser {
     fn unary(&mut self) -> Result<Node, ExprError> {
         // Every recursive path (parentheses, calls, signs, exponents) passes through here.
         if self.depth >= MAX_DEPTH {
-            return self.err(format!("expression nested more than {MAX_DEPTH} levels deep"));
+            return self.err(format!(
+                "expression nested more than {MAX_DEPTH} levels deep"
+            ));
         }
         self.depth += 1;
         let node = self.unary_inner();
@@ -285,8 +297,14 @@ impl Parser {
                 Ok(inner)
             }
             Tok::Ident(name) => self.name(&name, col),
-            Tok::End => Err(ExprError { message: "unexpected end of expression".into(), column: col }),
-            Tok::Op(c) => Err(ExprError { message: format!("expected a number, x, y or '(' but found '{c}'"), column: col }),
+            Tok::End => Err(ExprError {
+                message: "unexpected end of expression".into(),
+                column: col,
+            }),
+            Tok::Op(c) => Err(ExprError {
+                message: format!("expected a number, x, y or '(' but found '{c}'"),
+                column: col,
+            }),
         }
     }
 
@@ -325,7 +343,11 @@ impl Parser {
         let want = if f1.is_some() { 1 } else { 2 };
         if args.len() != want {
             return Err(ExprError {
-                message: format!("{name} takes {want} argument{}, found {}", if want == 1 { "" } else { "s" }, args.len()),
+                message: format!(
+                    "{name} takes {want} argument{}, found {}",
+                    if want == 1 { "" } else { "s" },
+                    args.len()
+                ),
                 column: col,
             });
         }
@@ -336,7 +358,15 @@ impl Parser {
             Some(f) => Node::Call1(f, a),
             None => {
                 let b = args.next().expect("two arguments checked above");
-                Node::Call2(if name == "min" { Func2::Min } else { Func2::Max }, a, b)
+                Node::Call2(
+                    if name == "min" {
+                        Func2::Min
+                    } else {
+                        Func2::Max
+                    },
+                    a,
+                    b,
+                )
             }
         })
     }
@@ -346,7 +376,11 @@ impl Expr {
     /// Parse an expression in `x` and `y`. Errors carry the 1-based column of the problem.
     pub fn parse(text: &str) -> Result<Expr, ExprError> {
         let toks = tokenize(text)?;
-        let mut p = Parser { toks, pos: 0, depth: 0 };
+        let mut p = Parser {
+            toks,
+            pos: 0,
+            depth: 0,
+        };
         if *p.peek() == Tok::End {
             return p.err("empty expression");
         }
@@ -383,7 +417,9 @@ mod tests {
     use super::*;
 
     fn ev(s: &str, x: f64, y: f64) -> f64 {
-        Expr::parse(s).unwrap_or_else(|e| panic!("{s}: {e}")).eval(DVec2::new(x, y))
+        Expr::parse(s)
+            .unwrap_or_else(|e| panic!("{s}: {e}"))
+            .eval(DVec2::new(x, y))
     }
 
     fn err(s: &str) -> ExprError {
@@ -481,7 +517,14 @@ mod tests {
         let deep = format!("{}x{}", "(".repeat(100_000), ")".repeat(100_000));
         assert!(err(&deep).message.contains("nested"));
         assert!(err(&"-".repeat(100_000)).message.contains("nested"));
-        assert_eq!(ev(&format!("{}x{}", "(".repeat(100), ")".repeat(100)), 2.0, 0.0), 2.0);
+        assert_eq!(
+            ev(
+                &format!("{}x{}", "(".repeat(100), ")".repeat(100)),
+                2.0,
+                0.0
+            ),
+            2.0
+        );
     }
 
     #[test]

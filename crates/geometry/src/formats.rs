@@ -1,1 +1,1059 @@
 //! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists.
+//!
+//! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] and every
+//! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
+//! of its vertices as corners, as Triangle users expect. Loops may come in either orientation
+//! (they are oriented here: outer CCW, holes CW); exact repeated points are dropped.
+use crate::{GeometryError, LoopRole, Piece, Region};
+use glam::DVec2;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Extensions [`read_region`] understands.
+pub const REGION_EXTENSIONS: &[&str] = &["json", "geojson", "poly", "txt", "xy", "dat"];
+
+/// Smallest turning angle (radians) that makes a polygon vertex a corner.
+const CORNER_TURN: f64 = 1e-9;
+
+/// GeoJSON object types that hold (or wrap) polygons.
+const GEOJSON_TYPES: &[&str] = &[
+    "Polygon",
+    "MultiPolygon",
+    "Feature",
+    "FeatureCollection",
+    "GeometryCollection",
+];
+
+/// Read a region file, choosing the format by extension:
+/// `.json` (the project schema of `domains/`, or GeoJSON when its top-level `"type"` is a
+/// GeoJSON polygon type), `.geojson`, `.poly` (Triangle), `.txt`/`.xy`/`.dat` (plain loops).
+pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("json") => {
+            let text = read_text(path)?;
+            if is_geojson(&text) {
+                geojson_from_str(&text, &label(path), &stem(path))
+            } else {
+                Region::from_file(path)
+            }
+        }
+        Some("geojson") => read_geojson(path),
+        Some("poly") => read_poly(path),
+        Some("txt") | Some("xy") | Some("dat") => read_loops(path),
+        _ => Err(GeometryError::Parse {
+            path: label(path),
+            message: format!(
+                "unknown region file extension {}; supported: .json (project schema or GeoJSON), \
+                 .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
+                ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
+            ),
+        }),
+    }
+}
+
+/// Read a Triangle `.poly` file (vertices, segments, holes). A `.poly` whose vertex count is
+/// 0 takes its vertices from the `.node` file beside it, as Triangle does.
+pub fn read_poly(path: &Path) -> Result<Region, GeometryError> {
+    let text = read_text(path)?;
+    let node_path = path.with_extension("node");
+    let loops = parse_poly(&text, &label(path), &mut || {
+        Ok((read_text(&node_path)?, label(&node_path)))
+    })?;
+    polygon_region(&stem(path), &label(path), loops)
+}
+
+/// Parse `.poly` text (`label` names it in errors, `name` is the region's name). The vertices
+/// must be in the text itself.
+pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
+    let loops = parse_poly(text, label, &mut || {
+        Err(GeometryError::Parse {
+            path: label.to_string(),
+            message: "the vertex count is 0, so the vertices are in a separate .node file; \
+                      read the .poly through its path"
+                .into(),
+        })
+    })?;
+    polygon_region(name, label, loops)
+}
+
+/// Read a GeoJSON file: a Polygon, the first polygon of a MultiPolygon, or the first such
+/// geometry inside a Feature, FeatureCollection or GeometryCollection. The first ring is the
+/// outer boundary, the rest are holes.
+pub fn read_geojson(path: &Path) -> Result<Region, GeometryError> {
+    geojson_from_str(&read_text(path)?, &label(path), &stem(path))
+}
+
+/// Parse GeoJSON text (see [`read_geojson`]).
+pub fn geojson_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
+    let loops = parse_geojson(text, label)?;
+    polygon_region(name, label, loops)
+}
+
+/// Read a plain loop list: one `x y` (or `x, y`) per line, loops separated by blank lines,
+/// `#` comments; the first loop is the outer boundary, the rest are holes. A loop may repeat
+/// its first point at the end.
+pub fn read_loops(path: &Path) -> Result<Region, GeometryError> {
+    loops_from_str(&read_text(path)?, &label(path), &stem(path))
+}
+
+/// Parse a plain loop list (see [`read_loops`]).
+pub fn loops_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
+    let loops = parse_loops(text, label)?;
+    polygon_region(name, label, loops)
+}
+
+type Loops = Vec<(LoopRole, Vec<DVec2>)>;
+
+fn label(path: &Path) -> String {
+    path.display().to_string()
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem().map_or_else(
+        || "region".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    )
+}
+
+fn read_text(path: &Path) -> Result<String, GeometryError> {
+    let bytes = std::fs::read(path).map_err(|source| GeometryError::Io {
+        path: label(path),
+        source,
+    })?;
+    String::from_utf8(bytes).map_err(|e| GeometryError::Parse {
+        path: label(path),
+        message: format!(
+            "not a text file (invalid UTF-8 at byte {})",
+            e.utf8_error().valid_up_to()
+        ),
+    })
+}
+
+fn parse_err(label: &str, line: usize, message: impl std::fmt::Display) -> GeometryError {
+    GeometryError::Parse {
+        path: label.to_string(),
+        message: format!("line {line}: {message}"),
+    }
+}
+
+fn invalid(label: &str, message: impl Into<String>) -> GeometryError {
+    GeometryError::Invalid {
+        region: label.to_string(),
+        message: message.into(),
+    }
+}
+
+fn is_geojson(text: &str) -> bool {
+    serde_json::from_str::<Value>(text)
+        .ok()
+        .and_then(|v| {
+            v.get("type")
+                .and_then(Value::as_str)
+                .map(|t| GEOJSON_TYPES.contains(&t))
+        })
+        .unwrap_or(false)
+}
+
+/// Drop exact repeats (consecutive, and a closing copy of the first point).
+fn dedup_closed(points: &mut Vec<DVec2>) {
+    points.dedup();
+    while points.len() > 1 && points.first() == points.last() {
+        points.pop();
+    }
+}
+
+/// Twice the signed area (positive for CCW).
+fn signed_area2(p: &[DVec2]) -> f64 {
+    (0..p.len())
+        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
+        .sum()
+}
+
+/// Even-odd point-in-polygon test.
+fn inside(p: DVec2, ring: &[DVec2]) -> bool {
+    let mut c = false;
+    for i in 0..ring.len() {
+        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            c = !c;
+        }
+    }
+    c
+}
+
+/// Build the region from straight loops: check sizes, orient, make line pieces and corners.
+/// Geometric validity (simple, non-crossing, holes inside) is [`Region::new`]'s to check.
+fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, GeometryError> {
+    let mut out = Vec::with_capacity(loops.len());
+    let mut corners = Vec::new();
+    for (k, (role, mut pts)) in loops.into_iter().enumerate() {
+        if let Some(p) = pts.iter().find(|p| !p.is_finite()) {
+            return Err(invalid(
+                label,
+                format!("loop {k} has a non-finite point {p}"),
+            ));
+        }
+        dedup_closed(&mut pts);
+        if pts.len() < 3 {
+            return Err(invalid(
+                label,
+                format!(
+                    "loop {k} has {} distinct points; a loop needs at least 3",
+                    pts.len()
+                ),
+            ));
+        }
+        let area2 = signed_area2(&pts);
+        if area2 == 0.0 || !area2.is_finite() {
+            return Err(invalid(label, format!("loop {k} encloses no area")));
+        }
+        if (area2 > 0.0) != (role == LoopRole::Outer) {
+            pts.reverse();
+        }
+        let n = pts.len();
+        for i in 0..n {
+            let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
+            if (p - prev).angle_to(next - p).abs() > CORNER_TURN {
+                corners.push(p);
+            }
+        }
+        let pieces = (0..n)
+            .map(|i| Piece::Line {
+                a: pts[i],
+                b: pts[(i + 1) % n],
+            })
+            .collect();
+        out.push((role, pieces));
+    }
+    Region::new(name, out, Some(corners)).map_err(|e| match e {
+        // Name the file, not just the region, so that the user knows what to fix.
+        GeometryError::Invalid { message, .. } => invalid(label, message),
+        e => e,
+    })
+}
+
+/// Non-empty lines with `#` comments removed, with 1-based line numbers.
+fn records(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, l)| {
+        let l = l.split('#').next().unwrap_or("");
+        let toks: Vec<&str> = l.split_whitespace().collect();
+        (!toks.is_empty()).then_some((i + 1, toks))
+    })
+}
+
+fn num<T: std::str::FromStr>(
+    label: &str,
+    line: usize,
+    tok: Option<&&str>,
+    what: &str,
+) -> Result<T, GeometryError> {
+    let tok = tok.ok_or_else(|| parse_err(label, line, format!("missing {what}")))?;
+    tok.parse()
+        .map_err(|_| parse_err(label, line, format!("expected {what}, found '{tok}'")))
+}
+
+fn coord(label: &str, line: usize, tok: Option<&&str>, what: &str) -> Result<f64, GeometryError> {
+    let v: f64 = num(label, line, tok, what)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(parse_err(label, line, format!("{what} is not finite")))
+    }
+}
+
+/// Vertex list of a `.poly` or `.node` section: points and the index base (0 or 1).
+fn parse_vertices<'a>(
+    recs: &mut impl Iterator<Item = (usize, Vec<&'a str>)>,
+    label: &str,
+    n: usize,
+    last_line: usize,
+) -> Result<(Vec<DVec2>, usize), GeometryError> {
+    let mut pts = Vec::with_capacity(n.min(1 << 16));
+    let mut base = 0;
+    for i in 0..n {
+        let (line, t) = recs.next().ok_or_else(|| {
+            parse_err(
+                label,
+                last_line,
+                format!("file ends after {i} of {n} vertices"),
+            )
+        })?;
+        let idx: usize = num(label, line, t.first(), "a vertex number")?;
+        if i == 0 {
+            if idx > 1 {
+                return Err(parse_err(
+                    label,
+                    line,
+                    format!("first vertex is numbered {idx}; Triangle numbers from 0 or 1"),
+                ));
+            }
+            base = idx;
+        } else if idx != base + i {
+            return Err(parse_err(
+                label,
+                line,
+                format!("vertex number {idx}, expected {}", base + i),
+            ));
+        }
+        pts.push(DVec2::new(
+            coord(label, line, t.get(1), "x")?,
+            coord(label, line, t.get(2), "y")?,
+        ));
+    }
+    Ok((pts, base))
+}
+
+/// The header `n dim nattr nmarkers` of a vertex section.
+fn vertex_header(label: &str, line: usize, t: &[&str]) -> Result<usize, GeometryError> {
+    let n: usize = num(label, line, t.first(), "the number of vertices")?;
+    if let Some(d) = t.get(1) {
+        if *d != "2" {
+            return Err(parse_err(
+                label,
+                line,
+                format!("dimension is {d}; only 2 is supported"),
+            ));
+        }
+    }
+    Ok(n)
+}
+
+type NodeSource<'a> = dyn FnMut() -> Result<(String, String), GeometryError> + 'a;
+
+fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loops, GeometryError> {
+    let last_line = text.lines().count().max(1);
+    let mut recs = records(text);
+    let (line, head) = recs
+        .next()
+        .ok_or_else(|| parse_err(label, 1, "empty file: expected the vertex header"))?;
+    let n = vertex_header(label, line, &head)?;
+    let (verts, base) = if n == 0 {
+        let (node_text, node_label) = node_file()?;
+        let node_last = node_text.lines().count().max(1);
+        let mut nrecs = records(&node_text);
+        let (nline, nhead) = nrecs
+            .next()
+            .ok_or_else(|| parse_err(&node_label, 1, "empty file: expected the vertex header"))?;
+        let nn = vertex_header(&node_label, nline, &nhead)?;
+        parse_vertices(&mut nrecs, &node_label, nn, node_last)?
+    } else {
+        parse_vertices(&mut recs, label, n, last_line)?
+    };
+
+    let (line, t) = recs
+        .next()
+        .ok_or_else(|| parse_err(label, last_line, "file ends before the segment header"))?;
+    let nseg: usize = num(label, line, t.first(), "the number of segments")?;
+    // Vertices with equal coordinates are one vertex (some files repeat a loop's first vertex).
+    let mut canon: HashMap<(u64, u64), usize> = HashMap::new();
+    let ids: Vec<usize> = verts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *canon.entry((p.x.to_bits(), p.y.to_bits())).or_insert(i))
+        .collect();
+    let mut seen: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut adj: HashMap<usize, Vec<(usize, usize)>> = HashMap::new(); // vertex → (neighbour, line)
+    let mut order = Vec::new();
+    for s in 0..nseg {
+        let (line, t) = recs.next().ok_or_else(|| {
+            parse_err(
+                label,
+                last_line,
+                format!("file ends after {s} of {nseg} segments"),
+            )
+        })?;
+        let end = |k: usize| -> Result<usize, GeometryError> {
+            let v: usize = num(label, line, t.get(k), "a segment end point")?;
+            if v < base || v - base >= verts.len() {
+                return Err(parse_err(
+                    label,
+                    line,
+                    format!("segment end point {v} is not a vertex number"),
+                ));
+            }
+            Ok(ids[v - base])
+        };
+        let (a, b) = (end(1)?, end(2)?);
+        if a == b {
+            return Err(parse_err(label, line, "segment joins a vertex to itself"));
+        }
+        if let Some(prev) = seen.insert((a.min(b), a.max(b)), line) {
+            return Err(parse_err(
+                label,
+                line,
+                format!("segment repeats the segment on line {prev}"),
+            ));
+        }
+        for (u, v) in [(a, b), (b, a)] {
+            let e = adj.entry(u).or_default();
+            if e.is_empty() {
+                order.push(u);
+            }
+            e.push((v, line));
+        }
+    }
+    for &v in &order {
+        let e = &adj[&v];
+        if e.len() == 1 {
+            return Err(parse_err(
+                label,
+                e[0].1,
+                format!(
+                    "open polyline: vertex {} at {} ends the segments without closing a loop",
+                    v + base,
+                    verts[v]
+                ),
+            ));
+        }
+        if e.len() > 2 {
+            return Err(parse_err(
+                label,
+                e[2].1,
+                format!(
+                    "vertex {} at {} is shared by {} segments; loops must be simple",
+                    v + base,
+                    verts[v],
+                    e.len()
+                ),
+            ));
+        }
+    }
+    // Walk each cycle.
+    let mut rings: Vec<Vec<DVec2>> = Vec::new();
+    let mut done: HashMap<usize, bool> = HashMap::new();
+    for &start in &order {
+        if done.contains_key(&start) {
+            continue;
+        }
+        let (mut prev, mut cur) = (usize::MAX, start);
+        let mut ring = Vec::new();
+        loop {
+            done.insert(cur, true);
+            ring.push(verts[cur]);
+            let e = &adj[&cur];
+            let next = if e[0].0 != prev { e[0].0 } else { e[1].0 };
+            prev = cur;
+            cur = next;
+            if cur == start {
+                break;
+            }
+        }
+        rings.push(ring);
+    }
+    if rings.is_empty() {
+        return Err(invalid(
+            label,
+            "no segments: a .poly region needs its boundary as closed loops of segments",
+        ));
+    }
+
+    let (line, t) = recs
+        .next()
+        .ok_or_else(|| parse_err(label, last_line, "file ends before the hole header"))?;
+    let nholes: usize = num(label, line, t.first(), "the number of holes")?;
+    let mut holes = Vec::new();
+    for h in 0..nholes {
+        let (line, t) = recs.next().ok_or_else(|| {
+            parse_err(
+                label,
+                last_line,
+                format!("file ends after {h} of {nholes} holes"),
+            )
+        })?;
+        holes.push((
+            line,
+            DVec2::new(
+                coord(label, line, t.get(1), "x")?,
+                coord(label, line, t.get(2), "y")?,
+            ),
+        ));
+    }
+    // Regional attributes may follow; they do not change the region.
+
+    // The outer loop is the largest; every other loop must lie inside it and is a hole.
+    let outer = (0..rings.len())
+        .max_by(|&i, &j| {
+            signed_area2(&rings[i])
+                .abs()
+                .total_cmp(&signed_area2(&rings[j]).abs())
+        })
+        .unwrap_or(0);
+    let outer_ring = rings.swap_remove(outer);
+    rings.insert(0, outer_ring);
+    for (k, r) in rings.iter().enumerate().skip(1) {
+        if !inside(r[0], &rings[0]) {
+            return Err(invalid(
+                label,
+                format!("the loop through {} lies outside the outer loop; a region has one outer boundary", r[0]),
+            ));
+        }
+        if let Some(j) = (1..rings.len()).find(|&j| j != k && inside(r[0], &rings[j])) {
+            return Err(invalid(
+                label,
+                format!("the loop through {} lies inside the hole through {}; islands are not supported", r[0], rings[j][0]),
+            ));
+        }
+    }
+    for (line, h) in holes {
+        if inside(h, &rings[0]) && !rings[1..].iter().any(|r| inside(h, r)) {
+            return Err(parse_err(
+                label,
+                line,
+                format!("hole point {h} lies in the region, not inside any hole loop"),
+            ));
+        }
+    }
+    Ok(rings
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            (
+                if i == 0 {
+                    LoopRole::Outer
+                } else {
+                    LoopRole::Hole
+                },
+                r,
+            )
+        })
+        .collect())
+}
+
+fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
+    let v: Value = serde_json::from_str(text).map_err(|e| GeometryError::Parse {
+        path: label.to_string(),
+        message: format!("invalid JSON: {e}"),
+    })?;
+    let bad = |m: String| GeometryError::Parse {
+        path: label.to_string(),
+        message: m,
+    };
+    let rings = find_polygon(&v, 0).map_err(bad)?;
+    let rings = rings
+        .as_array()
+        .ok_or_else(|| bad("polygon coordinates must be an array of rings".into()))?;
+    if rings.is_empty() {
+        return Err(bad("the polygon has no rings".into()));
+    }
+    let mut loops = Vec::with_capacity(rings.len());
+    for (k, ring) in rings.iter().enumerate() {
+        let positions = ring
+            .as_array()
+            .ok_or_else(|| bad(format!("ring {k} is not an array of positions")))?;
+        let mut pts = Vec::with_capacity(positions.len());
+        for (i, pos) in positions.iter().enumerate() {
+            let xy = pos
+                .as_array()
+                .filter(|a| a.len() >= 2)
+                .and_then(|a| Some(DVec2::new(a[0].as_f64()?, a[1].as_f64()?)));
+            pts.push(xy.ok_or_else(|| bad(format!("ring {k}, position {i}: expected [x, y]")))?);
+        }
+        if pts.first() != pts.last() {
+            return Err(bad(format!(
+                "ring {k} is not closed: GeoJSON rings end with a copy of their first position (open polyline)"
+            )));
+        }
+        loops.push((
+            if k == 0 {
+                LoopRole::Outer
+            } else {
+                LoopRole::Hole
+            },
+            pts,
+        ));
+    }
+    Ok(loops)
+}
+
+/// The coordinates (array of rings) of the first polygon in a GeoJSON object.
+fn find_polygon(v: &Value, depth: usize) -> Result<&Value, String> {
+    if depth > 8 {
+        return Err("GeoJSON objects nested too deeply".into());
+    }
+    let ty = v
+        .get("type")
+        .and_then(Value::as_str)
+        .ok_or("expected a GeoJSON object with a \"type\"")?;
+    let missing = |field: &str| format!("{ty} has no \"{field}\"");
+    match ty {
+        "Polygon" => v.get("coordinates").ok_or_else(|| missing("coordinates")),
+        "MultiPolygon" => v
+            .get("coordinates")
+            .ok_or_else(|| missing("coordinates"))?
+            .as_array()
+            .and_then(|a| a.first())
+            .ok_or_else(|| "MultiPolygon has no polygons".to_string()),
+        "Feature" => find_polygon(
+            v.get("geometry").ok_or_else(|| missing("geometry"))?,
+            depth + 1,
+        ),
+        "FeatureCollection" | "GeometryCollection" => {
+            let field = if ty == "FeatureCollection" {
+                "features"
+            } else {
+                "geometries"
+            };
+            let items = v
+                .get(field)
+                .and_then(Value::as_array)
+                .ok_or_else(|| missing(field))?;
+            items
+                .iter()
+                .find_map(|item| find_polygon(item, depth + 1).ok())
+                .ok_or_else(|| format!("{ty} contains no Polygon or MultiPolygon"))
+        }
+        other => Err(format!(
+            "GeoJSON type {other} is not a polygon (expected {})",
+            GEOJSON_TYPES.join(", ")
+        )),
+    }
+}
+
+fn parse_loops(text: &str, label: &str) -> Result<Loops, GeometryError> {
+    let mut loops: Vec<Vec<DVec2>> = Vec::new();
+    let mut current: Vec<DVec2> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        if raw.trim().is_empty() {
+            if !current.is_empty() {
+                loops.push(std::mem::take(&mut current));
+            }
+            continue;
+        }
+        let content = raw.split('#').next().unwrap_or("");
+        let toks: Vec<&str> = content
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+            .collect();
+        if toks.is_empty() {
+            continue; // a comment line neither adds a point nor ends a loop
+        }
+        if toks.len() != 2 {
+            return Err(parse_err(
+                label,
+                line,
+                format!("expected two numbers 'x y', found {} fields", toks.len()),
+            ));
+        }
+        current.push(DVec2::new(
+            coord(label, line, toks.first(), "x")?,
+            coord(label, line, toks.get(1), "y")?,
+        ));
+    }
+    if !current.is_empty() {
+        loops.push(current);
+    }
+    if loops.is_empty() {
+        return Err(invalid(label, "no points: expected loops of 'x y' lines"));
+    }
+    Ok(loops
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            (
+                if i == 0 {
+                    LoopRole::Outer
+                } else {
+                    LoopRole::Hole
+                },
+                r,
+            )
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    fn no_node() -> impl FnMut() -> Result<(String, String), GeometryError> {
+        || {
+            Err(GeometryError::Parse {
+                path: "x".into(),
+                message: "no node file".into(),
+            })
+        }
+    }
+
+    fn poly(text: &str) -> Result<Loops, GeometryError> {
+        parse_poly(text, "t.poly", &mut no_node())
+    }
+
+    /// Ring areas (positive) in order, to compare parses independent of start point/orientation.
+    fn areas(loops: &Loops) -> Vec<(LoopRole, f64)> {
+        loops
+            .iter()
+            .map(|(r, p)| (*r, signed_area2(p).abs() / 2.0))
+            .collect()
+    }
+
+    const SQUARE_HOLE_POLY: &str = "# square with a square hole\n\
+        8 2 0 1\n\
+        1 0 0 1\n2 4 0 1\n3 4 4 1\n4 0 4 1\n\
+        5 1 1 2\n6 2 1 2\n7 2 2 2\n8 1 2 2\n\
+        8 1\n\
+        1 5 6 2\n2 1 2 1\n3 3 4 1\n4 6 7 2\n5 2 3 1\n6 4 1 1\n7 8 5 2\n8 7 8 2\n\
+        1\n1 1.5 1.5\n";
+
+    #[test]
+    fn poly_assembles_loops_and_finds_the_hole() {
+        let loops = poly(SQUARE_HOLE_POLY).unwrap();
+        assert_eq!(
+            areas(&loops),
+            [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)]
+        );
+        assert_eq!(loops[0].1.len(), 4);
+        // Without the hole point the inner loop is still a hole (it lies inside the outer loop).
+        let no_hole = SQUARE_HOLE_POLY.replace("\n1\n1 1.5 1.5\n", "\n0\n");
+        assert_eq!(areas(&poly(&no_hole).unwrap()), areas(&loops));
+        // 0-based numbering, duplicate coincident vertex closing a loop, trailing attributes.
+        let zero =
+            "5 2 1 0\n0 0 0 9\n1 3 0 9\n2 0 3 9\n3 0 0 9\n4 9 9 9\n3 0\n0 0 1\n1 1 2\n2 2 3\n0\n";
+        assert_eq!(areas(&poly(zero).unwrap()), [(LoopRole::Outer, 4.5)]);
+    }
+
+    #[test]
+    fn poly_with_vertices_in_a_node_file() {
+        let text = "0 2 0 0\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n";
+        let mut node = || {
+            Ok((
+                "3 2 0 0\n1 0 0\n2 2 0\n3 0 2\n".to_string(),
+                "t.node".to_string(),
+            ))
+        };
+        let loops = parse_poly(text, "t.poly", &mut node).unwrap();
+        assert_eq!(areas(&loops), [(LoopRole::Outer, 2.0)]);
+        let e = poly(text).unwrap_err().to_string();
+        assert!(e.contains("no node file"), "{e}");
+    }
+
+    #[test]
+    fn poly_errors_name_file_and_line() {
+        let cases = [
+            ("", "line 1: empty file"),
+            ("3 3 0 0\n", "line 1: dimension is 3"),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n",
+                "line 3: file ends after 2 of 3 vertices",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 nan\n3 0 1\n",
+                "line 3: y is not finite",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n2 0\n1 1 2\n2 2 3\n0\n",
+                "open polyline",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 7\n0\n",
+                "line 8: segment end point 7",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 1\n3 3 1\n0\n",
+                "line 7: segment repeats the segment on line 6",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 2 2\n0\n",
+                "joins a vertex to itself",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n",
+                "file ends before the hole header",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n1\n1 0.1 0.1\n",
+                "line 10: hole point",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n3 1 0\n",
+                "line 3: vertex number 3, expected 2",
+            ),
+            ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n0 0\n0\n", "no segments"),
+            (
+                "\u{0}\u{1}garbage\u{7f}",
+                "line 1: expected the number of vertices",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = poly(text).unwrap_err().to_string();
+            assert!(
+                e.contains("t.poly") && e.contains(want),
+                "{e:?} should contain {want:?}"
+            );
+        }
+        // Two separate squares: the smaller is not inside the larger.
+        let two = "8 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 5 0\n6 6 0\n7 6 1\n8 5 1\n\
+                   8 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n8 8 5\n0\n";
+        assert!(poly(two)
+            .unwrap_err()
+            .to_string()
+            .contains("outside the outer loop"));
+        // A vertex shared by three segments.
+        let bow = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 2 0\n5 2 1\n6 0\n1 1 2\n2 2 3\n3 3 1\n4 2 4\n5 4 5\n6 5 2\n0\n";
+        assert!(poly(bow)
+            .unwrap_err()
+            .to_string()
+            .contains("shared by 4 segments"));
+    }
+
+    #[test]
+    fn geojson_polygon_multipolygon_and_wrappers() {
+        let ring = "[[0,0],[4,0],[4,4],[0,4],[0,0]]";
+        let hole = "[[1,1],[1,2],[2,2],[2,1],[1,1]]";
+        let poly = format!("{{\"type\":\"Polygon\",\"coordinates\":[{ring},{hole}]}}");
+        let want = [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)];
+        assert_eq!(areas(&parse_geojson(&poly, "g").unwrap()), want);
+        let multi =
+            format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}],[{ring}]]}}");
+        assert_eq!(areas(&parse_geojson(&multi, "g").unwrap()), want);
+        let feature = format!("{{\"type\":\"Feature\",\"properties\":{{}},\"geometry\":{poly}}}");
+        assert_eq!(areas(&parse_geojson(&feature, "g").unwrap()), want);
+        let point =
+            "{\"type\":\"Feature\",\"geometry\":{\"type\":\"Point\",\"coordinates\":[1,2]}}";
+        let coll = format!("{{\"type\":\"FeatureCollection\",\"features\":[{point},{feature}]}}");
+        assert_eq!(areas(&parse_geojson(&coll, "g").unwrap()), want);
+        assert!(
+            is_geojson(&coll)
+                && is_geojson(&poly)
+                && !is_geojson("{\"name\":\"circle\",\"loops\":[]}")
+        );
+        // 3-D positions keep x and y.
+        let z = "{\"type\":\"Polygon\",\"coordinates\":[[[0,0,5],[1,0,5],[0,1,5],[0,0,5]]]}";
+        assert_eq!(
+            areas(&parse_geojson(z, "g").unwrap()),
+            [(LoopRole::Outer, 0.5)]
+        );
+    }
+
+    #[test]
+    fn geojson_errors() {
+        let cases = [
+            (
+                "{\"type\":\"Polygon\",\"coordinates\":[[[0,0],[1,0],[0,1]]]}",
+                "not closed",
+            ),
+            (
+                "{\"type\":\"Polygon\",\"coordinates\":[[[0,0],[1,0],[0,\"a\"],[0,0]]]}",
+                "ring 0, position 2",
+            ),
+            ("{\"type\":\"Polygon\",\"coordinates\":[]}", "no rings"),
+            (
+                "{\"type\":\"LineString\",\"coordinates\":[[0,0],[1,1]]}",
+                "LineString is not a polygon",
+            ),
+            (
+                "{\"type\":\"FeatureCollection\",\"features\":[]}",
+                "contains no Polygon",
+            ),
+            (
+                "{\"type\":\"Polygon\",\"coordinates\":[[0,0],",
+                "invalid JSON",
+            ),
+            ("[1,2,3]", "expected a GeoJSON object"),
+        ];
+        for (text, want) in cases {
+            let e = parse_geojson(text, "g.geojson").unwrap_err().to_string();
+            assert!(
+                e.contains("g.geojson") && e.contains(want),
+                "{e:?} should contain {want:?}"
+            );
+        }
+        let e = parse_geojson(
+            "{\n\"type\": \"Polygon\",\n  \"coordinates\": [[[0, 0] [1, 0]]]}",
+            "g",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("line 3"), "{e}");
+    }
+
+    #[test]
+    fn plain_loops_with_commas_comments_and_blank_lines() {
+        let text =
+            "# outer\n0 0\n4, 0\n4,4\n0 4\n0 0\n\n\n# hole\n1 1   # a point\n1 2\n2\t2\n2 1\n";
+        let loops = parse_loops(text, "l.txt").unwrap();
+        assert_eq!(loops.len(), 2);
+        assert_eq!(
+            loops[0].1.len(),
+            5,
+            "the closing point is dropped later, in polygon_region"
+        );
+        assert_eq!(
+            areas(&loops),
+            [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)]
+        );
+        let cases = [
+            ("0 0\n1 0\n1 1 1\n", "line 3: expected two numbers"),
+            ("0 0\n1 x\n", "line 2: expected y"),
+            ("0 0\nNaN 1\n", "line 2: x is not finite"),
+            ("# nothing\n\n", "no points"),
+            ("\u{fffd}\u{1} z\n", "line 1: expected x"),
+        ];
+        for (text, want) in cases {
+            let e = parse_loops(text, "l.txt").unwrap_err().to_string();
+            assert!(
+                e.contains("l.txt") && e.contains(want),
+                "{e:?} should contain {want:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn corners_are_the_turning_vertices() {
+        // Collinear midpoints are not corners; the four square corners are.
+        let pts = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        let n = pts.len();
+        let turning: Vec<usize> = (0..n)
+            .filter(|&i| {
+                (pts[i] - pts[(i + n - 1) % n])
+                    .angle_to(pts[(i + 1) % n] - pts[i])
+                    .abs()
+                    > CORNER_TURN
+            })
+            .collect();
+        assert_eq!(turning, [0, 2, 3, 5]);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn random_bytes_never_panic_the_parsers(bytes in proptest::collection::vec(proptest::num::u8::ANY, 0..300)) {
+            let text = String::from_utf8_lossy(&bytes);
+            let _ = poly(&text);
+            let _ = parse_geojson(&text, "r");
+            let _ = parse_loops(&text, "r");
+        }
+
+        #[test]
+        fn random_numeric_text_never_panics_the_parsers(text in "[0-9 \n#.,-]{0,200}") {
+            let _ = poly(&text);
+            let _ = parse_loops(&text, "r");
+            let _ = parse_geojson(&format!("{{\"type\":\"Polygon\",\"coordinates\":[[{text}]]}}"), "r");
+        }
+    }
+
+    // ---- End to end through Region::new ----
+
+    struct TempFile(std::path::PathBuf);
+    impl TempFile {
+        fn new(name: &str, contents: &[u8]) -> TempFile {
+            static N: AtomicUsize = AtomicUsize::new(0);
+            let dir = std::env::temp_dir().join(format!(
+                "geometry-formats-{}-{}",
+                std::process::id(),
+                N.fetch_add(1, Ordering::Relaxed)
+            ));
+            std::fs::create_dir_all(&dir).unwrap();
+            let p = dir.join(name);
+            std::fs::write(&p, contents).unwrap();
+            TempFile(p)
+        }
+    }
+    impl Drop for TempFile {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(self.0.parent().unwrap());
+        }
+    }
+
+    fn assert_square_with_hole(r: &Region, name: &str) {
+        assert_eq!(r.name(), name);
+        assert_eq!(r.loops().len(), 2);
+        assert_eq!(r.loops()[0].role, LoopRole::Outer);
+        assert_eq!(r.loops()[1].role, LoopRole::Hole);
+        assert!((r.area() - 15.0).abs() < 1e-12, "area {}", r.area());
+        assert!((r.perimeter() - 20.0).abs() < 1e-12);
+        assert_eq!(r.corners().len(), 8);
+        assert_eq!(r.pieces().len(), 8);
+    }
+
+    #[test]
+    fn every_format_reads_the_same_region() {
+        let ring = "[[0,0],[0,4],[4,4],[4,0],[0,0]]"; // clockwise: must be reoriented
+        let hole = "[[1,1],[2,1],[2,2],[1,2],[1,1]]";
+        let geo = format!("{{\"type\":\"Feature\",\"geometry\":{{\"type\":\"Polygon\",\"coordinates\":[{ring},{hole}]}}}}");
+        let files = [
+            TempFile::new("a.poly", SQUARE_HOLE_POLY.as_bytes()),
+            TempFile::new("b.geojson", geo.as_bytes()),
+            TempFile::new("c.json", geo.as_bytes()),
+            TempFile::new("d.txt", b"0 0\n2 0\n4 0\n4 4\n0 4\n\n1 1\n1 2\n2 2\n2 1\n"),
+            TempFile::new(
+                "e.XY",
+                b"0,0\n4,0\n4,4\n0,4\n0,0\n\n1,1\n1,2\n2,2\n2,1\n1,1\n",
+            ),
+        ];
+        for (f, name) in files.iter().zip(["a", "b", "c", "d", "e"]) {
+            let r = read_region(&f.0).unwrap_or_else(|e| panic!("{name}: {e}"));
+            if name == "d" {
+                // (2, 0) is a vertex but not a corner: nine pieces, eight corners.
+                assert_eq!(r.pieces().len(), 9);
+                assert_eq!(r.corners().len(), 8);
+                assert!((r.area() - 15.0).abs() < 1e-12);
+            } else {
+                assert_square_with_hole(&r, name);
+            }
+        }
+    }
+
+    #[test]
+    fn project_json_still_goes_to_the_project_reader() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/hex_hole.json");
+        let r = read_region(&dir).unwrap();
+        assert_eq!(r.name(), "hex_hole");
+        assert_eq!(r.loops().len(), 2);
+    }
+
+    #[test]
+    fn read_region_errors() {
+        let e = read_region(Path::new("shape.stl")).unwrap_err().to_string();
+        assert!(
+            e.contains("'.stl'") && e.contains(".geojson") && e.contains(".poly"),
+            "{e}"
+        );
+        let e = read_region(Path::new("/no/such/file.poly")).unwrap_err();
+        assert!(matches!(e, GeometryError::Io { .. }), "{e}");
+        let bin = TempFile::new("bin.txt", &[0xff, 0xfe, 0x00, 0x12]);
+        assert!(read_region(&bin.0)
+            .unwrap_err()
+            .to_string()
+            .contains("not a text file"));
+        let few = TempFile::new("few.txt", b"0 0\n1 0\n1 0\n0 0\n");
+        let e = read_region(&few.0).unwrap_err().to_string();
+        assert!(
+            e.contains("few.txt") && e.contains("2 distinct points"),
+            "{e}"
+        );
+        let flat = TempFile::new("flat.txt", b"0 0\n1 0\n2 0\n");
+        assert!(read_region(&flat.0)
+            .unwrap_err()
+            .to_string()
+            .contains("encloses no area"));
+        // A self-intersecting bow tie is caught by Region::new and names the file.
+        let bow = TempFile::new("bow.txt", b"0 0\n1 1\n1 0\n0 1\n");
+        let e = read_region(&bow.0).unwrap_err();
+        assert!(
+            matches!(e, GeometryError::Invalid { .. }) && e.to_string().contains("bow.txt"),
+            "{e}"
+        );
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        #[test]
+        fn random_small_polygons_never_panic(coords in proptest::collection::vec(-3i8..3, 6..16)) {
+            // Small integer coordinates make collinear, repeated and crossing points common.
+            let text: String = coords.chunks(2).filter(|c| c.len() == 2).map(|c| format!("{} {}\n", c[0], c[1])).collect();
+            let _ = loops_from_str(&text, "r", "r");
+        }
+    }
+}

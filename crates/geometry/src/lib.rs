@@ -5,16 +5,21 @@
 //! [`Region`] and the straight-edged [`Polygon`] it polygonizes to.
 #![forbid(unsafe_code)]
 
+mod build;
+mod crossings;
 mod density;
 mod error;
 mod expand;
 pub mod expr;
 mod file;
+mod index;
+mod numeric;
 pub mod formats;
 mod piece;
 mod polygon;
 mod region;
 mod rng;
+mod se;
 
 pub use density::Density;
 pub use error::GeometryError;

@@ -1,6 +1,9 @@
 //! The region Ω: loops of pieces, corners, and the queries every method needs.
+use crate::index::{Hit, Index};
+use crate::polygon::Ring;
 use crate::{piece::Piece, polygon::Polygon, GeometryError};
 use glam::DVec2;
+use std::sync::Arc;
 
 /// Index of a boundary piece in `Region::pieces()` (global over all loops).
 pub type PieceId = usize;
@@ -71,19 +74,42 @@ pub struct Region {
     pub(crate) area: f64,
     /// Corner-angle threshold applied (degrees), if any (`with_corner_angle`).
     pub(crate) corner_threshold: Option<f64>,
+    /// Exact bounding box (min, max).
+    pub(crate) bbox: (DVec2, DVec2),
+    /// Nearest-point index over the boundary (shared by clones).
+    pub(crate) index: Arc<Index>,
+    /// Corner at the start / end of each piece, if any.
+    pub(crate) corner_at_start: Vec<Option<usize>>,
+    pub(crate) corner_at_end: Vec<Option<usize>>,
+    /// Arc length along its loop at the start of each piece.
+    pub(crate) piece_offset: Vec<f64>,
 }
 
 impl Region {
     /// Build from loops of pieces (outer first). Validates (closed, no self-intersection, no
     /// loops crossing, holes inside the outer loop, finite numbers), normalises orientation,
     /// and takes `corners` as given (`None`: every junction whose turning angle exceeds 1e-6 rad).
+    ///
+    /// Details:
+    /// - exactly one loop must be `Outer`; it becomes loop 0 even if it is not listed first
+    ///   (the holes keep their relative order). Messages number loops as given;
+    /// - a gap of at most 1e-9·diameter between consecutive pieces is closed by moving the
+    ///   end of the straight piece (line or chain) onto its neighbour; a larger gap is an error;
+    /// - duplicate consecutive vertices (an edge of length ≤ 1e-9·diameter) are **rejected**,
+    ///   not removed, with their position in the message;
+    /// - crossings and touchings (closer than 1e-11·diameter) within a loop or between loops
+    ///   are found on a polygonization with chord error 1e-6·diameter (chains exactly) and
+    ///   reported with the crossing point; loops closer than that tolerance may go unnoticed;
+    /// - a loop with the wrong orientation is reversed (pieces reversed and in reverse order,
+    ///   so it keeps its start point);
+    /// - each listed corner must lie within 1e-8·diameter of a junction of two pieces (or the
+    ///   start of a single-piece loop); its position becomes that junction exactly.
     pub fn new(
         name: &str,
         loops: Vec<(LoopRole, Vec<Piece>)>,
         corners: Option<Vec<DVec2>>,
     ) -> Result<Region, GeometryError> {
-        let _ = (name, loops, corners);
-        todo!()
+        crate::build::new_region(name, loops, corners)
     }
 
     /// Name (file stem or built-in name).
@@ -116,7 +142,7 @@ impl Region {
     }
     /// Bounding box (min, max).
     pub fn bbox(&self) -> (DVec2, DVec2) {
-        todo!()
+        self.bbox
     }
     /// Length of the bounding box diagonal.
     pub fn diameter(&self) -> f64 {
@@ -132,24 +158,100 @@ impl Region {
         self.signed_distance(p) <= 0.0
     }
     /// Signed distance to the boundary: negative inside, positive outside.
+    ///
+    /// The magnitude is the exact distance to the pieces (a bounding-volume hierarchy over
+    /// segments and curves finds the nearest one); the sign comes from the side of the
+    /// nearest piece, or at a vertex from the wedge of the two tangents, which is exact for
+    /// every point off the boundary. NaN for a non-finite point.
     pub fn signed_distance(&self, p: DVec2) -> f64 {
-        let _ = p;
-        todo!()
+        if !p.is_finite() {
+            return f64::NAN;
+        }
+        let hit = self.index.nearest(&self.pieces, p);
+        let d = hit.d2.sqrt();
+        if d == 0.0 {
+            0.0
+        } else if self.index.inside(&self.pieces, p, &hit) {
+            -d
+        } else {
+            d
+        }
     }
     /// Nearest boundary point over all pieces.
+    ///
+    /// When the nearest point is within 1e-12·diameter of a corner, the corner is reported
+    /// exactly: `point` is the corner, `piece` its `piece_out`, `loop_param` its `loop_param`.
+    /// `loop_param` is always in [0, loop length).
     pub fn project(&self, p: DVec2) -> BoundaryPoint {
-        let _ = p;
-        todo!()
+        let hit = self.index.nearest(&self.pieces, p);
+        self.boundary_point(p, &hit, None)
     }
     /// Nearest point on one given piece (the "own piece" projection of CCVT step 5).
+    /// A corner at either end of the piece is reported as in `project`, but `piece` stays
+    /// the given one.
+    ///
+    /// # Panics
+    /// If `piece` is not a valid piece id.
     pub fn project_onto_piece(&self, p: DVec2, piece: PieceId) -> BoundaryPoint {
-        let _ = (p, piece);
-        todo!()
+        let hit = self.index.nearest_on_piece(&self.pieces, p, piece);
+        self.boundary_point(p, &hit, Some(piece))
     }
     /// Straight-edged approximation with chord error ≤ `tol`; corners are kept as vertices.
+    ///
+    /// Every piece junction is a vertex (so corners are exact vertices); `tol` is clamped
+    /// below at 1e-12·diameter (a NaN or non-positive `tol` means that).
     pub fn polygonize(&self, tol: f64) -> Polygon {
-        let _ = tol;
-        todo!()
+        let tol = tol.max(1e-12 * self.diameter());
+        let rings = self
+            .loops
+            .iter()
+            .enumerate()
+            .map(|(l, lp)| {
+                let (mut points, mut pieces) = (Vec::new(), Vec::new());
+                for &pid in &lp.pieces {
+                    let pts = self.pieces[pid].polygonize(tol);
+                    let k = pts.len().saturating_sub(1);
+                    points.extend_from_slice(&pts[..k]);
+                    pieces.extend(std::iter::repeat_n(pid, k));
+                }
+                Ring { points, pieces, loop_index: l, hole: lp.role == LoopRole::Hole }
+            })
+            .collect();
+        Polygon { rings }
+    }
+
+    fn boundary_point(&self, p: DVec2, hit: &Hit, keep_piece: Option<PieceId>) -> BoundaryPoint {
+        let el = &self.index.elems[hit.elem as usize];
+        let mut piece = el.piece as usize;
+        let loop_index = self.piece_loop[piece];
+        let length = self.loops[loop_index].length;
+        let mut point = hit.point;
+        let mut loop_param = self.piece_offset[piece] + self.index.piece_param(&self.pieces, hit);
+        let tol = 1e-12 * self.diameter();
+        let corner = [self.corner_at_start[piece], self.corner_at_end[piece]]
+            .into_iter()
+            .flatten()
+            .find(|&c| self.corners[c].pos.distance(hit.point) <= tol);
+        if let Some(c) = corner {
+            let c = &self.corners[c];
+            point = c.pos;
+            loop_param = c.loop_param;
+            piece = c.piece_out;
+        }
+        if let Some(k) = keep_piece {
+            piece = k;
+        }
+        if loop_param >= length {
+            loop_param -= length;
+        }
+        BoundaryPoint {
+            point,
+            distance: p.distance(point),
+            piece,
+            loop_index,
+            loop_param: loop_param.clamp(0.0, length),
+            corner,
+        }
     }
     /// Ω_ε = {x : dist(x, Ω) ≤ ε} of Section 2.4, polygonized to `tol`; each edge's piece is
     /// the piece of Ω it is nearest to. Holes shrink and vanish when ε exceeds their inradius.
@@ -158,9 +260,69 @@ impl Region {
     }
     /// The same region with only the corners whose turning angle exceeds `degrees`; pieces
     /// joined at the dropped corners merge into `Piece::Chain`s.
+    ///
+    /// The turning angle of a corner is the angle between the incoming and outgoing
+    /// tangents (0° = straight on, 180° = turning back). Runs of pieces between kept corners
+    /// (and junctions that never were corners, such as tangent line–arc joins) become one
+    /// `Chain`: lines and chains contribute their points exactly; an arc in such a run is
+    /// sampled with chord error 1e-7·diameter. A loop left with no corner at all becomes a
+    /// single closed chain. The geometry is otherwise unchanged (no re-validation), `degrees`
+    /// is recorded in `corner_threshold`, and a NaN threshold counts as 0.
     pub fn with_corner_angle(&self, degrees: f64) -> Region {
-        let _ = degrees;
-        todo!()
+        let degrees = if degrees.is_nan() { 0.0 } else { degrees };
+        let threshold = degrees.to_radians();
+        let arc_tol = 1e-7 * self.diameter();
+        let mut lps = Vec::with_capacity(self.loops.len());
+        let mut flags = Vec::with_capacity(self.loops.len());
+        for lp in &self.loops {
+            let n = lp.pieces.len();
+            // keep[k]: the junction at the start of piece k stays a corner; cut[k]: pieces
+            // are not merged across it.
+            let keep: Vec<bool> = lp
+                .pieces
+                .iter()
+                .map(|&p| {
+                    self.corner_at_start[p].is_some_and(|c| {
+                        let c = &self.corners[c];
+                        crate::build::turning_angle(&self.pieces[c.piece_in], &self.pieces[c.piece_out]) > threshold
+                    })
+                })
+                .collect();
+            let cut: Vec<bool> = (0..n).map(|k| keep[k] || self.corner_at_start[lp.pieces[k]].is_none()).collect();
+            let first = (0..n).find(|&k| cut[k]).unwrap_or(0);
+            let (mut pieces, mut f) = (Vec::new(), Vec::new());
+            let mut k = 0;
+            while k < n {
+                // One run: from a cut up to (not including) the next cut.
+                let start = (first + k) % n;
+                let mut run = vec![start];
+                k += 1;
+                while k < n && !cut[(first + k) % n] {
+                    run.push((first + k) % n);
+                    k += 1;
+                }
+                f.push(keep[start]);
+                if run.len() == 1 {
+                    pieces.push(self.pieces[lp.pieces[start]].clone());
+                } else {
+                    let mut pts: Vec<DVec2> = Vec::new();
+                    for &r in &run {
+                        let piece = &self.pieces[lp.pieces[r]];
+                        let sample = match piece {
+                            Piece::Line { a, b } => vec![*a, *b],
+                            Piece::Chain(c) => c.clone(),
+                            other => other.polygonize(arc_tol),
+                        };
+                        let skip = usize::from(!pts.is_empty());
+                        pts.extend_from_slice(&sample[skip..]);
+                    }
+                    pieces.push(Piece::Chain(pts));
+                }
+            }
+            lps.push((lp.role, pieces));
+            flags.push(f);
+        }
+        crate::build::assemble(self.name.clone(), lps, &flags, Some(degrees))
     }
     /// Read a region file (the project's JSON schema, see `domains/`).
     pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {

@@ -1,2 +1,951 @@
 //! Mesh file formats (Triangle .node/.ele, Gmsh .msh 4.1, VTK .vtu, Wavefront .obj).
 //! Writers go through a temp file and rename so a failure never leaves a partial file.
+//!
+//! | extension | write | read |
+//! |---|---|---|
+//! | `.node`, `.ele` (+ `.poly`) | [`write_triangle`] | [`read_triangle`] |
+//! | `.msh` | [`write_gmsh`] (4.1 ASCII) | [`read_gmsh`] (4.1 and 2.2 ASCII) |
+//! | `.vtu` | [`write_vtu`] (XML ASCII, with quality fields) | — |
+//! | `.obj` | [`write_obj`] | [`read_obj`] |
+//!
+//! Coordinates are written in Rust's shortest round-trip notation, so writing and reading back
+//! reproduces every coordinate bit for bit.
+//!
+//! Boundary markers: the Triangle files written here keep the full [`VertexMarker`] (as node
+//! attributes). The other formats keep only which loop a boundary vertex lies on; a mesh read
+//! from them (or from a foreign file) carries [`UNKNOWN_PIECE`] and a NaN `loop_param` in its
+//! boundary markers, and [`restore_markers`] fills these in from the region.
+use crate::{Mesh, MeshError, VertexMarker};
+use geometry::{DVec2, PieceId, Region};
+use std::collections::HashMap;
+use std::fmt;
+use std::fs::{self, File};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+mod gmsh;
+mod obj;
+mod triangle;
+mod vtu;
+
+pub use gmsh::{read_gmsh, write_gmsh};
+pub use obj::{read_obj, write_obj};
+pub use triangle::{read_triangle, write_triangle};
+pub use vtu::{triangle_quality, write_vtu};
+
+/// The `piece` of a boundary marker read from a file that does not record pieces.
+pub const UNKNOWN_PIECE: PieceId = usize::MAX;
+
+/// Extensions [`write_mesh`] understands.
+pub const WRITE_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
+/// Extensions [`read_mesh`] understands.
+pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "obj"];
+
+/// Write `mesh` in the format named by the extension of `path`: `.node` or `.ele` (Triangle:
+/// writes `.node`, `.ele` and `.poly` beside each other), `.msh` (Gmsh 4.1), `.vtu` (VTK) or
+/// `.obj` (Wavefront). Pictures (`.svg`, `.png`) are the render crate's.
+pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
+    match extension(path).as_deref() {
+        Some("node") | Some("ele") => write_triangle(mesh, &path.with_extension("")),
+        Some("msh") => write_gmsh(mesh, path),
+        Some("vtu") => write_vtu(mesh, path),
+        Some("obj") => write_obj(mesh, path),
+        _ => Err(unknown_extension(path, "write", WRITE_EXTENSIONS)),
+    }
+}
+
+/// Read a mesh, choosing the format by extension: `.node`/`.ele` (Triangle, reading both
+/// files), `.msh` (Gmsh 4.1 or 2.2 ASCII) or `.obj`. Triangles come back counter-clockwise.
+pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
+    match extension(path).as_deref() {
+        Some("node") | Some("ele") => read_triangle(&path.with_extension("node")),
+        Some("msh") => read_gmsh(path),
+        Some("obj") => read_obj(path),
+        _ => Err(unknown_extension(path, "read", READ_EXTENSIONS)),
+    }
+}
+
+/// Fill in the boundary markers of a mesh read from a file: every vertex marked as on the
+/// boundary is projected onto `region` and gets that piece, loop, arc-length parameter, and
+/// becomes a `Corner` when it coincides with a region corner. Interior vertices stay interior.
+pub fn restore_markers(mesh: &mut Mesh, region: &Region) {
+    for (p, m) in mesh.points.iter().zip(mesh.markers.iter_mut()) {
+        if !m.on_boundary() {
+            continue;
+        }
+        let bp = region.project(*p);
+        *m = match bp.corner {
+            Some(corner) => VertexMarker::Corner {
+                loop_index: bp.loop_index,
+                corner,
+                loop_param: bp.loop_param,
+            },
+            None => VertexMarker::Boundary {
+                loop_index: bp.loop_index,
+                piece: bp.piece,
+                loop_param: bp.loop_param,
+            },
+        };
+    }
+}
+
+/// Boundary markers from the mesh alone, for files that do not record them: a vertex is on the
+/// boundary when it ends an edge used by only one triangle. Each connected chain of such edges
+/// is a loop; loop 0 is the one enclosing the largest signed area (the outer boundary of a
+/// mesh with CCW triangles), the others follow in order of their smallest vertex index.
+/// Pieces are [`UNKNOWN_PIECE`] and `loop_param` is NaN.
+pub fn markers_from_topology(points: &[DVec2], triangles: &[[u32; 3]]) -> Vec<VertexMarker> {
+    let n = points.len();
+    let edges = boundary_edges(triangles);
+    // Union-find over the boundary edges groups vertices into loops.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    for &(a, b) in &edges {
+        let (ra, rb) = (find(&mut parent, a as usize), find(&mut parent, b as usize));
+        if ra != rb {
+            parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+    // Per component: twice the signed area and the smallest vertex (the root, by construction).
+    let mut area: HashMap<usize, f64> = HashMap::new();
+    for &(a, b) in &edges {
+        let root = find(&mut parent, a as usize);
+        *area.entry(root).or_insert(0.0) += points[a as usize].perp_dot(points[b as usize]);
+    }
+    let mut roots: Vec<usize> = area.keys().copied().collect();
+    roots.sort_unstable();
+    if let Some(outer) = roots
+        .iter()
+        .enumerate()
+        .max_by(|x, y| area[x.1].total_cmp(&area[y.1]).then(y.0.cmp(&x.0)))
+        .map(|(i, _)| i)
+    {
+        let r = roots.remove(outer);
+        roots.insert(0, r);
+    }
+    let loop_of: HashMap<usize, usize> = roots.iter().enumerate().map(|(i, &r)| (r, i)).collect();
+    let mut on_boundary = vec![false; n];
+    for &(a, b) in &edges {
+        on_boundary[a as usize] = true;
+        on_boundary[b as usize] = true;
+    }
+    (0..n)
+        .map(|v| {
+            if on_boundary[v] {
+                let loop_index = loop_of[&find(&mut parent, v)];
+                VertexMarker::Boundary {
+                    loop_index,
+                    piece: UNKNOWN_PIECE,
+                    loop_param: f64::NAN,
+                }
+            } else {
+                VertexMarker::Interior
+            }
+        })
+        .collect()
+}
+
+/// Directed edges of the triangles whose reverse is in no triangle (the mesh boundary, with the
+/// mesh on the left), in triangle order. Uses a per-vertex list of outgoing edges (a few
+/// entries each) rather than hashing every edge: ~10x faster on million-vertex meshes.
+pub(crate) fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let directed = || {
+        triangles
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+    };
+    let n = triangles
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut start = vec![0usize; n + 1];
+    for (a, _) in directed() {
+        start[a as usize + 1] += 1;
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut targets = vec![0u32; start[n]];
+    for (a, b) in directed() {
+        targets[fill[a as usize]] = b;
+        fill[a as usize] += 1;
+    }
+    let has_edge = |a: u32, b: u32| targets[start[a as usize]..start[a as usize + 1]].contains(&b);
+    directed().filter(|&(a, b)| !has_edge(b, a)).collect()
+}
+
+/// Boundary edges grouped by loop, each group ordered along the loop parameter of its start
+/// vertex (so that files list edges in boundary order), and the number of loops.
+pub(crate) fn edges_by_loop(mesh: &Mesh) -> (Vec<Vec<(u32, u32)>>, usize) {
+    let loop_of = |v: u32| mesh.markers[v as usize].loop_index();
+    let mut nloops = mesh
+        .markers
+        .iter()
+        .filter_map(|m| m.loop_index())
+        .map(|l| l + 1)
+        .max()
+        .unwrap_or(0);
+    let mut tagged: Vec<(usize, (u32, u32))> = boundary_edges(&mesh.triangles)
+        .into_iter()
+        // An edge joins two vertices of one loop in a conforming mesh; otherwise take any loop
+        // an end point knows, so that no boundary edge is dropped.
+        .map(|(a, b)| (loop_of(a).or(loop_of(b)).unwrap_or(0), (a, b)))
+        .collect();
+    if !tagged.is_empty() {
+        nloops = nloops.max(1);
+    }
+    let param = |v: u32| mesh.markers[v as usize].loop_param().unwrap_or(f64::NAN);
+    tagged.sort_by(|x, y| {
+        x.0.cmp(&y.0)
+            .then(param(x.1 .0).total_cmp(&param(y.1 .0)))
+            .then(x.1.cmp(&y.1))
+    });
+    let mut groups = vec![Vec::new(); nloops];
+    for (l, e) in tagged {
+        groups[l].push(e);
+    }
+    (groups, nloops)
+}
+
+/// The mesh-file error for `path`.
+pub(crate) fn file_err(path: &Path, message: impl Into<String>) -> MeshError {
+    MeshError::File {
+        path: path.display().to_string(),
+        message: message.into(),
+    }
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+}
+
+fn unknown_extension(path: &Path, verb: &str, supported: &[&str]) -> MeshError {
+    let list: Vec<String> = supported.iter().map(|e| format!(".{e}")).collect();
+    let found = match extension(path) {
+        Some(e) => format!("extension '.{e}'"),
+        None => "no extension".to_string(),
+    };
+    file_err(
+        path,
+        format!(
+            "cannot {verb} a mesh with {found}; supported: {}",
+            list.join(", ")
+        ),
+    )
+}
+
+/// Check what a writer relies on, so that writing never panics and never writes an unreadable
+/// file: a marker per vertex, finite coordinates, triangle indices in range.
+pub(crate) fn validate_for_writing(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
+    if mesh.markers.len() != mesh.points.len() {
+        return Err(file_err(
+            path,
+            format!(
+                "mesh has {} vertices but {} markers",
+                mesh.points.len(),
+                mesh.markers.len()
+            ),
+        ));
+    }
+    if let Some(i) = mesh.points.iter().position(|p| !p.is_finite()) {
+        return Err(file_err(
+            path,
+            format!("vertex {i} is not finite: {}", mesh.points[i]),
+        ));
+    }
+    let n = mesh.points.len();
+    if let Some(t) = mesh
+        .triangles
+        .iter()
+        .position(|t| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(file_err(
+            path,
+            format!("triangle {t} refers to a vertex beyond the {n} vertices"),
+        ));
+    }
+    Ok(())
+}
+
+/// A float in its shortest round-trip form: plain decimals for ordinary magnitudes, scientific
+/// notation for very small or large ones (Rust's `{}` never uses an exponent).
+pub(crate) struct F(pub f64);
+
+impl fmt::Display for F {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+/// A file's contents, produced into a writer.
+pub(crate) type Producer<'a> = Box<dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a>;
+
+/// Write every file to a temp file beside its target, and only when all of them are complete
+/// rename them into place: a failure leaves no partial (or missing-partner) output behind.
+pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), MeshError> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
+    let cleanup = |written: &[(PathBuf, PathBuf)]| {
+        for (tmp, _) in written {
+            let _ = fs::remove_file(tmp);
+        }
+    };
+    for (target, produce) in jobs {
+        let Some(name) = target.file_name() else {
+            cleanup(&written);
+            return Err(file_err(&target, "not a file name"));
+        };
+        let tmp = target.with_file_name(format!(
+            ".{}.{}.{}.tmp",
+            name.to_string_lossy(),
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        let result = (|| -> std::io::Result<()> {
+            let mut w = BufWriter::new(File::create(&tmp)?);
+            produce(&mut w)?;
+            let file = w.into_inner().map_err(|e| e.into_error())?;
+            file.sync_all()
+        })();
+        if let Err(e) = result {
+            let _ = fs::remove_file(&tmp);
+            cleanup(&written);
+            return Err(file_err(&target, format!("cannot write: {e}")));
+        }
+        written.push((tmp, target));
+    }
+    for i in 0..written.len() {
+        let (tmp, target) = &written[i];
+        if let Err(e) = fs::rename(tmp, target) {
+            cleanup(&written[i..]);
+            return Err(file_err(
+                target,
+                format!("cannot move the finished file into place: {e}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Read a whole text file, with the error naming it.
+pub(crate) fn read_text(path: &Path) -> Result<String, MeshError> {
+    let bytes = fs::read(path).map_err(|e| file_err(path, format!("cannot read: {e}")))?;
+    String::from_utf8(bytes).map_err(|e| {
+        file_err(
+            path,
+            format!(
+                "not a text file (invalid UTF-8 at byte {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// Make every triangle counter-clockwise (files from other tools may use either orientation).
+pub(crate) fn orient_ccw(points: &[DVec2], triangles: &mut [[u32; 3]]) {
+    for t in triangles {
+        let [a, b, c] = t.map(|v| points[v as usize]);
+        if (b - a).perp_dot(c - a) < 0.0 {
+            t.swap(1, 2);
+        }
+    }
+}
+
+/// Whitespace-separated tokens of a text, with 1-based line numbers, skipping `comment`-started
+/// line tails. Parse errors name the line. Scans bytes (token boundaries are ASCII), which
+/// keeps reading a 100 MB mesh file to a couple of seconds.
+pub(crate) struct Tokens<'a> {
+    text: &'a str,
+    pos: usize,
+    /// Line of `pos` (1-based).
+    line: usize,
+    /// Line of the last token taken.
+    tok_line: usize,
+    comment: Option<u8>,
+    path: &'a Path,
+}
+
+impl<'a> Tokens<'a> {
+    pub(crate) fn new(text: &'a str, comment: Option<char>, path: &'a Path) -> Self {
+        let comment = comment.filter(char::is_ascii).map(|c| c as u8);
+        Tokens {
+            text,
+            pos: 0,
+            line: 1,
+            tok_line: 1,
+            comment,
+            path,
+        }
+    }
+
+    /// Skip whitespace and comments to the next token; false at the end of the text.
+    fn skip(&mut self) -> bool {
+        let b = self.text.as_bytes();
+        while self.pos < b.len() {
+            let c = b[self.pos];
+            if c == b'\n' {
+                self.line += 1;
+                self.pos += 1;
+            } else if c.is_ascii_whitespace() {
+                self.pos += 1;
+            } else if Some(c) == self.comment {
+                while self.pos < b.len() && b[self.pos] != b'\n' {
+                    self.pos += 1;
+                }
+            } else {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Line number of the next token (of the end of the text if there is none).
+    pub(crate) fn line_no(&mut self) -> usize {
+        self.skip();
+        self.line
+    }
+
+    /// An error at the next token's line.
+    pub(crate) fn err(&mut self, message: impl fmt::Display) -> MeshError {
+        let line = self.line_no();
+        self.err_line(line, message)
+    }
+
+    /// An error on a given line.
+    pub(crate) fn err_line(&self, line: usize, message: impl fmt::Display) -> MeshError {
+        file_err(self.path, format!("line {line}: {message}"))
+    }
+
+    /// The next token, if any.
+    pub(crate) fn peek(&mut self) -> Option<&'a str> {
+        if !self.skip() {
+            return None;
+        }
+        let b = self.text.as_bytes();
+        let mut end = self.pos;
+        while end < b.len() && !b[end].is_ascii_whitespace() && Some(b[end]) != self.comment {
+            end += 1;
+        }
+        Some(&self.text[self.pos..end])
+    }
+
+    /// The next token, or an error saying what was expected.
+    pub(crate) fn next(&mut self, what: &str) -> Result<&'a str, MeshError> {
+        match self.peek() {
+            Some(t) => {
+                self.pos += t.len();
+                self.tok_line = self.line;
+                Ok(t)
+            }
+            None => Err(file_err(
+                self.path,
+                format!("unexpected end of file, expected {what}"),
+            )),
+        }
+    }
+
+    /// The next token as a non-negative integer.
+    pub(crate) fn usize(&mut self, what: &str) -> Result<usize, MeshError> {
+        let t = self.next(what)?;
+        t.parse().map_err(|_| {
+            self.err_line(
+                self.tok_line,
+                format!("expected {what} (a non-negative integer), found '{t}'"),
+            )
+        })
+    }
+
+    /// The next token as a (possibly negative) integer.
+    pub(crate) fn i64(&mut self, what: &str) -> Result<i64, MeshError> {
+        let t = self.next(what)?;
+        t.parse().map_err(|_| {
+            self.err_line(
+                self.tok_line,
+                format!("expected {what} (an integer), found '{t}'"),
+            )
+        })
+    }
+
+    /// The next token as a finite float.
+    pub(crate) fn f64(&mut self, what: &str) -> Result<f64, MeshError> {
+        let t = self.next(what)?;
+        match t.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(self.err_line(self.tok_line, format!("{what} is not finite: '{t}'"))),
+            Err(_) => Err(self.err_line(
+                self.tok_line,
+                format!("expected {what} (a number), found '{t}'"),
+            )),
+        }
+    }
+
+    /// The rest of the current line (after the last token taken), trimmed, and move past it.
+    pub(crate) fn rest_of_line(&mut self) -> &'a str {
+        let b = self.text.as_bytes();
+        let start = self.pos;
+        while self.pos < b.len() && b[self.pos] != b'\n' {
+            self.pos += 1;
+        }
+        let rest = &self.text[start..self.pos];
+        if self.pos < b.len() {
+            self.pos += 1;
+            self.line += 1;
+        }
+        rest.trim()
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// A temp directory removed on drop (no tempfile dependency).
+    pub struct TempDir(pub PathBuf);
+
+    impl TempDir {
+        pub fn new(tag: &str) -> TempDir {
+            static N: AtomicUsize = AtomicUsize::new(0);
+            let dir = std::env::temp_dir().join(format!(
+                "mesh-io-{tag}-{}-{}",
+                std::process::id(),
+                N.fetch_add(1, Ordering::Relaxed)
+            ));
+            fs::create_dir_all(&dir).unwrap();
+            TempDir(dir)
+        }
+        pub fn path(&self, name: &str) -> PathBuf {
+            self.0.join(name)
+        }
+        /// Names of the files in the directory, sorted.
+        pub fn files(&self) -> Vec<String> {
+            let mut v: Vec<String> = fs::read_dir(&self.0)
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect();
+            v.sort();
+            v
+        }
+    }
+
+    impl Drop for TempDir {
+        fn drop(&mut self) {
+            let _ = fs::remove_dir_all(&self.0);
+        }
+    }
+
+    /// A conforming mesh of the square [0, 3]² with the square hole [1, 2]², on a 7×7 grid of
+    /// spacing 1/2 whose coordinates are perturbed to awkward floats (not short decimals), with
+    /// full markers: outer loop 0, hole loop 1, the eight square corners as `Corner`s.
+    pub fn square_with_hole() -> Mesh {
+        let n = 7usize;
+        let id = |i: usize, j: usize| (j * n + i) as u32;
+        let in_hole_cell = |i: usize, j: usize| (2..4).contains(&i) && (2..4).contains(&j);
+        let mut points = Vec::new();
+        let mut markers = Vec::new();
+        let corners_outer = [(0, 0), (6, 0), (6, 6), (0, 6)];
+        let corners_hole = [(2, 2), (2, 4), (4, 4), (4, 2)];
+        for j in 0..n {
+            for i in 0..n {
+                let (x, y) = (i as f64 * 0.5, j as f64 * 0.5);
+                let outer = i == 0 || j == 0 || i == n - 1 || j == n - 1;
+                let hole = (2..=4).contains(&i) && (2..=4).contains(&j) && !(i == 3 && j == 3);
+                // Wiggle interior points by irrational amounts to exercise exact round trips.
+                let p = if outer || hole {
+                    DVec2::new(x, y)
+                } else {
+                    DVec2::new(
+                        x + 0.01 * (PI * x + 1.0).sin() / 3.0,
+                        y + 1e-7 * (y * y + 0.1).sqrt(),
+                    )
+                };
+                points.push(p);
+                let loop_param = x * 3.0 + y / 7.0;
+                markers.push(
+                    if let Some(c) = corners_outer.iter().position(|&c| c == (i, j)) {
+                        VertexMarker::Corner {
+                            loop_index: 0,
+                            corner: c,
+                            loop_param,
+                        }
+                    } else if let Some(c) = corners_hole.iter().position(|&c| c == (i, j)) {
+                        VertexMarker::Corner {
+                            loop_index: 1,
+                            corner: 4 + c,
+                            loop_param,
+                        }
+                    } else if outer {
+                        VertexMarker::Boundary {
+                            loop_index: 0,
+                            piece: (i + j) % 4,
+                            loop_param,
+                        }
+                    } else if hole {
+                        VertexMarker::Boundary {
+                            loop_index: 1,
+                            piece: 4 + (i * j) % 4,
+                            loop_param,
+                        }
+                    } else {
+                        VertexMarker::Interior
+                    },
+                );
+            }
+        }
+        let mut triangles = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                if in_hole_cell(i, j) {
+                    continue;
+                }
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                if (i + j) % 2 == 0 {
+                    triangles.push([a, b, c]);
+                    triangles.push([a, c, d]);
+                } else {
+                    triangles.push([a, b, d]);
+                    triangles.push([b, c, d]);
+                }
+            }
+        }
+        // The hole centre (3, 3) is in no triangle: drop it, renumbering the later vertices.
+        let centre = id(3, 3);
+        points.remove(centre as usize);
+        markers.remove(centre as usize);
+        for t in &mut triangles {
+            for v in t.iter_mut() {
+                if *v > centre {
+                    *v -= 1;
+                }
+            }
+        }
+        Mesh {
+            points,
+            triangles,
+            markers,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_util::*;
+    use super::*;
+
+    #[test]
+    fn float_format_round_trips_exactly() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            1.0 / 3.0,
+            -2.5e-7,
+            1e-300,
+            6.02e23,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            123456.789,
+        ] {
+            let s = F(x).to_string();
+            assert_eq!(
+                s.parse::<f64>().unwrap().to_bits(),
+                x.to_bits(),
+                "{x} -> {s}"
+            );
+            assert!(s.len() < 26, "{s}");
+        }
+        assert_eq!(F(0.5).to_string(), "0.5");
+        assert_eq!(F(1e-7).to_string(), "1e-7");
+    }
+
+    #[test]
+    fn test_mesh_is_a_valid_mesh_of_its_region() {
+        let m = square_with_hole();
+        assert_eq!(m.num_vertices(), 48);
+        assert_eq!(m.num_triangles(), 2 * 36 - 2 * 4);
+        assert!((m.area() - 8.0).abs() < 1e-12);
+        for t in 0..m.num_triangles() {
+            let [a, b, c] = m.triangle(t);
+            assert!((b - a).perp_dot(c - a) > 0.0);
+        }
+        // Every boundary edge joins marked vertices of one loop.
+        for (a, b) in boundary_edges(&m.triangles) {
+            let (la, lb) = (
+                m.markers[a as usize].loop_index(),
+                m.markers[b as usize].loop_index(),
+            );
+            assert!(la.is_some() && la == lb, "edge {a}-{b}");
+        }
+    }
+
+    #[test]
+    fn topology_markers_find_outer_loop_and_hole() {
+        let m = square_with_hole();
+        let inferred = markers_from_topology(&m.points, &m.triangles);
+        for (i, (got, want)) in inferred.iter().zip(&m.markers).enumerate() {
+            assert_eq!(got.loop_index(), want.loop_index(), "vertex {i}");
+            if let VertexMarker::Boundary {
+                piece, loop_param, ..
+            } = *got
+            {
+                assert_eq!(piece, UNKNOWN_PIECE);
+                assert!(loop_param.is_nan());
+            }
+        }
+        // Renumbering the vertices so that the hole comes first must not change which loop is 0.
+        let n = m.points.len() as u32;
+        let rev = |v: u32| n - 1 - v;
+        let points: Vec<DVec2> = m.points.iter().rev().copied().collect();
+        let tris: Vec<[u32; 3]> = m.triangles.iter().map(|t| t.map(rev)).collect();
+        let inferred = markers_from_topology(&points, &tris);
+        for v in 0..n {
+            assert_eq!(
+                inferred[rev(v) as usize].loop_index(),
+                m.markers[v as usize].loop_index()
+            );
+        }
+    }
+
+    #[test]
+    fn dispatch_by_extension_and_unknown_extension_errors() {
+        let dir = TempDir::new("dispatch");
+        let m = square_with_hole();
+        for name in ["a.node", "b.ele", "c.msh", "d.vtu", "e.OBJ"] {
+            write_mesh(&m, &dir.path(name)).unwrap();
+        }
+        assert_eq!(
+            dir.files(),
+            ["a.ele", "a.node", "a.poly", "b.ele", "b.node", "b.poly", "c.msh", "d.vtu", "e.OBJ"]
+        );
+        for name in ["a.node", "b.ele", "c.msh", "e.OBJ"] {
+            let r = read_mesh(&dir.path(name)).unwrap();
+            assert_eq!(r.points, m.points, "{name}");
+            assert_eq!(r.triangles, m.triangles, "{name}");
+        }
+        let e = write_mesh(&m, &dir.path("f.stl")).unwrap_err().to_string();
+        assert!(
+            e.contains("'.stl'") && e.contains(".node, .ele, .msh, .vtu, .obj"),
+            "{e}"
+        );
+        let e = write_mesh(&m, &dir.path("noext")).unwrap_err().to_string();
+        assert!(e.contains("no extension"), "{e}");
+        let e = read_mesh(&dir.path("d.vtu")).unwrap_err().to_string();
+        assert!(e.contains(".node, .ele, .msh, .obj"), "{e}");
+        assert_eq!(dir.files().len(), 9, "failed writes must create nothing");
+    }
+
+    #[test]
+    fn missing_directory_is_an_error_and_creates_nothing() {
+        let dir = TempDir::new("missing");
+        let m = square_with_hole();
+        for name in ["x.node", "x.msh", "x.vtu", "x.obj"] {
+            let target = dir.path("no-such-dir").join(name);
+            let e = write_mesh(&m, &target).unwrap_err();
+            assert!(matches!(e, MeshError::File { .. }), "{e}");
+            assert!(e.to_string().contains("no-such-dir"), "{e}");
+            assert!(!target.exists());
+        }
+        assert!(dir.files().is_empty());
+    }
+
+    #[test]
+    fn failed_write_keeps_the_previous_file_and_leaves_no_temp() {
+        let dir = TempDir::new("keep");
+        let m = square_with_hole();
+        let path = dir.path("m.msh");
+        write_mesh(&m, &path).unwrap();
+        let before = fs::read(&path).unwrap();
+        let mut bad = m.clone();
+        bad.points[5].x = f64::NAN;
+        let e = write_mesh(&bad, &path).unwrap_err().to_string();
+        assert!(e.contains("vertex 5 is not finite"), "{e}");
+        bad = m.clone();
+        bad.triangles[0][1] = 999;
+        assert!(write_mesh(&bad, &path)
+            .unwrap_err()
+            .to_string()
+            .contains("triangle 0"));
+        assert_eq!(fs::read(&path).unwrap(), before);
+        assert_eq!(dir.files(), ["m.msh"]);
+    }
+
+    #[test]
+    fn producer_failure_removes_every_temp_file() {
+        let dir = TempDir::new("producer");
+        let ok: Producer = Box::new(|w| w.write_all(b"fine"));
+        let bad: Producer = Box::new(|w| {
+            w.write_all(b"half")?;
+            Err(std::io::Error::other("disk full"))
+        });
+        let e = write_files(vec![(dir.path("a.txt"), ok), (dir.path("b.txt"), bad)]).unwrap_err();
+        assert!(e.to_string().contains("disk full"), "{e}");
+        assert!(dir.files().is_empty(), "{:?}", dir.files());
+    }
+
+    #[test]
+    fn tokens_report_line_numbers() {
+        let p = Path::new("t.txt");
+        let mut t = Tokens::new("# head\n\n 3  4.5 # c\nfoo\n", Some('#'), p);
+        assert_eq!(t.usize("count").unwrap(), 3);
+        assert_eq!(t.f64("x").unwrap(), 4.5);
+        let e = t.f64("y").unwrap_err().to_string();
+        assert_eq!(e, "t.txt: line 4: expected y (a number), found 'foo'");
+        let e = t.next("z").unwrap_err().to_string();
+        assert!(e.contains("unexpected end of file, expected z"), "{e}");
+    }
+
+    #[test]
+    fn read_back_meshes_conform_after_restoring_markers() {
+        let region = geometry::formats::loops_from_str(
+            "0 0\n3 0\n3 3\n0 3\n\n1 1\n1 2\n2 2\n2 1\n",
+            "test",
+            "square_hole",
+        )
+        .unwrap();
+        let m = square_with_hole();
+        crate::check_conforming(&m, &region).unwrap();
+        let dir = TempDir::new("restore");
+        for name in ["m.node", "m.msh", "m.obj"] {
+            write_mesh(&m, &dir.path(name)).unwrap();
+            let mut r = read_mesh(&dir.path(name)).unwrap();
+            crate::check_conforming(&r, &region).unwrap_or_else(|e| panic!("{name}: {e}"));
+            restore_markers(&mut r, &region);
+            crate::check_conforming(&r, &region).unwrap();
+            let corners = r
+                .markers
+                .iter()
+                .filter(|m| matches!(m, VertexMarker::Corner { .. }))
+                .count();
+            assert_eq!(corners, 8, "{name}");
+            for (p, mk) in r.points.iter().zip(&r.markers) {
+                match *mk {
+                    VertexMarker::Interior => assert!(region.signed_distance(*p) < -1e-9),
+                    VertexMarker::Boundary {
+                        loop_index,
+                        piece,
+                        loop_param,
+                    } => {
+                        assert_eq!(region.piece_loop(piece), loop_index);
+                        assert!(
+                            loop_param >= 0.0 && loop_param <= region.loops()[loop_index].length
+                        );
+                        let (q, _) = region.pieces()[piece].closest_point(*p);
+                        assert!(
+                            (q - *p).length() < 1e-12,
+                            "{name}: {p} is not on piece {piece}"
+                        );
+                    }
+                    VertexMarker::Corner {
+                        loop_index, corner, ..
+                    } => {
+                        assert_eq!(region.corners()[corner].pos, *p);
+                        assert_eq!(region.corners()[corner].loop_index, loop_index);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Manual interoperability check (needs `python3` with `meshio`): meshio must read our
+    /// `.msh` and `.vtu` files to the same triangles, and find the quality fields.
+    #[test]
+    #[ignore = "needs python3 with meshio"]
+    fn meshio_reads_msh_and_vtu() {
+        let dir = TempDir::new("meshio");
+        let m = square_with_hole();
+        write_mesh(&m, &dir.path("m.msh")).unwrap();
+        write_mesh(&m, &dir.path("m.vtu")).unwrap();
+        let script = r#"
+import sys, meshio
+for f in sys.argv[1:]:
+    m = meshio.read(f)
+    tris = [c.data for c in m.cells if c.type == "triangle"][0]
+    print(f.rsplit(".", 1)[1], len(m.points), len(tris), sorted(m.cell_data.keys()), sorted(m.point_data.keys()))
+    for t in tris:
+        print(" ".join(repr(float(v)) for i in t for v in m.points[i][:2]))
+"#;
+        let out = std::process::Command::new("python3")
+            .arg("-c")
+            .arg(script)
+            .arg(dir.path("m.msh"))
+            .arg(dir.path("m.vtu"))
+            .output()
+            .expect("python3 runs");
+        assert!(
+            out.status.success(),
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let mut want: Vec<Vec<f64>> = (0..m.num_triangles())
+            .map(|t| m.triangle(t).iter().flat_map(|p| [p.x, p.y]).collect())
+            .collect();
+        want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        // meshio may print notices of its own; our output starts at the "msh"/"vtu" headers.
+        let mut lines = text.lines();
+        for ext in ["msh ", "vtu "] {
+            let head = lines
+                .find(|l| l.starts_with(ext))
+                .unwrap_or_else(|| panic!("{text}"));
+            println!("{head}");
+            assert!(head.contains(" 48 64 "), "{head}\n{text}");
+            let mut got: Vec<Vec<f64>> = (0..64)
+                .map(|_| {
+                    lines
+                        .next()
+                        .unwrap()
+                        .split(' ')
+                        .map(|s| s.parse().unwrap())
+                        .collect()
+                })
+                .collect();
+            got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            assert_eq!(got, want, "{head}");
+        }
+        assert!(
+            text.contains("'area', 'min_angle_deg', 'q'") && text.contains("'boundary_marker'"),
+            "{text}"
+        );
+
+        // And the other way: Gmsh files written by meshio (4.1 and 2.2 ASCII) read back here.
+        let script = r#"
+import sys, meshio
+m = meshio.read(sys.argv[1])
+meshio.write(sys.argv[2], m, file_format="gmsh", binary=False)
+meshio.write(sys.argv[3], m, file_format="gmsh22", binary=False)
+"#;
+        let status = std::process::Command::new("python3")
+            .args(["-c", script])
+            .args([dir.path("m.vtu"), dir.path("w41.msh"), dir.path("w22.msh")])
+            .status()
+            .expect("python3 runs");
+        assert!(status.success());
+        for name in ["w41.msh", "w22.msh"] {
+            let r = read_mesh(&dir.path(name)).unwrap();
+            assert_eq!(r.points, m.points, "{name}");
+            assert_eq!(r.triangles, m.triangles, "{name}");
+            for (a, b) in r.markers.iter().zip(&m.markers) {
+                assert_eq!(a.loop_index(), b.loop_index(), "{name}");
+            }
+        }
+    }
+}

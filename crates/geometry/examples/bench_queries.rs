@@ -1,0 +1,93 @@
+//! Cost per query of `signed_distance` and `project` on the paper regions (and a large
+//! synthetic coastline), in CPU time per call. Run with
+//! `cargo run --release -p geometry --example bench_queries`.
+use geometry::{DVec2, LoopRole, Piece, Region, Rng};
+use std::time::Instant;
+
+/// CPU time of this thread in seconds (Linux; falls back to wall time elsewhere), so that the
+/// numbers mean something on a loaded machine.
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().and_then(|x| x.parse::<f64>().ok()))
+        .map_or_else(|| START.with(|t| t.elapsed().as_secs_f64()), |ns| ns * 1e-9)
+}
+
+thread_local!(static START: Instant = Instant::now());
+
+struct Clock(f64);
+impl Clock {
+    fn start() -> Clock {
+        Clock(cpu_seconds())
+    }
+    fn secs(&self) -> f64 {
+        cpu_seconds() - self.0
+    }
+}
+
+fn bench(r: &Region, n: usize) {
+    let (lo, hi) = r.bbox();
+    let d = r.diameter();
+    let mut rng = Rng::new(7);
+    // Points in and around the region (a CCVT/DistMesh-like mix: most near or inside).
+    let pts: Vec<DVec2> = (0..n)
+        .map(|_| DVec2::new(rng.range(lo.x - 0.05 * d, hi.x + 0.05 * d), rng.range(lo.y - 0.05 * d, hi.y + 0.05 * d)))
+        .collect();
+    let t = Clock::start();
+    let mut s = 0.0;
+    for p in &pts {
+        s += r.signed_distance(*p);
+    }
+    let sd = t.secs() / n as f64;
+    let t = Clock::start();
+    for p in &pts {
+        s += r.project(*p).loop_param;
+    }
+    let pr = t.secs() / n as f64;
+    let t = Clock::start();
+    let mut inside = 0usize;
+    for p in &pts {
+        inside += usize::from(r.contains(*p));
+    }
+    let ct = t.secs() / n as f64;
+    println!(
+        "{:<16} pieces {:>6}  signed_distance {:>7.3} µs  project {:>7.3} µs  contains {:>7.3} µs  (checksum {:.3e}, {inside} inside)",
+        r.name(),
+        r.pieces().len(),
+        sd * 1e6,
+        pr * 1e6,
+        ct * 1e6,
+        s
+    );
+}
+
+fn main() {
+    for &name in Region::builtin_names() {
+        bench(&Region::builtin(name).unwrap(), 200_000);
+    }
+    // A wiggly 10⁴-edge coastline.
+    let n = 10_000;
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * std::f64::consts::TAU;
+            let r = 100.0 * (1.0 + 0.2 * (7.0 * t).sin() + 0.05 * (53.0 * t).cos());
+            DVec2::new(r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let pieces = (0..n).map(|i| Piece::Line { a: pts[i], b: pts[(i + 1) % n] }).collect();
+    let t = Clock::start();
+    let coast = Region::new("coast10k", vec![(LoopRole::Outer, pieces)], None).unwrap();
+    println!("coast10k: Region::new {:.1} ms", t.secs() * 1e3);
+    bench(&coast, 200_000);
+    let t = Clock::start();
+    let merged = coast.with_corner_angle(10.0);
+    println!("coast10k: with_corner_angle(10°) {:.1} ms -> {} pieces", t.secs() * 1e3, merged.pieces().len());
+    bench(&merged, 200_000);
+    let t = Clock::start();
+    let e = coast.expand(2.0, 0.05);
+    println!("coast10k: expand(2, 0.05) {:.1} ms -> {} vertices", t.secs() * 1e3, e.rings.iter().map(|r| r.points.len()).sum::<usize>());
+    let lake = Region::builtin("lake").unwrap();
+    let t = Clock::start();
+    let e = lake.expand(5.0, 0.05);
+    println!("lake: expand(5, 0.05) {:.2} ms -> {} vertices", t.secs() * 1e3, e.rings.iter().map(|r| r.points.len()).sum::<usize>());
+}

@@ -1,0 +1,641 @@
+//! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
+use super::{
+    edges_by_loop, file_err, markers_from_topology, orient_ccw, validate_for_writing, write_files,
+    Producer, Tokens, F,
+};
+use crate::{Mesh, MeshError, VertexMarker};
+use geometry::DVec2;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+/// Write `mesh` as Gmsh 4.1 ASCII.
+///
+/// Layout: one curve entity per boundary loop (tag = loop index + 1, physical curve of the same
+/// tag named `"loop<i>"`) holding that loop's vertices and its boundary edges as 2-node line
+/// elements in boundary order; one surface entity (tag 1, physical surface `"domain"`, tag 100)
+/// holding the interior vertices and all triangles (type 2, counter-clockwise). Node tags are
+/// vertex index + 1, so reading the file back gives the same vertex order.
+pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
+    validate_for_writing(mesh, path)?;
+    let (groups, nloops) = edges_by_loop(mesh);
+    // Physical tags 1..=nloops are the loops; keep the surface tag clear of them.
+    let surface_phys = 100.max(nloops + 1);
+    let n = mesh.points.len();
+    // Vertices per entity: curve blocks 0..nloops, then the surface block.
+    let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); nloops + 1];
+    for (v, m) in mesh.markers.iter().enumerate() {
+        blocks[m.loop_index().unwrap_or(nloops)].push(v);
+    }
+    let bbox = |vs: &mut dyn Iterator<Item = usize>| {
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for v in vs {
+            lo = lo.min(mesh.points[v]);
+            hi = hi.max(mesh.points[v]);
+        }
+        if lo.x > hi.x {
+            (DVec2::ZERO, DVec2::ZERO)
+        } else {
+            (lo, hi)
+        }
+    };
+    let produce: Producer = Box::new(move |w: &mut dyn Write| {
+        writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+        writeln!(w, "$PhysicalNames\n{}", nloops + 1)?;
+        for l in 0..nloops {
+            writeln!(w, "1 {} \"loop{l}\"", l + 1)?;
+        }
+        writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
+        writeln!(w, "$Entities\n0 {nloops} 1 0")?;
+        for (l, edges) in groups.iter().enumerate() {
+            let (lo, hi) = bbox(
+                &mut blocks[l]
+                    .iter()
+                    .copied()
+                    .chain(edges.iter().map(|e| e.0 as usize)),
+            );
+            writeln!(
+                w,
+                "{} {} {} 0 {} {} 0 1 {} 0",
+                l + 1,
+                F(lo.x),
+                F(lo.y),
+                F(hi.x),
+                F(hi.y),
+                l + 1
+            )?;
+        }
+        let (lo, hi) = bbox(&mut (0..n));
+        write!(
+            w,
+            "1 {} {} 0 {} {} 0 1 {surface_phys} {nloops}",
+            F(lo.x),
+            F(lo.y),
+            F(hi.x),
+            F(hi.y)
+        )?;
+        for l in 0..nloops {
+            write!(w, " {}", l + 1)?;
+        }
+        writeln!(w, "\n$EndEntities")?;
+
+        let nonempty = blocks.iter().filter(|b| !b.is_empty()).count();
+        writeln!(w, "$Nodes\n{nonempty} {n} {} {n}", n.min(1))?;
+        for (b, vs) in blocks.iter().enumerate().filter(|(_, vs)| !vs.is_empty()) {
+            let (dim, tag) = if b < nloops { (1, b + 1) } else { (2, 1) };
+            writeln!(w, "{dim} {tag} 0 {}", vs.len())?;
+            for v in vs {
+                writeln!(w, "{}", v + 1)?;
+            }
+            for &v in vs {
+                writeln!(w, "{} {} 0", F(mesh.points[v].x), F(mesh.points[v].y))?;
+            }
+        }
+        writeln!(w, "$EndNodes")?;
+
+        let nedges: usize = groups.iter().map(Vec::len).sum();
+        let total = nedges + mesh.triangles.len();
+        let nblocks = groups.iter().filter(|g| !g.is_empty()).count()
+            + usize::from(!mesh.triangles.is_empty());
+        writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
+        let mut tag = 0;
+        for (l, edges) in groups.iter().enumerate().filter(|(_, g)| !g.is_empty()) {
+            writeln!(w, "1 {} 1 {}", l + 1, edges.len())?;
+            for &(a, b) in edges {
+                tag += 1;
+                writeln!(w, "{tag} {} {}", a + 1, b + 1)?;
+            }
+        }
+        if !mesh.triangles.is_empty() {
+            writeln!(w, "2 1 2 {}", mesh.triangles.len())?;
+            for [a, b, c] in &mesh.triangles {
+                tag += 1;
+                writeln!(w, "{tag} {} {} {}", a + 1, b + 1, c + 1)?;
+            }
+        }
+        writeln!(w, "$EndElements")
+    });
+    write_files(vec![(path.to_path_buf(), produce)])
+}
+
+/// Read a Gmsh ASCII mesh (format 4.1 or 2.2). Triangles (including higher-order ones, by their
+/// corners) become the mesh; points and line elements are read but only used for markers;
+/// quadrangles or 3-D elements are an error. Vertices are ordered by node tag, and z must be 0.
+///
+/// Markers come from the mesh topology ([`super::markers_from_topology`]); the loop index of
+/// a vertex on a line element whose physical group is named `"loop<i>"` (as [`write_gmsh`]
+/// names them) is taken from that name.
+pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
+    let bytes = std::fs::read(path).map_err(|e| file_err(path, format!("cannot read: {e}")))?;
+    parse(&String::from_utf8_lossy(&bytes), path)
+}
+
+/// Element kinds the reader distinguishes.
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    Point,
+    Line,
+    Triangle,
+    Other(&'static str),
+}
+
+/// Nodes per element and kind for Gmsh element types 1..=28.
+fn element_type(t: i64) -> Option<(usize, Kind)> {
+    use Kind::*;
+    Some(match t {
+        15 => (1, Point),
+        1 => (2, Line),
+        8 => (3, Line),
+        26 => (4, Line),
+        27 => (5, Line),
+        28 => (6, Line),
+        2 => (3, Triangle),
+        9 => (6, Triangle),
+        20 => (9, Triangle),
+        21 => (10, Triangle),
+        22 => (12, Triangle),
+        23 | 24 => (15, Triangle),
+        25 => (21, Triangle),
+        3 => (4, Other("quadrangle")),
+        10 => (9, Other("quadrangle")),
+        16 => (8, Other("quadrangle")),
+        4 => (4, Other("tetrahedron")),
+        11 => (10, Other("tetrahedron")),
+        5 => (8, Other("hexahedron")),
+        12 => (27, Other("hexahedron")),
+        17 => (20, Other("hexahedron")),
+        6 => (6, Other("prism")),
+        13 => (18, Other("prism")),
+        18 => (15, Other("prism")),
+        7 => (5, Other("pyramid")),
+        14 => (14, Other("pyramid")),
+        19 => (13, Other("pyramid")),
+        _ => return None,
+    })
+}
+
+/// What the sections of a file contribute.
+#[derive(Default)]
+struct Raw {
+    nodes: Vec<(u64, DVec2)>,
+    triangles: Vec<[u64; 3]>,
+    /// Line elements: end nodes and physical tag (0 if none).
+    lines: Vec<(u64, u64, i64)>,
+    names: HashMap<(i64, i64), String>,
+}
+
+fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
+    let mut t = Tokens::new(text, None, path);
+    if t.peek() != Some("$MeshFormat") {
+        return Err(t.err("not a Gmsh mesh: expected '$MeshFormat'"));
+    }
+    t.next("$MeshFormat")?;
+    let version = t.next("the format version")?;
+    let file_type = t.next("the file type")?;
+    if file_type != "0" {
+        return Err(
+            t.err("binary .msh files are not supported; save the mesh as ASCII (Mesh.Binary = 0)")
+        );
+    }
+    let v2 = match version {
+        "4.1" => false,
+        "2.2" | "2.1" | "2.0" | "2" => true,
+        _ => {
+            return Err(t.err(format!(
+                "format version {version} is not supported; use 4.1 or 2.2 ASCII"
+            )))
+        }
+    };
+    t.rest_of_line();
+    expect_end(&mut t, "$EndMeshFormat")?;
+    let mut raw = Raw::default();
+    let mut curve_phys: HashMap<i64, i64> = HashMap::new();
+    while let Some(section) = t.peek() {
+        let line = t.line_no();
+        t.next("a section")?;
+        match section {
+            "$PhysicalNames" => {
+                let n = t.usize("the number of physical names")?;
+                for _ in 0..n {
+                    let dim = t.i64("a physical dimension")?;
+                    let tag = t.i64("a physical tag")?;
+                    let name = t.rest_of_line().trim_matches('"').to_string();
+                    raw.names.insert((dim, tag), name);
+                }
+                expect_end(&mut t, "$EndPhysicalNames")?;
+            }
+            "$Entities" if !v2 => {
+                curve_phys = parse_entities(&mut t)?;
+                expect_end(&mut t, "$EndEntities")?;
+            }
+            "$Nodes" => {
+                if v2 {
+                    parse_nodes_v2(&mut t, &mut raw)?
+                } else {
+                    parse_nodes_v4(&mut t, &mut raw)?
+                }
+                expect_end(&mut t, "$EndNodes")?;
+            }
+            "$Elements" => {
+                if v2 {
+                    parse_elements_v2(&mut t, &mut raw)?
+                } else {
+                    parse_elements_v4(&mut t, &mut raw, &curve_phys)?
+                }
+                expect_end(&mut t, "$EndElements")?;
+            }
+            s if s.starts_with('$') && !s.starts_with("$End") => {
+                // A section this reader does not need ($NodeData, $Periodic, ...): skip it.
+                let end = format!("$End{}", &s[1..]);
+                loop {
+                    match t.peek() {
+                        Some(tok) if tok == end => break,
+                        Some(_) => {
+                            t.rest_of_line();
+                        }
+                        None => return Err(t.err_line(line, format!("section {s} has no {end}"))),
+                    }
+                }
+                t.next(&end)?;
+            }
+            s => {
+                return Err(t.err_line(
+                    line,
+                    format!("expected a section such as $Nodes, found '{s}'"),
+                ))
+            }
+        }
+    }
+    assemble(raw, path)
+}
+
+fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
+    match t.peek() {
+        Some(tok) if tok == end => {
+            t.next(end)?;
+            Ok(())
+        }
+        Some(tok) => Err(t.err(format!("expected {end}, found '{tok}'"))),
+        None => Err(t.err(format!("unexpected end of file, expected {end}"))),
+    }
+}
+
+/// 4.1 `$Entities`: the first physical tag of each curve.
+fn parse_entities(t: &mut Tokens) -> Result<HashMap<i64, i64>, MeshError> {
+    let counts = [
+        t.usize("the number of point entities")?,
+        t.usize("the number of curve entities")?,
+        t.usize("the number of surface entities")?,
+        t.usize("the number of volume entities")?,
+    ];
+    let mut curve_phys = HashMap::new();
+    for (dim, &count) in counts.iter().enumerate() {
+        for _ in 0..count {
+            let tag = t.i64("an entity tag")?;
+            let ncoords = if dim == 0 { 3 } else { 6 };
+            for _ in 0..ncoords {
+                t.f64("an entity coordinate")?;
+            }
+            let nphys = t.usize("the number of physical tags")?;
+            for k in 0..nphys {
+                let p = t.i64("a physical tag")?;
+                if dim == 1 && k == 0 {
+                    curve_phys.insert(tag, p);
+                }
+            }
+            if dim > 0 {
+                let nb = t.usize("the number of bounding entities")?;
+                for _ in 0..nb {
+                    t.i64("a bounding entity tag")?;
+                }
+            }
+        }
+    }
+    Ok(curve_phys)
+}
+
+fn read_xyz(t: &mut Tokens) -> Result<DVec2, MeshError> {
+    let line = t.line_no();
+    let x = t.f64("x")?;
+    let y = t.f64("y")?;
+    let z = t.f64("z")?;
+    if z != 0.0 {
+        return Err(t.err_line(
+            line,
+            format!("z = {z}: only planar meshes in the plane z = 0 are supported"),
+        ));
+    }
+    Ok(DVec2::new(x, y))
+}
+
+fn parse_nodes_v4(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
+    let nblocks = t.usize("the number of node blocks")?;
+    t.usize("the number of nodes")?;
+    t.usize("the smallest node tag")?;
+    t.usize("the largest node tag")?;
+    for _ in 0..nblocks {
+        let dim = t.usize("an entity dimension")?;
+        t.i64("an entity tag")?;
+        let parametric = t.usize("the parametric flag")?;
+        let count = t.usize("the number of nodes in the block")?;
+        let mut tags = Vec::with_capacity(count.min(1 << 20));
+        for _ in 0..count {
+            tags.push(t.usize("a node tag")? as u64);
+        }
+        for tag in tags {
+            let p = read_xyz(t)?;
+            if parametric == 1 {
+                for _ in 0..dim {
+                    t.f64("a parametric coordinate")?;
+                }
+            }
+            raw.nodes.push((tag, p));
+        }
+    }
+    Ok(())
+}
+
+fn parse_nodes_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
+    let n = t.usize("the number of nodes")?;
+    for _ in 0..n {
+        let tag = t.usize("a node tag")? as u64;
+        let p = read_xyz(t)?;
+        raw.nodes.push((tag, p));
+    }
+    Ok(())
+}
+
+/// Read one element's nodes and file it under its kind.
+fn add_element(
+    t: &mut Tokens,
+    raw: &mut Raw,
+    line: usize,
+    etype: i64,
+    phys: i64,
+) -> Result<(), MeshError> {
+    let Some((nn, kind)) = element_type(etype) else {
+        return Err(t.err_line(line, format!("element type {etype} is not supported")));
+    };
+    if let Kind::Other(name) = kind {
+        return Err(t.err_line(
+            line,
+            format!("{name} elements are not supported: only triangle meshes can be read"),
+        ));
+    }
+    let mut nodes = [0u64; 3];
+    for k in 0..nn {
+        let v = t.usize("a node tag")? as u64;
+        // Higher-order elements list their corner nodes first.
+        if let Some(slot) = nodes.get_mut(k) {
+            *slot = v;
+        }
+    }
+    match kind {
+        Kind::Line => raw.lines.push((nodes[0], nodes[1], phys)),
+        Kind::Triangle => raw.triangles.push(nodes),
+        _ => {}
+    }
+    Ok(())
+}
+
+fn parse_elements_v4(
+    t: &mut Tokens,
+    raw: &mut Raw,
+    curve_phys: &HashMap<i64, i64>,
+) -> Result<(), MeshError> {
+    let nblocks = t.usize("the number of element blocks")?;
+    t.usize("the number of elements")?;
+    t.usize("the smallest element tag")?;
+    t.usize("the largest element tag")?;
+    for _ in 0..nblocks {
+        let dim = t.usize("an entity dimension")?;
+        let entity = t.i64("an entity tag")?;
+        let etype = t.i64("an element type")?;
+        let count = t.usize("the number of elements in the block")?;
+        let phys = if dim == 1 {
+            curve_phys.get(&entity).copied().unwrap_or(0)
+        } else {
+            0
+        };
+        for _ in 0..count {
+            let line = t.line_no();
+            t.usize("an element tag")?;
+            add_element(t, raw, line, etype, phys)?;
+        }
+    }
+    Ok(())
+}
+
+fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
+    let n = t.usize("the number of elements")?;
+    for _ in 0..n {
+        let line = t.line_no();
+        t.usize("an element tag")?;
+        let etype = t.i64("an element type")?;
+        let ntags = t.usize("the number of tags")?;
+        let mut phys = 0;
+        for k in 0..ntags {
+            let v = t.i64("a tag")?;
+            if k == 0 {
+                phys = v;
+            }
+        }
+        add_element(t, raw, line, etype, phys)?;
+    }
+    Ok(())
+}
+
+fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
+    raw.nodes.sort_by_key(|n| n.0);
+    if let Some(w) = raw.nodes.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(file_err(path, format!("node tag {} appears twice", w[0].0)));
+    }
+    if raw.triangles.is_empty() && !raw.nodes.is_empty() {
+        return Err(file_err(path, "the file has no triangle elements"));
+    }
+    // Node tags are usually dense (1..=n): index them with a table, else with a hash map.
+    let max_tag = raw.nodes.last().map_or(0, |n| n.0);
+    let dense: Option<Vec<u32>> = (max_tag <= 4 * raw.nodes.len() as u64 + 1024).then(|| {
+        let mut table = vec![u32::MAX; max_tag as usize + 1];
+        for (i, n) in raw.nodes.iter().enumerate() {
+            table[n.0 as usize] = i as u32;
+        }
+        table
+    });
+    let sparse: HashMap<u64, u32> = match dense {
+        Some(_) => HashMap::new(),
+        None => raw
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.0, i as u32))
+            .collect(),
+    };
+    let lookup = |tag: u64| {
+        let found = match &dense {
+            Some(table) => table.get(tag as usize).copied().filter(|&i| i != u32::MAX),
+            None => sparse.get(&tag).copied(),
+        };
+        found.ok_or_else(|| {
+            file_err(
+                path,
+                format!("an element refers to node {tag}, which is not in $Nodes"),
+            )
+        })
+    };
+    let points: Vec<DVec2> = raw.nodes.iter().map(|n| n.1).collect();
+    let mut triangles = Vec::with_capacity(raw.triangles.len());
+    for tri in &raw.triangles {
+        triangles.push([lookup(tri[0])?, lookup(tri[1])?, lookup(tri[2])?]);
+    }
+    orient_ccw(&points, &mut triangles);
+    let mut markers = markers_from_topology(&points, &triangles);
+    for &(a, b, phys) in &raw.lines {
+        let named = raw
+            .names
+            .get(&(1, phys))
+            .and_then(|s| s.strip_prefix("loop"))
+            .and_then(|s| s.parse::<usize>().ok());
+        if let Some(loop_index) = named {
+            for v in [lookup(a)?, lookup(b)?] {
+                let m = &mut markers[v as usize];
+                *m = match *m {
+                    VertexMarker::Boundary {
+                        piece, loop_param, ..
+                    } => VertexMarker::Boundary {
+                        loop_index,
+                        piece,
+                        loop_param,
+                    },
+                    _ => VertexMarker::Boundary {
+                        loop_index,
+                        piece: super::UNKNOWN_PIECE,
+                        loop_param: f64::NAN,
+                    },
+                };
+            }
+        }
+    }
+    Ok(Mesh {
+        points,
+        triangles,
+        markers,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::*;
+    use super::*;
+    use std::fs;
+
+    #[test]
+    fn round_trip_preserves_points_triangles_and_loops() {
+        let dir = TempDir::new("msh");
+        let m = square_with_hole();
+        let p = dir.path("sq.msh");
+        write_gmsh(&m, &p).unwrap();
+        let r = read_gmsh(&p).unwrap();
+        assert_eq!(r.points, m.points);
+        assert_eq!(r.triangles, m.triangles);
+        for (a, b) in r.markers.iter().zip(&m.markers) {
+            assert_eq!(a.loop_index(), b.loop_index());
+        }
+    }
+
+    #[test]
+    fn loop_names_decide_loop_numbers() {
+        // Swap the roles in the file: loop names must win over the topology's numbering.
+        let dir = TempDir::new("msh-names");
+        let m = square_with_hole();
+        let p = dir.path("sq.msh");
+        write_gmsh(&m, &p).unwrap();
+        let text = fs::read_to_string(&p)
+            .unwrap()
+            .replace("\"loop0\"", "\"loopX\"")
+            .replace("\"loop1\"", "\"loop0\"");
+        fs::write(&p, text.replace("\"loopX\"", "\"loop1\"")).unwrap();
+        let r = read_gmsh(&p).unwrap();
+        for (a, b) in r.markers.iter().zip(&m.markers) {
+            assert_eq!(a.loop_index(), b.loop_index().map(|l| 1 - l));
+        }
+    }
+
+    #[test]
+    fn file_structure_is_gmsh_4_1() {
+        let dir = TempDir::new("msh-struct");
+        let m = square_with_hole();
+        let p = dir.path("sq.msh");
+        write_gmsh(&m, &p).unwrap();
+        let text = fs::read_to_string(&p).unwrap();
+        assert!(text.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n"));
+        assert!(text.contains("1 1 \"loop0\"\n1 2 \"loop1\"\n2 100 \"domain\"\n"));
+        assert!(text.contains("$Entities\n0 2 1 0\n"));
+        // 3 node blocks (2 loops + interior) with 48 nodes; 2 line blocks + 1 triangle block.
+        assert!(text.contains("$Nodes\n3 48 1 48\n1 1 0 24\n"));
+        assert!(text.contains("$Elements\n3 96 1 96\n1 1 1 24\n"));
+        assert!(text.contains("\n2 1 2 64\n"));
+    }
+
+    #[test]
+    fn reads_gmsh_2_2_with_cw_and_second_order_triangles() {
+        let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Comments\nanything here\n$EndComments\n\
+                    $Nodes\n5\n10 0 0 0\n20 1 0 0\n30 1 1 0\n40 0 1 0\n50 0.5 0.5 0\n$EndNodes\n\
+                    $Elements\n3\n1 15 2 0 1 10\n2 1 2 7 1 10 20\n3 2 2 0 3 10 40 30\n$EndElements\n";
+        let r = parse(text, Path::new("v2.msh")).unwrap();
+        assert_eq!(r.points.len(), 5);
+        assert_eq!(r.points[1], DVec2::new(1.0, 0.0));
+        assert_eq!(r.triangles, [[0, 2, 3]]);
+        let text4 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n2 1 1 3\n1\n2\n3\n\
+                     0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n2 1 9 1\n1 1 2 3 1 2 3\n$EndElements\n";
+        let r = parse(text4, Path::new("p.msh")).unwrap();
+        assert_eq!(r.triangles, [[0, 1, 2]]);
+        // Sparse node tags (looked up through a hash map), listed out of order.
+        let sparse = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n9000000000 0 1 0\n7 0 0 0\n\
+                      123456789 1 0 0\n$EndNodes\n$Elements\n1\n1 2 0 7 123456789 9000000000\n$EndElements\n";
+        let r = parse(sparse, Path::new("s.msh")).unwrap();
+        assert_eq!(r.points, [DVec2::ZERO, DVec2::X, DVec2::Y]);
+        assert_eq!(r.triangles, [[0, 1, 2]]);
+        assert!(r.markers.iter().all(|m| m.loop_index() == Some(0)));
+    }
+
+    #[test]
+    fn bad_files_give_errors_with_line_numbers() {
+        let head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+        let cases = [
+            ("hello", "line 1: not a Gmsh mesh"),
+            ("$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", "binary .msh files are not supported"),
+            ("$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "version 3.0 is not supported"),
+            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0.5\n$EndNodes\n"), "line 8: z = 0.5"),
+            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 x 0\n$EndNodes\n"), "line 8: expected y"),
+            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0\n"), "expected $EndNodes"),
+            (&format!("{head}$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n"), "line 7: quadrangle"),
+            (&format!("{head}$Elements\n1 1 1 1\n2 1 99 1\n1 1 2 3\n$EndElements\n"), "line 7: element type 99"),
+            (&format!("{head}$Nodes\n0 0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n"), "refers to node 1"),
+            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0\n$EndNodes\n"), "no triangle elements"),
+            (&format!("{head}$Foo\n1 2 3\n"), "section $Foo has no $EndFoo"),
+            (&format!("{head}junk\n"), "line 4: expected a section"),
+        ];
+        for (text, want) in cases {
+            let e = parse(text, Path::new("bad.msh")).unwrap_err().to_string();
+            assert!(
+                e.starts_with("bad.msh: ") && e.contains(want),
+                "{e:?} should contain {want:?}"
+            );
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn random_bytes_never_panic(bytes in proptest::collection::vec(proptest::num::u8::ANY, 0..300)) {
+            let _ = parse(&String::from_utf8_lossy(&bytes), Path::new("r.msh"));
+        }
+
+        #[test]
+        fn random_numbers_after_a_valid_header_never_panic(body in "[0-9 \n.$a-zA-Z-]{0,200}") {
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"));
+            let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"));
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"));
+        }
+    }
+}

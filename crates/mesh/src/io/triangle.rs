@@ -1,0 +1,503 @@
+//! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
+use super::{
+    edges_by_loop, markers_from_topology, orient_ccw, read_text, validate_for_writing, write_files,
+    Producer, Tokens, F, UNKNOWN_PIECE,
+};
+use crate::{Mesh, MeshError, VertexMarker};
+use geometry::DVec2;
+use std::ffi::OsString;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// First line of the `.node` files written here; it marks the attributes as exact markers.
+const SIGNATURE: &str = "# Triangle .node written by cvtmesh";
+
+fn with_suffix(base: &Path, ext: &str) -> PathBuf {
+    let mut s: OsString = base.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+/// Write `base.node`, `base.ele` and `base.poly` (1-based, as Triangle writes them).
+///
+/// * `.node`: `index x y kind id param marker` where the three attributes keep the exact
+///   [`VertexMarker`] (kind 0 interior, 1 boundary, 2 corner; id = piece or corner index;
+///   param = arc length along the loop; −1 for unknown) and the boundary marker is
+///   loop index + 1 (0 for interior vertices).
+/// * `.ele`: `index a b c`, counter-clockwise.
+/// * `.poly`: no vertices (they are in `.node`), the mesh boundary edges as segments with
+///   marker loop index + 1, and one hole point inside each hole loop, so that
+///   `triangle -p base` re-meshes the same region.
+///
+/// All three files appear together or not at all.
+pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
+    let node = with_suffix(base, "node");
+    validate_for_writing(mesh, &node)?;
+    let (groups, _) = edges_by_loop(mesh);
+    let holes: Vec<DVec2> = groups
+        .iter()
+        .skip(1)
+        .filter_map(|edges| hole_point(mesh, edges))
+        .collect();
+    let write_node: Producer = Box::new(|w: &mut dyn Write| {
+        writeln!(w, "{SIGNATURE}: {} vertices.", mesh.points.len())?;
+        writeln!(
+            w,
+            "# index x y | attributes: kind (0 interior, 1 boundary, 2 corner), piece or corner index, \
+             loop arc-length parameter (-1 unknown) | boundary marker (loop index + 1, 0 interior)"
+        )?;
+        writeln!(w, "{} 2 3 1", mesh.points.len())?;
+        for (i, (p, m)) in mesh.points.iter().zip(&mesh.markers).enumerate() {
+            let (kind, id, param, marker) = match *m {
+                VertexMarker::Interior => (0, 0i64, 0.0, 0),
+                VertexMarker::Boundary {
+                    loop_index,
+                    piece,
+                    loop_param,
+                } => (1, known_id(piece), known_param(loop_param), loop_index + 1),
+                VertexMarker::Corner {
+                    loop_index,
+                    corner,
+                    loop_param,
+                } => (2, known_id(corner), known_param(loop_param), loop_index + 1),
+            };
+            writeln!(
+                w,
+                "{} {} {} {kind} {id} {} {marker}",
+                i + 1,
+                F(p.x),
+                F(p.y),
+                F(param)
+            )?;
+        }
+        Ok(())
+    });
+    let write_ele: Producer = Box::new(|w: &mut dyn Write| {
+        writeln!(
+            w,
+            "# Triangle .ele written by cvtmesh: {} counter-clockwise triangles.",
+            mesh.triangles.len()
+        )?;
+        writeln!(w, "{} 3 0", mesh.triangles.len())?;
+        for (t, [a, b, c]) in mesh.triangles.iter().enumerate() {
+            writeln!(w, "{} {} {} {}", t + 1, a + 1, b + 1, c + 1)?;
+        }
+        Ok(())
+    });
+    let write_poly: Producer = Box::new(|w: &mut dyn Write| {
+        writeln!(
+            w,
+            "# Triangle .poly written by cvtmesh: vertices are in the .node file beside it."
+        )?;
+        writeln!(w, "0 2 0 1")?;
+        let nseg: usize = groups.iter().map(Vec::len).sum();
+        writeln!(
+            w,
+            "# segments: the mesh boundary edges, marker = loop index + 1"
+        )?;
+        writeln!(w, "{nseg} 1")?;
+        let mut k = 0;
+        for (l, edges) in groups.iter().enumerate() {
+            for &(a, b) in edges {
+                k += 1;
+                writeln!(w, "{k} {} {} {}", a + 1, b + 1, l + 1)?;
+            }
+        }
+        writeln!(w, "# holes: a point inside each hole loop")?;
+        writeln!(w, "{}", holes.len())?;
+        for (h, p) in holes.iter().enumerate() {
+            writeln!(w, "{} {} {}", h + 1, F(p.x), F(p.y))?;
+        }
+        Ok(())
+    });
+    write_files(vec![
+        (node, write_node),
+        (with_suffix(base, "ele"), write_ele),
+        (with_suffix(base, "poly"), write_poly),
+    ])
+}
+
+fn known_id(id: usize) -> i64 {
+    if id == UNKNOWN_PIECE {
+        -1
+    } else {
+        id as i64
+    }
+}
+
+fn known_param(p: f64) -> f64 {
+    if p.is_finite() {
+        p
+    } else {
+        -1.0
+    }
+}
+
+/// A point just outside the mesh across one of the edges of a hole loop (the mesh lies left of
+/// its boundary edges, so the hole is on the right), checked to be in no triangle.
+fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
+    let inside_any = |q: DVec2| {
+        (0..mesh.triangles.len()).any(|t| {
+            let [a, b, c] = mesh.triangle(t);
+            let s = [
+                (b - a).perp_dot(q - a),
+                (c - b).perp_dot(q - b),
+                (a - c).perp_dot(q - c),
+            ];
+            s.iter().all(|&v| v >= 0.0) || s.iter().all(|&v| v <= 0.0)
+        })
+    };
+    for &(a, b) in edges.iter().take(8) {
+        let (pa, pb) = (mesh.points[a as usize], mesh.points[b as usize]);
+        let d = pb - pa;
+        let right = DVec2::new(d.y, -d.x);
+        for f in [0.1, 1e-2, 1e-3, 1e-4] {
+            let q = (pa + pb) * 0.5 + right * f;
+            if !inside_any(q) {
+                return Some(q);
+            }
+        }
+    }
+    None
+}
+
+/// Read a Triangle mesh: `node_path` (the `.node` file) and the `.ele` file beside it.
+///
+/// Accepts 0- or 1-based numbering, `#` comments, any number of attribute columns, with or
+/// without a boundary-marker column, and second-order (6-node) triangles (corners kept).
+/// Markers: files written by [`write_triangle`] restore the exact [`VertexMarker`]s; for other
+/// files they come from the mesh topology ([`super::markers_from_topology`]), since the meaning
+/// of foreign markers is up to their author.
+pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
+    let node_text = read_text(node_path)?;
+    let ele_path = node_path.with_extension("ele");
+    let ele_text = read_text(&ele_path).map_err(|e| match e {
+        MeshError::File { path, message } => MeshError::File {
+            path,
+            message: format!("{message} (the triangles of {})", node_path.display()),
+        },
+        e => e,
+    })?;
+    let (points, base, exact) = parse_node(&node_text, node_path)?;
+    let mut triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
+    orient_ccw(&points, &mut triangles);
+    let markers = match exact {
+        Some(m) => m,
+        None => markers_from_topology(&points, &triangles),
+    };
+    Ok(Mesh {
+        points,
+        triangles,
+        markers,
+    })
+}
+
+type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>);
+
+/// Vertices, the index base (0 or 1), and the exact markers when the file is one of ours.
+fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
+    let mut t = Tokens::new(text, Some('#'), path);
+    let n = t.usize("the number of vertices")?;
+    let dim = t.usize("the dimension")?;
+    if dim != 2 {
+        return Err(t.err(format!("dimension is {dim}; only 2 is supported")));
+    }
+    let nattr = t.usize("the number of attributes")?;
+    let nmark = t.usize("the number of boundary markers (0 or 1)")?;
+    if nmark > 1 {
+        return Err(t.err(format!(
+            "{nmark} boundary-marker columns; Triangle allows 0 or 1"
+        )));
+    }
+    let ours = text.starts_with(SIGNATURE) && nattr == 3 && nmark == 1;
+    let mut points = Vec::with_capacity(n.min(1 << 20));
+    let mut markers = Vec::with_capacity(if ours { n.min(1 << 20) } else { 0 });
+    let mut base = 0;
+    for i in 0..n {
+        let line = t.line_no();
+        let idx = t.usize("a vertex number")?;
+        if i == 0 {
+            if idx > 1 {
+                return Err(t.err_line(
+                    line,
+                    format!("first vertex is numbered {idx}; Triangle numbers from 0 or 1"),
+                ));
+            }
+            base = idx;
+        } else if idx != base + i {
+            return Err(t.err_line(
+                line,
+                format!(
+                    "vertex number {idx}, expected {} (consecutive numbering)",
+                    base + i
+                ),
+            ));
+        }
+        let x = t.f64("x")?;
+        let y = t.f64("y")?;
+        points.push(DVec2::new(x, y));
+        let mut attrs = [0.0; 3];
+        for a in 0..nattr {
+            let v = t.f64("an attribute")?;
+            if let Some(slot) = attrs.get_mut(a) {
+                *slot = v;
+            }
+        }
+        let marker = if nmark == 1 {
+            t.i64("a boundary marker")?
+        } else {
+            0
+        };
+        if ours {
+            match decode_marker(attrs, marker) {
+                Some(m) => markers.push(m),
+                None => return Err(t.err_line(line, "marker attributes are inconsistent")),
+            }
+        }
+    }
+    Ok((points, base, ours.then_some(markers)))
+}
+
+/// Inverse of the attribute encoding of [`write_triangle`].
+fn decode_marker([kind, id, param]: [f64; 3], marker: i64) -> Option<VertexMarker> {
+    let id = if id == -1.0 {
+        UNKNOWN_PIECE
+    } else if id >= 0.0 && id.fract() == 0.0 && id < 9.0e15 {
+        id as usize
+    } else {
+        return None;
+    };
+    let loop_param = if param == -1.0 { f64::NAN } else { param };
+    let loop_index = marker.checked_sub(1).and_then(|l| usize::try_from(l).ok());
+    let kind = [0.0, 1.0, 2.0].iter().position(|&k| k == kind)?;
+    match (kind, loop_index) {
+        (0, None) if marker == 0 => Some(VertexMarker::Interior),
+        (1, Some(loop_index)) => Some(VertexMarker::Boundary {
+            loop_index,
+            piece: id,
+            loop_param,
+        }),
+        (2, Some(loop_index)) => Some(VertexMarker::Corner {
+            loop_index,
+            corner: id,
+            loop_param,
+        }),
+        _ => None,
+    }
+}
+
+fn parse_ele(
+    text: &str,
+    path: &Path,
+    nvert: usize,
+    base: usize,
+) -> Result<Vec<[u32; 3]>, MeshError> {
+    let mut t = Tokens::new(text, Some('#'), path);
+    let ntri = t.usize("the number of triangles")?;
+    let per = t.usize("the number of nodes per triangle")?;
+    if per != 3 && per != 6 {
+        return Err(t.err(format!(
+            "{per} nodes per triangle; only 3 or 6 are supported"
+        )));
+    }
+    let nattr = t.usize("the number of attributes")?;
+    let mut triangles = Vec::with_capacity(ntri.min(1 << 20));
+    for _ in 0..ntri {
+        let line = t.line_no();
+        t.usize("a triangle number")?;
+        let mut tri = [0u32; 3];
+        for k in 0..per {
+            let v = t.usize("a vertex number")?;
+            if v < base || v - base >= nvert {
+                return Err(t.err_line(
+                    line,
+                    format!("vertex {v} is out of range (the .node file has {nvert} vertices from {base})"),
+                ));
+            }
+            if let Some(slot) = tri.get_mut(k) {
+                *slot = (v - base) as u32;
+            }
+        }
+        for _ in 0..nattr {
+            t.f64("a triangle attribute")?;
+        }
+        triangles.push(tri);
+    }
+    Ok(triangles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::*;
+    use super::*;
+    use std::fs;
+
+    #[test]
+    fn round_trip_is_exact_including_markers() {
+        let dir = TempDir::new("tri");
+        let m = square_with_hole();
+        write_triangle(&m, &dir.path("sq")).unwrap();
+        assert_eq!(dir.files(), ["sq.ele", "sq.node", "sq.poly"]);
+        let r = read_triangle(&dir.path("sq.node")).unwrap();
+        assert_eq!(r, m);
+        for (a, b) in r.points.iter().zip(&m.points) {
+            assert_eq!(
+                (a.x.to_bits(), a.y.to_bits()),
+                (b.x.to_bits(), b.y.to_bits())
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_pieces_and_params_round_trip() {
+        let dir = TempDir::new("tri-unknown");
+        let mut m = square_with_hole();
+        m.markers = super::super::markers_from_topology(&m.points, &m.triangles);
+        write_triangle(&m, &dir.path("u")).unwrap();
+        let r = read_triangle(&dir.path("u.node")).unwrap();
+        for (a, b) in r.markers.iter().zip(&m.markers) {
+            assert_eq!(a.loop_index(), b.loop_index());
+            if let VertexMarker::Boundary {
+                piece, loop_param, ..
+            } = *a
+            {
+                assert_eq!(piece, UNKNOWN_PIECE);
+                assert!(loop_param.is_nan());
+            }
+        }
+    }
+
+    #[test]
+    fn poly_lists_boundary_segments_and_a_point_in_the_hole() {
+        let dir = TempDir::new("tri-poly");
+        let m = square_with_hole();
+        write_triangle(&m, &dir.path("sq")).unwrap();
+        let poly = fs::read_to_string(dir.path("sq.poly")).unwrap();
+        let rows: Vec<Vec<f64>> = poly
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows[0], [0.0, 2.0, 0.0, 1.0]);
+        assert_eq!(rows[1], [32.0, 1.0], "24 outer + 8 hole edges");
+        let segs = &rows[2..34];
+        assert_eq!(segs.iter().filter(|s| s[3] == 1.0).count(), 24);
+        assert_eq!(segs.iter().filter(|s| s[3] == 2.0).count(), 8);
+        for s in segs {
+            let (a, b) = (s[1] as usize - 1, s[2] as usize - 1);
+            assert_eq!(m.markers[a].loop_index(), Some(s[3] as usize - 1));
+            assert_eq!(m.markers[b].loop_index(), Some(s[3] as usize - 1));
+        }
+        assert_eq!(rows[34], [1.0]);
+        let (hx, hy) = (rows[35][1], rows[35][2]);
+        assert!(
+            hx > 1.0 && hx < 2.0 && hy > 1.0 && hy < 2.0,
+            "hole point ({hx}, {hy})"
+        );
+    }
+
+    #[test]
+    fn reads_zero_based_files_with_comments_attributes_and_cw_triangles() {
+        let dir = TempDir::new("tri-foreign");
+        // A unit square split into two triangles, one of them clockwise; 0-based; one attribute.
+        fs::write(
+            dir.path("f.node"),
+            "# a comment\n4 2 1 1\n0 0 0 7.5 1\n1 1 0 7.5 1 # trailing\n\n2 1 1 7.5 1\n3 0 1 7.5 1\n",
+        )
+        .unwrap();
+        fs::write(dir.path("f.ele"), "2 3 1\n0 0 1 2 9\n1 0 3 2 9\n").unwrap();
+        let r = read_triangle(&dir.path("f.node")).unwrap();
+        assert_eq!(r.points[2], DVec2::new(1.0, 1.0));
+        assert_eq!(r.triangles, [[0, 1, 2], [0, 2, 3]]);
+        assert!((r.area() - 1.0).abs() < 1e-15);
+        assert!(r.markers.iter().all(|m| m.loop_index() == Some(0)));
+        // Second-order triangles keep their corners.
+        fs::write(dir.path("g.node"), "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n").unwrap();
+        fs::write(dir.path("g.ele"), "1 6 0\n1 1 2 3 1 2 3\n").unwrap();
+        assert_eq!(
+            read_triangle(&dir.path("g.node")).unwrap().triangles,
+            [[0, 1, 2]]
+        );
+    }
+
+    #[test]
+    fn bad_files_give_errors_with_line_numbers() {
+        let dir = TempDir::new("tri-bad");
+        let ele = "1 3 0\n1 1 2 3\n";
+        let cases = [
+            ("3 2 0 0\n1 0 0\n2 1 0\n", ele, "unexpected end of file"),
+            ("3 3 0 0\n", ele, "dimension is 3"),
+            ("3 2 0 0\n1 0 0\n2 1 x\n3 0 1\n", ele, "line 3: expected y"),
+            (
+                "3 2 0 0\n1 0 0\n3 1 0\n3 0 1\n",
+                ele,
+                "line 3: vertex number 3, expected 2",
+            ),
+            (
+                "3 2 0 0\n5 0 0\n",
+                ele,
+                "line 2: first vertex is numbered 5",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 nan 0\n3 0 1\n",
+                ele,
+                "line 3: x is not finite",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n",
+                "1 3 0\n1 1 2 4\n",
+                "line 2: vertex 4 is out of range",
+            ),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n",
+                "1 4 0\n1 1 2 3 4\n",
+                "4 nodes per triangle",
+            ),
+            ("\u{fffd}garbage", ele, "expected the number of vertices"),
+        ];
+        for (node, ele, want) in cases {
+            fs::write(dir.path("b.node"), node).unwrap();
+            fs::write(dir.path("b.ele"), ele).unwrap();
+            let e = read_triangle(&dir.path("b.node")).unwrap_err().to_string();
+            assert!(e.contains(want), "{e:?} should contain {want:?}");
+            assert!(e.contains("b.node") || e.contains("b.ele"), "{e}");
+        }
+        // Our signature with impossible marker attributes is an error, not a panic.
+        for bad in [
+            "3 7 0 1",
+            "1 0 0 -9223372036854775808",
+            "1 2.5 0 1",
+            "0 0 0 1",
+        ] {
+            fs::write(
+                dir.path("b.node"),
+                format!("{SIGNATURE}\n1 2 3 1\n1 0 0 {bad}\n"),
+            )
+            .unwrap();
+            let e = read_triangle(&dir.path("b.node")).unwrap_err().to_string();
+            assert!(
+                e.contains("line 3: marker attributes are inconsistent"),
+                "{e}"
+            );
+        }
+        fs::remove_file(dir.path("b.ele")).unwrap();
+        let e = read_triangle(&dir.path("b.node")).unwrap_err().to_string();
+        assert!(e.contains("b.ele") && e.contains("the triangles of"), "{e}");
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn random_bytes_never_panic(node in proptest::collection::vec(proptest::num::u8::ANY, 0..200),
+                                    ele in "[0-9 \n#.-]{0,80}") {
+            let p = Path::new("r.node");
+            if let Ok(text) = std::str::from_utf8(&node) {
+                if let Ok((pts, base, _)) = parse_node(text, p) {
+                    let _ = parse_ele(&ele, Path::new("r.ele"), pts.len(), base);
+                }
+            }
+            let _ = parse_node(&format!("3 2 0 0\n{ele}"), p);
+            let _ = parse_ele(&ele, Path::new("r.ele"), 3, 1);
+        }
+    }
+}
