@@ -6,7 +6,6 @@ mod commands;
 mod inputs;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]

@@ -1,1 +1,280 @@
-//! placeholder
+//! VTM, variational tetrahedral meshing (Alliez, Cohen-Steiner, Yvinec, Desbrun 2005) in 2D:
+//! the optimal-Delaunay-triangulation (ODT) relaxation of L. Chen.
+//!
+//! Instead of a Voronoi cell, each vertex i looks at the patch Ω_i of Delaunay triangles around
+//! it (patches overlap, unlike CVT cells). The vertex moves to the position minimising the ODT
+//! energy of its patch, which has the closed form
+//!
+//! x_i ← Σ_{T ∋ i} |T| c_T / Σ_{T ∋ i} |T|,
+//!
+//! c_T the circumcenter of T; then the vertices are retriangulated (Delaunay) and the step is
+//! repeated. A triangle with an edge on the mesh boundary uses its barycenter instead of its
+//! circumcenter: a flat boundary triangle's circumcenter lies far outside the region and would
+//! drag its vertices out. With a density ρ the weights are |T|·ρ(barycenter of T).
+//!
+//! The paper does not say how the original treats the boundary. Here, as in CCVT's
+//! constraint (so comparisons are fair), corners are fixed and boundary vertices slide on their
+//! own boundary side: they take the same weighted average, projected onto that side. The
+//! initial points, boundary rules and convergence test are shared with the `meshgen` crate
+//! (its file `src/relax.rs`, compiled into this crate too; see that module's documentation).
+//!
+//! On corner-free boundaries (circle, annulus, super-ellipse) the iteration can settle into a
+//! slow rigid rotation (the mesh keeps its shape while all vertices turn by a few 1e-4·h per step):
+//! nothing pins the vertices along a closed loop and the boundary rule is not the gradient of
+//! the ODT energy. The move-based test then reports `converged = false`.
+#![forbid(unsafe_code)]
+
+#[path = "../../meshgen/src/relax.rs"]
+mod relax;
+
+use geometry::{DVec2, Density, Region};
+use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
+use std::collections::HashSet;
+
+/// The VTM method. It has no parameters beyond the [`MeshRequest`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Vtm;
+
+impl Mesher for Vtm {
+    fn name(&self) -> &'static str {
+        "vtm"
+    }
+
+    /// Relax from the shared initial points until the largest move is below `tol · h`.
+    /// `energy_history` holds [`odt_energy`].
+    fn mesh(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<MeshResult, MeshError> {
+        relax::relax(
+            "vtm",
+            region,
+            request,
+            progress,
+            &|mesh: &Mesh, density: &Density| {
+                (odt_targets(mesh, density), odt_energy(mesh, density))
+            },
+        )
+    }
+}
+
+/// Circumcenter of triangle (a, b, c) (non-finite if the triangle is degenerate).
+fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
+    let (u, v) = (b - a, c - a);
+    let d = 2.0 * u.perp_dot(v);
+    let (uu, vv) = (u.length_squared(), v.length_squared());
+    a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d
+}
+
+/// For each triangle: does one of its edges lie on the mesh boundary (no neighbour across it)?
+fn touches_boundary(mesh: &Mesh) -> Vec<bool> {
+    let edges: HashSet<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .collect();
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
+                .iter()
+                .any(|&(a, b)| !edges.contains(&(b, a)))
+        })
+        .collect()
+}
+
+/// VTM's target for every vertex: Σ w_T c_T / Σ w_T over its triangles, with w_T = |T|·ρ at
+/// the barycenter and c_T the circumcenter (the barycenter for triangles on the mesh
+/// boundary). A vertex in no triangle keeps its position.
+pub fn odt_targets(mesh: &Mesh, density: &Density) -> Vec<DVec2> {
+    let n = mesh.points.len();
+    let mut num = vec![DVec2::ZERO; n];
+    let mut den = vec![0.0; n];
+    for (tri, on_boundary) in mesh.triangles.iter().zip(touches_boundary(mesh)) {
+        let [a, b, c] = tri.map(|v| mesh.points[v as usize]);
+        let area = 0.5 * (b - a).perp_dot(c - a);
+        if area <= 0.0 {
+            continue; // not a valid CCW triangle: no weight
+        }
+        let g = (a + b + c) / 3.0;
+        let w = area * density.at(g);
+        let centre = if on_boundary {
+            g
+        } else {
+            circumcenter(a, b, c)
+        };
+        for &v in tri {
+            num[v as usize] += w * centre;
+            den[v as usize] += w;
+        }
+    }
+    (0..n)
+        .map(|i| {
+            if den[i] > 0.0 {
+                num[i] / den[i]
+            } else {
+                mesh.points[i]
+            }
+        })
+        .collect()
+}
+
+/// The ODT energy ∫ (u_I − u) for u = |x|², u_I its piecewise-linear interpolant on the mesh:
+/// Σ_T ρ_T |T| (ℓ₁² + ℓ₂² + ℓ₃²) / 12 (ℓ the edge lengths, ρ_T the density at the barycenter).
+/// Chen's update moves each vertex to the minimiser of this energy over its patch.
+pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
+    (0..mesh.triangles.len())
+        .map(|t| {
+            let [a, b, c] = mesh.triangle(t);
+            let area = 0.5 * (b - a).perp_dot(c - a);
+            let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
+            density.at((a + b + c) / 3.0) * area * l2 / 12.0
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mesh::VertexMarker;
+
+    /// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around
+    /// the origin (vertex 0).
+    fn hex_patch(rings: i32) -> Mesh {
+        let a = DVec2::new(1.0, 0.0);
+        let b = DVec2::new(0.5, 3f64.sqrt() / 2.0);
+        let mut coords: Vec<(i32, i32)> = vec![(0, 0)];
+        for i in -rings..=rings {
+            for j in -rings..=rings {
+                if (i, j) != (0, 0) && i.abs().max(j.abs()).max((i + j).abs()) <= rings {
+                    coords.push((i, j));
+                }
+            }
+        }
+        let idx: std::collections::HashMap<(i32, i32), u32> = coords
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| (c, k as u32))
+            .collect();
+        let points = coords
+            .iter()
+            .map(|&(i, j)| a * i as f64 + b * j as f64)
+            .collect();
+        let mut triangles = Vec::new();
+        for &(i, j) in &coords {
+            for t in [
+                [(i, j), (i + 1, j), (i, j + 1)],
+                [(i, j), (i, j + 1), (i - 1, j + 1)],
+            ] {
+                if let (Some(&p), Some(&q), Some(&r)) =
+                    (idx.get(&t[0]), idx.get(&t[1]), idx.get(&t[2]))
+                {
+                    triangles.push([p, q, r]);
+                }
+            }
+        }
+        let markers = vec![VertexMarker::Interior; coords.len()];
+        Mesh {
+            points,
+            triangles,
+            markers,
+        }
+    }
+
+    #[test]
+    fn boundary_triangles_are_found() {
+        let m = hex_patch(2);
+        assert_eq!(m.num_triangles(), 24);
+        // The 12 outer edges of a two-ring hexagon each bound one triangle of ring 2.
+        assert_eq!(touches_boundary(&m).iter().filter(|&&b| b).count(), 12);
+        assert!((m.area() - 24.0 * 3f64.sqrt() / 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn centre_of_regular_patch_is_a_fixed_point() {
+        for rings in [1, 2, 3] {
+            let m = hex_patch(rings);
+            let t = odt_targets(&m, &Density::Uniform);
+            assert!(
+                t[0].length() < 1e-14,
+                "rings {rings}: centre moved to {}",
+                t[0]
+            );
+        }
+    }
+
+    /// A patch whose centre is displaced and whose other vertices are jittered.
+    fn jittered(seed: u64) -> Mesh {
+        let mut m = hex_patch(2);
+        let mut rng = geometry::Rng::new(seed);
+        for p in m.points.iter_mut() {
+            *p += DVec2::new(rng.range(-0.15, 0.15), rng.range(-0.15, 0.15));
+        }
+        m
+    }
+
+    #[test]
+    fn target_minimises_the_patch_energy_and_is_a_fixed_point() {
+        for seed in 1..6 {
+            let mut m = jittered(seed);
+            let x = odt_targets(&m, &Density::Uniform)[0];
+            assert!(
+                (x - m.points[0]).length() > 1e-6,
+                "jittered centre should move"
+            );
+            m.points[0] = x;
+            // The closed form does not depend on where x_0 is inside its patch.
+            let again = odt_targets(&m, &Density::Uniform)[0];
+            assert!((again - x).length() < 1e-12, "{again} vs {x}");
+            let e = odt_energy(&m, &Density::Uniform);
+            for k in 0..8 {
+                let dir = DVec2::from_angle(k as f64 * std::f64::consts::FRAC_PI_4);
+                let mut p = m.clone();
+                p.points[0] = x + 0.02 * dir;
+                assert!(
+                    odt_energy(&p, &Density::Uniform) > e,
+                    "seed {seed}, direction {k}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn energy_matches_interpolation_error() {
+        // ∫_T (u_I − u) for u = |x|² on the triangle (0,0),(1,0),(0,1): ∫u_I = |T|/3·Σ|x_v|² = 1/3,
+        // ∫u = 1/6, so 1/6; the edge formula gives (1/2)(1 + 2 + 1)/12 = 1/6.
+        let points = vec![DVec2::ZERO, DVec2::X, DVec2::Y];
+        let m = Mesh {
+            points,
+            triangles: vec![[0, 1, 2]],
+            markers: vec![VertexMarker::Interior; 3],
+        };
+        assert!((odt_energy(&m, &Density::Uniform) - 1.0 / 6.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn targets_follow_translation_and_rotation() {
+        let m = jittered(11);
+        let t0 = odt_targets(&m, &Density::Uniform);
+        let (shift, rot) = (DVec2::new(-2.0, 7.5), DVec2::from_angle(0.7));
+        let mut moved = m.clone();
+        moved
+            .points
+            .iter_mut()
+            .for_each(|p| *p = rot.rotate(*p) + shift);
+        let t1 = odt_targets(&moved, &Density::Uniform);
+        for (a, b) in t0.iter().zip(&t1) {
+            assert!((rot.rotate(*a) + shift - *b).length() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn density_pulls_the_target() {
+        let m = hex_patch(2);
+        let rho = Density::Function(std::sync::Arc::new(|p: DVec2| (2.0 * p.x).exp()));
+        let t = odt_targets(&m, &rho)[0];
+        assert!(t.x > 0.01 && t.y.abs() < 1e-12, "target {t}");
+    }
+}

@@ -1,0 +1,150 @@
+//! End-to-end checks shared by the `meshgen` and `vtm` tests (vtm includes this file by path).
+use geometry::Region;
+use mesh::{check_conforming, MeshRequest, MeshResult, Mesher, VertexMarker};
+
+/// Mesh a built-in region with K points; assert everything a method's result must satisfy.
+pub fn mesh_and_check(method: &dyn Mesher, name: &str, k: usize) -> MeshResult {
+    mesh_and_check_with(method, name, &MeshRequest::points(k))
+}
+
+/// [`mesh_and_check`] with a given request.
+pub fn mesh_and_check_with(method: &dyn Mesher, name: &str, request: &MeshRequest) -> MeshResult {
+    let region = Region::builtin(name).unwrap();
+    let k = request.size.points(&region);
+    let mut calls = 0;
+    let result = method
+        .mesh(&region, request, &mut |p| {
+            calls += 1;
+            assert_eq!(p.iteration, calls);
+            assert!(p.max_move.is_finite() && p.max_move >= 0.0);
+        })
+        .unwrap_or_else(|e| panic!("{} on {name} K={k}: {e}", method.name()));
+    let mesh = &result.mesh;
+    if let Err(e) = check_conforming(mesh, &region) {
+        panic!("{} on {name} K={k}: not conforming: {e}", method.name());
+    }
+    assert_eq!(mesh.num_vertices(), k, "{name}: exactly K vertices");
+    assert_eq!(mesh.markers.len(), k);
+    // The triangles tile Ω up to the chords of curved sides.
+    let rel = (mesh.area() - region.area()).abs() / region.area();
+    assert!(
+        rel < 0.02,
+        "{name}: mesh area {} vs region {}",
+        mesh.area(),
+        region.area()
+    );
+    // Every corner is a vertex, marked as that corner, exactly at its position.
+    for (ci, c) in region.corners().iter().enumerate() {
+        let hits: Vec<usize> = (0..k)
+            .filter(
+                |&v| matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci),
+            )
+            .collect();
+        assert_eq!(
+            hits.len(),
+            1,
+            "{name}: corner {ci} must be exactly one vertex"
+        );
+        assert_eq!(mesh.points[hits[0]], c.pos, "{name}: corner {ci} moved");
+    }
+    // Boundary vertices lie on the piece their marker names; interior ones strictly inside.
+    let eps = 1e-9 * region.diameter();
+    let mut on_loop = vec![0usize; region.loops().len()];
+    for (p, m) in mesh.points.iter().zip(&mesh.markers) {
+        match *m {
+            VertexMarker::Boundary {
+                piece, loop_index, ..
+            } => {
+                assert!(
+                    region.project_onto_piece(*p, piece).distance < eps,
+                    "{name}: off its piece"
+                );
+                assert_eq!(region.piece_loop(piece), loop_index);
+                on_loop[loop_index] += 1;
+            }
+            VertexMarker::Corner { loop_index, .. } => on_loop[loop_index] += 1,
+            VertexMarker::Interior => assert!(
+                region.signed_distance(*p) < -eps,
+                "{name}: interior vertex on ∂Ω"
+            ),
+        }
+    }
+    assert!(
+        on_loop.iter().all(|&n| n >= 3),
+        "{name}: every loop carries vertices {on_loop:?}"
+    );
+    // Reporting: one progress call and one move per iteration; converged means below tol.
+    assert_eq!(calls, result.iterations);
+    assert_eq!(result.move_history.len(), result.iterations);
+    let last = *result.move_history.last().unwrap();
+    assert_eq!(
+        result.converged,
+        last < request.tol,
+        "{name}: converged flag vs last move {last}"
+    );
+    assert!(result.converged || result.iterations == request.max_iter);
+    assert!(
+        mesh.min_angle_deg() > 10.0,
+        "{name}: min angle {}",
+        mesh.min_angle_deg()
+    );
+    result
+}
+
+/// `max_iter = 2` cannot reach tol = 1e-4 from the jittered lattice: reported as such.
+pub fn capped_run_is_not_converged(method: &dyn Mesher) {
+    let region = Region::builtin("circle").unwrap();
+    let r = method
+        .mesh(&region, &MeshRequest::points(88).max_iter(2), &mut |_| {})
+        .unwrap();
+    assert!(!r.converged);
+    assert_eq!(r.iterations, 2);
+    assert_eq!(r.move_history.len(), 2);
+    assert!(r.move_history[1] > 1e-4);
+    check_conforming(&r.mesh, &region).unwrap();
+    assert_eq!(r.mesh.num_vertices(), 88);
+}
+
+/// Same seed, same bytes; another seed, another mesh.
+pub fn seed_determines_the_mesh(method: &dyn Mesher) {
+    let region = Region::builtin("square_hole").unwrap();
+    let run = |seed| {
+        method
+            .mesh(
+                &region,
+                &MeshRequest::points(120).seed(seed).max_iter(30),
+                &mut |_| {},
+            )
+            .unwrap()
+    };
+    let (a, b, c) = (run(4), run(4), run(5));
+    let bits = |r: &MeshResult| {
+        r.mesh
+            .points
+            .iter()
+            .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(a.mesh.triangles, b.mesh.triangles);
+    assert_eq!(a.move_history, b.move_history);
+    assert_ne!(bits(&a), bits(&c));
+}
+
+/// Requests that cannot be met are errors, not panics.
+pub fn bad_requests_are_errors(method: &dyn Mesher) {
+    let region = Region::builtin("square_two_hex").unwrap();
+    assert!(method
+        .mesh(&region, &MeshRequest::points(10), &mut |_| {})
+        .is_err());
+    assert!(method
+        .mesh(&region, &MeshRequest::points(2), &mut |_| {})
+        .is_err());
+    assert!(method
+        .mesh(
+            &region,
+            &MeshRequest::points(200).tol(f64::NAN),
+            &mut |_| {}
+        )
+        .is_err());
+}
