@@ -14,7 +14,12 @@ pub struct MeshArgs {
     /// Region file (.json, .geojson, .poly, .txt loop list) or built-in name (see `cvtmesh regions`).
     region: String,
     /// Number of vertices K.
-    #[arg(long, short = 'n', conflicts_with = "size", required_unless_present = "size")]
+    #[arg(
+        long,
+        short = 'n',
+        conflicts_with = "size",
+        required_unless_present = "size"
+    )]
     points: Option<usize>,
     /// Target edge length h (K follows from the region's area).
     #[arg(long)]
@@ -54,7 +59,10 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     let method = inputs::method(&a.method)?;
     let region = inputs::region(&a.region, a.corner_angle)?;
     if let Some(deg) = region.corner_threshold() {
-        eprintln!("corner-angle threshold {deg}° applied: {} corners kept", region.corners().len());
+        eprintln!(
+            "corner-angle threshold {deg}° applied: {} corners kept",
+            region.corners().len()
+        );
     }
     let size = match (a.points, a.size) {
         (Some(k), _) => Size::Points(k),
@@ -77,8 +85,18 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         bail!("--tol must be a positive number, got {}", a.tol);
     }
     let density = inputs::density(a.density.as_deref(), &region)?;
-    let request = MeshRequest { size, seed: a.seed, tol: a.tol, max_iter: a.max_iter, density };
-    let bar = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(a.max_iter as u64) };
+    let request = MeshRequest {
+        size,
+        seed: a.seed,
+        tol: a.tol,
+        max_iter: a.max_iter,
+        density,
+    };
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(a.max_iter as u64)
+    };
     bar.set_style(
         ProgressStyle::with_template("{spinner} {prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed})")
             .expect("static template")
@@ -92,7 +110,12 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    let title = format!("{} {} K={}", region.name(), method.name(), result.mesh.num_vertices());
+    let title = format!(
+        "{} {} K={}",
+        region.name(),
+        method.name(),
+        result.mesh.num_vertices()
+    );
     inputs::write(&result.mesh, &region, &a.output, &title)?;
     for note in &result.notes {
         eprintln!("note: {note}");
@@ -105,12 +128,20 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         result.mesh.min_angle_deg(),
         result.iterations,
         energy,
-        if result.converged { "converged" } else { "NOT CONVERGED (iteration cap reached)" },
+        if result.converged {
+            "converged"
+        } else {
+            "NOT CONVERGED (iteration cap reached)"
+        },
         seconds,
         a.output.display()
     );
     if a.strict && !result.converged {
-        bail!("--strict: {} did not converge within {} iterations (mesh written anyway)", method.name(), a.max_iter);
+        bail!(
+            "--strict: {} did not converge within {} iterations (mesh written anyway)",
+            method.name(),
+            a.max_iter
+        );
     }
     Ok(())
 }
@@ -139,11 +170,22 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let region = inputs::region(&a.region, None)?;
     let mesh = inputs::mesh(&a.mesh)?;
     if let Err(e) = mesh::check_conforming(&mesh, &region) {
-        eprintln!("warning: the mesh does not conform to region '{}': {e}", region.name());
+        eprintln!(
+            "warning: the mesh does not conform to region '{}': {e}",
+            region.name()
+        );
     }
     let m = metrics::measures(&mesh, &region)?;
     let sampled = match a.sampled {
-        Some(n) => Some(metrics::sampled_measures(&mesh, &region, &metrics::SampleParams { samples: n, seed: 1, scale: a.scale })?),
+        Some(n) => Some(metrics::sampled_measures(
+            &mesh,
+            &region,
+            &metrics::SampleParams {
+                samples: n,
+                seed: 1,
+                scale: a.scale,
+            },
+        )?),
         None => None,
     };
     if a.csv {
@@ -189,7 +231,8 @@ pub fn show(a: ShowArgs) -> Result<()> {
     if kind != "png" && kind != "svg" {
         bail!("'{}': show writes .png or .svg", a.output.display());
     }
-    let is_mesh = a.input.ends_with(".node") || a.input.ends_with(".msh") || a.input.ends_with(".ele");
+    let is_mesh =
+        a.input.ends_with(".node") || a.input.ends_with(".msh") || a.input.ends_with(".ele");
     if !is_mesh {
         if a.colour.is_some() {
             bail!("--colour needs a mesh, but '{}' is a region", a.input);
@@ -206,15 +249,25 @@ pub fn show(a: ShowArgs) -> Result<()> {
         None => None,
         Some(c) => Some((triangle_values(&mesh, c)?, c.to_string())),
     };
-    let title = format!("{} K={} K~={}", region.name(), mesh.num_vertices(), mesh.num_triangles());
+    let title = format!(
+        "{} K={} K~={}",
+        region.name(),
+        mesh.num_vertices(),
+        mesh.num_triangles()
+    );
     inputs::draw(Some(&mesh), &region, &a.output, &title, colour)
 }
 
 fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
     let f: fn([geometry::DVec2; 3]) -> f64 = match what {
         "min-angle" => |[a, b, c]| {
-            let ang = |p: geometry::DVec2, q: geometry::DVec2, r: geometry::DVec2| (q - p).angle_to(r - p).abs();
-            ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b)).to_degrees()
+            let ang = |p: geometry::DVec2, q: geometry::DVec2, r: geometry::DVec2| {
+                (q - p).angle_to(r - p).abs()
+            };
+            ang(a, b, c)
+                .min(ang(b, c, a))
+                .min(ang(c, a, b))
+                .to_degrees()
         },
         "q" => |[a, b, c]| {
             let (x, y, z) = ((b - c).length(), (c - a).length(), (a - b).length());
@@ -223,15 +276,26 @@ fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
         "area" => |[a, b, c]| 0.5 * (b - a).perp_dot(c - a),
         other => bail!("unknown --colour '{other}'; choose min-angle, q or area"),
     };
-    Ok((0..mesh.num_triangles()).map(|t| f(mesh.triangle(t))).collect())
+    Ok((0..mesh.num_triangles())
+        .map(|t| f(mesh.triangle(t)))
+        .collect())
 }
 
 /// `cvtmesh regions`.
 pub fn regions() -> Result<()> {
-    println!("{:<16} {:>14} {:>6} {:>8}  title", "name", "area", "holes", "corners");
+    println!(
+        "{:<16} {:>14} {:>6} {:>8}  title",
+        "name", "area", "holes", "corners"
+    );
     for name in Region::builtin_names() {
         let r = Region::builtin(name)?;
-        println!("{:<16} {:>14.6} {:>6} {:>8}", name, r.area(), r.loops().len() - 1, r.corners().len());
+        println!(
+            "{:<16} {:>14.6} {:>6} {:>8}",
+            name,
+            r.area(),
+            r.loops().len() - 1,
+            r.corners().len()
+        );
     }
     Ok(())
 }

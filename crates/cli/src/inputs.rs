@@ -15,7 +15,9 @@ pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
         Region::builtin(spec)?
     };
     Ok(match corner_angle {
-        Some(deg) if !(0.0..180.0).contains(&deg) => bail!("--corner-angle must be in [0, 180) degrees, got {deg}"),
+        Some(deg) if !(0.0..180.0).contains(&deg) => {
+            bail!("--corner-angle must be in [0, 180) degrees, got {deg}")
+        }
         Some(deg) => region.with_corner_angle(deg),
         None => region,
     })
@@ -27,7 +29,9 @@ pub fn mesh(path: &Path) -> Result<Mesh> {
 }
 
 /// Method names accepted by `--method`, best first.
-pub const METHODS: &[&str] = &["ccvt", "ccvt2", "ccvt1", "distmesh", "meshgen", "vtm", "refine"];
+pub const METHODS: &[&str] = &[
+    "ccvt", "ccvt2", "ccvt1", "distmesh", "meshgen", "vtm", "refine",
+];
 
 /// The mesher behind a `--method` word.
 pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
@@ -39,15 +43,21 @@ pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
         "meshgen" => Box::new(meshgen::Meshgen::default()),
         "vtm" => Box::new(vtm::Vtm::default()),
         "refine" | "triangle" => Box::new(refine::Refine::default()),
-        other => bail!("unknown method '{other}'; choose one of: {}", METHODS.join(", ")),
+        other => bail!(
+            "unknown method '{other}'; choose one of: {}",
+            METHODS.join(", ")
+        ),
     })
 }
 
 /// Parse `--density` and check it is finite and non-negative over the region (sampled on a
 /// 200×200 grid of the bounding box, points inside the region).
 pub fn density(expr: Option<&str>, region: &Region) -> Result<Density> {
-    let Some(text) = expr else { return Ok(Density::Uniform) };
-    let d = geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))?;
+    let Some(text) = expr else {
+        return Ok(Density::Uniform);
+    };
+    let d =
+        geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))?;
     let (lo, hi) = region.bbox();
     let n = 200;
     let mut positive = false;
@@ -72,7 +82,11 @@ pub fn density(expr: Option<&str>, region: &Region) -> Result<Density> {
 
 /// Output kind from the extension.
 pub fn output_kind(path: &Path) -> Result<&'static str> {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
     Ok(match ext.as_str() {
         "node" | "ele" => "triangle",
         "msh" => "msh",
@@ -91,12 +105,19 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
         "svg" | "png" => draw(Some(mesh), region, path, title, None),
-        _ => Ok(mesh::io::write_mesh(mesh, path).with_context(|| format!("writing {}", path.display()))?),
+        _ => Ok(mesh::io::write_mesh(mesh, path)
+            .with_context(|| format!("writing {}", path.display()))?),
     }
 }
 
 /// Draw a region, or a mesh on it, optionally coloured per triangle.
-pub fn draw(mesh: Option<&Mesh>, region: &Region, path: &Path, title: &str, colour: Option<(Vec<f64>, String)>) -> Result<()> {
+pub fn draw(
+    mesh: Option<&Mesh>,
+    region: &Region,
+    path: &Path,
+    title: &str,
+    colour: Option<(Vec<f64>, String)>,
+) -> Result<()> {
     let mut panel = render::Panel::new(title, region);
     if let Some(m) = mesh {
         panel = panel.with_mesh(m);

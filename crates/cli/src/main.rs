@@ -9,7 +9,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "cvtmesh", version, about = "Uniform triangular meshes of planar regions by constrained centroidal Voronoi tessellation")]
+#[command(
+    name = "cvtmesh",
+    version,
+    about = "Uniform triangular meshes of planar regions by constrained centroidal Voronoi tessellation"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -19,13 +23,19 @@ struct Cli {
 enum Command {
     /// Mesh a region (a file or a built-in name) and write the mesh; the format follows OUT's
     /// extension (.node/.ele Triangle, .msh Gmsh 4.1, .vtu VTK, .obj, .svg, .png).
-    #[command(after_help = "Examples:\n  cvtmesh mesh circle --points 362 -o circle.msh\n  cvtmesh mesh lake --points 20000 --method ccvt2 -o lake.node\n  cvtmesh mesh coast.geojson --size 0.01 --corner-angle 30 -o coast.vtu\n  cvtmesh mesh square.poly --points 2000 --density '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)' -o graded.png")]
+    #[command(
+        after_help = "Examples:\n  cvtmesh mesh circle --points 362 -o circle.msh\n  cvtmesh mesh lake --points 20000 --method ccvt2 -o lake.node\n  cvtmesh mesh coast.geojson --size 0.01 --corner-angle 30 -o coast.vtu\n  cvtmesh mesh square.poly --points 2000 --density '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)' -o graded.png"
+    )]
     Mesh(commands::MeshArgs),
     /// Print K, K̃ and the 12 quality measures of a mesh (Triangle .node+.ele or Gmsh .msh).
-    #[command(after_help = "Examples:\n  cvtmesh measure out.node --region circle\n  cvtmesh measure out.msh --region my_region.json --csv")]
+    #[command(
+        after_help = "Examples:\n  cvtmesh measure out.node --region circle\n  cvtmesh measure out.msh --region my_region.json --csv"
+    )]
     Measure(commands::MeasureArgs),
     /// Draw a mesh or a region to PNG or SVG, optionally coloured by a per-triangle quality.
-    #[command(after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg")]
+    #[command(
+        after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
+    )]
     Show(commands::ShowArgs),
     /// List the built-in regions (the paper's ten), usable by name wherever a region is asked.
     Regions,
@@ -47,4 +57,3 @@ fn main() -> ExitCode {
         }
     }
 }
-

@@ -3,11 +3,18 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn cvtmesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cvtmesh")).args(args).output().expect("run cvtmesh")
+    Command::new(env!("CARGO_BIN_EXE_cvtmesh"))
+        .args(args)
+        .output()
+        .expect("run cvtmesh")
 }
 
 fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
 }
 
 /// A fresh scratch directory per test.
@@ -27,7 +34,18 @@ fn regions_lists_the_ten_builtins() {
     let o = cvtmesh(&["regions"]);
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
-    for name in ["circle", "annulus", "square_hole", "hex_hole", "horn", "superellipse", "bike_seat", "pie_hole", "square_two_hex", "lake"] {
+    for name in [
+        "circle",
+        "annulus",
+        "square_hole",
+        "hex_hole",
+        "horn",
+        "superellipse",
+        "bike_seat",
+        "pie_hole",
+        "square_two_hex",
+        "lake",
+    ] {
         assert!(t.contains(name), "missing {name} in\n{t}");
     }
 }
@@ -46,7 +64,10 @@ fn mesh_then_measure_csv_round_trip() {
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     let lines: Vec<&str> = stdout.lines().collect();
     assert_eq!(lines.len(), 2, "{stdout}");
-    assert_eq!(lines[0], "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p");
+    assert_eq!(
+        lines[0],
+        "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p"
+    );
     let v: Vec<f64> = lines[1].split(',').map(|x| x.parse().unwrap()).collect();
     assert_eq!(v.len(), 14);
     assert_eq!(v[0], 88.0);
@@ -61,18 +82,45 @@ fn every_output_format_is_written_and_meshes_read_back() {
     let d = scratch("formats");
     for ext in ["msh", "vtu", "obj", "svg", "png", "node"] {
         let out = d.join(format!("m.{ext}"));
-        let o = cvtmesh(&["mesh", "square_two_hex", "--points", "203", "--method", "ccvt", "--quiet", "-o", s(&out)]);
+        let o = cvtmesh(&[
+            "mesh",
+            "square_two_hex",
+            "--points",
+            "203",
+            "--method",
+            "ccvt",
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
         assert!(o.status.success(), "{ext}: {}", text(&o));
         let len = std::fs::metadata(&out).unwrap().len();
         assert!(len > 100, "{ext}: {len} bytes");
     }
-    let o = cvtmesh(&["measure", s(&d.join("m.msh")), "--region", "square_two_hex", "--csv"]);
+    let o = cvtmesh(&[
+        "measure",
+        s(&d.join("m.msh")),
+        "--region",
+        "square_two_hex",
+        "--csv",
+    ]);
     assert!(o.status.success(), "{}", text(&o));
-    let o = cvtmesh(&["show", s(&d.join("m.node")), "--region", "square_two_hex", "--colour", "min-angle", "-o", s(&d.join("q.png"))]);
+    let o = cvtmesh(&[
+        "show",
+        s(&d.join("m.node")),
+        "--region",
+        "square_two_hex",
+        "--colour",
+        "min-angle",
+        "-o",
+        s(&d.join("q.png")),
+    ]);
     assert!(o.status.success(), "{}", text(&o));
     let o = cvtmesh(&["show", "lake", "-o", s(&d.join("lake.svg"))]);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(std::fs::read_to_string(d.join("lake.svg")).unwrap().contains("<svg"));
+    assert!(std::fs::read_to_string(d.join("lake.svg"))
+        .unwrap()
+        .contains("<svg"));
 }
 
 #[test]
@@ -80,7 +128,17 @@ fn each_method_is_reachable() {
     let d = scratch("methods");
     for m in ["ccvt1", "ccvt2", "distmesh", "meshgen", "vtm", "refine"] {
         let out = d.join(format!("{m}.node"));
-        let o = cvtmesh(&["mesh", "circle", "--points", "88", "--method", m, "--quiet", "-o", s(&out)]);
+        let o = cvtmesh(&[
+            "mesh",
+            "circle",
+            "--points",
+            "88",
+            "--method",
+            m,
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
         assert!(o.status.success(), "{m}: {}", text(&o));
         assert!(out.exists());
     }
@@ -90,10 +148,35 @@ fn each_method_is_reachable() {
 fn strict_turns_a_capped_run_into_an_error_but_keeps_the_mesh() {
     let d = scratch("strict");
     let out = d.join("m.node");
-    let o = cvtmesh(&["mesh", "circle", "--points", "88", "--method", "ccvt1", "--max-iter", "2", "--quiet", "-o", s(&out)]);
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--points",
+        "88",
+        "--method",
+        "ccvt1",
+        "--max-iter",
+        "2",
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
     assert!(o.status.success());
     assert!(text(&o).contains("NOT CONVERGED"), "{}", text(&o));
-    let o = cvtmesh(&["mesh", "circle", "--points", "88", "--method", "ccvt1", "--max-iter", "2", "--strict", "--quiet", "-o", s(&out)]);
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--points",
+        "88",
+        "--method",
+        "ccvt1",
+        "--max-iter",
+        "2",
+        "--strict",
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
     assert!(!o.status.success());
     assert!(text(&o).contains("did not converge"), "{}", text(&o));
     assert!(out.exists());
@@ -105,7 +188,10 @@ fn assert_refused(args: &[&str], out: &std::path::Path, needle: &str) {
     let t = text(&o);
     assert!(!o.status.success(), "accepted {args:?}:\n{t}");
     assert!(!t.contains("panicked"), "panic for {args:?}:\n{t}");
-    assert!(t.to_lowercase().contains(&needle.to_lowercase()), "{args:?}: expected '{needle}' in:\n{t}");
+    assert!(
+        t.to_lowercase().contains(&needle.to_lowercase()),
+        "{args:?}: expected '{needle}' in:\n{t}"
+    );
     assert!(!out.exists(), "{args:?} left a file behind");
 }
 
@@ -114,14 +200,80 @@ fn bad_input_is_refused_with_a_clear_message() {
     let d = scratch("errors");
     let out = d.join("out.node");
     let o = s(&out);
-    assert_refused(&["mesh", s(&d.join("missing.json")), "--points", "50", "-o", o], &out, "missing.json");
-    assert_refused(&["mesh", "circle", "--points", "50", "-o", s(&d.join("out.xyz"))], &d.join("out.xyz"), "unknown extension");
-    assert_refused(&["mesh", "circle", "--points", "50", "--method", "magic", "-o", o], &out, "unknown method");
-    assert_refused(&["mesh", "hex_hole", "--points", "8", "-o", o], &out, "too small");
-    assert_refused(&["mesh", "circle", "--size", "5", "-o", o], &out, "too small");
-    assert_refused(&["mesh", "circle", "--points", "50", "--density", "x - 2", "-o", o], &out, "non-negative");
-    assert_refused(&["mesh", "circle", "--points", "50", "--density", "1 + (x", "-o", o], &out, "column");
-    assert_refused(&["mesh", "nonesuch", "--points", "50", "-o", o], &out, "unknown region");
+    assert_refused(
+        &[
+            "mesh",
+            s(&d.join("missing.json")),
+            "--points",
+            "50",
+            "-o",
+            o,
+        ],
+        &out,
+        "missing.json",
+    );
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--points",
+            "50",
+            "-o",
+            s(&d.join("out.xyz")),
+        ],
+        &d.join("out.xyz"),
+        "unknown extension",
+    );
+    assert_refused(
+        &[
+            "mesh", "circle", "--points", "50", "--method", "magic", "-o", o,
+        ],
+        &out,
+        "unknown method",
+    );
+    assert_refused(
+        &["mesh", "hex_hole", "--points", "8", "-o", o],
+        &out,
+        "too small",
+    );
+    assert_refused(
+        &["mesh", "circle", "--size", "5", "-o", o],
+        &out,
+        "too small",
+    );
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--points",
+            "50",
+            "--density",
+            "x - 2",
+            "-o",
+            o,
+        ],
+        &out,
+        "non-negative",
+    );
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--points",
+            "50",
+            "--density",
+            "1 + (x",
+            "-o",
+            o,
+        ],
+        &out,
+        "column",
+    );
+    assert_refused(
+        &["mesh", "nonesuch", "--points", "50", "-o", o],
+        &out,
+        "unknown region",
+    );
 
     let write = |name: &str, body: &str| {
         let p = d.join(name);
@@ -129,21 +281,49 @@ fn bad_input_is_refused_with_a_clear_message() {
         p
     };
     let bowtie = write("bowtie.txt", "0 0\n1 1\n1 0\n0 1\n");
-    assert_refused(&["mesh", s(&bowtie), "--points", "50", "-o", o], &out, "intersect");
+    assert_refused(
+        &["mesh", s(&bowtie), "--points", "50", "-o", o],
+        &out,
+        "crosses itself at",
+    );
     let outside = write("outside.txt", "0 0\n1 0\n1 1\n0 1\n\n5 5\n6 5\n6 6\n");
-    assert_refused(&["mesh", s(&outside), "--points", "50", "-o", o], &out, "outside");
+    assert_refused(
+        &["mesh", s(&outside), "--points", "50", "-o", o],
+        &out,
+        "outside",
+    );
     let nan = write("nan.txt", "0 0\n1 0\nnan 1\n0 1\n");
-    assert_refused(&["mesh", s(&nan), "--points", "50", "-o", o], &out, "nan.txt");
+    assert_refused(
+        &["mesh", s(&nan), "--points", "50", "-o", o],
+        &out,
+        "nan.txt",
+    );
     let dup = write("dup.txt", "0 0\n1 0\n1 0\n1 1\n0 1\n");
-    assert_refused(&["mesh", s(&dup), "--points", "50", "-o", o], &out, "duplicate");
+    assert_refused(
+        &["mesh", s(&dup), "--points", "50", "-o", o],
+        &out,
+        "duplicate",
+    );
     let open = write(
         "open.json",
         r#"{"loops":[{"role":"outer","segments":[{"kind":"polyline","points":[[0,0],[1,0],[1,1],[0,1]]}]}]}"#,
     );
-    assert_refused(&["mesh", s(&open), "--points", "50", "-o", o], &out, "open.json");
+    assert_refused(
+        &["mesh", s(&open), "--points", "50", "-o", o],
+        &out,
+        "open.json",
+    );
     let garbage = write("garbage.json", "{ this is not json");
-    assert_refused(&["mesh", s(&garbage), "--points", "50", "-o", o], &out, "garbage.json");
-    assert_refused(&["measure", s(&d.join("none.node")), "--region", "circle"], &d.join("none.node"), "none");
+    assert_refused(
+        &["mesh", s(&garbage), "--points", "50", "-o", o],
+        &out,
+        "garbage.json",
+    );
+    assert_refused(
+        &["measure", s(&d.join("none.node")), "--region", "circle"],
+        &d.join("none.node"),
+        "none",
+    );
 }
 
 #[test]
@@ -162,10 +342,21 @@ fn user_region_files_in_every_input_format_mesh() {
         "sq.geojson",
         r#"{"type":"Polygon","coordinates":[[[0,0],[1,0],[1,1],[0,1],[0,0]],[[0.4,0.4],[0.4,0.6],[0.6,0.6],[0.6,0.4],[0.4,0.4]]]}"#,
     );
-    let loops = write("sq.txt", "# square with a hole\n0 0\n1 0\n1 1\n0 1\n\n0.4 0.4\n0.6 0.4\n0.6 0.6\n0.4 0.6\n");
+    let loops = write(
+        "sq.txt",
+        "# square with a hole\n0 0\n1 0\n1 1\n0 1\n\n0.4 0.4\n0.6 0.4\n0.6 0.6\n0.4 0.6\n",
+    );
     for input in [poly, geojson, loops] {
         let out = d.join("m.node");
-        let o = cvtmesh(&["mesh", s(&input), "--points", "150", "--quiet", "-o", s(&out)]);
+        let o = cvtmesh(&[
+            "mesh",
+            s(&input),
+            "--points",
+            "150",
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
         assert!(o.status.success(), "{}: {}", input.display(), text(&o));
         let o = cvtmesh(&["measure", s(&out), "--region", s(&input), "--csv"]);
         assert!(o.status.success(), "{}", text(&o));

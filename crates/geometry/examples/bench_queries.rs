@@ -9,7 +9,11 @@ use std::time::Instant;
 fn cpu_seconds() -> f64 {
     std::fs::read_to_string("/proc/thread-self/schedstat")
         .ok()
-        .and_then(|s| s.split_whitespace().next().and_then(|x| x.parse::<f64>().ok()))
+        .and_then(|s| {
+            s.split_whitespace()
+                .next()
+                .and_then(|x| x.parse::<f64>().ok())
+        })
         .map_or_else(|| START.with(|t| t.elapsed().as_secs_f64()), |ns| ns * 1e-9)
 }
 
@@ -31,7 +35,12 @@ fn bench(r: &Region, n: usize) {
     let mut rng = Rng::new(7);
     // Points in and around the region (a CCVT/DistMesh-like mix: most near or inside).
     let pts: Vec<DVec2> = (0..n)
-        .map(|_| DVec2::new(rng.range(lo.x - 0.05 * d, hi.x + 0.05 * d), rng.range(lo.y - 0.05 * d, hi.y + 0.05 * d)))
+        .map(|_| {
+            DVec2::new(
+                rng.range(lo.x - 0.05 * d, hi.x + 0.05 * d),
+                rng.range(lo.y - 0.05 * d, hi.y + 0.05 * d),
+            )
+        })
         .collect();
     let t = Clock::start();
     let mut s = 0.0;
@@ -62,6 +71,17 @@ fn bench(r: &Region, n: usize) {
 }
 
 fn main() {
+    // Calibration: a loop of one square root and one atan2 per point.
+    let mut rng = Rng::new(1);
+    let pts: Vec<DVec2> = (0..200_000)
+        .map(|_| DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)))
+        .collect();
+    let t = Clock::start();
+    let s: f64 = pts.iter().map(|p| p.length() + p.y.atan2(p.x)).sum();
+    println!(
+        "calibration: sqrt + atan2 {:.3} µs (checksum {s:.3})",
+        t.secs() / 2e5 * 1e6
+    );
     for &name in Region::builtin_names() {
         bench(&Region::builtin(name).unwrap(), 200_000);
     }
@@ -74,20 +94,45 @@ fn main() {
             DVec2::new(r * t.cos(), r * t.sin())
         })
         .collect();
-    let pieces = (0..n).map(|i| Piece::Line { a: pts[i], b: pts[(i + 1) % n] }).collect();
+    let pieces = (0..n)
+        .map(|i| Piece::Line {
+            a: pts[i],
+            b: pts[(i + 1) % n],
+        })
+        .collect();
     let t = Clock::start();
     let coast = Region::new("coast10k", vec![(LoopRole::Outer, pieces)], None).unwrap();
     println!("coast10k: Region::new {:.1} ms", t.secs() * 1e3);
     bench(&coast, 200_000);
     let t = Clock::start();
     let merged = coast.with_corner_angle(10.0);
-    println!("coast10k: with_corner_angle(10°) {:.1} ms -> {} pieces", t.secs() * 1e3, merged.pieces().len());
+    println!(
+        "coast10k: with_corner_angle(10°) {:.1} ms -> {} pieces",
+        t.secs() * 1e3,
+        merged.pieces().len()
+    );
     bench(&merged, 200_000);
-    let t = Clock::start();
-    let e = coast.expand(2.0, 0.05);
-    println!("coast10k: expand(2, 0.05) {:.1} ms -> {} vertices", t.secs() * 1e3, e.rings.iter().map(|r| r.points.len()).sum::<usize>());
+    // Expansions are short: wall time over repeated runs.
+    let reps = 20;
+    let t = Instant::now();
+    let mut e = coast.expand(2.0, 0.05);
+    for _ in 1..reps {
+        e = coast.expand(2.0, 0.05);
+    }
+    println!(
+        "coast10k: expand(2, 0.05) {:.2} ms wall -> {} vertices",
+        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
+        e.rings.iter().map(|r| r.points.len()).sum::<usize>()
+    );
     let lake = Region::builtin("lake").unwrap();
-    let t = Clock::start();
-    let e = lake.expand(5.0, 0.05);
-    println!("lake: expand(5, 0.05) {:.2} ms -> {} vertices", t.secs() * 1e3, e.rings.iter().map(|r| r.points.len()).sum::<usize>());
+    let t = Instant::now();
+    let mut e = lake.expand(5.0, 0.05);
+    for _ in 1..reps {
+        e = lake.expand(5.0, 0.05);
+    }
+    println!(
+        "lake: expand(5, 0.05) {:.2} ms wall -> {} vertices",
+        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
+        e.rings.iter().map(|r| r.points.len()).sum::<usize>()
+    );
 }

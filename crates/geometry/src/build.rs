@@ -30,10 +30,18 @@ pub(crate) fn new_region(
     loops: Vec<(LoopRole, Vec<Piece>)>,
     corners: Option<Vec<DVec2>>,
 ) -> Result<Region, GeometryError> {
-    let err = |m: String| GeometryError::Invalid { region: name.to_string(), message: m };
+    let err = |m: String| GeometryError::Invalid {
+        region: name.to_string(),
+        message: m,
+    };
 
     // Exactly one outer loop; it goes first. `label[i]` names loop i as the caller numbered it.
-    let outers: Vec<usize> = loops.iter().enumerate().filter(|(_, l)| l.0 == LoopRole::Outer).map(|(i, _)| i).collect();
+    let outers: Vec<usize> = loops
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.0 == LoopRole::Outer)
+        .map(|(i, _)| i)
+        .collect();
     match outers.len() {
         0 => return Err(err("no outer loop (a region needs exactly one loop with role 'outer')".into())),
         1 => {}
@@ -57,7 +65,8 @@ pub(crate) fn new_region(
             return Err(err(format!("{} has no segments", label[l])));
         }
         for (k, p) in pieces.iter().enumerate() {
-            p.check().map_err(|m| err(format!("{}, piece {k}: {m}", label[l])))?;
+            p.check()
+                .map_err(|m| err(format!("{}, piece {k}: {m}", label[l])))?;
         }
     }
     if let Some(c) = corners.iter().flatten().find(|c| !c.is_finite()) {
@@ -90,7 +99,10 @@ pub(crate) fn new_region(
     }
 
     // Simple, non-crossing loops (checked on a fine polygonization that keeps every chain point).
-    let rings: Vec<Vec<DVec2>> = lps.iter().map(|(_, ps)| ring_points(ps, CHECK_TOL * diam)).collect();
+    let rings: Vec<Vec<DVec2>> = lps
+        .iter()
+        .map(|(_, ps)| ring_points(ps, CHECK_TOL * diam))
+        .collect();
     for (l, r) in rings.iter().enumerate() {
         if r.len() < 3 {
             return Err(err(format!("{} encloses no area", label[l])));
@@ -100,7 +112,10 @@ pub(crate) fn new_region(
             let (a, b, c) = (r[(k + n - 1) % n], r[k], r[(k + 1) % n]);
             let (u, v) = (b - a, c - b);
             if u.perp_dot(v).abs() <= 1e-12 * u.length() * v.length() && u.dot(v) < 0.0 {
-                return Err(err(format!("{} folds back on itself at ({}, {}) (a zero-width spike)", label[l], b.x, b.y)));
+                return Err(err(format!(
+                    "{} folds back on itself at ({}, {}) (a zero-width spike)",
+                    label[l], b.x, b.y
+                )));
             }
         }
     }
@@ -109,14 +124,17 @@ pub(crate) fn new_region(
         if a == b {
             err(format!("{} {how}es itself at ({}, {})", label[a], x.x, x.y))
         } else {
-            err(format!("{} and {} {how} at ({}, {})", label[a], label[b], x.x, x.y))
+            err(format!(
+                "{} and {} {how} at ({}, {})",
+                label[a], label[b], x.x, x.y
+            ))
         }
     })?;
 
     // Orientation: outer CCW, holes CW.
     for (l, (role, pieces)) in lps.iter_mut().enumerate() {
         let a: f64 = pieces.iter().map(Piece::area_integral).sum();
-        if !(a.abs() > 1e-14 * diam * diam) {
+        if a.is_nan() || a.abs() <= 1e-14 * diam * diam {
             return Err(err(format!("{} encloses no area", label[l])));
         }
         if (a > 0.0) != (*role == LoopRole::Outer) {
@@ -131,11 +149,17 @@ pub(crate) fn new_region(
     for h in 1..rings.len() {
         let x = rings[h][0];
         if !point_in_ring(&rings[0], x) {
-            return Err(err(format!("{} is not inside the outer loop (its point ({}, {}) is outside)", label[h], x.x, x.y)));
+            return Err(err(format!(
+                "{} is not inside the outer loop (its point ({}, {}) is outside)",
+                label[h], x.x, x.y
+            )));
         }
         for g in 1..rings.len() {
             if g != h && point_in_ring(&rings[g], x) {
-                return Err(err(format!("{} lies inside {} (holes must be disjoint)", label[h], label[g])));
+                return Err(err(format!(
+                    "{} lies inside {} (holes must be disjoint)",
+                    label[h], label[g]
+                )));
             }
         }
     }
@@ -144,10 +168,17 @@ pub(crate) fn new_region(
     let flags = match corners {
         None => lps
             .iter()
-            .map(|(_, ps)| (0..ps.len()).map(|k| turning_angle(&ps[(k + ps.len() - 1) % ps.len()], &ps[k]) > CORNER_ANGLE).collect())
+            .map(|(_, ps)| {
+                (0..ps.len())
+                    .map(|k| {
+                        turning_angle(&ps[(k + ps.len() - 1) % ps.len()], &ps[k]) > CORNER_ANGLE
+                    })
+                    .collect()
+            })
             .collect(),
         Some(list) => {
-            let mut flags: Vec<Vec<bool>> = lps.iter().map(|(_, ps)| vec![false; ps.len()]).collect();
+            let mut flags: Vec<Vec<bool>> =
+                lps.iter().map(|(_, ps)| vec![false; ps.len()]).collect();
             for c in list {
                 let mut best = (f64::INFINITY, 0, 0);
                 for (l, (_, ps)) in lps.iter().enumerate() {
@@ -232,7 +263,10 @@ fn close_loop(pieces: &mut [Piece], tol: f64) -> Result<(), String> {
         let gap = e.distance(s);
         if gap > tol {
             return Err(if n == 1 {
-                format!("is not closed: it starts at ({}, {}) but ends at ({}, {})", s.x, s.y, e.x, e.y)
+                format!(
+                    "is not closed: it starts at ({}, {}) but ends at ({}, {})",
+                    s.x, s.y, e.x, e.y
+                )
             } else {
                 format!(
                     "is not closed: piece {i} ends at ({}, {}) but piece {j} starts at ({}, {}) (gap {gap:e})",
@@ -277,7 +311,9 @@ fn check_crossings(rings: &[Vec<DVec2>], touch: f64) -> Result<(), (usize, usize
             meta.push((l, k, n));
         }
     }
-    let mut found = None;
+    // Report a proper crossing if there is one (a vertex exactly on the other loop looks
+    // like a touch on one of its two edges), else the first touch.
+    let mut found: Option<(usize, usize, DVec2, bool)> = None;
     candidate_pairs(&segs, touch, |i, j| {
         let ((li, ki, n), (lj, kj, _)) = (meta[i], meta[j]);
         if li == lj && (kj == ki + 1 || (ki == 0 && kj == n - 1)) {
@@ -285,9 +321,13 @@ fn check_crossings(rings: &[Vec<DVec2>], touch: f64) -> Result<(), (usize, usize
         }
         let (d, x) = segment_segment_distance(segs[i].0, segs[i].1, segs[j].0, segs[j].1);
         if d <= touch {
-            let crossing = crate::numeric::segment_crossing(segs[i].0, segs[i].1, segs[j].0, segs[j].1).is_some();
-            found = Some((li, lj, x, crossing));
-            return false;
+            let crossing =
+                crate::numeric::segment_crossing(segs[i].0, segs[i].1, segs[j].0, segs[j].1)
+                    .is_some();
+            if crossing || found.is_none() {
+                found = Some((li, lj, x, crossing));
+            }
+            return !crossing;
         }
         true
     });
@@ -337,26 +377,29 @@ pub(crate) fn assemble(
             loop_ids.push(id);
         }
         ids.push(loop_ids.clone());
-        loops.push(Loop { role, pieces: loop_ids, offsets, length: s });
+        loops.push(Loop {
+            role,
+            pieces: loop_ids,
+            offsets,
+            length: s,
+        });
     }
     let mut corners = Vec::new();
     let mut corner_at_start = vec![None; pieces.len()];
     let mut corner_at_end = vec![None; pieces.len()];
     for (l, lp) in loops.iter().enumerate() {
         let n = lp.pieces.len();
-        for k in 0..n {
-            if flags[l][k] {
-                let (pin, pout) = (lp.pieces[(k + n - 1) % n], lp.pieces[k]);
-                corner_at_start[pout] = Some(corners.len());
-                corner_at_end[pin] = Some(corners.len());
-                corners.push(Corner {
-                    pos: pieces[pout].start(),
-                    loop_index: l,
-                    piece_in: pin,
-                    piece_out: pout,
-                    loop_param: lp.offsets[k],
-                });
-            }
+        for (k, _) in flags[l].iter().enumerate().filter(|(_, f)| **f) {
+            let (pin, pout) = (lp.pieces[(k + n - 1) % n], lp.pieces[k]);
+            corner_at_start[pout] = Some(corners.len());
+            corner_at_end[pin] = Some(corners.len());
+            corners.push(Corner {
+                pos: pieces[pout].start(),
+                loop_index: l,
+                piece_in: pin,
+                piece_out: pout,
+                loop_param: lp.offsets[k],
+            });
         }
     }
     let area = pieces.iter().map(Piece::area_integral).sum();

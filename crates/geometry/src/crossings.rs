@@ -4,12 +4,19 @@ use glam::DVec2;
 
 /// Calls `f(i, j)` (i < j) once for every pair of segments whose bounding boxes, padded by
 /// `pad`, overlap. Stops early when `f` returns false.
-pub(crate) fn candidate_pairs(segs: &[(DVec2, DVec2)], pad: f64, mut f: impl FnMut(usize, usize) -> bool) {
+pub(crate) fn candidate_pairs(
+    segs: &[(DVec2, DVec2)],
+    pad: f64,
+    mut f: impl FnMut(usize, usize) -> bool,
+) {
     let n = segs.len();
     if n < 2 {
         return;
     }
-    let boxes: Vec<(DVec2, DVec2)> = segs.iter().map(|(a, b)| (a.min(*b) - pad, a.max(*b) + pad)).collect();
+    let boxes: Vec<(DVec2, DVec2)> = segs
+        .iter()
+        .map(|(a, b)| (a.min(*b) - pad, a.max(*b) + pad))
+        .collect();
     let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
     for (l, h) in &boxes {
         lo = lo.min(*l);
@@ -21,7 +28,12 @@ pub(crate) fn candidate_pairs(segs: &[(DVec2, DVec2)], pad: f64, mut f: impl FnM
     let mid = n / 2;
     sizes.select_nth_unstable_by(mid, f64::total_cmp);
     let mut h = sizes[mid].max(ext / 4096.0);
-    let cells = |h: f64| (((hi.x - lo.x) / h).floor() as usize + 1, ((hi.y - lo.y) / h).floor() as usize + 1);
+    let cells = |h: f64| {
+        (
+            ((hi.x - lo.x) / h).floor() as usize + 1,
+            ((hi.y - lo.y) / h).floor() as usize + 1,
+        )
+    };
     let (mut nx, mut ny) = cells(h);
     let cap = 8 * n + 64;
     if (nx as f64) * (ny as f64) > cap as f64 {
@@ -30,11 +42,17 @@ pub(crate) fn candidate_pairs(segs: &[(DVec2, DVec2)], pad: f64, mut f: impl FnM
     }
     let cell_of = |p: DVec2| {
         let c = ((p - lo) / h).floor();
-        ((c.x.max(0.0) as usize).min(nx - 1), (c.y.max(0.0) as usize).min(ny - 1))
+        (
+            (c.x.max(0.0) as usize).min(nx - 1),
+            (c.y.max(0.0) as usize).min(ny - 1),
+        )
     };
     // Compressed cell lists.
     let mut count = vec![0u32; nx * ny + 1];
-    let ranges: Vec<((usize, usize), (usize, usize))> = boxes.iter().map(|(l, h)| (cell_of(*l), cell_of(*h))).collect();
+    let ranges: Vec<((usize, usize), (usize, usize))> = boxes
+        .iter()
+        .map(|(l, h)| (cell_of(*l), cell_of(*h)))
+        .collect();
     for &((x0, y0), (x1, y1)) in &ranges {
         for y in y0..=y1 {
             for x in x0..=x1 {
@@ -91,7 +109,8 @@ mod tests {
         let segs: Vec<(DVec2, DVec2)> = (0..300)
             .map(|_| {
                 let a = DVec2::new(rng.range(0.0, 10.0), rng.range(0.0, 10.0));
-                let d = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * if rng.uniform() < 0.1 { 5.0 } else { 0.5 };
+                let d = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
+                    * if rng.uniform() < 0.1 { 5.0 } else { 0.5 };
                 (a, a + d)
             })
             .collect();

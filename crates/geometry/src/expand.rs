@@ -61,7 +61,10 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
 
     // Edges of P with their pieces, and a hierarchy for exact distances to P.
     let edges: Vec<(DVec2, DVec2, usize)> = poly.edges().collect();
-    let boxes: Vec<(DVec2, DVec2)> = edges.iter().map(|(a, b, _)| (a.min(*b), a.max(*b))).collect();
+    let boxes: Vec<(DVec2, DVec2)> = edges
+        .iter()
+        .map(|(a, b, _)| (a.min(*b), a.max(*b)))
+        .collect();
     let bvh = Bvh::build(&boxes, (0..edges.len() as u32).collect());
     let dist_to_p = |x: DVec2| -> f64 {
         bvh.nearest(x, |e, _| {
@@ -70,15 +73,21 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
         })
         .map_or(f64::INFINITY, |(_, d2)| d2.sqrt())
     };
-    let scale = poly.rings.iter().flat_map(|r| &r.points).fold(0.0f64, |m, p| m.max(p.abs().max_element())) + eps + diam;
+    let scale = poly
+        .rings
+        .iter()
+        .flat_map(|r| &r.points)
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()))
+        + eps
+        + diam;
     let eta = 1e-12 * scale;
     // Chords of the joint arcs sag by up to tol/2, so where two of them cross at a shallow
     // angle the exact distances cannot tell which is outside to better than that: pieces
     // inside by less than `zeta` are kept, and the rightmost-turn tracing steps over them.
     let zeta = ptol + eta;
 
-    // 1. Raw offset curves: per ring a cyclic point list; `info[k]` describes the segment
-    // from point k to point k + 1.
+    // 1. Raw offset curves: per ring a cyclic list of (point, source, piece), where the
+    // source and piece describe the segment from that point to the next.
     let mut nodes: Vec<DVec2> = Vec::new();
     let mut raw: Vec<RawSeg> = Vec::new();
     let step = 2.0 * (1.0 - ptol / eps).max(-1.0).acos();
@@ -106,7 +115,11 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
             let c = 1.0 + ni.dot(nj);
             if di.perp_dot(dj) < 0.0 && c > 1e-9 {
                 let x = pts[j] + eps * (ni + nj) / c;
-                *t = Some((x, (pts[j] + eps * ni - x).dot(di).max(0.0), (x - pts[j] - eps * nj).dot(dj).max(0.0)));
+                *t = Some((
+                    x,
+                    (pts[j] + eps * ni - x).dot(di).max(0.0),
+                    (x - pts[j] - eps * nj).dot(dj).max(0.0),
+                ));
             }
         }
         let edge_len = |i: usize| pts[i].distance(pts[(i + 1) % n]);
@@ -139,7 +152,11 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
             // reflex one. Its first half belongs to the incoming piece, the rest to the outgoing.
             let turn = dir(i).perp_dot(dir(j));
             let sweep = ni.perp_dot(nj).atan2(ni.dot(nj));
-            let m = if turn > 0.0 && step > 0.0 { ((sweep / step).ceil() as usize).max(1) } else { 1 };
+            let m = if turn > 0.0 && step > 0.0 {
+                ((sweep / step).ceil() as usize).max(1)
+            } else {
+                1
+            };
             let a0 = ni.y.atan2(ni.x);
             for k in 0..m {
                 let q = if k == 0 {
@@ -148,7 +165,11 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
                     let th = a0 + sweep * k as f64 / m as f64;
                     v + eps * DVec2::new(th.cos(), th.sin())
                 };
-                let piece = if 2 * k < m { ring.pieces[i] } else { ring.pieces[j] };
+                let piece = if 2 * k < m {
+                    ring.pieces[i]
+                } else {
+                    ring.pieces[j]
+                };
                 cyc.push((q, Source::Vertex(v), piece));
             }
         }
@@ -167,7 +188,12 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
         let len = kept.len();
         for (k, (q, src, piece)) in kept.into_iter().enumerate() {
             nodes.push(q);
-            raw.push(RawSeg { a: base + k, b: base + (k + 1) % len, src, piece });
+            raw.push(RawSeg {
+                a: base + k,
+                b: base + (k + 1) % len,
+                src,
+                piece,
+            });
         }
         edge_base += n;
     }
@@ -232,7 +258,12 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
                 Source::Vertex(v) => m.distance(v),
             };
             if dist_to_p(m) >= d_src - zeta {
-                subs.push(Sub { a, b, piece: s.piece, len: nodes[a].distance(nodes[b]) });
+                subs.push(Sub {
+                    a,
+                    b,
+                    piece: s.piece,
+                    len: nodes[a].distance(nodes[b]),
+                });
             }
         }
     }
@@ -263,7 +294,9 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
                 .iter()
                 .copied()
                 .filter(|&e| !used[e])
-                .min_by(|&x, &y| turn_angle(din, &nodes, &subs[x]).total_cmp(&turn_angle(din, &nodes, &subs[y])));
+                .min_by(|&x, &y| {
+                    turn_angle(din, &nodes, &subs[x]).total_cmp(&turn_angle(din, &nodes, &subs[y]))
+                });
             match next {
                 Some(e) => {
                     used[e] = true;
@@ -293,7 +326,10 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
     // (2·area/perimeter, the radius for a disk), which drops slivers between nearly
     // coincident raw pieces.
     let areas: Vec<f64> = rings.iter().map(|r| ring_signed_area(&r.0)).collect();
-    let Some(outer) = (0..rings.len()).filter(|&k| areas[k] > 0.0).max_by(|&x, &y| areas[x].total_cmp(&areas[y])) else {
+    let Some(outer) = (0..rings.len())
+        .filter(|&k| areas[k] > 0.0)
+        .max_by(|&x, &y| areas[x].total_cmp(&areas[y]))
+    else {
         return region.polygonize(tol);
     };
     let mut result = Vec::new();
@@ -313,9 +349,16 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
         (p2, c2)
     };
     let (pts, pcs) = dedupe(rings[outer].clone());
-    result.push(Ring { points: pts, pieces: pcs, loop_index: 0, hole: false });
+    result.push(Ring {
+        points: pts,
+        pieces: pcs,
+        loop_index: 0,
+        hole: false,
+    });
     for (k, r) in rings.into_iter().enumerate() {
-        let perimeter: f64 = (0..r.0.len()).map(|i| r.0[i].distance(r.0[(i + 1) % r.0.len()])).sum();
+        let perimeter: f64 = (0..r.0.len())
+            .map(|i| r.0[i].distance(r.0[(i + 1) % r.0.len()]))
+            .sum();
         if k == outer || areas[k] >= 0.0 || -2.0 * areas[k] <= 0.5 * tol * perimeter {
             continue;
         }
@@ -324,7 +367,12 @@ pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
             continue;
         }
         let loop_index = region.piece_loop(pcs[0]);
-        result.push(Ring { points: pts, pieces: pcs, loop_index, hole: true });
+        result.push(Ring {
+            points: pts,
+            pieces: pcs,
+            loop_index,
+            hole: true,
+        });
     }
     Polygon { rings: result }
 }

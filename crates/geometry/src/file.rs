@@ -38,20 +38,35 @@ pub const BUILTIN_NAMES: &[&str] = &[
 const BUILTIN_FILES: &[(&str, &str)] = &[
     ("circle", include_str!("../../../domains/circle.json")),
     ("annulus", include_str!("../../../domains/annulus.json")),
-    ("square_hole", include_str!("../../../domains/square_hole.json")),
+    (
+        "square_hole",
+        include_str!("../../../domains/square_hole.json"),
+    ),
     ("hex_hole", include_str!("../../../domains/hex_hole.json")),
     ("horn", include_str!("../../../domains/horn.json")),
-    ("superellipse", include_str!("../../../domains/superellipse.json")),
+    (
+        "superellipse",
+        include_str!("../../../domains/superellipse.json"),
+    ),
     ("bike_seat", include_str!("../../../domains/bike_seat.json")),
     ("pie_hole", include_str!("../../../domains/pie_hole.json")),
-    ("square_two_hex", include_str!("../../../domains/square_two_hex.json")),
+    (
+        "square_two_hex",
+        include_str!("../../../domains/square_two_hex.json"),
+    ),
     ("lake", include_str!("../../../domains/lake.json")),
 ];
 
 pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| GeometryError::Io { path: label.clone(), source })?;
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| label.clone());
+    let text = std::fs::read_to_string(path).map_err(|source| GeometryError::Io {
+        path: label.clone(),
+        source,
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| label.clone());
     parse(&text, &label, &stem)
 }
 
@@ -62,16 +77,24 @@ pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
 pub fn builtin(name: &str) -> Result<Region, GeometryError> {
     match BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
         Some((n, text)) => parse(text, &format!("built-in region '{n}'"), n),
-        None => Err(GeometryError::UnknownBuiltin(name.to_string(), BUILTIN_NAMES.join(", "))),
+        None => Err(GeometryError::UnknownBuiltin(
+            name.to_string(),
+            BUILTIN_NAMES.join(", "),
+        )),
     }
 }
 
 /// Parses region JSON; `label` names the source in errors, `default_name` is the region's
 /// name when the file has no `name`.
 fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, GeometryError> {
-    let perr = |message: String| GeometryError::Parse { path: label.to_string(), message };
+    let perr = |message: String| GeometryError::Parse {
+        path: label.to_string(),
+        message,
+    };
     let v: Value = serde_json::from_str(text).map_err(|e| perr(format!("invalid JSON: {e}")))?;
-    let top = v.as_object().ok_or_else(|| perr("the top level must be a JSON object".into()))?;
+    let top = v
+        .as_object()
+        .ok_or_else(|| perr("the top level must be a JSON object".into()))?;
     let name = match top.get("name") {
         None | Some(Value::Null) => default_name.to_string(),
         Some(Value::String(s)) => s.clone(),
@@ -83,34 +106,46 @@ fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, Geometry
         .as_array()
         .ok_or_else(|| perr("'loops' must be a list".into()))?;
     if loops_v.is_empty() {
-        return Err(perr("'loops' is empty; a region needs an outer loop".into()));
+        return Err(perr(
+            "'loops' is empty; a region needs an outer loop".into(),
+        ));
     }
     let mut loops = Vec::with_capacity(loops_v.len());
     for (i, lv) in loops_v.iter().enumerate() {
         let ctx = format!("loops[{i}]");
         loops.push(parse_loop(lv, i, &ctx).map_err(perr)?);
     }
-    let outer: Vec<usize> = loops.iter().enumerate().filter(|(_, l)| l.0 == LoopRole::Outer).map(|(i, _)| i).collect();
+    let outer: Vec<usize> = loops
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.0 == LoopRole::Outer)
+        .map(|(i, _)| i)
+        .collect();
     if outer.is_empty() {
         return Err(perr("no loop has role 'outer'".into()));
     }
     if outer.len() > 1 {
-        return Err(perr(format!("loops {outer:?} all have role 'outer'; a region has exactly one outer loop")));
+        return Err(perr(format!(
+            "loops {outer:?} all have role 'outer'; a region has exactly one outer loop"
+        )));
     }
     let corners = match top.get("corners") {
         None | Some(Value::Null) => None,
         Some(c) => Some(points(c, "corners", 0).map_err(perr)?),
     };
     Region::new(&name, loops, corners).map_err(|e| match e {
-        GeometryError::Invalid { region, message } => {
-            GeometryError::Invalid { region: format!("{region} (from {label})"), message }
-        }
+        GeometryError::Invalid { region, message } => GeometryError::Invalid {
+            region: format!("{region} (from {label})"),
+            message,
+        },
         other => other,
     })
 }
 
 fn parse_loop(lv: &Value, i: usize, ctx: &str) -> Result<(LoopRole, Vec<Piece>), String> {
-    let obj = lv.as_object().ok_or_else(|| format!("{ctx} must be an object with 'segments'"))?;
+    let obj = lv
+        .as_object()
+        .ok_or_else(|| format!("{ctx} must be an object with 'segments'"))?;
     let role = match obj.get("role") {
         None | Some(Value::Null) => {
             if i == 0 {
@@ -121,13 +156,21 @@ fn parse_loop(lv: &Value, i: usize, ctx: &str) -> Result<(LoopRole, Vec<Piece>),
         }
         Some(Value::String(s)) if s.eq_ignore_ascii_case("outer") => LoopRole::Outer,
         Some(Value::String(s)) if s.eq_ignore_ascii_case("hole") => LoopRole::Hole,
-        Some(other) => return Err(format!("{ctx}.role is {other}; expected \"outer\" or \"hole\"")),
+        Some(other) => {
+            return Err(format!(
+                "{ctx}.role is {other}; expected \"outer\" or \"hole\""
+            ))
+        }
     };
     let ccw = match obj.get("orientation") {
         None | Some(Value::Null) => role == LoopRole::Outer,
         Some(Value::String(s)) if s.eq_ignore_ascii_case("ccw") => true,
         Some(Value::String(s)) if s.eq_ignore_ascii_case("cw") => false,
-        Some(other) => return Err(format!("{ctx}.orientation is {other}; expected \"ccw\" or \"cw\"")),
+        Some(other) => {
+            return Err(format!(
+                "{ctx}.orientation is {other}; expected \"ccw\" or \"cw\""
+            ))
+        }
     };
     let segs = obj
         .get("segments")
@@ -148,7 +191,9 @@ fn parse_loop(lv: &Value, i: usize, ctx: &str) -> Result<(LoopRole, Vec<Piece>),
 const KINDS: &str = "polyline, arc, circle, superellipse, parametric";
 
 fn parse_segment(sv: &Value, ccw: bool, ctx: &str, out: &mut Vec<Piece>) -> Result<(), String> {
-    let obj = sv.as_object().ok_or_else(|| format!("{ctx} must be an object with a 'kind'"))?;
+    let obj = sv
+        .as_object()
+        .ok_or_else(|| format!("{ctx} must be an object with a 'kind'"))?;
     let kind = match obj.get("kind") {
         Some(Value::String(s)) => s.as_str(),
         Some(other) => return Err(format!("{ctx}.kind is {other}; expected one of: {KINDS}")),
@@ -167,19 +212,38 @@ fn parse_segment(sv: &Value, ccw: bool, ctx: &str, out: &mut Vec<Piece>) -> Resu
         "circle" => {
             let center = point(field(obj, "center", &ctx)?, &format!("{ctx}.center"))?;
             let radius = number(obj, "radius", &ctx)?;
-            out.push(Piece::Circle { center, radius, ccw });
+            out.push(Piece::Circle {
+                center,
+                radius,
+                ccw,
+            });
         }
         "superellipse" => {
             let center = point(field(obj, "center", &ctx)?, &format!("{ctx}.center"))?;
-            let (a, b, n) = (number(obj, "a", &ctx)?, number(obj, "b", &ctx)?, number(obj, "exponent", &ctx)?);
-            out.push(Piece::SuperEllipse { center, a, b, n, ccw });
+            let (a, b, n) = (
+                number(obj, "a", &ctx)?,
+                number(obj, "b", &ctx)?,
+                number(obj, "exponent", &ctx)?,
+            );
+            out.push(Piece::SuperEllipse {
+                center,
+                a,
+                b,
+                n,
+                ccw,
+            });
         }
         "arc" => {
             let center = point(field(obj, "center", &ctx)?, &format!("{ctx}.center"))?;
             let radius = number(obj, "radius", &ctx)?;
             let from = number(obj, "from_deg", &ctx)?.to_radians();
             let to = number(obj, "to_deg", &ctx)?.to_radians();
-            let arc = Piece::Arc { center, radius, from, to };
+            let arc = Piece::Arc {
+                center,
+                radius,
+                from,
+                to,
+            };
             for (key, computed) in [("start", arc.start()), ("end", arc.end())] {
                 if let Some(v) = obj.get(key).filter(|v| !v.is_null()) {
                     let given = point(v, &format!("{ctx}.{key}"))?;
@@ -193,34 +257,50 @@ fn parse_segment(sv: &Value, ccw: bool, ctx: &str, out: &mut Vec<Piece>) -> Resu
             }
             out.push(arc);
         }
-        other => return Err(format!("{ctx}: unknown segment kind '{other}'; expected one of: {KINDS}")),
+        other => {
+            return Err(format!(
+                "{ctx}: unknown segment kind '{other}'; expected one of: {KINDS}"
+            ))
+        }
     }
     Ok(())
 }
 
 fn field<'a>(obj: &'a Map<String, Value>, key: &str, ctx: &str) -> Result<&'a Value, String> {
-    obj.get(key).ok_or_else(|| format!("{ctx}: missing field '{key}'"))
+    obj.get(key)
+        .ok_or_else(|| format!("{ctx}: missing field '{key}'"))
 }
 
 fn number(obj: &Map<String, Value>, key: &str, ctx: &str) -> Result<f64, String> {
     let v = field(obj, key, ctx)?;
-    v.as_f64().ok_or_else(|| format!("{ctx}.{key} must be a number, found {v}"))
+    v.as_f64()
+        .ok_or_else(|| format!("{ctx}.{key} must be a number, found {v}"))
 }
 
 fn point(v: &Value, ctx: &str) -> Result<DVec2, String> {
     match v.as_array().map(|a| a.as_slice()) {
         Some([x, y]) => match (x.as_f64(), y.as_f64()) {
             (Some(x), Some(y)) => Ok(DVec2::new(x, y)),
-            _ => Err(format!("{ctx} must be a point [x, y] of numbers, found {v}")),
+            _ => Err(format!(
+                "{ctx} must be a point [x, y] of numbers, found {v}"
+            )),
         },
         _ => Err(format!("{ctx} must be a point [x, y], found {v}")),
     }
 }
 
 fn points(v: &Value, ctx: &str, min: usize) -> Result<Vec<DVec2>, String> {
-    let arr = v.as_array().ok_or_else(|| format!("{ctx} must be a list of points [x, y]"))?;
+    let arr = v
+        .as_array()
+        .ok_or_else(|| format!("{ctx} must be a list of points [x, y]"))?;
     if arr.len() < min {
-        return Err(format!("{ctx} has {} point(s); at least {min} are needed", arr.len()));
+        return Err(format!(
+            "{ctx} has {} point(s); at least {min} are needed",
+            arr.len()
+        ));
     }
-    arr.iter().enumerate().map(|(i, p)| point(p, &format!("{ctx}[{i}]"))).collect()
+    arr.iter()
+        .enumerate()
+        .map(|(i, p)| point(p, &format!("{ctx}[{i}]")))
+        .collect()
 }

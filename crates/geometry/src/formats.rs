@@ -159,11 +159,15 @@ fn is_geojson(text: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Drop exact repeats (consecutive, and a closing copy of the first point).
-fn dedup_closed(points: &mut Vec<DVec2>) {
-    points.dedup();
-    while points.len() > 1 && points.first() == points.last() {
+/// Drop a closing copy of the first point (GeoJSON rings repeat it); any other repeated
+/// consecutive vertex is a zero-length edge, which users want reported, not silently mended.
+fn dedup_closed(points: &mut Vec<DVec2>) -> Result<(), DVec2> {
+    if points.len() > 1 && points.first() == points.last() {
         points.pop();
+    }
+    match points.windows(2).find(|w| w[0] == w[1]) {
+        Some(w) => Err(w[0]),
+        None => Ok(()),
     }
 }
 
@@ -198,7 +202,15 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
                 format!("loop {k} has a non-finite point {p}"),
             ));
         }
-        dedup_closed(&mut pts);
+        if let Err(p) = dedup_closed(&mut pts) {
+            return Err(invalid(
+                label,
+                format!(
+                    "loop {k} has duplicate consecutive vertices at ({}, {})",
+                    p.x, p.y
+                ),
+            ));
+        }
         if pts.len() < 3 {
             return Err(invalid(
                 label,
@@ -210,6 +222,18 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
         }
         let area2 = signed_area2(&pts);
         if area2 == 0.0 || !area2.is_finite() {
+            // A symmetric figure-eight has zero area too: report its crossing if it has one.
+            let pieces = (0..pts.len())
+                .map(|i| Piece::Line {
+                    a: pts[i],
+                    b: pts[(i + 1) % pts.len()],
+                })
+                .collect();
+            if let Err(GeometryError::Invalid { message, .. }) =
+                Region::new(name, vec![(LoopRole::Outer, pieces)], None)
+            {
+                return Err(invalid(label, message));
+            }
             return Err(invalid(label, format!("loop {k} encloses no area")));
         }
         if (area2 > 0.0) != (role == LoopRole::Outer) {
@@ -1027,17 +1051,24 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("not a text file"));
-        let few = TempFile::new("few.txt", b"0 0\n1 0\n1 0\n0 0\n");
+        let few = TempFile::new("few.txt", b"0 0\n1 0\n0 0\n");
         let e = read_region(&few.0).unwrap_err().to_string();
         assert!(
             e.contains("few.txt") && e.contains("2 distinct points"),
             "{e}"
         );
+        let dup = TempFile::new("dup.txt", b"0 0\n1 0\n1 0\n0 1\n");
+        let e = read_region(&dup.0).unwrap_err().to_string();
+        assert!(
+            e.contains("dup.txt") && e.contains("duplicate consecutive vertices at (1, 0)"),
+            "{e}"
+        );
         let flat = TempFile::new("flat.txt", b"0 0\n1 0\n2 0\n");
-        assert!(read_region(&flat.0)
-            .unwrap_err()
-            .to_string()
-            .contains("encloses no area"));
+        let e = read_region(&flat.0).unwrap_err().to_string();
+        assert!(
+            e.contains("encloses no area") || e.contains("crosses itself"),
+            "{e}"
+        );
         // A self-intersecting bow tie is caught by Region::new and names the file.
         let bow = TempFile::new("bow.txt", b"0 0\n1 1\n1 0\n0 1\n");
         let e = read_region(&bow.0).unwrap_err();

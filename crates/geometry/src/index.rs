@@ -3,7 +3,7 @@
 //! loop order with their neighbours and end tangents, and searched with a bounding-volume
 //! hierarchy (branch and bound on box distances).
 use crate::numeric::{box_dist2, closest_on_segment};
-use crate::piece::{End, Piece};
+use crate::piece::{FootAt, Piece};
 use glam::DVec2;
 
 /// One boundary element.
@@ -33,7 +33,7 @@ pub(crate) struct Hit {
     /// Parameter on the piece, as `Piece::foot` reports it.
     pub aux: f64,
     /// Whether the point is the start or end of the *element*.
-    pub end: End,
+    pub end: FootAt,
 }
 
 #[derive(Clone, Debug)]
@@ -62,10 +62,20 @@ impl Bvh {
         let mut entries: Vec<Entry> = ids.into_iter().map(|i| (i, boxes[i as usize])).collect();
         let mut nodes = Vec::new();
         if !entries.is_empty() {
-            nodes.push(Node { lo: DVec2::ZERO, hi: DVec2::ZERO, a: 0, b: 0, leaf: true });
+            nodes.push(Node {
+                lo: DVec2::ZERO,
+                hi: DVec2::ZERO,
+                a: 0,
+                b: 0,
+                leaf: true,
+            });
             split(&mut nodes, 0, &mut entries, 0);
         }
-        Bvh { nodes, items: entries.iter().map(|e| e.0).collect(), boxes: entries.iter().map(|e| e.1).collect() }
+        Bvh {
+            nodes,
+            items: entries.iter().map(|e| e.0).collect(),
+            boxes: entries.iter().map(|e| e.1).collect(),
+        }
     }
 
     /// Branch-and-bound nearest search: `eval(item, best_d2)` returns the item's squared
@@ -104,7 +114,11 @@ impl Bvh {
                 let (a, b) = (&self.nodes[node.a as usize], &self.nodes[node.b as usize]);
                 let (da, db) = (box_dist2(a.lo, a.hi, p), box_dist2(b.lo, b.hi, p));
                 // Push the farther child first so the nearer one is searched first.
-                let (near, far) = if da <= db { ((node.a, da), (node.b, db)) } else { ((node.b, db), (node.a, da)) };
+                let (near, far) = if da <= db {
+                    ((node.a, da), (node.b, db))
+                } else {
+                    ((node.b, db), (node.a, da))
+                };
                 if far.1 < best_d2 && top < stack.len() {
                     stack[top] = far;
                     top += 1;
@@ -149,8 +163,20 @@ fn split(nodes: &mut Vec<Node>, node: usize, entries: &mut [Entry], offset: usiz
     let mid = entries.len() / 2;
     entries.select_nth_unstable_by(mid, |x, y| key(x).total_cmp(&key(y)));
     let left = nodes.len();
-    nodes.push(Node { lo, hi, a: 0, b: 0, leaf: true });
-    nodes.push(Node { lo, hi, a: 0, b: 0, leaf: true });
+    nodes.push(Node {
+        lo,
+        hi,
+        a: 0,
+        b: 0,
+        leaf: true,
+    });
+    nodes.push(Node {
+        lo,
+        hi,
+        a: 0,
+        b: 0,
+        leaf: true,
+    });
     nodes[node].a = left as u32;
     nodes[node].b = left as u32 + 1;
     nodes[node].leaf = false;
@@ -170,6 +196,8 @@ pub(crate) struct Index {
     piece_bvh: Vec<Option<Bvh>>,
     /// Cumulative arc length at the start of each chain segment element (0 otherwise).
     pub s0: Vec<f64>,
+    /// Octant lengths of each super-ellipse piece (for fast arc-length parameters).
+    se_lengths: Vec<(f64, f64)>,
 }
 
 impl Index {
@@ -186,21 +214,45 @@ impl Index {
                 match piece {
                     Piece::Line { a, b } => {
                         let d = (*b - *a).normalize_or_zero();
-                        elems.push(Elem { seg: Some((*a, *b)), piece: pid as u32, sub: 0, prev: 0, next: 0, t_start: d, t_end: d });
+                        elems.push(Elem {
+                            seg: Some((*a, *b)),
+                            piece: pid as u32,
+                            sub: 0,
+                            prev: 0,
+                            next: 0,
+                            t_start: d,
+                            t_end: d,
+                        });
                         s0.push(0.0);
                     }
                     Piece::Chain(p) => {
                         let mut s = 0.0;
                         for (k, w) in p.windows(2).enumerate() {
                             let d = (w[1] - w[0]).normalize_or_zero();
-                            elems.push(Elem { seg: Some((w[0], w[1])), piece: pid as u32, sub: k as u32, prev: 0, next: 0, t_start: d, t_end: d });
+                            elems.push(Elem {
+                                seg: Some((w[0], w[1])),
+                                piece: pid as u32,
+                                sub: k as u32,
+                                prev: 0,
+                                next: 0,
+                                t_start: d,
+                                t_end: d,
+                            });
                             s0.push(s);
                             s += w[0].distance(w[1]);
                         }
                     }
                     _ => {
                         let (ts, te) = piece.end_tangents();
-                        elems.push(Elem { seg: None, piece: pid as u32, sub: 0, prev: 0, next: 0, t_start: ts, t_end: te });
+                        elems.push(Elem {
+                            seg: None,
+                            piece: pid as u32,
+                            sub: 0,
+                            prev: 0,
+                            next: 0,
+                            t_start: ts,
+                            t_end: te,
+                        });
                         s0.push(0.0);
                     }
                 }
@@ -224,7 +276,18 @@ impl Index {
             .iter()
             .map(|&(a, b)| (b - a > 16).then(|| Bvh::build(&boxes, (a..b).collect())))
             .collect();
-        Index { elems, bvh, piece_elems, piece_bvh, s0 }
+        let se_lengths = pieces
+            .iter()
+            .map(|p| p.superellipse().map_or((0.0, 0.0), |s| s.octant_lengths()))
+            .collect();
+        Index {
+            elems,
+            bvh,
+            piece_elems,
+            piece_bvh,
+            s0,
+            se_lengths,
+        }
     }
 
     /// Exact squared distance from p to element e (∞ when it cannot beat `best`).
@@ -235,29 +298,46 @@ impl Index {
                 let (q, t, d2) = closest_on_segment(a, b, p);
                 if d2 < best {
                     let end = if t <= 0.0 {
-                        End::Start
+                        FootAt::Start
                     } else if t >= 1.0 {
-                        End::End
+                        FootAt::End
                     } else {
-                        End::Interior
+                        FootAt::Interior
                     };
-                    *out = Hit { elem: e, point: q, d2, aux: el.sub as f64 + t, end };
+                    *out = Hit {
+                        elem: e,
+                        point: q,
+                        d2,
+                        aux: el.sub as f64 + t,
+                        end,
+                    };
                 }
                 d2
             }
             None => {
                 let piece = &pieces[el.piece as usize];
-                if let Piece::SuperEllipse { center, a, b, n, .. } = piece {
+                if let Piece::SuperEllipse {
+                    center, a, b, n, ..
+                } = piece
+                {
                     // The curve lies in the annulus min(a,b) ≤ |x − c| ≤ max(a,b)·2^{1/2−1/n}.
                     let r = p.distance(*center);
-                    let lb = (r - a.max(*b) * 2f64.powf(0.5 - 1.0 / n)).max(a.min(*b) - r).max(0.0);
+                    let lb = (r - a.max(*b) * 2f64.powf(0.5 - 1.0 / n))
+                        .max(a.min(*b) - r)
+                        .max(0.0);
                     if lb * lb >= best {
                         return f64::INFINITY;
                     }
                 }
                 let f = piece.foot(p);
                 if f.d2 < best {
-                    *out = Hit { elem: e, point: f.point, d2: f.d2, aux: f.aux, end: f.end };
+                    *out = Hit {
+                        elem: e,
+                        point: f.point,
+                        d2: f.d2,
+                        aux: f.aux,
+                        end: f.end,
+                    };
                 }
                 f.d2
             }
@@ -266,14 +346,27 @@ impl Index {
 
     /// Nearest boundary point over all elements.
     pub fn nearest(&self, pieces: &[Piece], p: DVec2) -> Hit {
-        let mut hit = Hit { elem: 0, point: DVec2::NAN, d2: f64::INFINITY, aux: 0.0, end: End::Interior };
-        self.bvh.nearest(p, |e, best| self.eval(pieces, e, p, best, &mut hit));
+        let mut hit = Hit {
+            elem: 0,
+            point: DVec2::NAN,
+            d2: f64::INFINITY,
+            aux: 0.0,
+            end: FootAt::Interior,
+        };
+        self.bvh
+            .nearest(p, |e, best| self.eval(pieces, e, p, best, &mut hit));
         hit
     }
 
     /// Nearest point on one piece.
     pub fn nearest_on_piece(&self, pieces: &[Piece], p: DVec2, piece: usize) -> Hit {
-        let mut hit = Hit { elem: 0, point: DVec2::NAN, d2: f64::INFINITY, aux: 0.0, end: End::Interior };
+        let mut hit = Hit {
+            elem: 0,
+            point: DVec2::NAN,
+            d2: f64::INFINITY,
+            aux: 0.0,
+            end: FootAt::Interior,
+        };
         let (a, b) = self.piece_elems[piece];
         match &self.piece_bvh[piece] {
             Some(bvh) => {
@@ -294,7 +387,13 @@ impl Index {
         let el = &self.elems[hit.elem as usize];
         match el.seg {
             Some((a, b)) => self.s0[hit.elem as usize] + (hit.aux - el.sub as f64) * a.distance(b),
-            None => pieces[el.piece as usize].arc_length_at(hit.aux),
+            None => {
+                let piece = &pieces[el.piece as usize];
+                match piece.superellipse() {
+                    Some(s) => s.arc_length_with(hit.aux, self.se_lengths[el.piece as usize]),
+                    None => piece.arc_length_at(hit.aux),
+                }
+            }
         }
     }
 
@@ -305,15 +404,15 @@ impl Index {
     pub fn inside(&self, pieces: &[Piece], p: DVec2, hit: &Hit) -> bool {
         let el = &self.elems[hit.elem as usize];
         let (t_in, t_out) = match hit.end {
-            End::Interior => {
+            FootAt::Interior => {
                 let side = match el.seg {
                     Some((a, b)) => crate::numeric::orient(a, b, p),
                     None => pieces[el.piece as usize].side(p),
                 };
                 return side > 0.0;
             }
-            End::Start => (self.elems[el.prev as usize].t_end, el.t_start),
-            End::End => (el.t_end, self.elems[el.next as usize].t_start),
+            FootAt::Start => (self.elems[el.prev as usize].t_end, el.t_start),
+            FootAt::End => (el.t_end, self.elems[el.next as usize].t_start),
         };
         let d = p - hit.point;
         let (c1, c2) = (t_in.perp_dot(d), t_out.perp_dot(d));

@@ -67,12 +67,23 @@ fn gauss_legendre() -> &'static ([f64; GL_N], [f64; GL_N]) {
 fn gl(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64) -> f64 {
     let (xs, ws) = gauss_legendre();
     let (h, c) = (0.5 * (b - a), 0.5 * (b + a));
-    xs.iter().zip(ws).map(|(x, w)| w * f(c + h * x)).sum::<f64>() * h
+    xs.iter()
+        .zip(ws)
+        .map(|(x, w)| w * f(c + h * x))
+        .sum::<f64>()
+        * h
 }
 
 /// ∫_a^b f by adaptive Gauss–Legendre bisection to absolute error ≈ `tol`.
 pub(crate) fn integrate(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
-    fn rec(f: &mut impl FnMut(f64) -> f64, a: f64, b: f64, whole: f64, tol: f64, depth: u32) -> f64 {
+    fn rec(
+        f: &mut impl FnMut(f64) -> f64,
+        a: f64,
+        b: f64,
+        whole: f64,
+        tol: f64,
+        depth: u32,
+    ) -> f64 {
         let m = 0.5 * (a + b);
         let (l, r) = (gl(f, a, m), gl(f, m, b));
         if (l + r - whole).abs() <= tol || depth >= 40 {
@@ -132,8 +143,16 @@ pub(crate) fn segment_crossing(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Op
     if (o3 > 0.0) == (o4 > 0.0) {
         return None;
     }
-    let t = if o1 != o2 { (o1 / (o1 - o2)).clamp(0.0, 1.0) } else { 0.5 };
-    let u = if o3 != o4 { (o3 / (o3 - o4)).clamp(0.0, 1.0) } else { 0.5 };
+    let t = if o1 != o2 {
+        (o1 / (o1 - o2)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let u = if o3 != o4 {
+        (o3 / (o3 - o4)).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
     Some((t, u))
 }
 
@@ -185,7 +204,12 @@ mod tests {
         let a = segment_crossing(DVec2::new(-1.0, 0.0), DVec2::ZERO, q0, q1).is_some();
         let b = segment_crossing(DVec2::ZERO, DVec2::new(1.0, 0.0), q0, q1).is_some();
         assert!(a ^ b);
-        let (d, x) = segment_segment_distance(DVec2::new(-1.0, -1.0), DVec2::ONE, DVec2::new(-1.0, 1.0), DVec2::new(1.0, -1.0));
+        let (d, x) = segment_segment_distance(
+            DVec2::new(-1.0, -1.0),
+            DVec2::ONE,
+            DVec2::new(-1.0, 1.0),
+            DVec2::new(1.0, -1.0),
+        );
         assert_eq!(d, 0.0);
         assert!(x.length() < 1e-15);
     }

@@ -51,7 +51,8 @@ impl Polygon {
             let n = r.points.len();
             for i in 0..n {
                 let (a, b) = (r.points[i], r.points[(i + 1) % n]);
-                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)
+                {
                     inside = !inside;
                 }
             }
@@ -82,5 +83,8 @@ impl Polygon {
 /// Shoelace signed area (positive for CCW).
 pub fn ring_signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
-    (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum::<f64>() * 0.5
+    (0..n)
+        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
+        .sum::<f64>()
+        * 0.5
 }

@@ -214,7 +214,12 @@ impl Region {
                     points.extend_from_slice(&pts[..k]);
                     pieces.extend(std::iter::repeat_n(pid, k));
                 }
-                Ring { points, pieces, loop_index: l, hole: lp.role == LoopRole::Hole }
+                Ring {
+                    points,
+                    pieces,
+                    loop_index: l,
+                    hole: lp.role == LoopRole::Hole,
+                }
             })
             .collect();
         Polygon { rings }
@@ -255,6 +260,12 @@ impl Region {
     }
     /// Ω_ε = {x : dist(x, Ω) ≤ ε} of Section 2.4, polygonized to `tol`; each edge's piece is
     /// the piece of Ω it is nearest to. Holes shrink and vanish when ε exceeds their inradius.
+    ///
+    /// The result is a simple polygon (outer ring CCW first, holes CW) whose vertices lie
+    /// within `tol` of distance ε from Ω. A bay of the outer boundary whose mouth is narrower
+    /// than 2ε but which is wider inside becomes a new hole (its `loop_index` is the loop of
+    /// its first edge's piece). ε ≤ 0 or NaN gives `polygonize(tol)`; see `expand.rs` for
+    /// the method.
     pub fn expand(&self, eps: f64, tol: f64) -> Polygon {
         crate::expand::expand(self, eps, tol)
     }
@@ -284,11 +295,16 @@ impl Region {
                 .map(|&p| {
                     self.corner_at_start[p].is_some_and(|c| {
                         let c = &self.corners[c];
-                        crate::build::turning_angle(&self.pieces[c.piece_in], &self.pieces[c.piece_out]) > threshold
+                        crate::build::turning_angle(
+                            &self.pieces[c.piece_in],
+                            &self.pieces[c.piece_out],
+                        ) > threshold
                     })
                 })
                 .collect();
-            let cut: Vec<bool> = (0..n).map(|k| keep[k] || self.corner_at_start[lp.pieces[k]].is_none()).collect();
+            let cut: Vec<bool> = (0..n)
+                .map(|k| keep[k] || self.corner_at_start[lp.pieces[k]].is_none())
+                .collect();
             let first = (0..n).find(|&k| cut[k]).unwrap_or(0);
             let (mut pieces, mut f) = (Vec::new(), Vec::new());
             let mut k = 0;

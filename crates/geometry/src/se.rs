@@ -43,7 +43,15 @@ const SAMPLES: usize = 8;
 impl SuperEllipse {
     pub fn new(c: DVec2, a: f64, b: f64, n: f64, ccw: bool) -> Self {
         let ni = (n.fract() == 0.0 && (2.0..=64.0).contains(&n)).then_some(n as i32);
-        SuperEllipse { c, a, b, n, ccw, m: 0.5f64.powf(1.0 / n), ni }
+        SuperEllipse {
+            c,
+            a,
+            b,
+            n,
+            ccw,
+            m: 0.5f64.powf(1.0 / n),
+            ni,
+        }
     }
 
     /// vⁿ⁻² for v ≥ 0.
@@ -156,16 +164,29 @@ impl SuperEllipse {
         4.0 * (self.octant_length(0) + self.octant_length(1))
     }
 
+    /// Lengths of the two canonical octants (what `arc_length_with` needs).
+    pub fn octant_lengths(&self) -> (f64, f64) {
+        (self.octant_length(0), self.octant_length(1))
+    }
+
     /// Arc length from the start to loop parameter t.
     pub fn arc_length(&self, t: f64) -> f64 {
+        self.arc_length_with(t, self.octant_lengths())
+    }
+
+    /// Arc length from the start to loop parameter t, given `octant_lengths()`.
+    pub fn arc_length_with(&self, t: f64, (l0, l1): (f64, f64)) -> f64 {
         let t = t.clamp(0.0, 8.0);
         let k = (t.floor() as usize).min(7);
         let f = t - k as f64;
-        let (l0, l1) = (self.octant_length(0), self.octant_length(1));
         let whole = |o: usize| if o == 0 { l0 } else { l1 };
         let before: f64 = OCTANTS[..k].iter().map(|&(o, ..)| whole(o)).sum();
         let (o, fwd, _, _) = OCTANTS[k];
-        let within = if fwd { self.partial(o, f) } else { whole(o) - self.partial(o, 1.0 - f) };
+        let within = if fwd {
+            self.partial(o, f)
+        } else {
+            whole(o) - self.partial(o, 1.0 - f)
+        };
         before + within
     }
 
@@ -342,13 +363,22 @@ mod tests {
 
     #[test]
     fn points_lie_on_the_curve_and_octants_join() {
-        for &(a, b, n) in &[(1.0, 1.0, 4.0), (2.0, 0.5, 2.0), (1.0, 3.0, 2.5), (0.5, 0.5, 10.0)] {
+        for &(a, b, n) in &[
+            (1.0, 1.0, 4.0),
+            (2.0, 0.5, 2.0),
+            (1.0, 3.0, 2.5),
+            (0.5, 0.5, 10.0),
+        ] {
             for ccw in [true, false] {
                 let s = SuperEllipse::new(DVec2::new(0.3, -0.2), a, b, n, ccw);
                 for i in 0..=160 {
                     let t = i as f64 / 20.0;
                     let p = s.point(t);
-                    assert!(s.implicit(p).abs() < 1e-14, "{a} {b} {n} t={t}: {}", s.implicit(p));
+                    assert!(
+                        s.implicit(p).abs() < 1e-14,
+                        "{a} {b} {n} t={t}: {}",
+                        s.implicit(p)
+                    );
                 }
                 for k in 1..8 {
                     let (l, r) = (s.point(k as f64 - 1e-12), s.point(k as f64));
@@ -363,7 +393,11 @@ mod tests {
     fn area_and_length_of_the_paper_superellipse() {
         let s = SuperEllipse::new(DVec2::ZERO, 1.0, 1.0, 4.0, true);
         assert!((s.area() - 3.708_149_354_602_743_8).abs() < 1e-13);
-        assert!((s.length() - 7.017_697_943_564_042).abs() < 1e-12, "{}", s.length());
+        assert!(
+            (s.length() - 7.017_697_943_564_042).abs() < 1e-12,
+            "{}",
+            s.length()
+        );
         // An ellipse (n = 2): area πab.
         let e = SuperEllipse::new(DVec2::ZERO, 2.0, 0.5, 2.0, true);
         assert!((e.area() - std::f64::consts::PI).abs() < 1e-13);
@@ -387,8 +421,16 @@ mod tests {
             let (q, d2, t) = s.closest(p);
             assert!(s.implicit(q).abs() < 1e-14);
             assert!((s.point(t) - q).length() < 1e-13, "t={t}");
-            let best = dense.iter().map(|x| (*x - p).length_squared()).fold(f64::INFINITY, f64::min);
-            assert!(d2.sqrt() <= best.sqrt() + 1e-13, "{p}: {} vs {}", d2.sqrt(), best.sqrt());
+            let best = dense
+                .iter()
+                .map(|x| (*x - p).length_squared())
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d2.sqrt() <= best.sqrt() + 1e-13,
+                "{p}: {} vs {}",
+                d2.sqrt(),
+                best.sqrt()
+            );
             // Stationarity: the offset is normal to the curve.
             let h = 1e-6;
             let tan = s.point(t + h) - s.point((t - h).max(0.0));
@@ -404,13 +446,23 @@ mod tests {
         // maximum of the distance and the nearest points lie on either side of it.
         for &(a, b, n) in &[(0.5, 0.5, 4.0), (1.0, 0.6, 6.0), (1.0, 1.0, 2.5)] {
             let s = SuperEllipse::new(DVec2::ZERO, a, b, n, false);
-            let dense: Vec<DVec2> = (0..=160_000).map(|i| s.point(i as f64 / 20_000.0)).collect();
+            let dense: Vec<DVec2> = (0..=160_000)
+                .map(|i| s.point(i as f64 / 20_000.0))
+                .collect();
             for i in 0..=20 {
                 for j in 0..=20 {
-                    let p = DVec2::new(a * (i as f64 / 10.0 - 1.0), b * (j as f64 / 10.0 - 1.0)) * 0.95;
+                    let p =
+                        DVec2::new(a * (i as f64 / 10.0 - 1.0), b * (j as f64 / 10.0 - 1.0)) * 0.95;
                     let (q, d2, _) = s.closest(p);
-                    let best = dense.iter().map(|x| x.distance(p)).fold(f64::INFINITY, f64::min);
-                    assert!(d2.sqrt() <= best + 1e-12, "{a} {b} {n} {p}: {} vs {best}", d2.sqrt());
+                    let best = dense
+                        .iter()
+                        .map(|x| x.distance(p))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        d2.sqrt() <= best + 1e-12,
+                        "{a} {b} {n} {p}: {} vs {best}",
+                        d2.sqrt()
+                    );
                     assert!((q.distance(p) - d2.sqrt()).abs() < 1e-15);
                 }
             }

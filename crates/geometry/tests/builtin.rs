@@ -3,7 +3,9 @@ use geometry::{DVec2, Region, Rng};
 
 /// The file's stated values (read at test time from the embedded copy via the JSON text).
 fn stated(name: &str) -> serde_json::Value {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains").join(format!("{name}.json"));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../domains")
+        .join(format!("{name}.json"));
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
@@ -17,21 +19,41 @@ fn all_builtins_load_with_the_stated_areas_lengths_and_corners() {
         // The bike seat's chains are a 401-point sampling of the curves, so its polygon area
         // is slightly below the analytic 2 + 20π.
         let rel = if name == "bike_seat" { 2e-4 } else { 1e-9 };
-        assert!((r.area() - area).abs() <= rel * area, "{name}: area {} vs {}", r.area(), area);
+        assert!(
+            (r.area() - area).abs() <= rel * area,
+            "{name}: area {} vs {}",
+            r.area(),
+            area
+        );
         for (l, lv) in v["loops"].as_array().unwrap().iter().enumerate() {
             let len = lv["length"].as_f64().unwrap();
             let rel = if name == "bike_seat" { 1e-4 } else { 1e-9 };
-            assert!((r.loops()[l].length - len).abs() <= rel * len, "{name} loop {l}: {} vs {len}", r.loops()[l].length);
+            assert!(
+                (r.loops()[l].length - len).abs() <= rel * len,
+                "{name} loop {l}: {} vs {len}",
+                r.loops()[l].length
+            );
         }
-        let bb = v["bbox"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<_>>();
+        let bb = v["bbox"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect::<Vec<_>>();
         let (lo, hi) = r.bbox();
         for (a, b) in [lo.x, lo.y, hi.x, hi.y].iter().zip(&bb) {
-            assert!((a - b).abs() < 1e-12 * r.diameter(), "{name} bbox {lo} {hi} vs {bb:?}");
+            assert!(
+                (a - b).abs() < 1e-12 * r.diameter(),
+                "{name} bbox {lo} {hi} vs {bb:?}"
+            );
         }
         let corners = v["corners"].as_array().unwrap();
         assert_eq!(r.corners().len(), corners.len(), "{name}");
         for c in r.corners() {
-            assert!(r.signed_distance(c.pos).abs() <= 1e-12 * r.diameter(), "{name}: corner off the boundary");
+            assert!(
+                r.signed_distance(c.pos).abs() <= 1e-12 * r.diameter(),
+                "{name}: corner off the boundary"
+            );
             assert_eq!(r.pieces()[c.piece_out].start(), c.pos);
             assert!((r.pieces()[c.piece_in].end() - c.pos).length() <= 1e-12 * r.diameter());
         }
@@ -62,20 +84,42 @@ fn sign_agrees_with_the_polygonization_and_projection_is_exact() {
         let d = r.diameter();
         let poly = r.polygonize(1e-5 * d);
         let (lo, hi) = r.bbox();
-        let dense: Vec<DVec2> = r.polygonize(2e-4 * d).rings.iter().flat_map(|x| x.points.clone()).collect();
+        let dense: Vec<DVec2> = r
+            .polygonize(2e-4 * d)
+            .rings
+            .iter()
+            .flat_map(|x| x.points.clone())
+            .collect();
         for _ in 0..400 {
-            let p = DVec2::new(rng.range(lo.x - 0.1 * d, hi.x + 0.1 * d), rng.range(lo.y - 0.1 * d, hi.y + 0.1 * d));
+            let p = DVec2::new(
+                rng.range(lo.x - 0.1 * d, hi.x + 0.1 * d),
+                rng.range(lo.y - 0.1 * d, hi.y + 0.1 * d),
+            );
             let sd = r.signed_distance(p);
             assert_eq!(r.contains(p), sd <= 0.0);
             if sd.abs() > 1e-4 * d {
                 assert_eq!(poly.contains(p), sd < 0.0, "{name}: {p} sd {sd}");
             }
             let b = r.project(p);
-            assert!((b.distance - sd.abs()).abs() <= 1e-12 * d, "{name}: {} vs {sd}", b.distance);
-            assert!(r.signed_distance(b.point).abs() <= 1e-12 * d, "{name}: projection off the boundary");
+            assert!(
+                (b.distance - sd.abs()).abs() <= 1e-12 * d,
+                "{name}: {} vs {sd}",
+                b.distance
+            );
+            assert!(
+                r.signed_distance(b.point).abs() <= 1e-12 * d,
+                "{name}: projection off the boundary"
+            );
             // No boundary sample is nearer than the projection.
-            let nearest = dense.iter().map(|q| q.distance(p)).fold(f64::INFINITY, f64::min);
-            assert!(b.distance <= nearest + 1e-12 * d, "{name}: {} > {nearest}", b.distance);
+            let nearest = dense
+                .iter()
+                .map(|q| q.distance(p))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                b.distance <= nearest + 1e-12 * d,
+                "{name}: {} > {nearest}",
+                b.distance
+            );
             let lp = &r.loops()[b.loop_index];
             assert!(b.loop_param >= 0.0 && b.loop_param < lp.length);
             assert_eq!(r.piece_loop(b.piece), b.loop_index);
@@ -84,4 +128,129 @@ fn sign_agrees_with_the_polygonization_and_projection_is_exact() {
             assert!((own.distance - b.distance).abs() <= 1e-12 * d, "{name}");
         }
     }
+}
+
+#[test]
+fn polygonize_converges_to_the_exact_area_with_bounded_chord_error() {
+    for &name in Region::builtin_names() {
+        let r = Region::builtin(name).unwrap();
+        let d = r.diameter();
+        let mut last_err = f64::INFINITY;
+        for k in [2, 3, 4, 5] {
+            let tol = d * 10f64.powi(-k);
+            let p = r.polygonize(tol);
+            let err = (p.area() - r.area()).abs();
+            // Chord error ≤ tol bounds the area error by tol × perimeter.
+            assert!(
+                err <= tol * r.perimeter() + 1e-12 * r.area(),
+                "{name} tol {tol}: area error {err}"
+            );
+            assert!(err <= last_err + 1e-12 * r.area(), "{name}: not converging");
+            last_err = err;
+            // Ring structure: outer CCW first, holes CW; one ring per loop; edge pieces on the loop.
+            assert_eq!(p.rings.len(), r.loops().len());
+            for (l, ring) in p.rings.iter().enumerate() {
+                assert_eq!(ring.loop_index, l);
+                assert_eq!(ring.hole, l > 0);
+                assert_eq!(ring.points.len(), ring.pieces.len());
+                assert!(ring.pieces.iter().all(|&pc| r.piece_loop(pc) == l));
+            }
+            // Every corner is a polygon vertex.
+            for c in r.corners() {
+                assert!(
+                    p.rings[c.loop_index].points.contains(&c.pos),
+                    "{name}: corner {} not a vertex",
+                    c.pos
+                );
+            }
+            // Chord error: exact boundary samples are within tol of their piece's edges.
+            for ring in &p.rings {
+                let n = ring.points.len();
+                for (i, &pc) in ring.pieces.iter().enumerate() {
+                    let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
+                    for s in 1..8 {
+                        // The exact point on the piece nearest to a point of the edge.
+                        let x = a.lerp(b, s as f64 / 8.0);
+                        let (q, _) = r.pieces()[pc].closest_point(x);
+                        assert!(
+                            q.distance(x) <= tol * (1.0 + 1e-9),
+                            "{name}: chord error {} > {tol}",
+                            q.distance(x)
+                        );
+                    }
+                }
+            }
+        }
+        assert!(last_err <= 1e-4 * r.area(), "{name}: {last_err}");
+    }
+}
+
+#[test]
+fn corner_angle_threshold_merges_nearly_straight_junctions() {
+    let lake = Region::builtin("lake").unwrap();
+    assert_eq!(lake.corners().len(), 101);
+    let all = lake.with_corner_angle(0.0);
+    assert_eq!(all.corners().len(), 101);
+    assert_eq!(all.pieces().len(), 101);
+    assert_eq!(all.corner_threshold(), Some(0.0));
+    let few = lake.with_corner_angle(30.0);
+    assert!(
+        few.corners().len() < 60 && !few.corners().is_empty(),
+        "{}",
+        few.corners().len()
+    );
+    assert!((few.area() - lake.area()).abs() <= 1e-12 * lake.area());
+    assert!((few.perimeter() - lake.perimeter()).abs() <= 1e-9 * lake.perimeter());
+    assert_eq!(few.pieces().len(), few.corners().len());
+    // The kept corners are exactly the lake corners turning by more than 30°.
+    let turn = |c: &geometry::Corner, r: &Region| {
+        let (t1, t2) = (
+            r.pieces()[c.piece_in].end_tangents().1,
+            r.pieces()[c.piece_out].end_tangents().0,
+        );
+        t1.perp_dot(t2).atan2(t1.dot(t2)).abs().to_degrees()
+    };
+    let expected = lake
+        .corners()
+        .iter()
+        .filter(|c| turn(c, &lake) > 30.0)
+        .count();
+    assert_eq!(few.corners().len(), expected);
+    for c in few.corners() {
+        assert!(lake.corners().iter().any(|o| o.pos == c.pos));
+        assert!(turn(c, &few) > 30.0);
+        assert_eq!(
+            few.project(c.pos).corner.map(|k| few.corners()[k].pos),
+            Some(c.pos)
+        );
+    }
+    // Queries are unchanged by merging.
+    let mut rng = Rng::new(5);
+    let (lo, hi) = lake.bbox();
+    for _ in 0..500 {
+        let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+        assert!((few.signed_distance(p) - lake.signed_distance(p)).abs() < 1e-9);
+        let b = few.project(p);
+        assert!((b.point - few.project_onto_piece(p, b.piece).point).length() < 1e-9);
+    }
+    // Loop params of the merged region increase along each loop.
+    for (l, lp) in few.loops().iter().enumerate() {
+        assert!(lp.offsets.windows(2).all(|w| w[0] < w[1]));
+        assert!(few.corners().iter().filter(|c| c.loop_index == l).count() <= lp.pieces.len());
+    }
+    // A threshold above every turn leaves one closed chain per loop and no corners.
+    let none = lake.with_corner_angle(179.0);
+    assert!(none.corners().is_empty());
+    assert_eq!(none.pieces().len(), 2);
+    assert!((none.area() - lake.area()).abs() <= 1e-12 * lake.area());
+    // Curved pieces: the pie's arcs merge with the notch lines into sampled chains.
+    let pie = Region::builtin("pie_hole").unwrap();
+    let merged = pie.with_corner_angle(60.0);
+    assert!(merged.corners().len() < pie.corners().len());
+    // Arcs in a merged run are sampled with chord error 1e-7·diameter.
+    assert!((merged.area() - pie.area()).abs() <= 1e-7 * pie.diameter() * pie.perimeter());
+    assert!(merged
+        .pieces()
+        .iter()
+        .any(|p| matches!(p, geometry::Piece::Chain(_))));
 }

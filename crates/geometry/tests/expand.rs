@@ -4,7 +4,12 @@ use std::f64::consts::PI;
 
 fn polyline(pts: &[(f64, f64)]) -> Vec<Piece> {
     let p: Vec<DVec2> = pts.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
-    (0..p.len()).map(|i| Piece::Line { a: p[i], b: p[(i + 1) % p.len()] }).collect()
+    (0..p.len())
+        .map(|i| Piece::Line {
+            a: p[i],
+            b: p[(i + 1) % p.len()],
+        })
+        .collect()
 }
 
 /// No two non-adjacent edges of the polygon meet (O(n²), test sizes only).
@@ -26,13 +31,22 @@ fn assert_simple(p: &Polygon, what: &str) {
             }
             let o = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
             let cross = o(b0, b1, a0) * o(b0, b1, a1) < 0.0 && o(a0, a1, b0) * o(a0, a1, b1) < 0.0;
-            assert!(!cross, "{what}: edges {ra}/{ia} and {rb}/{ib} cross near {a0}");
+            assert!(
+                !cross,
+                "{what}: edges {ra}/{ia} and {rb}/{ib} cross near {a0}"
+            );
         }
     }
     assert!(!p.rings.is_empty());
-    assert!(!p.rings[0].hole && geometry_ring_area(&p.rings[0].points) > 0.0, "{what}: outer ring not CCW");
+    assert!(
+        !p.rings[0].hole && geometry_ring_area(&p.rings[0].points) > 0.0,
+        "{what}: outer ring not CCW"
+    );
     for r in &p.rings[1..] {
-        assert!(r.hole && geometry_ring_area(&r.points) < 0.0, "{what}: hole ring not CW");
+        assert!(
+            r.hole && geometry_ring_area(&r.points) < 0.0,
+            "{what}: hole ring not CW"
+        );
     }
     for r in &p.rings {
         assert_eq!(r.points.len(), r.pieces.len());
@@ -40,7 +54,10 @@ fn assert_simple(p: &Polygon, what: &str) {
 }
 
 fn geometry_ring_area(p: &[DVec2]) -> f64 {
-    (0..p.len()).map(|i| p[i].perp_dot(p[(i + 1) % p.len()])).sum::<f64>() / 2.0
+    (0..p.len())
+        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
+        .sum::<f64>()
+        / 2.0
 }
 
 /// Every vertex of Ω_ε is at distance ε from Ω (to tol), Ω_ε contains what is within ε − tol
@@ -49,9 +66,18 @@ fn assert_distance_property(r: &Region, p: &Polygon, eps: f64, tol: f64, seed: u
     for ring in &p.rings {
         for (i, v) in ring.points.iter().enumerate() {
             let d = r.signed_distance(*v);
-            assert!((d - eps).abs() <= tol, "{}: vertex {v} at distance {d}, ε = {eps}", r.name());
+            assert!(
+                (d - eps).abs() <= tol,
+                "{}: vertex {v} at distance {d}, ε = {eps}",
+                r.name()
+            );
             let b = r.project_onto_piece(*v, ring.pieces[i]);
-            assert!(b.distance <= eps + 2.0 * tol, "{}: edge piece is not the nearest ({} vs {eps})", r.name(), b.distance);
+            assert!(
+                b.distance <= eps + 2.0 * tol,
+                "{}: edge piece is not the nearest ({} vs {eps})",
+                r.name(),
+                b.distance
+            );
         }
     }
     let (lo, hi) = p.bbox();
@@ -60,7 +86,11 @@ fn assert_distance_property(r: &Region, p: &Polygon, eps: f64, tol: f64, seed: u
         let x = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         let d = r.signed_distance(x).max(0.0);
         if d <= eps - tol {
-            assert!(p.contains(x), "{}: {x} at distance {d} not in Ω_ε", r.name());
+            assert!(
+                p.contains(x),
+                "{}: {x} at distance {d} not in Ω_ε",
+                r.name()
+            );
         } else if d >= eps + tol {
             assert!(!p.contains(x), "{}: {x} at distance {d} in Ω_ε", r.name());
         }
@@ -74,7 +104,11 @@ fn circle_grows_to_radius_r_plus_eps() {
         let p = r.expand(eps, tol);
         assert_eq!(p.rings.len(), 1);
         let exact = PI * (1.0 + eps) * (1.0 + eps);
-        assert!((p.area() - exact).abs() <= 2.0 * PI * (1.0 + eps) * tol, "ε {eps}: {} vs {exact}", p.area());
+        assert!(
+            (p.area() - exact).abs() <= 2.0 * PI * (1.0 + eps) * tol,
+            "ε {eps}: {} vs {exact}",
+            p.area()
+        );
         assert_simple(&p, "circle");
         assert_distance_property(&r, &p, eps, tol, 1);
     }
@@ -83,12 +117,24 @@ fn circle_grows_to_radius_r_plus_eps() {
 #[test]
 fn square_becomes_a_rounded_square() {
     let s = 1.5;
-    let r = Region::new("sq", vec![(LoopRole::Outer, polyline(&[(0.0, 0.0), (s, 0.0), (s, s), (0.0, s)]))], None).unwrap();
+    let r = Region::new(
+        "sq",
+        vec![(
+            LoopRole::Outer,
+            polyline(&[(0.0, 0.0), (s, 0.0), (s, s), (0.0, s)]),
+        )],
+        None,
+    )
+    .unwrap();
     for eps in [0.01, 0.2, 1.0] {
         let tol = 1e-5;
         let p = r.expand(eps, tol);
         let exact = s * s + 4.0 * s * eps + PI * eps * eps;
-        assert!((p.area() - exact).abs() <= 10.0 * tol, "ε {eps}: {} vs {exact}", p.area());
+        assert!(
+            (p.area() - exact).abs() <= 10.0 * tol,
+            "ε {eps}: {} vs {exact}",
+            p.area()
+        );
         assert_simple(&p, "square");
         assert_distance_property(&r, &p, eps, tol, 2);
     }
@@ -103,7 +149,10 @@ fn annulus_hole_shrinks_then_vanishes() {
         assert_eq!(p.rings.len(), 2, "ε {eps}");
         let hole = -geometry_ring_area(&p.rings[1].points);
         let r_hole = 0.4 - eps;
-        assert!((hole - PI * r_hole * r_hole).abs() <= 2.0 * PI * r_hole * tol + 1e-12, "ε {eps}: hole {hole}");
+        assert!(
+            (hole - PI * r_hole * r_hole).abs() <= 2.0 * PI * r_hole * tol + 1e-12,
+            "ε {eps}: hole {hole}"
+        );
         assert_eq!(p.rings[1].loop_index, 1);
         assert!(p.rings[1].pieces.iter().all(|&k| r.piece_loop(k) == 1));
         assert_simple(&p, "annulus");

@@ -6,26 +6,34 @@ use std::f64::consts::PI;
 use tessellation::{clipped_cells, Cells, Delaunay};
 
 /// Relative chord tolerance used to polygonize the region for the exact Voronoi measures:
-/// the region is approximated to within `POLYGON_TOL · region.diameter()`. Halving or
-/// dividing it by ten changes the measures of the paper's regions by far less than their
-/// printed precision (see the `converged_in_polygon_tolerance` test).
+/// the boundary is approximated to within `POLYGON_TOL · (|Ω|/K)^{1/2}`, i.e. relative to the
+/// mesh spacing, so that a boundary cell's area, moments and h_k carry a relative error of
+/// order 1e-6 at any K (a tolerance relative to the region's diameter would not: at
+/// K = 10⁵ in the unit circle, 1e-6·diameter moves h and ν by ~1e-3). Dividing it by 100
+/// changes the measures by less than 1e-4 relative (the `converged_in_polygon_tolerance` test).
 pub const POLYGON_TOL: f64 = 1e-6;
 
 /// The 12 measures of a mesh, computed exactly as Section 3 defines them.
 ///
 /// - λ, γ (and the γ_k in χ) from `mesh.points`;
 /// - h, μ, χ, ν, τ, d from the Voronoi cells of `mesh.points` clipped to `region`, polygonized
-///   with chord error [`POLYGON_TOL`]`·region.diameter()`; *all* cells count, boundary cells
+///   with chord error [`polygon_tolerance`]; *all* cells count, boundary cells
 ///   included, as the paper states for ν;
 /// - α, β, q, p from the mesh's own triangles (K̃ = `mesh.triangles.len()`);
 /// - |Ω| = `region.area()` (exact, not the polygon's area).
 pub fn measures(mesh: &Mesh, region: &Region) -> Result<Measures, MetricsError> {
     check_points(&mesh.points)?;
     check_triangles(mesh.points.len(), &mesh.triangles)?;
-    let polygon = region.polygonize(POLYGON_TOL * region.diameter());
+    let polygon = region.polygonize(polygon_tolerance(region, mesh.points.len()));
     let delaunay = Delaunay::new(&mesh.points);
     let cells = clipped_cells(&mesh.points, &delaunay, &polygon, &Density::Uniform);
     measures_from_parts(&mesh.points, &mesh.triangles, &cells, region.area())
+}
+
+/// The chord tolerance [`measures`] polygonizes `region` with for `k` points:
+/// [`POLYGON_TOL`]` · (|Ω|/k)^{1/2}`.
+pub fn polygon_tolerance(region: &Region, k: usize) -> f64 {
+    POLYGON_TOL * (region.area() / k.max(1) as f64).sqrt()
 }
 
 pub(crate) fn check_points(points: &[DVec2]) -> Result<(), MetricsError> {
@@ -33,7 +41,11 @@ pub(crate) fn check_points(points: &[DVec2]) -> Result<(), MetricsError> {
         return Err(MetricsError::TooFewPoints(points.len()));
     }
     if let Some((index, p)) = points.iter().enumerate().find(|(_, p)| !p.is_finite()) {
-        return Err(MetricsError::NonFinitePoint { index, x: p.x, y: p.y });
+        return Err(MetricsError::NonFinitePoint {
+            index,
+            x: p.x,
+            y: p.y,
+        });
     }
     Ok(())
 }
@@ -44,7 +56,11 @@ pub(crate) fn check_triangles(n: usize, triangles: &[[u32; 3]]) -> Result<(), Me
     }
     for (t, tri) in triangles.iter().enumerate() {
         if let Some(&v) = tri.iter().find(|&&v| v as usize >= n) {
-            return Err(MetricsError::BadTriangle { triangle: t, vertex: v, points: n });
+            return Err(MetricsError::BadTriangle {
+                triangle: t,
+                vertex: v,
+                points: n,
+            });
         }
     }
     Ok(())
@@ -70,7 +86,10 @@ pub fn measures_from_parts(
     check_points(points)?;
     check_triangles(points.len(), triangles)?;
     if cells.cells.len() != points.len() {
-        return Err(MetricsError::CellCount { cells: cells.cells.len(), points: points.len() });
+        return Err(MetricsError::CellCount {
+            cells: cells.cells.len(),
+            points: points.len(),
+        });
     }
     if !(area > 0.0 && area.is_finite()) {
         return Err(MetricsError::BadArea(area));
@@ -88,10 +107,19 @@ pub fn measures_from_parts(
     let h_star = (12f64.sqrt() * area / (9.0 * kf)).sqrt();
     let h = h_max / h_star - 1.0;
     let mu = h_max / min(&hk) - 1.0;
-    let chi = hk.iter().zip(&gk).map(|(h, g)| 3f64.sqrt() * h / g).fold(f64::NEG_INFINITY, nan_max) - 1.0;
+    let chi = hk
+        .iter()
+        .zip(&gk)
+        .map(|(h, g)| 3f64.sqrt() * h / g)
+        .fold(f64::NEG_INFINITY, nan_max)
+        - 1.0;
     let vk: Vec<f64> = cells.cells.iter().map(|c| c.area).collect();
     let nu = max(&vk) / min(&vk) - 1.0;
-    let tk: Vec<f64> = cells.cells.iter().map(|c| c.second_moment[0] + c.second_moment[2]).collect();
+    let tk: Vec<f64> = cells
+        .cells
+        .iter()
+        .map(|c| c.second_moment[0] + c.second_moment[2])
+        .collect();
     let t_mean = tk.iter().sum::<f64>() / kf;
     let tau = tk.iter().map(|t| (t - t_mean).abs()).fold(0.0, nan_max);
     // det(M − (T/2) I) = −(((Mxx − Myy)/2)² + Mxy²): evaluated in this form it is exactly
@@ -109,11 +137,22 @@ pub fn measures_from_parts(
     // 3.3: triangles.
     let stats: Vec<TriangleStats> = triangles
         .iter()
-        .map(|t| TriangleStats::new(points[t[0] as usize], points[t[1] as usize], points[t[2] as usize]))
+        .map(|t| {
+            TriangleStats::new(
+                points[t[0] as usize],
+                points[t[1] as usize],
+                points[t[2] as usize],
+            )
+        })
         .collect();
     let kt = triangles.len() as f64;
     let alpha = kt / area * stats.iter().map(|s| s.area).fold(0.0, nan_max) - 1.0;
-    let beta = (PI / 3.0) / stats.iter().map(|s| s.min_angle).fold(f64::INFINITY, nan_min) - 1.0;
+    let beta = (PI / 3.0)
+        / stats
+            .iter()
+            .map(|s| s.min_angle)
+            .fold(f64::INFINITY, nan_min)
+        - 1.0;
     let q = stats.iter().map(|s| s.q).fold(f64::NEG_INFINITY, nan_max) - 1.0;
     let radii: Vec<f64> = stats.iter().map(|s| s.circumradius).collect();
     let p = if radii.iter().all(|r| r.is_finite()) {
@@ -193,10 +232,25 @@ impl TriangleStats {
         let (a, b, c) = ((p1 - p2).length(), (p2 - p0).length(), (p0 - p1).length());
         let area = 0.5 * (p1 - p0).perp_dot(p2 - p0).abs();
         let angle = |u: DVec2, v: DVec2| u.perp_dot(v).abs().atan2(u.dot(v));
-        let min_angle = angle(p1 - p0, p2 - p0).min(angle(p2 - p1, p0 - p1)).min(angle(p0 - p2, p1 - p2));
+        let min_angle = angle(p1 - p0, p2 - p0)
+            .min(angle(p2 - p1, p0 - p1))
+            .min(angle(p0 - p2, p1 - p2));
         let den = (b + c - a) * (c + a - b) * (a + b - c);
-        let q = if den > 0.0 { a * b * c / den } else { f64::INFINITY };
-        let circumradius = if area > 0.0 { a * b * c / (4.0 * area) } else { f64::INFINITY };
-        TriangleStats { area, min_angle, q, circumradius }
+        let q = if den > 0.0 {
+            a * b * c / den
+        } else {
+            f64::INFINITY
+        };
+        let circumradius = if area > 0.0 {
+            a * b * c / (4.0 * area)
+        } else {
+            f64::INFINITY
+        };
+        TriangleStats {
+            area,
+            min_angle,
+            q,
+            circumradius,
+        }
     }
 }

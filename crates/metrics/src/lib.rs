@@ -29,6 +29,6 @@ mod nearest;
 mod sample;
 
 pub use error::MetricsError;
-pub use exact::{measures, measures_from_parts, POLYGON_TOL};
+pub use exact::{measures, measures_from_parts, polygon_tolerance, POLYGON_TOL};
 pub use measures::Measures;
 pub use sample::{sampled_measures, SampleParams};

@@ -41,8 +41,8 @@ pub struct Measures {
 impl Measures {
     /// Column names, in the paper's table order (also the CSV header).
     pub const NAMES: [&'static str; 14] = [
-        "K", "Ktilde", "lambda", "gamma", "h", "mu", "chi", "nu", "tau", "d", "alpha", "beta",
-        "q", "p",
+        "K", "Ktilde", "lambda", "gamma", "h", "mu", "chi", "nu", "tau", "d", "alpha", "beta", "q",
+        "p",
     ];
 
     /// All 14 values in [`Measures::NAMES`] order (K and K̃ as floats).
@@ -67,7 +67,10 @@ impl Measures {
 
     /// The value named `name` (one of [`Measures::NAMES`]).
     pub fn get(&self, name: &str) -> Option<f64> {
-        Self::NAMES.iter().position(|n| *n == name).map(|i| self.values()[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.values()[i])
     }
 
     /// Build from values in [`Measures::NAMES`] order; K and K̃ must be non-negative integers.
@@ -102,13 +105,15 @@ impl Measures {
         Self::NAMES.join(",")
     }
 
-    /// One CSV row matching [`Measures::csv_header`]. Floats use Rust's `{}` formatting, the
-    /// shortest text that parses back to the identical `f64` (`inf`/`NaN` for degenerate
-    /// input), so [`Measures::parse_csv_row`] round-trips exactly.
+    /// One CSV row matching [`Measures::csv_header`]. Each float is the shortest text that
+    /// parses back to the identical `f64`: Rust's `{}` for magnitudes in [1e-4, 1e15) and
+    /// zero, `{:e}` otherwise (so d ≈ 1e-7 prints as `1.0e-7`, not 25 characters of zeros);
+    /// `inf`/`NaN` for degenerate input. [`Measures::parse_csv_row`] round-trips exactly.
     pub fn csv_row(&self) -> String {
         let mut s = format!("{},{}", self.k, self.k_tilde);
         for v in &self.values()[2..] {
-            s.push_str(&format!(",{v}"));
+            s.push(',');
+            s.push_str(&format_f64(*v));
         }
         s
     }
@@ -117,15 +122,29 @@ impl Measures {
     pub fn parse_csv_row(line: &str) -> Result<Measures, MetricsError> {
         let fields: Vec<&str> = line.trim().split(',').collect();
         if fields.len() != 14 {
-            return Err(MetricsError::Parse(format!("expected 14 fields, got {}", fields.len())));
+            return Err(MetricsError::Parse(format!(
+                "expected 14 fields, got {}",
+                fields.len()
+            )));
         }
         let mut v = [0.0; 14];
         for (i, f) in fields.iter().enumerate() {
-            v[i] = f.trim().parse::<f64>().map_err(|e| {
-                MetricsError::Parse(format!("{} = '{f}': {e}", Self::NAMES[i]))
-            })?;
+            v[i] = f
+                .trim()
+                .parse::<f64>()
+                .map_err(|e| MetricsError::Parse(format!("{} = '{f}': {e}", Self::NAMES[i])))?;
         }
         Self::from_values(v)
+    }
+}
+
+/// Shortest round-trip text of `v`, in scientific notation for very small or large magnitudes.
+fn format_f64(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -148,15 +167,25 @@ mod tests {
             d: 2.29e-7,
             alpha: 0.0,
             beta: 1.01,
-            q: 123456789.123456789,
+            q: 123_456_789.123_456_79,
             p: 0.123,
         };
-        assert_eq!(Measures::csv_header(), "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p");
+        assert_eq!(
+            Measures::csv_header(),
+            "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p"
+        );
         let row = m.csv_row();
-        assert!(row.starts_with("88,146,"));
+        assert!(row.starts_with("88,146,0.30000000000000004,"));
+        assert!(
+            row.contains(",1e-300,2.5e-17,inf,0.000687,2.29e-7,0,"),
+            "{row}"
+        );
         let back = Measures::parse_csv_row(&row).unwrap();
         assert_eq!(back, m);
-        assert_eq!(back.values().map(f64::to_bits), m.values().map(f64::to_bits));
+        assert_eq!(
+            back.values().map(f64::to_bits),
+            m.values().map(f64::to_bits)
+        );
         assert_eq!(m.get("nu"), Some(f64::INFINITY));
         assert_eq!(m.get("Ktilde"), Some(146.0));
         assert_eq!(m.get("x"), None);

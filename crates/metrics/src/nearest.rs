@@ -76,7 +76,7 @@ impl<'a> PointGrid<'a> {
     pub(crate) fn nearest(&self, p: DVec2, skip: Option<usize>) -> Option<(usize, f64)> {
         let (cx, cy) = self.coords(p);
         let mut best: Option<(usize, f64)> = None;
-        let mut consider = |cell: usize, best: &mut Option<(usize, f64)>| {
+        let consider = |cell: usize, best: &mut Option<(usize, f64)>| {
             for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
                 let i = i as usize;
                 if Some(i) == skip {
@@ -93,7 +93,15 @@ impl<'a> PointGrid<'a> {
             }
         };
         // First ring that can touch the grid.
-        let gap = |c: i64, n: i64| if c < 0 { -c } else if c >= n { c - n + 1 } else { 0 };
+        let gap = |c: i64, n: i64| {
+            if c < 0 {
+                -c
+            } else if c >= n {
+                c - n + 1
+            } else {
+                0
+            }
+        };
         let r0 = gap(cx, self.nx).max(gap(cy, self.ny));
         let mut r = r0;
         loop {
@@ -125,7 +133,8 @@ impl<'a> PointGrid<'a> {
                     return best;
                 }
             }
-            let covers = cx - r <= 0 && cy - r <= 0 && cx + r >= self.nx - 1 && cy + r >= self.ny - 1;
+            let covers =
+                cx - r <= 0 && cy - r <= 0 && cx + r >= self.nx - 1 && cy + r >= self.ny - 1;
             if covers {
                 return best;
             }
@@ -139,7 +148,10 @@ pub(crate) fn nearest_neighbor_distances(points: &[DVec2]) -> Vec<f64> {
     let grid = PointGrid::new(points);
     (0..points.len())
         .into_par_iter()
-        .map(|k| grid.nearest(points[k], Some(k)).map_or(f64::INFINITY, |(_, d2)| d2.sqrt()))
+        .map(|k| {
+            grid.nearest(points[k], Some(k))
+                .map_or(f64::INFINITY, |(_, d2)| d2.sqrt())
+        })
         .collect()
 }
 
@@ -155,7 +167,7 @@ mod tests {
                 continue;
             }
             let d2 = (*q - p).length_squared();
-            if best.map_or(true, |(_, b)| d2 < b) {
+            if !matches!(best, Some((_, b)) if b <= d2) {
                 best = Some((i, d2));
             }
         }
@@ -183,7 +195,10 @@ mod tests {
             // Queries far outside the grid, too.
             for _ in 0..50 {
                 let q = DVec2::new(rng.range(-5.0, 5.0) * spread, rng.range(-5.0, 5.0) * spread);
-                assert_eq!(grid.nearest(q, None).unwrap(), brute(&pts, q, None).unwrap());
+                assert_eq!(
+                    grid.nearest(q, None).unwrap(),
+                    brute(&pts, q, None).unwrap()
+                );
             }
             let g = nearest_neighbor_distances(&pts);
             assert_eq!(g[0], 0.0);

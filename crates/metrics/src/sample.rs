@@ -25,7 +25,11 @@ pub struct SampleParams {
 impl Default for SampleParams {
     /// 10⁴ samples, seed 1, scale 1.
     fn default() -> Self {
-        SampleParams { samples: 10_000, seed: 1, scale: 1.0 }
+        SampleParams {
+            samples: 10_000,
+            seed: 1,
+            scale: 1.0,
+        }
     }
 }
 
@@ -48,7 +52,9 @@ pub fn sampled_measures(
     params: &SampleParams,
 ) -> Result<Measures, MetricsError> {
     if params.samples == 0 {
-        return Err(MetricsError::BadSampleParams("samples must be positive".into()));
+        return Err(MetricsError::BadSampleParams(
+            "samples must be positive".into(),
+        ));
     }
     if !(params.scale > 0.0 && params.scale.is_finite()) {
         return Err(MetricsError::BadSampleParams(format!(
@@ -60,7 +66,10 @@ pub fn sampled_measures(
     check_triangles(mesh.points.len(), &mesh.triangles)?;
     let s = params.scale;
     let points: Vec<DVec2> = mesh.points.iter().map(|p| *p * s).collect();
-    let samples = draw_samples(region, params)?.into_iter().map(|x| x * s).collect::<Vec<_>>();
+    let samples = draw_samples(region, params)?
+        .into_iter()
+        .map(|x| x * s)
+        .collect::<Vec<_>>();
     let area = region.area() * s * s;
     let cells = sample_cells(&points, &samples, area);
     measures_from_parts(&points, &mesh.triangles, &cells, area)
@@ -75,7 +84,10 @@ fn draw_samples(region: &Region, params: &SampleParams) -> Result<Vec<DVec2>, Me
     let mut tries = 0;
     while out.len() < params.samples {
         if tries == max_tries {
-            return Err(MetricsError::SamplingFailed { accepted: out.len(), tried: tries });
+            return Err(MetricsError::SamplingFailed {
+                accepted: out.len(),
+                tried: tries,
+            });
         }
         tries += 1;
         let x = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
@@ -134,7 +146,11 @@ fn sample_cells(points: &[DVec2], samples: &[DVec2], area: f64) -> Cells {
             }
             let n = a.n as f64;
             let c = a.sum / n;
-            let m = [a.sxx / n - c.x * c.x, a.sxy / n - c.x * c.y, a.syy / n - c.y * c.y];
+            let m = [
+                a.sxx / n - c.x * c.x,
+                a.sxy / n - c.x * c.y,
+                a.syy / n - c.y * c.y,
+            ];
             Cell {
                 area: cell_area,
                 centroid: *z + c,
