@@ -1,23 +1,336 @@
 //! From generators to a conforming mesh (CCVT "From generators to a mesh").
+use crate::delaunay::hilbert_order;
 use geometry::{DVec2, Region};
 use mesh::{Mesh, MeshError, VertexMarker};
+use rayon::prelude::*;
+use spade::handles::{FixedFaceHandle, FixedVertexHandle, PossiblyOuterTag};
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use std::collections::VecDeque;
 
 /// Marker of each point: corner if within `tol` of a corner, boundary if within `tol` of the
 /// boundary (with its piece, loop and arc-length position), interior otherwise.
+///
+/// The points are not moved: callers that need them exactly on the boundary project them first.
+/// A non-finite point is marked interior.
 pub fn mark_vertices(points: &[DVec2], region: &Region, tol: f64) -> Vec<VertexMarker> {
-    let _ = (points, region, tol);
-    todo!()
+    points
+        .par_iter()
+        .map(|&p| {
+            if !p.is_finite() {
+                return VertexMarker::Interior;
+            }
+            let bp = region.project(p);
+            if bp.distance.is_nan() || bp.distance > tol {
+                return VertexMarker::Interior;
+            }
+            // The nearest corner within tol (or the one the projection landed on).
+            let near_corner = region
+                .corners()
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (c.pos.distance(p), i))
+                .filter(|&(d, _)| d <= tol)
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, i)| i)
+                .or(bp.corner);
+            match near_corner {
+                Some(i) => {
+                    let c = &region.corners()[i];
+                    VertexMarker::Corner {
+                        loop_index: c.loop_index,
+                        corner: i,
+                        loop_param: c.loop_param,
+                    }
+                }
+                None => VertexMarker::Boundary {
+                    loop_index: bp.loop_index,
+                    piece: bp.piece,
+                    loop_param: bp.loop_param,
+                },
+            }
+        })
+        .collect()
 }
+
+/// Inside triangles with an area below this fraction of the mean are treated as degenerate
+/// (`mesh::check_conforming` rejects 1e-10).
+const DEGENERATE: f64 = 1e-9;
+
+/// How many times the triangulation is rebuilt after dropping or nudging offending points.
+const MAX_ATTEMPTS: usize = 8;
 
 /// Triangulate `points` so the mesh conforms to `region`: a constrained Delaunay triangulation
 /// in which consecutive boundary vertices along each loop (ordered by `loop_param`) are joined
 /// by constraint edges, triangles outside the region or inside holes are removed, and
 /// degenerate triangles are not produced. Passes `mesh::check_conforming`.
+///
+/// The output can have fewer points than the input; these are dropped (and the rest renumbered
+/// in input order):
+/// - duplicates of an earlier point (a boundary point is kept in preference to an interior one);
+/// - interior points outside the polygon of boundary chords (between a chord and a convex piece
+///   of the boundary, or in a hole), which no inside triangle could use;
+/// - interior points lying on a boundary chord or forming a degenerate (near zero-area)
+///   triangle with one.
+///
+/// Points are never moved. (Nearly collinear boundary points make no slivers: spade's exact
+/// Delaunay predicates flip them away.)
+///
+/// Errors (`MeshError::BadRequest`): lengths differ, a non-finite point, a marker naming a
+/// loop the region does not have, a loop with fewer than 3 boundary vertices, constraint edges
+/// that would cross (boundary vertices too coarse for the boundary's curvature, or loops too
+/// close), a constraint edge that leaves the region (a skipped corner), a boundary vertex that
+/// does not end up joined to exactly two boundary neighbours, or a degenerate triangle of three
+/// boundary vertices (a region thinner than the rounding of its boundary points).
 pub fn conforming_mesh(
     points: &[DVec2],
     markers: &[VertexMarker],
     region: &Region,
 ) -> Result<Mesh, MeshError> {
-    let _ = (points, markers, region);
-    todo!()
+    let bad = |m: String| Err(MeshError::BadRequest(m));
+    if points.len() != markers.len() {
+        return bad(format!(
+            "{} points but {} markers",
+            points.len(),
+            markers.len()
+        ));
+    }
+    if points.len() >= u32::MAX as usize {
+        return bad("too many points".into());
+    }
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return bad(format!("point {i} is not finite"));
+    }
+    let nloops = region.loops().len();
+    for (i, m) in markers.iter().enumerate() {
+        if let (Some(l), Some(t)) = (m.loop_index(), m.loop_param()) {
+            if l >= nloops || !t.is_finite() {
+                return bad(format!(
+                    "point {i}: marker {m:?} does not fit a region with {nloops} loops"
+                ));
+            }
+        }
+    }
+    let mut keep = vec![true; points.len()];
+    for _ in 0..MAX_ATTEMPTS {
+        match attempt(points, markers, &keep, region)? {
+            Attempt::Done(mesh) => return Ok(mesh),
+            Attempt::Retry { drop } => {
+                for i in drop {
+                    keep[i] = false;
+                }
+            }
+        }
+    }
+    bad(format!(
+        "could not remove degenerate triangles after {MAX_ATTEMPTS} attempts"
+    ))
+}
+
+enum Attempt {
+    Done(Mesh),
+    /// Drop these interior points, then try again.
+    Retry {
+        drop: Vec<usize>,
+    },
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+fn attempt(
+    pos: &[DVec2],
+    markers: &[VertexMarker],
+    keep: &[bool],
+    region: &Region,
+) -> Result<Attempt, MeshError> {
+    let bad = |m: String| Err(MeshError::BadRequest(m));
+    let mut cdt = Cdt::new();
+    // owner[v]: the input point that vertex v stands for.
+    let mut owner: Vec<usize> = Vec::with_capacity(pos.len());
+    for &i in &hilbert_order(pos) {
+        let i = i as usize;
+        if !keep[i] {
+            continue;
+        }
+        let before = cdt.num_vertices();
+        let h = cdt
+            .insert(Point2::new(pos[i].x, pos[i].y))
+            .map_err(|e| MeshError::BadRequest(format!("point {i} at {}: {e:?}", pos[i])))?;
+        if cdt.num_vertices() > before {
+            owner.push(i);
+        } else if !markers[owner[h.index()]].on_boundary() && markers[i].on_boundary() {
+            owner[h.index()] = i;
+        }
+    }
+
+    // Boundary vertices of each loop in arc-length order, joined cyclically by constraints.
+    let nloops = region.loops().len();
+    let mut loops: Vec<Vec<(f64, usize)>> = vec![Vec::new(); nloops];
+    for (v, &i) in owner.iter().enumerate() {
+        if let (Some(l), Some(t)) = (markers[i].loop_index(), markers[i].loop_param()) {
+            loops[l].push((t, v));
+        }
+    }
+    for (l, lp) in loops.iter_mut().enumerate() {
+        lp.sort_by(|a, b| a.0.total_cmp(&b.0).then(owner[a.1].cmp(&owner[b.1])));
+        if lp.len() < 3 {
+            return bad(format!(
+                "boundary loop {l} has {} boundary vertices; at least 3 are needed to close it",
+                lp.len()
+            ));
+        }
+        for k in 0..lp.len() {
+            let (u, w) = (lp[k].1, lp[(k + 1) % lp.len()].1);
+            let (hu, hw) = (
+                FixedVertexHandle::from_index(u),
+                FixedVertexHandle::from_index(w),
+            );
+            if !cdt.can_add_constraint(hu, hw) {
+                let (a, b) = (pos[owner[u]], pos[owner[w]]);
+                return bad(format!(
+                    "boundary edge ({}, {}) – ({}, {}) of loop {l} crosses another boundary edge: the boundary \
+                     vertices are too coarse for the boundary's curvature (or two loops are too close)",
+                    a.x, a.y, b.x, b.y
+                ));
+            }
+            cdt.add_constraint(hu, hw);
+            // A chord that leaves the region by more than a curved piece's sagitta allows
+            // (the allowance of `mesh::check_conforming`) skips part of the boundary.
+            let (a, b) = (pos[owner[u]], pos[owner[w]]);
+            let allowance = 1e-9 * region.diameter() + 0.13 * a.distance(b);
+            if let Some(x) = (1..8)
+                .map(|s| a.lerp(b, s as f64 / 8.0))
+                .find(|&x| region.signed_distance(x) > allowance)
+            {
+                return bad(format!(
+                    "boundary edge ({}, {}) – ({}, {}) of loop {l} leaves the region near ({}, {}): the boundary \
+                     vertices skip a corner or are too coarse for the boundary's curvature",
+                    a.x, a.y, b.x, b.y, x.x, x.y
+                ));
+            }
+        }
+    }
+
+    // Constraint edges must join boundary vertices in simple loops; an interior vertex on a
+    // chord is dropped.
+    let mut drop = Vec::new();
+    let mut degree = vec![0u32; owner.len()];
+    for e in cdt.undirected_edges().filter(|e| e.is_constraint_edge()) {
+        for v in e.vertices() {
+            degree[v.fix().index()] += 1;
+        }
+    }
+    for (v, &i) in owner.iter().enumerate() {
+        if markers[i].on_boundary() {
+            if degree[v] != 2 {
+                let p = pos[i];
+                return bad(format!(
+                    "boundary vertex {i} at ({}, {}) has {} boundary neighbours instead of 2: another boundary \
+                     vertex lies on a boundary edge (boundary too coarse, or loops too close)",
+                    p.x, p.y, degree[v]
+                ));
+            }
+        } else if degree[v] > 0 {
+            drop.push(i);
+        }
+    }
+    if !drop.is_empty() {
+        return Ok(Attempt::Retry { drop });
+    }
+
+    // Inside faces: flood fill from the outer face, toggling across constraint edges.
+    let inside = classify_faces(&cdt);
+    let inner: Vec<FixedFaceHandle<spade::handles::InnerTag>> = cdt
+        .fixed_inner_faces()
+        .filter(|f| inside[f.index()])
+        .collect();
+    let mean_area = region.area() / inner.len().max(1) as f64;
+    for &f in &inner {
+        let face = cdt.face(f);
+        let vs = face.vertices().map(|v| v.fix().index());
+        let p = vs.map(|v| pos[owner[v]]);
+        let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        if area > DEGENERATE * mean_area {
+            continue;
+        }
+        let interior: Vec<usize> = vs
+            .iter()
+            .map(|&v| owner[v])
+            .filter(|&i| !markers[i].on_boundary())
+            .collect();
+        if !interior.is_empty() {
+            drop.extend(interior);
+            continue;
+        }
+        // Three boundary vertices: Delaunay avoids such slivers unless the region itself is
+        // thinner than the rounding of its boundary points.
+        return bad(format!(
+            "boundary vertices {}, {} and {} near ({}, {}) form a degenerate triangle (area {area:e}): the region \
+             is too thin there for these boundary vertices",
+            owner[vs[0]], owner[vs[1]], owner[vs[2]], p[0].x, p[0].y
+        ));
+    }
+    if !drop.is_empty() {
+        drop.sort_unstable();
+        drop.dedup();
+        return Ok(Attempt::Retry { drop });
+    }
+
+    // Output: vertices used by inside faces, renumbered in input order.
+    let mut used = vec![false; owner.len()];
+    for &f in &inner {
+        for v in cdt.face(f).vertices() {
+            used[v.fix().index()] = true;
+        }
+    }
+    let mut order: Vec<usize> = (0..owner.len()).filter(|&v| used[v]).collect();
+    order.sort_unstable_by_key(|&v| owner[v]);
+    let mut new_index = vec![u32::MAX; owner.len()];
+    for (k, &v) in order.iter().enumerate() {
+        new_index[v] = k as u32;
+    }
+    let triangles = inner
+        .iter()
+        .map(|&f| cdt.face(f).vertices().map(|v| new_index[v.fix().index()]))
+        .collect();
+    Ok(Attempt::Done(Mesh {
+        points: order.iter().map(|&v| pos[owner[v]]).collect(),
+        triangles,
+        markers: order.iter().map(|&v| markers[owner[v]]).collect(),
+    }))
+}
+
+/// Inside flags by face index: a breadth-first walk from the outer face that toggles the flag
+/// whenever it crosses a constraint edge (the boundary loops are closed, so parity is
+/// consistent).
+fn classify_faces(cdt: &Cdt) -> Vec<bool> {
+    const UNSET: u8 = 2;
+    let mut state = vec![UNSET; cdt.num_all_faces()];
+    let outer: FixedFaceHandle<PossiblyOuterTag> = cdt.outer_face().fix();
+    state[outer.index()] = 0;
+    let mut queue = VecDeque::new();
+    for e in cdt.directed_edges() {
+        if e.face().is_outer() {
+            let g = e.rev().face();
+            if let Some(g) = g.as_inner() {
+                let gi = g.fix().index();
+                if state[gi] == UNSET {
+                    state[gi] = u8::from(e.is_constraint_edge());
+                    queue.push_back(g.fix());
+                }
+            }
+        }
+    }
+    while let Some(f) = queue.pop_front() {
+        let sf = state[f.index()];
+        for e in cdt.face(f).adjacent_edges() {
+            if let Some(g) = e.rev().face().as_inner() {
+                let gi = g.fix().index();
+                if state[gi] == UNSET {
+                    state[gi] = sf ^ u8::from(e.is_constraint_edge());
+                    queue.push_back(g.fix());
+                }
+            }
+        }
+    }
+    state.into_iter().map(|s| s == 1).collect()
 }

@@ -1,8 +1,20 @@
 //! Delaunay triangulation of generators (spade) and their Voronoi cells clipped to a region,
 //! with the moments CCVT and the quality measures need.
+//!
+//! - [`Delaunay`]: triangulation built by inserting points along a Hilbert curve; neighbours,
+//!   triangles, nearest generator.
+//! - [`clipped_cells`]: every generator's Voronoi cell ∩ Ω (a [`geometry::Polygon`]) with area,
+//!   centroid, second moments, ρ-mass and ρ-centroid, CVT energy term, h_k and the boundary pieces
+//!   it touches; exact for cells cut by holes or split by concave boundaries; parallel and
+//!   independent of the thread count.
+//! - [`mark_vertices`] and [`conforming_mesh`]: from generators to a mesh that passes
+//!   `mesh::check_conforming`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
+mod boundary;
 mod cells;
+mod clip;
 mod conforming;
 mod delaunay;
 

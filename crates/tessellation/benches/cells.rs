@@ -1,0 +1,75 @@
+//! Delaunay alone vs Delaunay + all clipped cells with moments, 10⁴–10⁶ generators in the unit
+//! circle and in the lake. Run: `cargo bench -p tessellation --bench cells [-- quick]`
+//! (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds.
+use geometry::{DVec2, Density, Polygon, Region, Rng};
+use spade::{DelaunayTriangulation, Point2, Triangulation};
+use std::time::Instant;
+use tessellation::{clipped_cells, Delaunay};
+
+/// `n` generators: random points inside plus about 2√n points spread along the boundary rings
+/// (CCVT puts generators on the boundary).
+fn generators(poly: &Polygon, n: usize, seed: u64) -> Vec<DVec2> {
+    let mut rng = Rng::new(seed);
+    let perimeter: f64 = poly.edges().map(|(a, b, _)| a.distance(b)).sum();
+    let nb = (2.0 * (n as f64).sqrt()) as usize;
+    let mut pts = Vec::with_capacity(n);
+    for (a, b, _) in poly.edges() {
+        let k = (nb as f64 * a.distance(b) / perimeter).round() as usize;
+        pts.extend((0..k).map(|i| a.lerp(b, (i as f64 + rng.uniform()) / k.max(1) as f64)));
+    }
+    let (lo, hi) = poly.bbox();
+    while pts.len() < n {
+        let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+        if poly.contains(p) {
+            pts.push(p);
+        }
+    }
+    pts
+}
+
+fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..runs {
+        let t = Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64());
+        out = Some(r);
+    }
+    (best, out.expect("at least one run"))
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "quick");
+    let sizes: &[usize] = if quick {
+        &[10_000, 100_000]
+    } else {
+        &[10_000, 100_000, 1_000_000]
+    };
+    println!("threads: {}", rayon::current_num_threads());
+    println!(
+        "| domain | edges | n | spade bulk_load s | Delaunay::new s | cells s | total s | total / spade | boundary cells | area rel. err |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for name in ["circle", "lake"] {
+        let region = Region::builtin(name).expect("built-in region");
+        let poly = region.polygonize(1e-4 * region.diameter());
+        let edges = poly.edges().count();
+        for &n in sizes {
+            let pts = generators(&poly, n, 1);
+            let (ts, _) = best_of(3, || {
+                let v: Vec<Point2<f64>> = pts.iter().map(|p| Point2::new(p.x, p.y)).collect();
+                DelaunayTriangulation::<Point2<f64>>::bulk_load(v).map(|t| t.num_vertices())
+            });
+            let (td, del) = best_of(3, || Delaunay::new(&pts));
+            let (tc, cells) = best_of(3, || clipped_cells(&pts, &del, &poly, &Density::Uniform));
+            let boundary = cells.cells.iter().filter(|c| c.on_boundary()).count();
+            let err = (cells.total_area() - poly.area()).abs() / poly.area();
+            println!(
+                "| {name} | {edges} | {n} | {ts:.3} | {td:.3} | {tc:.3} | {:.3} | {:.2} | {boundary} | {err:.1e} |",
+                td + tc,
+                (td + tc) / ts
+            );
+        }
+    }
+}
