@@ -6,12 +6,16 @@ use mesh::MeshRequest;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let region = Region::builtin(args.get(1).map(String::as_str).unwrap_or("circle")).expect("region");
+    let region =
+        Region::builtin(args.get(1).map(String::as_str).unwrap_or("circle")).expect("region");
     let k: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(88);
     let m = match args.get(3).map(String::as_str).unwrap_or("ccvt2") {
         "ccvt1" => Ccvt::algorithm1(),
         "fast" => Ccvt::fast(),
-        "fast1" => Ccvt { algorithm: ccvt::Algorithm::One, ..Ccvt::fast() },
+        "fast1" => Ccvt {
+            algorithm: ccvt::Algorithm::One,
+            ..Ccvt::fast()
+        },
         _ => Ccvt::algorithm2(),
     };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);

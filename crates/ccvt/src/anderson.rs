@@ -13,7 +13,11 @@ pub struct Anderson {
 impl Anderson {
     /// Empty history of depth `m`.
     pub fn new(m: usize) -> Self {
-        Anderson { m, g: Vec::new(), f: Vec::new() }
+        Anderson {
+            m,
+            g: Vec::new(),
+            f: Vec::new(),
+        }
     }
 
     /// Forget the history (after a rejected step or a change of constraints).
@@ -38,7 +42,13 @@ impl Anderson {
         // Differences ΔF_j = f_{j+1} − f_j, solve min |f_n − ΔF γ| via normal equations.
         let last = &self.f[n - 1];
         let df: Vec<Vec<f64>> = (0..n - 1)
-            .map(|j| self.f[j + 1].iter().zip(&self.f[j]).map(|(a, b)| a - b).collect())
+            .map(|j| {
+                self.f[j + 1]
+                    .iter()
+                    .zip(&self.f[j])
+                    .map(|(a, b)| a - b)
+                    .collect()
+            })
             .collect();
         let p = df.len();
         let mut a = vec![vec![0.0; p]; p];
@@ -85,8 +95,9 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
         b.swap(c, piv);
         for r in c + 1..n {
             let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
+            let (top, rest) = a.split_at_mut(r);
+            for (x, y) in rest[0][c..].iter_mut().zip(&top[c][c..]) {
+                *x -= f * y;
             }
             b[r] -= f * b[c];
         }
@@ -106,12 +117,17 @@ mod tests {
     #[test]
     fn accelerates_a_linear_contraction() {
         // G(z) = A z + c with slow contraction: plain iteration needs hundreds of steps.
-        let g = |z: &[f64]| vec![0.99 * z[0] + 0.01 * z[1] + 1.0, 0.005 * z[0] + 0.98 * z[1] - 1.0];
+        let g = |z: &[f64]| {
+            vec![
+                0.99 * z[0] + 0.01 * z[1] + 1.0,
+                0.005 * z[0] + 0.98 * z[1] - 1.0,
+            ]
+        };
         let fixed = {
             // Solve (I − A) z = c directly.
             let (a, b, c, d) = (1.0 - 0.99, -0.01, -0.005, 1.0 - 0.98);
             let det = a * d - b * c;
-            [(d * 1.0 - b * -1.0) / det, (a * -1.0 - c * 1.0) / det] as [f64; 2]
+            [(d + b) / det, (-a - c) / det] as [f64; 2]
         };
         let mut aa = Anderson::new(3);
         let mut z: Vec<f64> = vec![0.0, 0.0];

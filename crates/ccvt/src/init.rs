@@ -35,7 +35,10 @@ pub fn initial_points(region: &Region, k: usize, init: Init, seed: u64) -> Vec<D
             let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
             let centre = region.polygonize(1e-3 * h).centroid();
             let angle = rng.range(0.0, std::f64::consts::FRAC_PI_3);
-            let (u, v) = (DVec2::from_angle(angle) * h, DVec2::from_angle(angle + std::f64::consts::FRAC_PI_3) * h);
+            let (u, v) = (
+                DVec2::from_angle(angle) * h,
+                DVec2::from_angle(angle + std::f64::consts::FRAC_PI_3) * h,
+            );
             let reach = ((hi - lo).length() / h).ceil() as i64 + 1;
             let mut pts = Vec::new();
             for i in -reach..=reach {

@@ -84,12 +84,23 @@ pub fn step(phase: &Phase, z: &[DVec2]) -> Step {
         }
         assign_corners(region, z, &del, &mut roles, &mut targets);
     }
-    Step { cells, energy, roles, targets }
+    Step {
+        cells,
+        energy,
+        roles,
+        targets,
+    }
 }
 
 /// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
 /// corners share a nearest generator (too coarse), the next-nearest free neighbour takes it.
-fn assign_corners(region: &Region, z: &[DVec2], del: &Delaunay, roles: &mut [Role], targets: &mut [DVec2]) {
+fn assign_corners(
+    region: &Region,
+    z: &[DVec2],
+    del: &Delaunay,
+    roles: &mut [Role],
+    targets: &mut [DVec2],
+) {
     for (ci, c) in region.corners().iter().enumerate() {
         let mut k = del.nearest(c.pos);
         if matches!(roles[k], Role::Corner(_)) {
@@ -109,7 +120,10 @@ fn assign_corners(region: &Region, z: &[DVec2], del: &Delaunay, roles: &mut [Rol
 }
 
 fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (*p - *q).length())
+        .fold(0.0, f64::max)
 }
 
 /// Iterate the map of `step` from `z` until the largest move is below tol·spacing or the cap.
@@ -148,7 +162,12 @@ pub fn run(
         let mv = max_move(&s.targets, &z) / phase.spacing;
         energies.push(s.energy);
         moves.push(mv);
-        progress(Progress { iteration: iterations, max_iter: phase.max_iter, energy: s.energy, max_move: mv });
+        progress(Progress {
+            iteration: iterations,
+            max_iter: phase.max_iter,
+            energy: s.energy,
+            max_move: mv,
+        });
         if mv < phase.tol {
             return finish(s.targets.clone(), s, iterations, true);
         }
@@ -198,5 +217,11 @@ fn constrain(phase: &Phase, s: &Step, mixed: &[f64]) -> Vec<DVec2> {
 }
 
 fn finish(z: Vec<DVec2>, s: Step, iterations: usize, converged: bool) -> PhaseResult {
-    PhaseResult { z, roles: s.roles, cells: s.cells, iterations, converged }
+    PhaseResult {
+        z,
+        roles: s.roles,
+        cells: s.cells,
+        iterations,
+        converged,
+    }
 }

@@ -61,7 +61,10 @@ impl Default for Ccvt {
 impl Ccvt {
     /// Algorithm 1 with Lloyd iteration.
     pub fn algorithm1() -> Self {
-        Ccvt { algorithm: Algorithm::One, ..Ccvt::default() }
+        Ccvt {
+            algorithm: Algorithm::One,
+            ..Ccvt::default()
+        }
     }
     /// Algorithm 2 with Lloyd iteration.
     pub fn algorithm2() -> Self {
@@ -69,7 +72,10 @@ impl Ccvt {
     }
     /// Algorithm 2 with Anderson acceleration: the fast solver.
     pub fn fast() -> Self {
-        Ccvt { solver: Solver::Anderson { depth: 5 }, ..Ccvt::default() }
+        Ccvt {
+            solver: Solver::Anderson { depth: 5 },
+            ..Ccvt::default()
+        }
     }
 }
 
@@ -94,7 +100,12 @@ pub struct Generators {
 
 impl Ccvt {
     /// Run the algorithm and return the generators (no triangulation).
-    pub fn generators(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<Generators, MeshError> {
+    pub fn generators(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Generators, MeshError> {
         let k = request.size.points(region);
         let corners = region.corners().len();
         if k < corners.max(3) || k < 3 * region.loops().len() + corners {
@@ -113,13 +124,35 @@ impl Ccvt {
         let mut iterations = 0;
         let mut converged = true;
         let solver = self.solver;
-        fn phase<'a>(region: &'a Region, domain: &'a geometry::Polygon, request: &'a MeshRequest, constrained: bool, solver: Solver, spacing: f64) -> Phase<'a> {
-            Phase { region, domain, density: &request.density, constrained, solver, tol: request.tol, max_iter: request.max_iter, spacing }
+        fn phase<'a>(
+            region: &'a Region,
+            domain: &'a geometry::Polygon,
+            request: &'a MeshRequest,
+            constrained: bool,
+            solver: Solver,
+            spacing: f64,
+        ) -> Phase<'a> {
+            Phase {
+                region,
+                domain,
+                density: &request.density,
+                constrained,
+                solver,
+                tol: request.tol,
+                max_iter: request.max_iter,
+                spacing,
+            }
         }
         let final_domain = match self.algorithm {
             Algorithm::One => {
                 if self.init == Init::Cvt {
-                    let r = run(&phase(region, &omega, request, false, solver, spacing), z, &mut energies, &mut moves, progress);
+                    let r = run(
+                        &phase(region, &omega, request, false, solver, spacing),
+                        z,
+                        &mut energies,
+                        &mut moves,
+                        progress,
+                    );
                     iterations += r.iterations;
                     converged &= r.converged;
                     z = r.z;
@@ -131,11 +164,23 @@ impl Ccvt {
                 let (mut eps, mut domain) = (0.0, omega);
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
-                    let r = run(&phase(region, &domain, request, false, solver, spacing), z, &mut energies, &mut moves, progress);
+                    let r = run(
+                        &phase(region, &domain, request, false, solver, spacing),
+                        z,
+                        &mut energies,
+                        &mut moves,
+                        progress,
+                    );
                     iterations += r.iterations;
                     converged &= r.converged;
                     z = r.z;
-                    let boundary: Vec<f64> = r.cells.cells.iter().filter(|c| c.on_boundary()).map(|c| c.h).collect();
+                    let boundary: Vec<f64> = r
+                        .cells
+                        .cells
+                        .iter()
+                        .filter(|c| c.on_boundary())
+                        .map(|c| c.h)
+                        .collect();
                     let eps_new = boundary.iter().sum::<f64>() / boundary.len().max(1) as f64;
                     if (eps_new - eps).abs() < self.eps_tol * spacing {
                         settled = true;
@@ -145,31 +190,56 @@ impl Ccvt {
                     domain = expanded(region, &mut eps, tol_poly, &mut notes);
                 }
                 converged &= settled;
-                notes.push(format!("epsilon = {eps:.6e} ({:.4} of the spacing){}", eps / spacing, if settled { "" } else { ", not settled" }));
+                notes.push(format!(
+                    "epsilon = {eps:.6e} ({:.4} of the spacing){}",
+                    eps / spacing,
+                    if settled { "" } else { ", not settled" }
+                ));
                 domain
             }
         };
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
-        let r = run(&phase(region, &final_domain, request, true, solver, spacing), z, &mut energies, &mut moves, progress);
+        let r = run(
+            &phase(region, &final_domain, request, true, solver, spacing),
+            z,
+            &mut energies,
+            &mut moves,
+            progress,
+        );
         iterations += r.iterations;
         converged &= r.converged;
-        let markers: Vec<VertexMarker> = r
-            .z
-            .iter()
-            .zip(&r.roles)
-            .map(|(p, role)| match *role {
-                Role::Interior => VertexMarker::Interior,
-                Role::Corner(c) => {
-                    let corner = &region.corners()[c];
-                    VertexMarker::Corner { loop_index: corner.loop_index, corner: c, loop_param: corner.loop_param }
-                }
-                Role::Boundary(j) => {
-                    let bp = region.project_onto_piece(*p, j);
-                    VertexMarker::Boundary { loop_index: bp.loop_index, piece: j, loop_param: bp.loop_param }
-                }
-            })
-            .collect();
-        Ok(Generators { points: r.z, markers, iterations, converged, energy_history: energies, move_history: moves, notes })
+        let markers: Vec<VertexMarker> =
+            r.z.iter()
+                .zip(&r.roles)
+                .map(|(p, role)| match *role {
+                    Role::Interior => VertexMarker::Interior,
+                    Role::Corner(c) => {
+                        let corner = &region.corners()[c];
+                        VertexMarker::Corner {
+                            loop_index: corner.loop_index,
+                            corner: c,
+                            loop_param: corner.loop_param,
+                        }
+                    }
+                    Role::Boundary(j) => {
+                        let bp = region.project_onto_piece(*p, j);
+                        VertexMarker::Boundary {
+                            loop_index: bp.loop_index,
+                            piece: j,
+                            loop_param: bp.loop_param,
+                        }
+                    }
+                })
+                .collect();
+        Ok(Generators {
+            points: r.z,
+            markers,
+            iterations,
+            converged,
+            energy_history: energies,
+            move_history: moves,
+            notes,
+        })
     }
 }
 
@@ -183,27 +253,50 @@ impl Mesher for Ccvt {
         }
     }
 
-    fn mesh(&self, region: &Region, request: &MeshRequest, progress: &mut dyn FnMut(Progress)) -> Result<MeshResult, MeshError> {
+    fn mesh(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<MeshResult, MeshError> {
         let g = self.generators(region, request, progress)?;
         let mesh = tessellation::conforming_mesh(&g.points, &g.markers, region)?;
         let mut notes = g.notes;
         if mesh.num_vertices() < g.points.len() {
-            notes.push(format!("{} generators outside the boundary polygon were dropped from the mesh", g.points.len() - mesh.num_vertices()));
+            notes.push(format!(
+                "{} generators outside the boundary polygon were dropped from the mesh",
+                g.points.len() - mesh.num_vertices()
+            ));
         }
-        Ok(MeshResult { mesh, iterations: g.iterations, converged: g.converged, energy_history: g.energy_history, move_history: g.move_history, notes })
+        Ok(MeshResult {
+            mesh,
+            iterations: g.iterations,
+            converged: g.converged,
+            energy_history: g.energy_history,
+            move_history: g.move_history,
+            notes,
+        })
     }
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
 /// meshed); the reduction is reported.
-fn expanded(region: &Region, eps: &mut f64, tol: f64, notes: &mut Vec<String>) -> geometry::Polygon {
+fn expanded(
+    region: &Region,
+    eps: &mut f64,
+    tol: f64,
+    notes: &mut Vec<String>,
+) -> geometry::Polygon {
     loop {
         let poly = region.expand(*eps, tol);
         if poly.rings.len() == region.loops().len() {
             return poly;
         }
         let reduced = *eps * 0.8;
-        notes.push(format!("epsilon {:.4e} closes a hole; reduced to {reduced:.4e}", *eps));
+        notes.push(format!(
+            "epsilon {:.4e} closes a hole; reduced to {reduced:.4e}",
+            *eps
+        ));
         *eps = reduced;
     }
 }

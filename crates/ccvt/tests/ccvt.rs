@@ -11,20 +11,40 @@ fn run(m: &Ccvt, region: &Region, k: usize, seed: u64) -> MeshResult {
 /// The properties every CCVT mesh must have, for any region.
 fn assert_ccvt_properties(region: &Region, r: &MeshResult, k: usize) {
     let diam = region.diameter();
-    assert!(r.converged, "{}: not converged after {} iterations", region.name(), r.iterations);
+    assert!(
+        r.converged,
+        "{}: not converged after {} iterations",
+        region.name(),
+        r.iterations
+    );
     check_conforming(&r.mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
-    assert_eq!(r.mesh.num_vertices(), k, "{}: generators dropped", region.name());
+    assert_eq!(
+        r.mesh.num_vertices(),
+        k,
+        "{}: generators dropped",
+        region.name()
+    );
     for (p, m) in r.mesh.points.iter().zip(&r.mesh.markers) {
         if m.on_boundary() {
             let d = region.signed_distance(*p).abs();
-            assert!(d < 1e-12 * diam, "{}: boundary generator {p} is {d:e} off the boundary", region.name());
+            assert!(
+                d < 1e-12 * diam,
+                "{}: boundary generator {p} is {d:e} off the boundary",
+                region.name()
+            );
         }
     }
     for (ci, c) in region.corners().iter().enumerate() {
         let carried = r.mesh.points.iter().zip(&r.mesh.markers).any(|(p, m)| {
-            matches!(m, VertexMarker::Corner { corner, .. } if *corner == ci) && (*p - c.pos).length() < 1e-12 * diam
+            matches!(m, VertexMarker::Corner { corner, .. } if *corner == ci)
+                && (*p - c.pos).length() < 1e-12 * diam
         });
-        assert!(carried, "{}: corner {ci} at {} carries no generator", region.name(), c.pos);
+        assert!(
+            carried,
+            "{}: corner {ci} at {} carries no generator",
+            region.name(),
+            c.pos
+        );
     }
 }
 
@@ -39,9 +59,15 @@ fn circle_19_is_one_centre_a_ring_of_six_and_twelve_on_the_boundary() {
         assert_eq!(boundary, 12, "{}: {boundary} boundary generators", m.name());
         let centre = radii.iter().filter(|&&r| r < 0.05).count();
         assert_eq!(centre, 1, "{}: radii {radii:?}", m.name());
-        let ring: Vec<f64> = radii.iter().copied().filter(|&r| (0.05..0.99).contains(&r)).collect();
+        let ring: Vec<f64> = radii
+            .iter()
+            .copied()
+            .filter(|&r| (0.05..0.99).contains(&r))
+            .collect();
         assert_eq!(ring.len(), 6);
-        let (lo, hi) = ring.iter().fold((f64::MAX, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
+        let (lo, hi) = ring
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(a, b), &r| (a.min(r), b.max(r)));
         assert!(hi - lo < 1e-3, "{}: ring radii spread {lo}..{hi}", m.name());
     }
 }
@@ -57,7 +83,12 @@ fn lloyd_energy_never_increases_while_labels_are_fixed() {
     // Labels settle early; check the tail where moves are small.
     let start = e.len() / 3;
     for w in e[start..].windows(2) {
-        assert!(w[1] <= w[0] * (1.0 + 1e-12), "energy rose from {} to {}", w[0], w[1]);
+        assert!(
+            w[1] <= w[0] * (1.0 + 1e-12),
+            "energy rose from {} to {}",
+            w[0],
+            w[1]
+        );
     }
     // Constraining generators onto Γ raises the energy above the unconstrained start, so
     // compare within the tail only: the iteration must still make progress there.
@@ -88,19 +119,45 @@ fn capped_run_is_reported_as_not_converged() {
 #[test]
 fn too_few_points_for_the_corners_is_an_error() {
     let region = Region::builtin("hex_hole").unwrap();
-    let err = Ccvt::algorithm1().mesh(&region, &MeshRequest::points(8), &mut |_| {}).unwrap_err();
+    let err = Ccvt::algorithm1()
+        .mesh(&region, &MeshRequest::points(8), &mut |_| {})
+        .unwrap_err();
     assert!(err.to_string().contains("corners"), "{err}");
 }
 
 #[test]
 fn fast_solver_reaches_lloyds_energy_in_fewer_iterations() {
     let region = Region::builtin("annulus").unwrap();
-    let lloyd = run(&Ccvt { init: ccvt::Init::Lattice, ..Ccvt::algorithm1() }, &region, 303, 2);
-    let fast = run(&Ccvt { algorithm: ccvt::Algorithm::One, ..Ccvt::fast() }, &region, 303, 2);
+    let lloyd = run(
+        &Ccvt {
+            init: ccvt::Init::Lattice,
+            ..Ccvt::algorithm1()
+        },
+        &region,
+        303,
+        2,
+    );
+    let fast = run(
+        &Ccvt {
+            algorithm: ccvt::Algorithm::One,
+            ..Ccvt::fast()
+        },
+        &region,
+        303,
+        2,
+    );
     assert!(fast.converged && lloyd.converged);
-    let (el, ef) = (*lloyd.energy_history.last().unwrap(), *fast.energy_history.last().unwrap());
+    let (el, ef) = (
+        *lloyd.energy_history.last().unwrap(),
+        *fast.energy_history.last().unwrap(),
+    );
     assert!(ef <= el * (1.0 + 1e-3), "fast energy {ef} vs Lloyd {el}");
-    assert!(fast.iterations < lloyd.iterations, "fast {} vs Lloyd {}", fast.iterations, lloyd.iterations);
+    assert!(
+        fast.iterations < lloyd.iterations,
+        "fast {} vs Lloyd {}",
+        fast.iterations,
+        lloyd.iterations
+    );
 }
 
 /// All ten regions at the paper's K with both algorithms (slow in the test profile).
@@ -140,4 +197,3 @@ const PAPER_K: [(&str, usize); 12] = [
     ("square_two_hex", 203),
     ("lake", 1109),
 ];
-

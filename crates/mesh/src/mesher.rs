@@ -38,7 +38,13 @@ pub struct MeshRequest {
 impl MeshRequest {
     /// A request for K points with the documented defaults.
     pub fn points(k: usize) -> Self {
-        MeshRequest { size: Size::Points(k), seed: 1, tol: 1e-4, max_iter: 1000, density: Density::Uniform }
+        MeshRequest {
+            size: Size::Points(k),
+            seed: 1,
+            tol: 1e-4,
+            max_iter: 1000,
+            density: Density::Uniform,
+        }
     }
     /// Builder: seed.
     pub fn seed(mut self, seed: u64) -> Self {
@@ -110,4 +116,3 @@ pub trait Mesher: Sync {
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError>;
 }
-

@@ -73,7 +73,11 @@ impl Mesh {
     /// The three corner points of triangle `t`.
     pub fn triangle(&self, t: usize) -> [DVec2; 3] {
         let [a, b, c] = self.triangles[t];
-        [self.points[a as usize], self.points[b as usize], self.points[c as usize]]
+        [
+            self.points[a as usize],
+            self.points[b as usize],
+            self.points[c as usize],
+        ]
     }
     /// Sum of triangle areas.
     pub fn area(&self) -> f64 {
