@@ -1,0 +1,54 @@
+//! Measure DistMesh on one region: `cargo run --release -p distmesh --example distmesh_probe -- NAME K [MAX_ITER]`.
+use distmesh::DistMesh;
+use geometry::Region;
+use mesh::{check_conforming, MeshRequest, Mesher};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let name = args.get(1).map_or("circle", |s| s.as_str());
+    let k: usize = args.get(2).map_or(88, |s| s.parse().unwrap());
+    let max_iter: usize = args.get(3).map_or(1000, |s| s.parse().unwrap());
+    let region = Region::builtin(name).unwrap();
+    let t = Instant::now();
+    let r = DistMesh::default()
+        .mesh(
+            &region,
+            &MeshRequest::points(k).max_iter(max_iter),
+            &mut |_| {},
+        )
+        .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    println!(
+        "{name} K={k}: reached {} K~={} min angle {:.2} iterations {} converged {} {:.3} s conforming {:?}",
+        r.mesh.num_vertices(),
+        r.mesh.num_triangles(),
+        r.mesh.min_angle_deg(),
+        r.iterations,
+        r.converged,
+        secs,
+        check_conforming(&r.mesh, &region)
+    );
+    for t in 0..r.mesh.num_triangles() {
+        let p = r.mesh.triangle(t);
+        let m = (0..3)
+            .map(|i| {
+                (p[(i + 1) % 3] - p[i])
+                    .angle_to(p[(i + 2) % 3] - p[i])
+                    .abs()
+                    .to_degrees()
+            })
+            .fold(180.0, f64::min);
+        if m < 15.0 {
+            let tri = r.mesh.triangles[t];
+            println!(
+                "  tri {tri:?} min {m:.3} {:?} {:?}",
+                p,
+                tri.map(|v| r.mesh.markers[v as usize])
+            );
+        }
+    }
+    for n in &r.notes {
+        println!("  {n}");
+    }
+}

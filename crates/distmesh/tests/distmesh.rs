@@ -1,0 +1,212 @@
+//! End-to-end tests of DistMesh.
+use distmesh::{initial_points, DistMesh};
+use geometry::{Density, Region};
+use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+
+fn run(name: &str, k: usize, req: MeshRequest) -> (Region, MeshResult) {
+    let region = Region::builtin(name).unwrap();
+    let r = DistMesh::default()
+        .mesh(
+            &region,
+            &MeshRequest {
+                size: mesh::Size::Points(k),
+                ..req
+            },
+            &mut |_| {},
+        )
+        .unwrap();
+    (region, r)
+}
+
+fn assert_good(region: &Region, r: &MeshResult, k: usize) {
+    let mesh = &r.mesh;
+    check_conforming(mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
+    assert_eq!(mesh.num_vertices(), k, "{}", region.name());
+    for (ci, c) in region.corners().iter().enumerate() {
+        let v = mesh
+            .points
+            .iter()
+            .position(|p| *p == c.pos)
+            .unwrap_or_else(|| panic!("corner {ci} missing"));
+        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
+    }
+    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
+    let rel = (mesh.area() - region.area()).abs() / region.area();
+    assert!(
+        rel < if k < 50 { 0.08 } else { 0.02 },
+        "{}: area {} vs {}",
+        region.name(),
+        mesh.area(),
+        region.area()
+    );
+    assert_eq!(r.move_history.len(), r.iterations);
+    assert!(r.energy_history.is_empty());
+    // DistMesh meshes are nearly equilateral; a sliver would mean a broken truss.
+    assert!(
+        mesh.min_angle_deg() > 15.0,
+        "{}: min angle {}",
+        region.name(),
+        mesh.min_angle_deg()
+    );
+}
+
+#[test]
+fn circle_88() {
+    let (region, r) = run("circle", 88, MeshRequest::points(88));
+    assert_good(&region, &r, 88);
+    assert!(r.converged, "{:?}", r.notes);
+    assert!(*r.move_history.last().unwrap() < 0.001);
+}
+
+#[test]
+fn square_two_hex_203() {
+    let (region, r) = run("square_two_hex", 203, MeshRequest::points(203));
+    assert_good(&region, &r, 203);
+}
+
+#[test]
+fn iteration_cap_is_not_convergence() {
+    let (region, r) = run(
+        "square_two_hex",
+        203,
+        MeshRequest::points(203).max_iter(100),
+    );
+    assert_eq!(r.iterations, 100);
+    assert_eq!(r.move_history.len(), 100);
+    assert!(!r.converged);
+    check_conforming(&r.mesh, &region).unwrap();
+    // Stopped long before the boundary is resolved: an error, never a non-conforming mesh.
+    let region = Region::builtin("annulus").unwrap();
+    for cap in [1, 5, 30] {
+        match DistMesh::default().mesh(
+            &region,
+            &MeshRequest::points(303).max_iter(cap),
+            &mut |_| {},
+        ) {
+            Ok(r) => {
+                assert!(!r.converged);
+                check_conforming(&r.mesh, &region).unwrap();
+            }
+            Err(e) => assert!(matches!(e, MeshError::Failed { .. }), "{e}"),
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_mesh() {
+    let (_, a) = run("horn", 138, MeshRequest::points(138).seed(7));
+    let (_, b) = run("horn", 138, MeshRequest::points(138).seed(7));
+    assert_eq!(a.mesh, b.mesh);
+    assert_eq!(a.move_history, b.move_history);
+}
+
+#[test]
+fn surplus_removal_follows_the_seed() {
+    // square_two_hex: the grid count jumps over K = 203, so points are removed at random.
+    let (_, a) = run("square_two_hex", 203, MeshRequest::points(203).seed(1));
+    let (_, b) = run("square_two_hex", 203, MeshRequest::points(203).seed(2));
+    assert!(a.notes.iter().any(|n| n.contains("removed at random")));
+    assert_ne!(a.mesh.points, b.mesh.points);
+    assert_eq!(a.mesh.num_vertices(), b.mesh.num_vertices());
+}
+
+#[test]
+fn graded_density_puts_more_points_where_dense() {
+    let region = Region::builtin("square_hole").unwrap();
+    let rho = Density::Function(std::sync::Arc::new(
+        |p: geometry::DVec2| if p.x > 0.0 { 16.0 } else { 1.0 },
+    ));
+    let r = DistMesh::default()
+        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    assert_eq!(r.mesh.num_vertices(), 300);
+    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
+    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
+    // h ∝ ρ^(-1/4): about 4× the points per area where ρ is 16× larger.
+    assert!(
+        right as f64 > 2.5 * left as f64,
+        "right {right}, left {left}"
+    );
+}
+
+#[test]
+fn progress_once_per_iteration() {
+    let region = Region::builtin("circle").unwrap();
+    let mut its = Vec::new();
+    let r = DistMesh::default()
+        .mesh(&region, &MeshRequest::points(19), &mut |p| {
+            its.push(p.iteration)
+        })
+        .unwrap();
+    assert_eq!(its, (1..=r.iterations).collect::<Vec<_>>());
+}
+
+#[test]
+fn initial_grid_is_equilateral_and_inside() {
+    let region = Region::builtin("square_hole").unwrap();
+    let h0 = 0.2;
+    let p = initial_points(&region, h0, 0.001, &Density::Uniform, 1);
+    let nfix = region.corners().len();
+    assert_eq!(
+        &p[..nfix],
+        &region.corners().iter().map(|c| c.pos).collect::<Vec<_>>()[..]
+    );
+    assert!(p.iter().all(|q| region.signed_distance(*q) < 0.001 * h0));
+    // Nearest-neighbour distance of grid points is h0 (equilateral lattice).
+    let g = &p[nfix..];
+    for q in g.iter().take(50) {
+        let d = g
+            .iter()
+            .filter(|r| *r != q)
+            .map(|r| (*r - *q).length())
+            .fold(f64::INFINITY, f64::min);
+        assert!((d - h0).abs() < 1e-12, "{d}");
+    }
+    // About |Ω| / (√3/2 h0²) lattice points.
+    let expect = region.area() / (3f64.sqrt() / 2.0 * h0 * h0);
+    assert!(
+        (g.len() as f64 - expect).abs() < 0.15 * expect,
+        "{} vs {expect}",
+        g.len()
+    );
+}
+
+#[test]
+fn too_few_points_is_an_error() {
+    let region = Region::builtin("square_two_hex").unwrap();
+    let e = DistMesh::default()
+        .mesh(&region, &MeshRequest::points(4), &mut |_| {})
+        .unwrap_err();
+    assert!(matches!(e, MeshError::BadRequest(_)));
+}
+
+/// All ten paper regions at the paper's K.
+#[test]
+fn all_paper_regions() {
+    let cases = [
+        ("circle", 19),
+        ("circle", 88),
+        ("circle", 362),
+        ("annulus", 303),
+        ("square_hole", 194),
+        ("hex_hole", 240),
+        ("horn", 138),
+        ("superellipse", 505),
+        ("bike_seat", 136),
+        ("pie_hole", 287),
+        ("square_two_hex", 203),
+        ("lake", 1109),
+    ];
+    for (name, k) in cases {
+        let (region, r) = run(name, k, MeshRequest::points(k));
+        assert_good(&region, &r, k);
+        eprintln!(
+            "{name} K={k}: {} iterations, converged {}, notes {:?}",
+            r.iterations, r.converged, r.notes
+        );
+    }
+    for name in Region::builtin_names() {
+        assert!(cases.iter().any(|c| c.0 == *name), "{name} not covered");
+    }
+}

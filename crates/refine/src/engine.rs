@@ -1,0 +1,911 @@
+//! Ruppert/Shewchuk Delaunay refinement in the manner of Triangle 1.6 (`triangle -q -a`):
+//!
+//! * encroached subsegments are split before any triangle (diametral-circle test against the
+//!   apex of the triangle inside the domain, i.e. visible encroachment);
+//! * bad triangles (smallest angle below the bound, or area above the bound) are taken
+//!   worst-first; the new vertex is Üngör's off-center when that is closer to the shortest
+//!   edge than the circumcenter (Triangle's default), otherwise the circumcenter;
+//! * a new vertex that would encroach a subsegment (it would become the apex of a triangle on
+//!   it with an angle > 90°) or that lies beyond a boundary segment is not inserted: the
+//!   subsegment is split instead and the triangle retried;
+//! * a subsegment whose triangle meets another segment at one of its ends is split at a power
+//!   of two from that end (concentric shells), otherwise at its middle; a skinny triangle whose
+//!   shortest edge joins two input segments that meet at a vertex, at equal distances from it
+//!   (the same shell), is not split for its angle (it is forced by a small input angle);
+//! * curved pieces: a split point is placed on the exact curve (the chord point projected onto
+//!   the piece), so every boundary vertex lies on ∂Ω.
+//!
+//! The triangulation is spade's constrained Delaunay triangulation of the convex hull; faces
+//! outside Ω are told apart by the orientation of an adjacent subsegment or by an even-odd
+//! ray cast through the subsegment grid.
+use crate::boundary::{dist_to_segment, is_curved, Pslg, VKind};
+use crate::grid::{SegGrid, SegKey};
+use geometry::{DVec2, Density, PieceId, Region};
+use mesh::MeshError;
+use robust::Coord;
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
+use std::cmp::Ordering;
+use std::collections::{BTreeMap, BinaryHeap, HashSet, VecDeque};
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// Refinement bounds.
+#[derive(Clone, Debug)]
+pub(crate) struct Bounds {
+    /// Minimum angle (degrees); 0 disables the angle test.
+    pub min_angle_deg: f64,
+    /// Maximum triangle area (scaled by ρ(centroid)^(-1/2) for a non-uniform density).
+    pub max_area: f64,
+    /// Use off-centers (Triangle's default) instead of plain circumcenters.
+    pub off_centers: bool,
+    /// Stop (incomplete) when the triangulation reaches this many vertices.
+    pub max_vertices: usize,
+}
+
+/// What one refinement run produced.
+pub(crate) struct Refined {
+    pub points: Vec<DVec2>,
+    pub kinds: Vec<VKind>,
+    /// CCW triangles inside the region.
+    pub triangles: Vec<[u32; 3]>,
+    /// False if the vertex budget ran out.
+    pub complete: bool,
+    /// Triangles that could not be improved (their new vertex coincided with an old one, or a
+    /// boundary subsegment became too short to split).
+    pub given_up: usize,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Seg {
+    from: u32,
+    to: u32,
+    piece: PieceId,
+    /// The input (PSLG) segment this subsegment is part of.
+    input: u32,
+    frozen: bool,
+}
+
+/// A queued bad triangle; the heap pops the smallest `sin_min` (worst) first, then FIFO.
+struct BadTri {
+    sin_min: f64,
+    seq: u64,
+    v: [u32; 3],
+}
+
+impl PartialEq for BadTri {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for BadTri {}
+impl PartialOrd for BadTri {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for BadTri {
+    fn cmp(&self, o: &Self) -> Ordering {
+        // Reversed: BinaryHeap is a max-heap.
+        o.sin_min
+            .total_cmp(&self.sin_min)
+            .then(o.seq.cmp(&self.seq))
+    }
+}
+
+fn key(a: u32, b: u32) -> SegKey {
+    if a < b {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
+fn vh(i: u32) -> FixedVertexHandle {
+    FixedVertexHandle::from_index(i as usize)
+}
+
+fn pt(p: DVec2) -> Point2<f64> {
+    Point2::new(p.x, p.y)
+}
+
+fn coord(p: DVec2) -> Coord<f64> {
+    Coord { x: p.x, y: p.y }
+}
+
+fn failed(message: String) -> MeshError {
+    MeshError::Failed {
+        method: "refine".into(),
+        message,
+    }
+}
+
+/// Circumcenter of a, b, c (computed relative to a for accuracy).
+fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
+    let (ba, ca) = (b - a, c - a);
+    let d = 2.0 * ba.perp_dot(ca);
+    let (lb, lc) = (ba.length_squared(), ca.length_squared());
+    a + DVec2::new(ca.y * lb - ba.y * lc, ba.x * lc - ca.x * lb) / d
+}
+
+struct Engine<'a> {
+    region: &'a Region,
+    density: &'a Density,
+    bounds: Bounds,
+    sin_bound: f64,
+    off_constant: f64,
+    cdt: Cdt,
+    kinds: Vec<VKind>,
+    segs: BTreeMap<SegKey, Seg>,
+    /// End points (origin, destination) of each input segment.
+    inputs: Vec<(u32, u32)>,
+    grid: SegGrid,
+    bad: BinaryHeap<BadTri>,
+    enc: VecDeque<(SegKey, bool)>,
+    seq: u64,
+    min_seg: f64,
+    given_up: usize,
+    dropped: HashSet<[u32; 3]>,
+}
+
+/// Refine the constrained Delaunay triangulation of `pslg` inside `region`.
+pub(crate) fn refine(
+    region: &Region,
+    pslg: Pslg,
+    density: &Density,
+    bounds: Bounds,
+) -> Result<Refined, MeshError> {
+    let n = pslg.points.len();
+    let verts: Vec<Point2<f64>> = pslg.points.iter().map(|p| pt(*p)).collect();
+    let edges: Vec<[usize; 2]> = pslg.segments.iter().map(|s| [s.0, s.1]).collect();
+    let cdt = Cdt::bulk_load_cdt(verts, edges)
+        .map_err(|e| failed(format!("initial triangulation: {e:?}")))?;
+    if cdt.num_vertices() != n || cdt.num_constraints() != pslg.segments.len() {
+        return Err(failed(
+            "boundary vertices coincide or boundary segments cross".into(),
+        ));
+    }
+    let (lo, hi) = region.bbox();
+    let pad = 1e-6 * region.diameter();
+    let mut grid = SegGrid::new(
+        lo - DVec2::splat(pad),
+        hi + DVec2::splat(pad),
+        4 * pslg.segments.len().max(16),
+    );
+    let mut segs = BTreeMap::new();
+    let mut inputs = Vec::with_capacity(pslg.segments.len());
+    for (i, &(a, b, piece)) in pslg.segments.iter().enumerate() {
+        let (a, b) = (a as u32, b as u32);
+        inputs.push((a, b));
+        segs.insert(
+            key(a, b),
+            Seg {
+                from: a,
+                to: b,
+                piece,
+                input: i as u32,
+                frozen: false,
+            },
+        );
+        grid.insert(key(a, b), pslg.points[a as usize], pslg.points[b as usize]);
+    }
+    let theta = bounds.min_angle_deg.to_radians();
+    let cos = theta.cos();
+    let off_constant = if bounds.off_centers && bounds.min_angle_deg > 0.0 {
+        0.475 * ((1.0 + cos) / (1.0 - cos)).sqrt()
+    } else {
+        0.0
+    };
+    let mut e = Engine {
+        region,
+        density,
+        sin_bound: theta.sin(),
+        off_constant,
+        bounds,
+        cdt,
+        kinds: pslg.kinds,
+        segs,
+        inputs,
+        grid,
+        bad: BinaryHeap::new(),
+        enc: VecDeque::new(),
+        seq: 0,
+        min_seg: 1e-9 * region.diameter(),
+        given_up: 0,
+        dropped: HashSet::new(),
+    };
+    let complete = e.run()?;
+    let triangles = e.inside_triangles();
+    let points = e
+        .cdt
+        .vertices()
+        .map(|v| DVec2::new(v.position().x, v.position().y))
+        .collect();
+    Ok(Refined {
+        points,
+        kinds: e.kinds,
+        triangles,
+        complete,
+        given_up: e.given_up,
+    })
+}
+
+impl Engine<'_> {
+    fn pos(&self, v: u32) -> DVec2 {
+        let p = self.cdt.vertex(vh(v)).position();
+        DVec2::new(p.x, p.y)
+    }
+
+    /// Main loop: encroached subsegments first, then the worst bad triangle; when both queues
+    /// are empty a full sweep re-checks everything (cheap insurance against missed updates).
+    fn run(&mut self) -> Result<bool, MeshError> {
+        loop {
+            if !self.sweep() {
+                return Ok(true);
+            }
+            loop {
+                if self.cdt.num_vertices() >= self.bounds.max_vertices {
+                    return Ok(false);
+                }
+                if let Some((k, forced)) = self.enc.pop_front() {
+                    self.split_segment(k, forced)?;
+                } else if let Some(t) = self.bad.pop() {
+                    self.split_triangle(t)?;
+                } else {
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Queue every encroached subsegment and every bad triangle; true if anything was queued.
+    fn sweep(&mut self) -> bool {
+        let keys: Vec<SegKey> = self.segs.keys().copied().collect();
+        for k in keys {
+            if self.encroached(k) {
+                self.enc.push_back((k, false));
+            }
+        }
+        let faces: Vec<[u32; 3]> = self
+            .cdt
+            .inner_faces()
+            .map(|f| f.vertices().map(|v| v.fix().index() as u32))
+            .collect();
+        for f in faces {
+            self.consider(f);
+        }
+        !self.enc.is_empty() || !self.bad.is_empty()
+    }
+
+    /// Is subsegment `k` encroached by the apex of the triangle on its domain side?
+    fn encroached(&self, k: SegKey) -> bool {
+        let Some(s) = self.segs.get(&k) else {
+            return false;
+        };
+        if s.frozen {
+            return false;
+        }
+        match self.apex(s) {
+            Some(x) => {
+                let (a, b, p) = (self.pos(s.from), self.pos(s.to), self.pos(x));
+                (a - p).dot(b - p) < 0.0
+            }
+            None => false,
+        }
+    }
+
+    /// Apex of the triangle left of the subsegment (inside the domain).
+    fn apex(&self, s: &Seg) -> Option<u32> {
+        let e = self.cdt.get_edge_from_neighbors(vh(s.from), vh(s.to))?;
+        e.opposite_vertex().map(|v| v.fix().index() as u32)
+    }
+
+    /// Is the CCW face (a, b, c) inside the region's current subsegment polygon?
+    ///
+    /// Decided topologically wherever possible: a face with a Steiner vertex inside Ω is inside
+    /// (its star cannot cross a subsegment), a face on a subsegment is inside iff it lies left of
+    /// the subsegment's loop direction, and any other face takes the class of the first such face
+    /// a short walk across non-subsegment edges reaches (reaching the convex hull means outside).
+    /// Only if the walk finds nothing is the centroid ray-cast: then it is far from ∂Ω, where
+    /// rounding cannot flip the answer (unlike for the slivers between nearly collinear
+    /// boundary vertices).
+    fn inside(&self, f: [u32; 3]) -> bool {
+        if let Some(c) = self.classify_local(f) {
+            return c;
+        }
+        let mut seen = vec![canonical(f)];
+        let mut queue = VecDeque::from([f]);
+        while let Some(g) = queue.pop_front() {
+            if seen.len() > 64 {
+                break;
+            }
+            for i in 0..3 {
+                let (a, b) = (g[i], g[(i + 1) % 3]);
+                let Some(e) = self.cdt.get_edge_from_neighbors(vh(b), vh(a)) else {
+                    continue;
+                };
+                let Some(o) = e.opposite_vertex() else {
+                    // Across (a, b) is the outside of the convex hull.
+                    return false;
+                };
+                let h = [b, a, o.fix().index() as u32];
+                if seen.contains(&canonical(h)) {
+                    continue;
+                }
+                if let Some(c) = self.classify_local(h) {
+                    return c;
+                }
+                seen.push(canonical(h));
+                queue.push_back(h);
+            }
+        }
+        let g = (self.pos(f[0]) + self.pos(f[1]) + self.pos(f[2])) / 3.0;
+        self.grid.contains(g, |v| self.pos(v))
+    }
+
+    /// The class of a face from its own vertices and edges, if they decide it.
+    fn classify_local(&self, f: [u32; 3]) -> Option<bool> {
+        if f.iter().any(|&v| self.kinds[v as usize] == VKind::Interior) {
+            return Some(true);
+        }
+        for i in 0..3 {
+            let (a, b) = (f[i], f[(i + 1) % 3]);
+            if let Some(s) = self.segs.get(&key(a, b)) {
+                // The region lies left of each subsegment's loop direction.
+                return Some(s.from == a);
+            }
+        }
+        None
+    }
+
+    fn max_area_at(&self, g: DVec2) -> f64 {
+        if self.density.is_uniform() {
+            self.bounds.max_area
+        } else {
+            self.bounds.max_area / self.density.at(g).max(1e-300).sqrt()
+        }
+    }
+
+    /// If the face is inside and bad, the sine of its smallest angle (its priority).
+    fn badness(&self, f: [u32; 3]) -> Option<f64> {
+        let p = f.map(|v| self.pos(v));
+        let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        // Edge i is opposite vertex i.
+        let l2 = [
+            (p[2] - p[1]).length_squared(),
+            (p[0] - p[2]).length_squared(),
+            (p[1] - p[0]).length_squared(),
+        ];
+        let short = (0..3).min_by(|&i, &j| l2[i].total_cmp(&l2[j])).unwrap();
+        let (o1, o2) = ((short + 1) % 3, (short + 2) % 3);
+        let sin_min = 2.0 * area / (l2[o1] * l2[o2]).sqrt();
+        let mut bad_angle = sin_min < self.sin_bound;
+        if bad_angle && self.input_angle_forced(f[o1], f[o2]) {
+            bad_angle = false;
+        }
+        let g = (p[0] + p[1] + p[2]) / 3.0;
+        let bad_area = area > self.max_area_at(g);
+        (bad_angle || bad_area).then_some(sin_min)
+    }
+
+    /// Triangle's exemption for small input angles: the shortest edge (b1, b2) of a skinny
+    /// triangle is not a subsegment but joins vertices on two input segments that meet at a
+    /// common end point, at equal distances (within 0.1% squared) from it. Splitting such a
+    /// triangle would only cascade towards the input angle.
+    fn input_angle_forced(&self, b1: u32, b2: u32) -> bool {
+        if self.segs.contains_key(&key(b1, b2))
+            || self.kinds[b1 as usize] == VKind::Interior
+            || self.kinds[b2 as usize] == VKind::Interior
+        {
+            return false;
+        }
+        let (in1, in2) = (self.inputs_at(b1), self.inputs_at(b2));
+        let (p1, p2) = (self.pos(b1), self.pos(b2));
+        for &s1 in &in1 {
+            for &s2 in &in2 {
+                if s1 == s2 {
+                    continue;
+                }
+                let ((o1, d1), (o2, d2)) = (self.inputs[s1 as usize], self.inputs[s2 as usize]);
+                let join = if d1 == o2 {
+                    d1
+                } else if o1 == d2 {
+                    o1
+                } else {
+                    continue;
+                };
+                let j = self.pos(join);
+                let (e1, e2) = ((p1 - j).length_squared(), (p2 - j).length_squared());
+                if e1 < 1.001 * e2 && e1 > 0.999 * e2 {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Input segments through boundary vertex `v` (one, or two at an input vertex).
+    fn inputs_at(&self, v: u32) -> Vec<u32> {
+        let mut out = Vec::with_capacity(2);
+        for e in self.cdt.vertex(vh(v)).out_edges() {
+            let w = e.to().fix().index() as u32;
+            if let Some(s) = self.segs.get(&key(v, w)) {
+                if !out.contains(&s.input) {
+                    out.push(s.input);
+                }
+            }
+        }
+        out
+    }
+
+    fn consider(&mut self, f: [u32; 3]) {
+        if self.dropped.contains(&canonical(f)) || !self.inside(f) {
+            return;
+        }
+        if let Some(sin_min) = self.badness(f) {
+            self.seq += 1;
+            self.bad.push(BadTri {
+                sin_min,
+                seq: self.seq,
+                v: f,
+            });
+        }
+    }
+
+    fn consider_star(&mut self, v: u32) {
+        let faces: Vec<[u32; 3]> = self
+            .cdt
+            .vertex(vh(v))
+            .out_edges()
+            .filter_map(|e| {
+                e.face()
+                    .as_inner()
+                    .map(|f| f.vertices().map(|x| x.fix().index() as u32))
+            })
+            .collect();
+        for f in faces {
+            self.consider(f);
+        }
+    }
+
+    /// After a boundary vertex was added: queue the subsegments it may encroach (those
+    /// opposite it in its star).
+    fn check_encroached_near(&mut self, v: u32) {
+        let opposite: Vec<SegKey> = self
+            .cdt
+            .vertex(vh(v))
+            .out_edges()
+            .filter(|e| e.face().as_inner().is_some())
+            .map(|e| {
+                let n = e.next();
+                key(n.from().fix().index() as u32, n.to().fix().index() as u32)
+            })
+            .collect();
+        for k in opposite {
+            if self.encroached(k) {
+                self.enc.push_back((k, false));
+            }
+        }
+    }
+
+    fn face_exists(&self, f: [u32; 3]) -> bool {
+        self.cdt
+            .get_edge_from_neighbors(vh(f[0]), vh(f[1]))
+            .and_then(|e| e.opposite_vertex())
+            .is_some_and(|v| v.fix().index() as u32 == f[2])
+    }
+
+    fn split_triangle(&mut self, t: BadTri) -> Result<(), MeshError> {
+        let f = t.v;
+        if !self.face_exists(f) || !self.inside(f) || self.badness(f).is_none() {
+            return Ok(());
+        }
+        let p = f.map(|v| self.pos(v));
+        let c = self.steiner_point(p);
+        // Simulate the insertion: the cavity of faces whose circumcircle holds c, grown from
+        // the bad triangle (whose circumcircle holds c) and bounded by subsegments. Every
+        // triangle the segment from the bad triangle to c crosses has c in its circumcircle, so
+        // c is visible from the triangle iff the face holding c is in the cavity.
+        let mut cavity: HashSet<[u32; 3]> = HashSet::from([canonical(f)]);
+        let mut stack = vec![f];
+        let mut walls: Vec<SegKey> = Vec::new();
+        while let Some(fc) = stack.pop() {
+            for i in 0..3 {
+                let (a, b) = (fc[i], fc[(i + 1) % 3]);
+                let k = key(a, b);
+                if self.segs.contains_key(&k) {
+                    if !walls.contains(&k) {
+                        walls.push(k);
+                    }
+                    continue;
+                }
+                let Some(e) = self.cdt.get_edge_from_neighbors(vh(b), vh(a)) else {
+                    continue;
+                };
+                let Some(o) = e.opposite_vertex() else {
+                    continue;
+                };
+                let nb = [b, a, o.fix().index() as u32];
+                if cavity.contains(&canonical(nb)) {
+                    continue;
+                }
+                let q = nb.map(|v| self.pos(v));
+                if robust::incircle(coord(q[0]), coord(q[1]), coord(q[2]), coord(c)) > 0.0 {
+                    cavity.insert(canonical(nb));
+                    stack.push(nb);
+                }
+            }
+        }
+        let holder: Vec<[u32; 3]> = match self.cdt.locate_with_hint(pt(c), vh(f[0])) {
+            PositionInTriangulation::OnFace(face) => vec![self
+                .cdt
+                .face(face)
+                .vertices()
+                .map(|v| v.fix().index() as u32)],
+            PositionInTriangulation::OnEdge(e) => {
+                let e = self.cdt.directed_edge(e);
+                [e, e.rev()]
+                    .iter()
+                    .filter_map(|h| {
+                        h.face()
+                            .as_inner()
+                            .map(|fc| fc.vertices().map(|v| v.fix().index() as u32))
+                    })
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        let on_wall = walls.iter().copied().find(|k| {
+            let (a, b) = (self.pos(k.0), self.pos(k.1));
+            robust::orient2d(coord(a), coord(b), coord(c)) == 0.0 && (a - c).dot(b - c) <= 0.0
+        });
+        if let Some(k) = on_wall {
+            return self.force_split(&[k], t);
+        }
+        if holder.is_empty() || !holder.iter().all(|h| cavity.contains(&canonical(*h))) {
+            // c lies beyond a subsegment of the cavity's wall: split the first one the segment
+            // from the triangle's centroid to c crosses (or, failing that, the nearest).
+            let g = (p[0] + p[1] + p[2]) / 3.0;
+            let crossing = walls
+                .iter()
+                .filter_map(|k| crossing_param(g, c, self.pos(k.0), self.pos(k.1)).map(|s| (s, *k)))
+                .min_by(|x, y| x.0.total_cmp(&y.0))
+                .map(|x| x.1);
+            let nearest = || {
+                walls
+                    .iter()
+                    .filter(|k| self.segs.get(k).is_some_and(|s| !s.frozen))
+                    .min_by(|x, y| {
+                        let dx = dist_to_segment(c, self.pos(x.0), self.pos(x.1));
+                        let dy = dist_to_segment(c, self.pos(y.0), self.pos(y.1));
+                        dx.total_cmp(&dy)
+                    })
+                    .copied()
+            };
+            return match crossing.or_else(nearest) {
+                Some(k) => self.force_split(&[k], t),
+                None => {
+                    self.give_up(f);
+                    Ok(())
+                }
+            };
+        }
+        // c would encroach a wall subsegment if the angle it makes there exceeds 90°.
+        let encroached: Vec<SegKey> = walls
+            .into_iter()
+            .filter(|k| {
+                let (a, b) = (self.pos(k.0), self.pos(k.1));
+                (a - c).dot(b - c) < 0.0
+            })
+            .collect();
+        if !encroached.is_empty() {
+            return self.force_split(&encroached, t);
+        }
+        let n = self.cdt.num_vertices();
+        let v = self
+            .cdt
+            .insert_with_hint(pt(c), vh(f[0]))
+            .map_err(|e| failed(format!("insertion: {e:?}")))?;
+        if v.index() < n {
+            self.give_up(f);
+            return Ok(());
+        }
+        self.kinds.push(VKind::Interior);
+        self.consider_star(v.index() as u32);
+        Ok(())
+    }
+
+    /// Triangle's new vertex for a bad triangle: the off-center on the shortest edge's
+    /// bisector when it is nearer to that edge than the circumcenter, else the circumcenter.
+    fn steiner_point(&self, p: [DVec2; 3]) -> DVec2 {
+        let cc = circumcenter(p[0], p[1], p[2]);
+        if self.off_constant <= 0.0 {
+            return cc;
+        }
+        // Shortest edge (p[i], p[i+1]): the triangle lies to its left (CCW order).
+        let i = (0..3)
+            .min_by(|&i, &j| {
+                let li = (p[(i + 1) % 3] - p[i]).length_squared();
+                let lj = (p[(j + 1) % 3] - p[j]).length_squared();
+                li.total_cmp(&lj)
+            })
+            .unwrap();
+        let (o, d) = (p[i], p[(i + 1) % 3]);
+        let e = d - o;
+        let off = o + 0.5 * e + self.off_constant * e.perp();
+        if (off - o).length_squared() < (cc - o).length_squared() {
+            off
+        } else {
+            cc
+        }
+    }
+
+    fn force_split(&mut self, keys: &[SegKey], t: BadTri) -> Result<(), MeshError> {
+        let mut any = false;
+        for &k in keys {
+            if self.segs.get(&k).is_some_and(|s| !s.frozen) {
+                self.enc.push_front((k, true));
+                any = true;
+            }
+        }
+        if any {
+            self.seq += 1;
+            self.bad.push(BadTri { seq: self.seq, ..t });
+        } else {
+            self.give_up(t.v);
+        }
+        Ok(())
+    }
+
+    fn give_up(&mut self, f: [u32; 3]) {
+        self.given_up += 1;
+        self.dropped.insert(canonical(f));
+    }
+
+    /// Split subsegment `k` (if it still exists and, unless forced, is still encroached).
+    fn split_segment(&mut self, k: SegKey, forced: bool) -> Result<(), MeshError> {
+        let Some(&s) = self.segs.get(&k) else {
+            return Ok(());
+        };
+        if s.frozen || (!forced && !self.encroached(k)) {
+            return Ok(());
+        }
+        let (a, b) = (s.from, s.to);
+        let (pa, pb) = (self.pos(a), self.pos(b));
+        let len = (pb - pa).length();
+        if len < self.min_seg {
+            self.freeze(k);
+            return Ok(());
+        }
+        // Concentric shells: if the domain triangle on this subsegment has another segment at
+        // one end, split at a power of two from that end (Triangle's rule).
+        let apex = self.apex(&s);
+        let acute_a = apex.is_some_and(|x| self.segs.contains_key(&key(a, x)));
+        let acute_b = apex.is_some_and(|x| self.segs.contains_key(&key(b, x)));
+        let mut split = 0.5;
+        if acute_a || acute_b {
+            let mut p2 = 1.0f64;
+            while len > 3.0 * p2 {
+                p2 *= 2.0;
+            }
+            while len < 1.5 * p2 {
+                p2 *= 0.5;
+            }
+            split = p2 / len;
+            if acute_b {
+                split = 1.0 - split;
+            }
+        }
+        let piece = &self.region.pieces()[s.piece];
+        let m = if !is_curved(piece) {
+            pa.lerp(pb, split)
+        } else if split == 0.5 {
+            self.region
+                .project_onto_piece(pa.lerp(pb, 0.5), s.piece)
+                .point
+        } else {
+            // On the curve at the shell's Euclidean distance from the shell's centre end.
+            let (centre, other, r) = if acute_b {
+                (pb, pa, (1.0 - split) * len)
+            } else {
+                (pa, pb, split * len)
+            };
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                let q = self
+                    .region
+                    .project_onto_piece(centre.lerp(other, mid), s.piece)
+                    .point;
+                if (q - centre).length() < r {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            self.region
+                .project_onto_piece(centre.lerp(other, 0.5 * (lo + hi)), s.piece)
+                .point
+        };
+        let (dm_a, dm_b) = ((m - pa).length(), (m - pb).length());
+        if !m.is_finite() || dm_a < 0.05 * len || dm_b < 0.05 * len {
+            self.freeze(k);
+            return Ok(());
+        }
+        let edge = self
+            .cdt
+            .get_edge_from_neighbors(vh(a), vh(b))
+            .ok_or_else(|| failed("subsegment missing from the triangulation".into()))?
+            .fix()
+            .as_undirected();
+        self.cdt.remove_constraint_edge(edge);
+        let conflict = self
+            .cdt
+            .get_conflicting_edges_between_points(pt(pa), pt(m))
+            .next()
+            .is_some()
+            || self
+                .cdt
+                .get_conflicting_edges_between_points(pt(m), pt(pb))
+                .next()
+                .is_some();
+        let n = self.cdt.num_vertices();
+        let v = if conflict {
+            None
+        } else {
+            let v = self
+                .cdt
+                .insert_with_hint(pt(m), vh(a))
+                .map_err(|e| failed(format!("insertion: {e:?}")))?;
+            (v.index() == n).then_some(v)
+        };
+        let Some(v) = v else {
+            // Another boundary runs through the lens of this chord, or m hit a vertex:
+            // restore the subsegment and leave it as it is.
+            self.cdt.add_constraint(vh(a), vh(b));
+            self.freeze(k);
+            return Ok(());
+        };
+        self.kinds.push(VKind::Boundary(s.piece));
+        let vi = v.index() as u32;
+        let e1 = self.cdt.try_add_constraint(vh(a), v);
+        let e2 = self.cdt.try_add_constraint(v, vh(b));
+        if e1.len() != 1 || e2.len() != 1 {
+            return Err(failed(format!(
+                "could not split boundary segment at ({}, {})",
+                m.x, m.y
+            )));
+        }
+        self.segs.remove(&k);
+        self.grid.remove(k, pa, pb);
+        for (x, y) in [(a, vi), (vi, b)] {
+            self.segs.insert(
+                key(x, y),
+                Seg {
+                    from: x,
+                    to: y,
+                    frozen: false,
+                    ..s
+                },
+            );
+            self.grid.insert(key(x, y), self.pos(x), self.pos(y));
+        }
+        for kk in [key(a, vi), key(vi, b)] {
+            if self.encroached(kk) {
+                self.enc.push_back((kk, false));
+            }
+        }
+        self.check_encroached_near(vi);
+        for w in [vi, a, b] {
+            self.consider_star(w);
+        }
+        Ok(())
+    }
+
+    fn freeze(&mut self, k: SegKey) {
+        if let Some(s) = self.segs.get_mut(&k) {
+            s.frozen = true;
+            self.given_up += 1;
+        }
+    }
+
+    /// The faces inside the region: flood fill from the domain side of every subsegment,
+    /// never crossing a subsegment (topological, so exact).
+    fn inside_triangles(&self) -> Vec<[u32; 3]> {
+        let mut seen: HashSet<spade::handles::FixedFaceHandle<spade::handles::InnerTag>> =
+            HashSet::new();
+        let mut stack = Vec::new();
+        for s in self.segs.values() {
+            if let Some(e) = self.cdt.get_edge_from_neighbors(vh(s.from), vh(s.to)) {
+                if let Some(f) = e.face().as_inner() {
+                    if seen.insert(f.fix()) {
+                        stack.push(f.fix());
+                    }
+                }
+            }
+        }
+        while let Some(f) = stack.pop() {
+            for e in self.cdt.face(f).adjacent_edges() {
+                if e.is_constraint_edge() {
+                    continue;
+                }
+                if let Some(g) = e.rev().face().as_inner() {
+                    if seen.insert(g.fix()) {
+                        stack.push(g.fix());
+                    }
+                }
+            }
+        }
+        let mut faces: Vec<_> = seen.into_iter().collect();
+        faces.sort_unstable_by_key(|f| f.index());
+        faces
+            .into_iter()
+            .map(|f| self.cdt.face(f).vertices().map(|v| v.fix().index() as u32))
+            .collect()
+    }
+}
+
+/// Parameter along g→c where it crosses segment ab (None if it does not).
+fn crossing_param(g: DVec2, c: DVec2, a: DVec2, b: DVec2) -> Option<f64> {
+    let (r, q) = (c - g, b - a);
+    let den = r.perp_dot(q);
+    if den == 0.0 {
+        return None;
+    }
+    let s = (a - g).perp_dot(q) / den;
+    let u = (a - g).perp_dot(r) / den;
+    ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&u)).then_some(s)
+}
+
+/// Rotation-invariant key of a CCW triangle.
+fn canonical(f: [u32; 3]) -> [u32; 3] {
+    let i = (0..3).min_by_key(|&i| f[i]).unwrap();
+    [f[i], f[(i + 1) % 3], f[(i + 2) % 3]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn circumcenter_is_equidistant() {
+        let (a, b, c) = (
+            DVec2::new(0.3, -1.2),
+            DVec2::new(2.5, 0.1),
+            DVec2::new(-0.7, 1.9),
+        );
+        let o = circumcenter(a, b, c);
+        let r = (a - o).length();
+        assert!(((b - o).length() - r).abs() < 1e-12 && ((c - o).length() - r).abs() < 1e-12);
+    }
+
+    #[test]
+    fn crossing_parameter() {
+        let (g, c) = (DVec2::ZERO, DVec2::new(4.0, 0.0));
+        let s = crossing_param(g, c, DVec2::new(1.0, -1.0), DVec2::new(1.0, 1.0)).unwrap();
+        assert!((s - 0.25).abs() < 1e-15);
+        assert!(crossing_param(g, c, DVec2::new(5.0, -1.0), DVec2::new(5.0, 1.0)).is_none());
+        assert!(crossing_param(g, c, DVec2::new(1.0, 1.0), DVec2::new(2.0, 1.0)).is_none());
+    }
+
+    #[test]
+    fn canonical_is_rotation_invariant() {
+        assert_eq!(canonical([5, 2, 9]), [2, 9, 5]);
+        assert_eq!(canonical([9, 5, 2]), [2, 9, 5]);
+        assert_ne!(canonical([2, 5, 9]), [2, 9, 5]);
+    }
+
+    #[test]
+    fn priority_pops_worst_first_then_fifo() {
+        let mut h = BinaryHeap::new();
+        for (seq, s) in [(1, 0.5), (2, 0.1), (3, 0.5), (4, 0.3)] {
+            h.push(BadTri {
+                sin_min: s,
+                seq,
+                v: [0, 0, 0],
+            });
+        }
+        let order: Vec<u64> = std::iter::from_fn(|| h.pop().map(|t| t.seq)).collect();
+        assert_eq!(order, [2, 4, 1, 3]);
+    }
+}

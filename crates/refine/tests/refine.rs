@@ -1,0 +1,248 @@
+//! End-to-end tests of the Delaunay refinement (TRIANGLE) method.
+use geometry::{Density, Region};
+use mesh::{check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+use refine::Refine;
+
+fn run(m: &Refine, name: &str, k: usize) -> (Region, MeshResult) {
+    let region = Region::builtin(name).unwrap();
+    let r = m
+        .mesh(&region, &MeshRequest::points(k), &mut |_| {})
+        .unwrap();
+    (region, r)
+}
+
+/// Smallest angle (degrees) over triangles, ignoring those Triangle leaves alone because a
+/// small input angle forces them: the shortest edge joins two boundary vertices (not along the
+/// boundary) at equal distances (0.1%, squared) from a region corner.
+fn min_angle_unforced(mesh: &Mesh, region: &Region) -> f64 {
+    let mut worst = f64::INFINITY;
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let p = mesh.triangle(t);
+        let a = (0..3)
+            .map(|i| {
+                (p[(i + 1) % 3] - p[i])
+                    .angle_to(p[(i + 2) % 3] - p[i])
+                    .abs()
+                    .to_degrees()
+            })
+            .fold(f64::INFINITY, f64::min);
+        let s = (0..3).min_by(|&i, &j| {
+            let li = (p[(i + 1) % 3] - p[i]).length_squared();
+            let lj = (p[(j + 1) % 3] - p[j]).length_squared();
+            li.total_cmp(&lj)
+        });
+        let s = s.unwrap();
+        let (u, v) = (tri[s] as usize, tri[(s + 1) % 3] as usize);
+        let forced = mesh.markers[u].on_boundary()
+            && mesh.markers[v].on_boundary()
+            && region.corners().iter().any(|c| {
+                let (du, dv) = (
+                    (mesh.points[u] - c.pos).length_squared(),
+                    (mesh.points[v] - c.pos).length_squared(),
+                );
+                du < 1.001 * dv && du > 0.999 * dv
+            });
+        if !forced {
+            worst = worst.min(a);
+        }
+    }
+    worst
+}
+
+fn assert_good(region: &Region, r: &MeshResult, k: usize, angle: f64) {
+    let mesh = &r.mesh;
+    check_conforming(mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
+    let got = mesh.num_vertices();
+    assert!(
+        got.abs_diff(k) as f64 <= 0.03 * k as f64 + 1.0,
+        "{}: K {got} vs {k}",
+        region.name()
+    );
+    let a = min_angle_unforced(mesh, region);
+    assert!(
+        a >= angle - 1e-9,
+        "{}: min angle {a} < {angle}",
+        region.name()
+    );
+    // Every corner is a vertex carrying its corner marker.
+    for (ci, c) in region.corners().iter().enumerate() {
+        let v = mesh
+            .points
+            .iter()
+            .position(|p| *p == c.pos)
+            .unwrap_or_else(|| panic!("corner {ci} missing"));
+        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
+    }
+    // Triangles tile Ω up to the chords of curved pieces.
+    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
+    let rel = (mesh.area() - region.area()).abs() / region.area();
+    assert!(
+        rel < if k < 50 { 0.08 } else { 0.02 },
+        "{}: area {} vs {}",
+        region.name(),
+        mesh.area(),
+        region.area()
+    );
+    assert!(r
+        .notes
+        .iter()
+        .any(|n| n.contains(&format!("K reached {got}"))));
+}
+
+#[test]
+fn circle_88() {
+    let (region, r) = run(&Refine::default(), "circle", 88);
+    assert_good(&region, &r, 88, 20.0);
+    assert!(r.iterations >= 1);
+}
+
+#[test]
+fn square_two_hex_203() {
+    let (region, r) = run(&Refine::default(), "square_two_hex", 203);
+    assert_good(&region, &r, 203, 20.0);
+}
+
+#[test]
+fn annulus_303() {
+    let (region, r) = run(&Refine::default(), "annulus", 303);
+    assert_good(&region, &r, 303, 20.0);
+}
+
+#[test]
+fn thirty_degrees() {
+    let m = Refine {
+        min_angle_deg: 30.0,
+        ..Refine::default()
+    };
+    let (region, r) = run(&m, "hex_hole", 240);
+    assert_good(&region, &r, 240, 30.0);
+    assert!(r.mesh.min_angle_deg() >= 30.0);
+    // The pie's 30° apex forces a few smaller angles next to it (Triangle's shell exemption).
+    let (region, r) = run(&m, "pie_hole", 287);
+    assert_good(&region, &r, 287, 30.0);
+    assert!(r.mesh.min_angle_deg() > 20.0);
+}
+
+#[test]
+fn fixed_area_bound_is_met_by_every_triangle() {
+    let region = Region::builtin("square_hole").unwrap();
+    let a = 0.02;
+    let r = Refine::default()
+        .refine_with_area(&region, a, &Density::Uniform, 1_000_000)
+        .unwrap();
+    assert!(r.complete);
+    assert_eq!(r.given_up, 0);
+    check_conforming(&r.mesh, &region).unwrap();
+    for t in 0..r.mesh.num_triangles() {
+        let [p, q, s] = r.mesh.triangle(t);
+        assert!(
+            0.5 * (q - p).perp_dot(s - p) <= a,
+            "triangle {t} above the area bound"
+        );
+    }
+    // A smaller bound gives more vertices.
+    let finer = Refine::default()
+        .refine_with_area(&region, a / 4.0, &Density::Uniform, 1_000_000)
+        .unwrap();
+    assert!(finer.mesh.num_vertices() > 2 * r.mesh.num_vertices());
+}
+
+#[test]
+fn deterministic() {
+    let (_, a) = run(&Refine::default(), "horn", 138);
+    let region = Region::builtin("horn").unwrap();
+    let b = Refine::default()
+        .mesh(&region, &MeshRequest::points(138).seed(99), &mut |_| {})
+        .unwrap();
+    assert_eq!(a.mesh, b.mesh);
+    assert_eq!(a.notes, b.notes);
+}
+
+#[test]
+fn bad_requests_are_errors() {
+    let region = Region::builtin("square_two_hex").unwrap();
+    let e = Refine::default()
+        .mesh(&region, &MeshRequest::points(5), &mut |_| {})
+        .unwrap_err();
+    assert!(matches!(e, MeshError::BadRequest(_)));
+    let m = Refine {
+        min_angle_deg: 75.0,
+        ..Refine::default()
+    };
+    let e = m
+        .mesh(&region, &MeshRequest::points(200), &mut |_| {})
+        .unwrap_err();
+    assert!(matches!(e, MeshError::BadRequest(_)));
+    let e = Refine::default()
+        .refine_with_area(&region, -1.0, &Density::Uniform, 100)
+        .unwrap_err();
+    assert!(matches!(e, MeshError::BadRequest(_)));
+}
+
+#[test]
+fn progress_once_per_search_step() {
+    let region = Region::builtin("circle").unwrap();
+    let mut calls = 0;
+    let r = Refine::default()
+        .mesh(&region, &MeshRequest::points(19), &mut |_| calls += 1)
+        .unwrap();
+    assert_eq!(calls, r.iterations);
+    check_conforming(&r.mesh, &region).unwrap();
+}
+
+#[test]
+fn graded_density_refines_where_dense() {
+    let region = Region::builtin("square_hole").unwrap();
+    let rho = Density::Function(std::sync::Arc::new(
+        |p: geometry::DVec2| if p.x > 0.0 { 16.0 } else { 1.0 },
+    ));
+    let r = Refine::default()
+        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
+    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
+    // Spacing ∝ ρ^(-1/4): about 4× the points per area where ρ is 16× larger.
+    assert!(
+        right as f64 > 2.5 * left as f64,
+        "right {right}, left {left}"
+    );
+}
+
+/// All ten paper regions at the paper's K, at Triangle's default 20° (no small input angles
+/// there, so no exemptions are needed).
+#[test]
+fn all_paper_regions() {
+    let cases = [
+        ("circle", 19),
+        ("circle", 88),
+        ("circle", 362),
+        ("annulus", 303),
+        ("square_hole", 194),
+        ("hex_hole", 240),
+        ("horn", 138),
+        ("superellipse", 505),
+        ("bike_seat", 136),
+        ("pie_hole", 287),
+        ("square_two_hex", 203),
+        ("lake", 1109),
+    ];
+    for (name, k) in cases {
+        let (region, r) = run(&Refine::default(), name, k);
+        assert_good(&region, &r, k, 20.0);
+        assert!(
+            r.mesh.min_angle_deg() >= 20.0,
+            "{name}: {}",
+            r.mesh.min_angle_deg()
+        );
+        eprintln!(
+            "{name} K={k}: reached {} in {} steps, converged {}",
+            r.mesh.num_vertices(),
+            r.iterations,
+            r.converged
+        );
+    }
+    for name in Region::builtin_names() {
+        assert!(cases.iter().any(|c| c.0 == *name), "{name} not covered");
+    }
+}
