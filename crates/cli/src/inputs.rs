@@ -40,8 +40,8 @@ pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
         "ccvt2" => Box::new(ccvt::Ccvt::algorithm2()),
         "ccvt1" => Box::new(ccvt::Ccvt::algorithm1()),
         "distmesh" => Box::new(distmesh::DistMesh::default()),
-        "meshgen" => Box::new(meshgen::Meshgen::default()),
-        "vtm" => Box::new(vtm::Vtm::default()),
+        "meshgen" => Box::new(meshgen::Meshgen),
+        "vtm" => Box::new(vtm::Vtm),
         "refine" | "triangle" => Box::new(refine::Refine::default()),
         other => bail!(
             "unknown method '{other}'; choose one of: {}",
