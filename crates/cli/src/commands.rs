@@ -37,7 +37,7 @@ pub struct MeshArgs {
     #[arg(long, default_value_t = 1e-4)]
     tol: f64,
     /// Iteration cap.
-    #[arg(long, default_value_t = 5000)]
+    #[arg(long, default_value_t = 10_000)]
     max_iter: usize,
     /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines.
     #[arg(long)]

@@ -20,7 +20,8 @@ impl Size {
     }
 }
 
-/// What every method is asked for. Defaults: seed 1, tolerance 1e-4, 1000 iterations, ρ ≡ 1.
+/// What every method is asked for. Defaults: seed 1, tolerance 1e-4, at most 10 000
+/// iterations (Lloyd-type methods converge linearly; CCVT applies the cap per phase), ρ ≡ 1.
 #[derive(Clone, Debug)]
 pub struct MeshRequest {
     /// Target size.

@@ -1,0 +1,430 @@
+//! The study: every method on every paper region at the paper's K, measured exactly and
+//! paper-style, written as the paper's Tables 1–12 (Markdown), one CSV of every number,
+//! Figures 3–7 and a summary with the paper's "keeping score" count.
+//!
+//! The pipeline is split so that sharded runs and their merge share one path:
+//! [`run_study`] runs jobs and writes `DIR/csv/*.csv` and `DIR/meshes/*`; [`merge`] combines
+//! several such directories; [`write_report`] turns a directory's CSV and meshes into tables,
+//! figures and `summary.md`.
+#![forbid(unsafe_code)]
+
+mod error;
+pub mod figures;
+pub mod jobs;
+mod measure;
+pub mod methods;
+pub mod output;
+pub mod paper;
+pub mod record;
+pub mod run;
+pub mod stats;
+pub mod summary;
+pub mod tables;
+
+pub use error::StudyError;
+pub use jobs::{job_list, parse_regions, Job, Shard};
+pub use measure::{scaled_label, superscript, Measure};
+pub use methods::MethodId;
+pub use record::{Failure, Kind, Row};
+pub use run::{run_job, run_jobs, Event, JobResult};
+
+use figures::MeshSet;
+use paper::{PaperTables, TABLES};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// What [`run_study`] should run and where it writes.
+#[derive(Clone, Debug)]
+pub struct StudyOptions {
+    /// Region names (all ten by default).
+    pub regions: Vec<&'static str>,
+    /// Methods (all seven by default).
+    pub methods: Vec<MethodId>,
+    /// Seeds 1..=`seeds`.
+    pub seeds: u64,
+    /// Output directory.
+    pub out: PathBuf,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Run only this shard and write only the CSV (and meshes).
+    pub shard: Option<Shard>,
+    /// Discard rows already in `DIR/csv/metrics.csv` instead of updating them.
+    pub fresh: bool,
+}
+
+impl Default for StudyOptions {
+    fn default() -> Self {
+        StudyOptions {
+            regions: paper::region_names(),
+            methods: MethodId::ALL.to_vec(),
+            seeds: 1,
+            out: PathBuf::from("results"),
+            threads: None,
+            shard: None,
+            fresh: false,
+        }
+    }
+}
+
+impl StudyOptions {
+    /// The jobs these options select, in the deterministic list order.
+    pub fn jobs(&self) -> Vec<Job> {
+        let all = job_list(&self.regions, &self.methods, self.seeds);
+        match self.shard {
+            Some(s) => s.select(&all),
+            None => all,
+        }
+    }
+}
+
+/// What a run or merge did.
+#[derive(Clone, Debug, Default)]
+pub struct Outcome {
+    /// Jobs run (0 for a merge).
+    pub jobs: usize,
+    /// Failed jobs of this run (or in the merged inputs).
+    pub failures: Vec<Failure>,
+    /// Files written.
+    pub written: Vec<PathBuf>,
+    /// Messages for the user (skipped figures, missing meshes).
+    pub notes: Vec<String>,
+}
+
+/// Read `DIR/csv/metrics.csv` and `DIR/csv/failures.csv` (either may be absent: empty).
+pub fn read_dir_csv(dir: &Path) -> Result<(Vec<Row>, Vec<Failure>), StudyError> {
+    let m = output::metrics_csv(dir);
+    let rows = if m.exists() {
+        record::read_csv(&m)?
+    } else {
+        Vec::new()
+    };
+    let f = output::failures_csv(dir);
+    let failures = if f.exists() {
+        record::read_csv(&f)?
+    } else {
+        Vec::new()
+    };
+    Ok((rows, failures))
+}
+
+fn write_csvs(
+    dir: &Path,
+    rows: &mut [Row],
+    failures: &mut [Failure],
+    written: &mut Vec<PathBuf>,
+) -> Result<(), StudyError> {
+    record::sort_rows(rows);
+    record::sort_failures(failures);
+    let m = output::metrics_csv(dir);
+    output::write_atomic(&m, &record::rows_csv(rows)?)?;
+    let f = output::failures_csv(dir);
+    output::write_atomic(&f, &record::failures_csv(failures)?)?;
+    written.extend([m, f]);
+    Ok(())
+}
+
+/// Run the selected jobs in parallel and write `out/csv/metrics.csv`, `out/csv/failures.csv`
+/// and `out/meshes/*.node|.ele|.poly`. Without a shard, rows of (table, method) cells that
+/// were not run are kept from an existing CSV (unless `fresh`), so rerunning one method
+/// updates only its cells; then tables, figures and the summary are written from the whole
+/// CSV. With a shard, the CSV holds exactly this shard's rows and nothing else is drawn.
+pub fn run_study(
+    opts: &StudyOptions,
+    on_event: &(dyn Fn(Event<'_>) + Sync),
+) -> Result<Outcome, StudyError> {
+    if opts.seeds == 0 {
+        return Err(StudyError::BadOption("--seeds must be at least 1".into()));
+    }
+    let jobs = opts.jobs();
+    let names: Vec<&'static str> = {
+        let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
+        set.into_iter().collect()
+    };
+    let regions = run::load_regions(&names)?;
+    let results = run_jobs(&jobs, &regions, opts.threads, on_event)?;
+    let mut out = Outcome {
+        jobs: jobs.len(),
+        ..Outcome::default()
+    };
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for r in &results {
+        match &r.outcome {
+            Ok(o) => {
+                rows.extend(o.rows.iter().cloned());
+                let base = output::mesh_base(
+                    &opts.out,
+                    r.job.region(),
+                    r.job.k(),
+                    r.job.method,
+                    r.job.seed,
+                );
+                output::create_dir(base.parent().unwrap_or(&opts.out))?;
+                mesh::io::write_triangle(&o.mesh, &base)?;
+            }
+            Err(_) => failures.extend(r.failure()),
+        }
+    }
+    out.failures = failures.clone();
+    if opts.shard.is_none() && !opts.fresh {
+        // Keep the cells this run did not touch.
+        let ran: BTreeSet<(String, usize, String)> = jobs
+            .iter()
+            .map(|j| (j.region().to_string(), j.k(), j.method.name().to_string()))
+            .collect();
+        let (old_rows, old_failures) = read_dir_csv(&opts.out)?;
+        rows.extend(
+            old_rows
+                .into_iter()
+                .filter(|r| !ran.contains(&(r.region.clone(), r.K_requested, r.method.clone()))),
+        );
+        failures.extend(
+            old_failures
+                .into_iter()
+                .filter(|f| !ran.contains(&(f.region.clone(), f.K_requested, f.method.clone()))),
+        );
+    }
+    write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
+    if opts.shard.is_none() {
+        let report = write_report(&opts.out)?;
+        out.written.extend(report.written);
+        out.notes.extend(report.notes);
+    }
+    Ok(out)
+}
+
+/// Combine the CSVs and meshes of shard directories `dirs` into `out` (rows sorted as an
+/// unsharded run writes them; a row present twice is an error), then write the report.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
+    if dirs.is_empty() {
+        return Err(StudyError::BadOption(
+            "merge needs at least one directory".into(),
+        ));
+    }
+    let mut parts = Vec::new();
+    let mut failures = Vec::new();
+    let mut result = Outcome::default();
+    for d in dirs {
+        let m = output::metrics_csv(d);
+        if !m.exists() {
+            return Err(StudyError::io(
+                &m,
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    "no metrics.csv here; is this a study output directory?",
+                ),
+            ));
+        }
+        let (rows, f) = read_dir_csv(d)?;
+        // Copy this shard's meshes (those of its rows) unless merging in place.
+        if d.as_path() != out {
+            for r in rows.iter().filter(|r| r.kind == Kind::Exact) {
+                let Some(method) = r.method_id() else {
+                    continue;
+                };
+                let src = output::mesh_node(d, &r.region, r.K_requested, method, r.seed);
+                if !src.exists() {
+                    result.notes.push(format!(
+                        "{}: missing; its figure panel will be empty",
+                        src.display()
+                    ));
+                    continue;
+                }
+                let mesh = mesh::io::read_triangle(&src)?;
+                let base = output::mesh_base(out, &r.region, r.K_requested, method, r.seed);
+                output::create_dir(base.parent().unwrap_or(out))?;
+                mesh::io::write_triangle(&mesh, &base)?;
+            }
+        }
+        parts.push(rows);
+        failures.extend(f);
+    }
+    let mut rows = record::merge_rows(parts)?;
+    result.failures = failures.clone();
+    write_csvs(out, &mut rows, &mut failures, &mut result.written)?;
+    let report = write_report(out)?;
+    result.written.extend(report.written);
+    result.notes.extend(report.notes);
+    Ok(result)
+}
+
+/// Load the meshes to draw: for each (region, K, method) with exact rows, the lowest seed's
+/// mesh from `dir/meshes`. Missing files become notes.
+pub fn load_meshes(
+    dir: &Path,
+    rows: &[Row],
+    notes: &mut Vec<String>,
+) -> Result<MeshSet, StudyError> {
+    let mut lowest: BTreeMap<(String, usize, MethodId), u64> = BTreeMap::new();
+    for r in rows.iter().filter(|r| r.kind == Kind::Exact) {
+        if let Some(m) = r.method_id() {
+            let e = lowest
+                .entry((r.region.clone(), r.K_requested, m))
+                .or_insert(r.seed);
+            *e = (*e).min(r.seed);
+        }
+    }
+    let mut set = MeshSet::new();
+    for ((region, k, method), seed) in lowest {
+        let node = output::mesh_node(dir, &region, k, method, seed);
+        if !node.exists() {
+            notes.push(format!(
+                "{}: missing, so its figure panel is left empty",
+                node.display()
+            ));
+            continue;
+        }
+        set.insert((region, k, method), mesh::io::read_triangle(&node)?);
+    }
+    Ok(set)
+}
+
+/// Write `dir/tables/table_NN.md`, `dir/summary.md` and `dir/figures/*` from
+/// `dir/csv/*.csv` and `dir/meshes/*`.
+pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
+    let (rows, failures) = read_dir_csv(dir)?;
+    let paper = PaperTables::embedded()?;
+    let agg = stats::Aggregate::from_rows(&rows);
+    let mut out = Outcome {
+        failures: failures.clone(),
+        ..Outcome::default()
+    };
+    let mut methods: Vec<MethodId> = rows
+        .iter()
+        .filter_map(Row::method_id)
+        .chain(failures.iter().filter_map(|f| MethodId::parse(&f.method)))
+        .collect();
+    methods.sort();
+    methods.dedup();
+    let present = |t: &paper::TableSpec| {
+        rows.iter()
+            .any(|r| r.region == t.region && r.K_requested == t.k)
+            || failures
+                .iter()
+                .any(|f| f.region == t.region && f.K_requested == t.k)
+    };
+    let tables: Vec<&paper::TableSpec> = TABLES.iter().filter(|t| present(t)).collect();
+    for t in &tables {
+        let md = tables::render_table(t, &agg, &paper, &methods, &failures);
+        let p = output::table_md(dir, t.number);
+        output::write_atomic(&p, md.as_bytes())?;
+        out.written.push(p);
+    }
+    let p = output::summary_md(dir);
+    output::write_atomic(
+        &p,
+        summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
+    )?;
+    out.written.push(p);
+    let meshes = load_meshes(dir, &rows, &mut out.notes)?;
+    let names: BTreeSet<&'static str> = tables.iter().map(|t| t.region).collect();
+    let regions = run::load_regions(&names.into_iter().collect::<Vec<_>>())?;
+    out.written
+        .extend(figures::draw_figures(dir, &regions, &meshes, &methods)?);
+    Ok(out)
+}
+
+#[cfg(test)]
+pub(crate) mod testutil {
+    use crate::{Kind, MethodId, Row};
+
+    /// A synthetic row: K = k, K̃ = 2k, measure i = x/i + 1/3, converged for odd seeds.
+    pub fn fake_row(
+        region: &str,
+        k: usize,
+        method: MethodId,
+        seed: u64,
+        kind: Kind,
+        x: f64,
+    ) -> Row {
+        let mut v = [0.0; 14];
+        v[0] = k as f64;
+        v[1] = (2 * k) as f64;
+        for (i, slot) in v.iter_mut().enumerate().skip(2) {
+            *slot = x / (i as f64) + 1.0 / 3.0;
+        }
+        Row::new(region, k, method, seed, kind, v, 17, seed % 2 == 1, 0.1 + x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use testutil::fake_row;
+
+    /// Synthetic rows for every job of `jobs` (both kinds), as a run would produce them.
+    fn rows_for(jobs: &[Job]) -> Vec<Row> {
+        jobs.iter()
+            .flat_map(|j| {
+                Kind::ALL.map(|kind| {
+                    fake_row(
+                        j.region(),
+                        j.k(),
+                        j.method,
+                        j.seed,
+                        kind,
+                        j.seed as f64 + j.method as usize as f64,
+                    )
+                })
+            })
+            .collect()
+    }
+
+    #[test]
+    fn merging_two_shards_equals_the_unsharded_csv() {
+        let all = job_list(&["circle", "square_two_hex"], &MethodId::ALL, 2);
+        let dir = tempfile::tempdir().unwrap();
+        let mut shard_dirs = Vec::new();
+        for i in 1..=2 {
+            let d = dir.path().join(format!("shard_{i}"));
+            let part = Shard { index: i, count: 2 }.select(&all);
+            output::write_atomic(
+                &output::metrics_csv(&d),
+                &record::rows_csv(&rows_for(&part)).unwrap(),
+            )
+            .unwrap();
+            shard_dirs.push(d);
+        }
+        // Shard 2 also had a failure.
+        let fail = Failure {
+            region: "circle".into(),
+            K_requested: 19,
+            method: "vtm".into(),
+            seed: 2,
+            error: "boom".into(),
+        };
+        output::write_atomic(
+            &output::failures_csv(&shard_dirs[1]),
+            &record::failures_csv(std::slice::from_ref(&fail)).unwrap(),
+        )
+        .unwrap();
+
+        let merged_dir = dir.path().join("merged");
+        let outcome = merge(&shard_dirs, &merged_dir).unwrap();
+        let mut whole = rows_for(&all);
+        record::sort_rows(&mut whole);
+        let expected = record::rows_csv(&whole).unwrap();
+        assert_eq!(
+            std::fs::read(output::metrics_csv(&merged_dir)).unwrap(),
+            expected
+        );
+        assert_eq!(outcome.failures, vec![fail]);
+        // The report was drawn from the merged CSV: the four tables of the two regions.
+        for n in [1u8, 2, 3, 11] {
+            assert!(output::table_md(&merged_dir, n).exists(), "table {n}");
+        }
+        assert!(!output::table_md(&merged_dir, 4).exists());
+        assert!(std::fs::read_to_string(output::summary_md(&merged_dir))
+            .unwrap()
+            .contains("circle K=19 vtm seed 2: boom"));
+
+        // Merging a shard twice is refused.
+        let twice = merge(
+            &[shard_dirs[0].clone(), shard_dirs[0].clone()],
+            &dir.path().join("bad"),
+        );
+        assert!(matches!(twice, Err(StudyError::Duplicate(_))), "{twice:?}");
+        // A directory without metrics.csv is refused with a message.
+        assert!(merge(&[dir.path().join("nowhere")], &dir.path().join("bad2")).is_err());
+    }
+}

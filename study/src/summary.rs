@@ -1,0 +1,345 @@
+//! `summary.md`: the best method per (region, measure) and the paper's "keeping score"
+//! count (Section 4.1), for our numbers and the paper's side by side.
+use crate::paper::{untrustworthy, PaperTables, TableSpec};
+use crate::record::{Failure, Kind, Row};
+use crate::stats::Aggregate;
+use crate::tables::describe_seeds;
+use crate::{Measure, MethodId};
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// The methods with the lowest value (all of them on an exact tie); empty if none has a
+/// finite value.
+pub fn winners(values: &[(MethodId, f64)]) -> Vec<MethodId> {
+    let best = values
+        .iter()
+        .map(|v| v.1)
+        .filter(|v| v.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    if !best.is_finite() {
+        return Vec::new();
+    }
+    values.iter().filter(|v| v.1 == best).map(|v| v.0).collect()
+}
+
+/// Which source a score counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Source {
+    Exact,
+    Sampled,
+    Paper,
+}
+
+/// Win counts per method, over the (table, measure) pairs scored.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Score {
+    /// Wins per method (ties count for every tied method).
+    pub wins: BTreeMap<MethodId, usize>,
+    /// Number of (table, measure) pairs scored.
+    pub pairs: usize,
+}
+
+fn values_for(
+    agg: &Aggregate,
+    paper: &PaperTables,
+    t: &TableSpec,
+    m: Measure,
+    methods: &[MethodId],
+    src: Source,
+) -> Vec<(MethodId, f64)> {
+    methods
+        .iter()
+        .filter_map(|&method| {
+            let v = match src {
+                Source::Exact => agg
+                    .get(t.region, t.k, method, Kind::Exact, m)
+                    .map(|s| s.mean),
+                Source::Sampled => agg
+                    .get(t.region, t.k, method, Kind::Sampled, m)
+                    .map(|s| s.mean),
+                // The paper is compared at its printed precision: equal printed numbers tie.
+                Source::Paper => paper.cell(t.number, m, method).map(|c| c.printed),
+            };
+            v.map(|v| (method, v))
+        })
+        .collect()
+}
+
+/// Count wins over every (table, quality measure) pair among `methods`, skipping Table 6's γ
+/// and h (misprinted in the paper) so that all sources score the same pairs.
+fn score(
+    agg: &Aggregate,
+    paper: &PaperTables,
+    tables: &[&TableSpec],
+    methods: &[MethodId],
+    src: Source,
+) -> Score {
+    let mut s = Score::default();
+    for m in methods {
+        s.wins.insert(*m, 0);
+    }
+    for t in tables {
+        for m in Measure::QUALITY {
+            if untrustworthy(t.number, m) {
+                continue;
+            }
+            let w = winners(&values_for(agg, paper, t, m, methods, src));
+            if w.is_empty() {
+                continue;
+            }
+            s.pairs += 1;
+            for method in w {
+                *s.wins.entry(method).or_default() += 1;
+            }
+        }
+    }
+    s
+}
+
+fn names(ms: &[MethodId]) -> String {
+    if ms.is_empty() {
+        "—".into()
+    } else {
+        ms.iter().map(|m| m.abbrev()).collect::<Vec<_>>().join(",")
+    }
+}
+
+/// The Markdown of `summary.md`. `tables` are the tables that have rows; `methods` the
+/// columns run.
+pub fn render_summary(
+    rows: &[Row],
+    paper: &PaperTables,
+    tables: &[&TableSpec],
+    methods: &[MethodId],
+    failures: &[Failure],
+) -> String {
+    let agg = Aggregate::from_rows(rows);
+    let paper_methods: Vec<MethodId> = methods
+        .iter()
+        .copied()
+        .filter(|m| m.paper_key().is_some())
+        .collect();
+    let mut out = String::new();
+    out.push_str("# Summary: which method is best\n\n");
+    let _ = writeln!(
+        out,
+        "Tables: {}. Methods: {}. Ours: {}. Lower is better for all twelve measures.\n",
+        tables
+            .iter()
+            .map(|t| t.number.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        methods
+            .iter()
+            .map(|m| m.column())
+            .collect::<Vec<_>>()
+            .join(", "),
+        describe_seeds(&agg.all_seeds())
+    );
+    out.push_str("Legend: ");
+    out.push_str(
+        &MethodId::ALL
+            .iter()
+            .map(|m| format!("{} = {}", m.abbrev(), m.column()))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    out.push_str(".\n\n");
+
+    out.push_str("## Keeping score (Section 4.1)\n\n");
+    out.push_str(
+        "\"If one were to keep score of which method is best for each domain and for each quality \
+         measure, one finds that DISTMESH and the second CCVT algorithm do 'best', with the latter \
+         being slightly 'better'.\" A win is the lowest value of one measure in one table (ties \
+         count for every tied method; the paper is compared at its printed precision, ours at \
+         full precision). The paper's six methods only; Table 6's γ and h are left out because \
+         the paper misprints them.\n\n",
+    );
+    let se = score(&agg, paper, tables, &paper_methods, Source::Exact);
+    let ss = score(&agg, paper, tables, &paper_methods, Source::Sampled);
+    let sp = score(&agg, paper, tables, &paper_methods, Source::Paper);
+    let sf = score(&agg, paper, tables, methods, Source::Exact);
+    out.push_str("| method | ours, exact | ours, sampled | paper | ours, exact, with CCVT-fast |\n| :--- | ---: | ---: | ---: | ---: |\n");
+    let wins = |s: &Score, m: MethodId| s.wins.get(&m).map_or("—".to_string(), |w| w.to_string());
+    for &m in methods {
+        let paper_col = |s: &Score| {
+            if m.paper_key().is_some() {
+                wins(s, m)
+            } else {
+                "—".to_string()
+            }
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} |",
+            m.column(),
+            paper_col(&se),
+            paper_col(&ss),
+            paper_col(&sp),
+            wins(&sf, m)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "| (pairs scored) | {} | {} | {} | {} |\n",
+        se.pairs, ss.pairs, sp.pairs, sf.pairs
+    );
+
+    out.push_str("## Best method per table and measure\n\n");
+    out.push_str(
+        "Each cell: ours (exact) / ours (sampled) / paper, among the paper's six methods.\n\n",
+    );
+    out.push_str("| table |");
+    for m in Measure::QUALITY {
+        let _ = write!(out, " {} |", m.symbol());
+    }
+    out.push_str("\n| :--- |");
+    for _ in Measure::QUALITY {
+        out.push_str(" :---: |");
+    }
+    out.push('\n');
+    for t in tables {
+        let _ = write!(out, "| {} {} K={} |", t.number, t.region, t.k);
+        for m in Measure::QUALITY {
+            let e = winners(&values_for(
+                &agg,
+                paper,
+                t,
+                m,
+                &paper_methods,
+                Source::Exact,
+            ));
+            let s = winners(&values_for(
+                &agg,
+                paper,
+                t,
+                m,
+                &paper_methods,
+                Source::Sampled,
+            ));
+            let p = if untrustworthy(t.number, m) {
+                "?".to_string()
+            } else {
+                names(&winners(&values_for(
+                    &agg,
+                    paper,
+                    t,
+                    m,
+                    &paper_methods,
+                    Source::Paper,
+                )))
+            };
+            let _ = write!(out, " {} / {} / {} |", names(&e), names(&s), p);
+        }
+        out.push('\n');
+    }
+    out.push('\n');
+
+    let unconverged: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.kind == Kind::Exact && !r.converged)
+        .collect();
+    out.push_str("## Convergence\n\n");
+    if unconverged.is_empty() {
+        out.push_str("Every run met its method's convergence criterion.\n");
+    } else {
+        out.push_str(
+            "Runs that stopped at the iteration cap (their meshes are still measured):\n\n",
+        );
+        for r in unconverged {
+            let _ = writeln!(
+                out,
+                "- {} K={} {} seed {} ({} iterations)",
+                r.region, r.K_requested, r.method, r.seed, r.iterations
+            );
+        }
+    }
+    if !failures.is_empty() {
+        out.push_str("\n## Failed runs\n\n");
+        for f in failures {
+            let _ = writeln!(
+                out,
+                "- {} K={} {} seed {}: {}",
+                f.region,
+                f.K_requested,
+                f.method,
+                f.seed,
+                f.error.replace('\n', " ")
+            );
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::paper::TABLES;
+    use crate::testutil::fake_row;
+
+    #[test]
+    fn winners_handle_ties_and_non_finite_values() {
+        use MethodId::*;
+        assert_eq!(
+            winners(&[(Distmesh, 0.3), (Ccvt2, 0.2), (Vtm, 0.2)]),
+            vec![Ccvt2, Vtm]
+        );
+        assert_eq!(winners(&[(Distmesh, f64::NAN), (Ccvt2, 0.5)]), vec![Ccvt2]);
+        assert!(winners(&[(Distmesh, f64::INFINITY)]).is_empty());
+        assert!(winners(&[]).is_empty());
+    }
+
+    #[test]
+    fn paper_score_matches_the_printed_tables() {
+        // With all twelve tables the paper's own numbers must make CCVT(2) the winner,
+        // DISTMESH second, as Section 4.1 says.
+        let paper = PaperTables::embedded().unwrap();
+        let tables: Vec<&TableSpec> = TABLES.iter().collect();
+        let methods: Vec<MethodId> = MethodId::ALL[..6].to_vec();
+        let s = score(
+            &Aggregate::default(),
+            &paper,
+            &tables,
+            &methods,
+            Source::Paper,
+        );
+        assert_eq!(s.pairs, 12 * 12 - 2);
+        let mut ranked: Vec<(usize, MethodId)> = s.wins.iter().map(|(m, w)| (*w, *m)).collect();
+        ranked.sort_by(|a, b| b.cmp(a));
+        assert_eq!(ranked[0].1, MethodId::Ccvt2, "{ranked:?}");
+        assert_eq!(ranked[1].1, MethodId::Distmesh, "{ranked:?}");
+    }
+
+    #[test]
+    fn our_score_counts_lowest_means() {
+        let paper = PaperTables::embedded().unwrap();
+        // fake_row values grow with x: DISTMESH (x = 0) wins every measure.
+        let rows = vec![
+            fake_row("circle", 19, MethodId::Distmesh, 1, Kind::Exact, 0.0),
+            fake_row("circle", 19, MethodId::Ccvt2, 1, Kind::Exact, 1.0),
+            fake_row("circle", 19, MethodId::CcvtFast, 1, Kind::Exact, -1.0),
+        ];
+        let agg = Aggregate::from_rows(&rows);
+        let t = [&TABLES[0]];
+        let s = score(
+            &agg,
+            &paper,
+            &t,
+            &[MethodId::Distmesh, MethodId::Ccvt2],
+            Source::Exact,
+        );
+        assert_eq!(s.pairs, 12);
+        assert_eq!(s.wins[&MethodId::Distmesh], 12);
+        assert_eq!(s.wins[&MethodId::Ccvt2], 0);
+        let md = render_summary(
+            &rows,
+            &paper,
+            &t,
+            &[MethodId::Distmesh, MethodId::Ccvt2, MethodId::CcvtFast],
+            &[],
+        );
+        assert!(md.contains("| DISTMESH | 12 | 0 |"), "{md}");
+        assert!(md.contains("| CCVT-fast | — | — | — | 12 |"), "{md}");
+        assert!(md.contains("| 1 circle K=19 | D / — /"), "{md}");
+    }
+}

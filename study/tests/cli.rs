@@ -1,0 +1,47 @@
+//! The binary's argument handling: bad names are clear errors with a non-zero exit, before
+//! any job runs or any file is written.
+use std::process::Command;
+
+fn study(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_study"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn unknown_names_and_bad_options_fail_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let out = out.to_str().unwrap();
+    let (code, err) = study(&["--methods", "distmesh,lloyd", "--out", out]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("unknown method 'lloyd'") && err.contains("ccvt-fast"),
+        "{err}"
+    );
+    let (code, err) = study(&["--regions", "moon", "--out", out]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("unknown region 'moon'") && err.contains("bike_seat"),
+        "{err}"
+    );
+    let (code, err) = study(&["--shard", "9/8", "--out", out]);
+    assert_ne!(code, 0);
+    assert!(err.contains("bad shard '9/8'"), "{err}");
+    let (code, _) = study(&["--seeds", "0", "--out", out]);
+    assert_ne!(code, 0);
+    let (code, err) = study(&[
+        "merge",
+        "--out",
+        out,
+        dir.path().join("no_such_shard").to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("metrics.csv"), "{err}");
+    assert!(!dir.path().join("never").exists());
+}
