@@ -43,7 +43,7 @@ impl MeshRequest {
             size: Size::Points(k),
             seed: 1,
             tol: 1e-4,
-            max_iter: 1000,
+            max_iter: 10_000,
             density: Density::Uniform,
         }
     }
