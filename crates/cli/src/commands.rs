@@ -8,6 +8,14 @@ use mesh::{MeshRequest, Size};
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// Largest K accepted: far beyond what fits in memory is refused up front, not by an allocator.
+const MAX_POINTS: usize = 50_000_000;
+/// Meshes up to this size are checked for conformity before they are written.
+const CHECK_LIMIT: usize = 2_000_000;
+const DEFAULT_TOL: f64 = 1e-4;
+/// Largest `--sampled` count.
+const MAX_SAMPLES: usize = 100_000_000;
+
 /// `cvtmesh mesh`.
 #[derive(Args)]
 pub struct MeshArgs {
@@ -33,8 +41,9 @@ pub struct MeshArgs {
     /// Seed of every random choice.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Convergence tolerance: largest generator move relative to the mean spacing.
-    #[arg(long, default_value_t = 1e-4)]
+    /// Convergence tolerance: largest generator move relative to the mean spacing (CVT methods;
+    /// DistMesh keeps its original dptol, refinement is not iterative).
+    #[arg(long, default_value_t = DEFAULT_TOL)]
     tol: f64,
     /// Iteration cap.
     #[arg(long, default_value_t = 10_000)]
@@ -71,6 +80,9 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         (None, None) => bail!("give --points K or --size H"),
     };
     let k = size.points(&region);
+    if k > MAX_POINTS {
+        bail!("K = {k} is more than this tool meshes ({MAX_POINTS}); use a larger --size or fewer --points");
+    }
     let needed = region.corners().len() + 3 * region.loops().len();
     if k < needed {
         bail!(
@@ -83,6 +95,12 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     }
     if !(a.tol.is_finite() && a.tol > 0.0) {
         bail!("--tol must be a positive number, got {}", a.tol);
+    }
+    if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
+        eprintln!(
+            "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
+            method.name()
+        );
     }
     let density = inputs::density(a.density.as_deref(), &region)?;
     let request = MeshRequest {
@@ -110,6 +128,14 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
+    if result.mesh.num_vertices() <= CHECK_LIMIT {
+        if let Err(e) = mesh::check_conforming(&result.mesh, &region) {
+            bail!(
+                "{} produced a mesh that does not conform to the region ({e}); nothing written",
+                method.name()
+            );
+        }
+    }
     let title = format!(
         "{} {} K={}",
         region.name(),
@@ -149,7 +175,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
 /// `cvtmesh measure`.
 #[derive(Args)]
 pub struct MeasureArgs {
-    /// Mesh: Triangle FILE.node (with FILE.ele beside it) or Gmsh FILE.msh.
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj.
     mesh: PathBuf,
     /// The region the mesh is of (file or built-in name).
     #[arg(long, short)]
@@ -177,6 +203,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     }
     let m = metrics::measures(&mesh, &region)?;
     let sampled = match a.sampled {
+        Some(n) if n > MAX_SAMPLES => bail!("--sampled {n} is more than {MAX_SAMPLES} samples"),
         Some(n) => Some(metrics::sampled_measures(
             &mesh,
             &region,
@@ -212,7 +239,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
 /// `cvtmesh show`.
 #[derive(Args)]
 pub struct ShowArgs {
-    /// A mesh (.node/.msh) or a region (file or built-in name).
+    /// A mesh (.node/.msh/.obj) or a region (file or built-in name).
     input: String,
     /// The region of a mesh (defaults to drawing the mesh's input as a region).
     #[arg(long, short)]
@@ -259,25 +286,15 @@ pub fn show(a: ShowArgs) -> Result<()> {
 }
 
 fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
-    let f: fn([geometry::DVec2; 3]) -> f64 = match what {
-        "min-angle" => |[a, b, c]| {
-            let ang = |p: geometry::DVec2, q: geometry::DVec2, r: geometry::DVec2| {
-                (q - p).angle_to(r - p).abs()
-            };
-            ang(a, b, c)
-                .min(ang(b, c, a))
-                .min(ang(c, a, b))
-                .to_degrees()
-        },
-        "q" => |[a, b, c]| {
-            let (x, y, z) = ((b - c).length(), (c - a).length(), (a - b).length());
-            x * y * z / ((y + z - x) * (z + x - y) * (x + y - z))
-        },
-        "area" => |[a, b, c]| 0.5 * (b - a).perp_dot(c - a),
+    // (min angle in degrees, area, q = R/(2r)), shared with the .vtu writer.
+    let pick: fn((f64, f64, f64)) -> f64 = match what {
+        "min-angle" => |t| t.0,
+        "area" => |t| t.1,
+        "q" => |t| t.2,
         other => bail!("unknown --colour '{other}'; choose min-angle, q or area"),
     };
     Ok((0..mesh.num_triangles())
-        .map(|t| f(mesh.triangle(t)))
+        .map(|t| pick(mesh::io::triangle_quality(mesh.triangle(t))))
         .collect())
 }
 

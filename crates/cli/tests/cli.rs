@@ -363,3 +363,38 @@ fn user_region_files_in_every_input_format_mesh() {
         assert!(!text(&o).contains("does not conform"), "{}", text(&o));
     }
 }
+
+#[test]
+fn absurd_sizes_are_refused_up_front() {
+    let d = scratch("limits");
+    let out = d.join("m.node");
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size",
+            "1e-12",
+            "--method",
+            "refine",
+            "-o",
+            s(&out),
+        ],
+        &out,
+        "more than this tool meshes",
+    );
+    let o = cvtmesh(&["mesh", "circle", "--points", "50", "--quiet", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = cvtmesh(&[
+        "measure",
+        s(&out),
+        "--region",
+        "circle",
+        "--sampled",
+        "1000000000000",
+    ]);
+    assert!(
+        !o.status.success() && text(&o).contains("--sampled"),
+        "{}",
+        text(&o)
+    );
+}

@@ -34,14 +34,31 @@ pub enum ConformityError {
     /// The mesh is not one piece with the region's number of holes (Euler characteristic).
     #[error("Euler characteristic {0}, expected {1} (overlapping or missing triangles)")]
     Topology(i64, i64),
+    /// The marker list does not have one entry per vertex.
+    #[error("{0} markers for {1} vertices")]
+    MarkerCount(usize, usize),
+    /// A mesh-boundary edge joins vertices on two different boundary loops (it spans a gap).
+    #[error("boundary edge ({0}, {1}) joins two different boundary loops")]
+    CrossLoopEdge(u32, u32),
+    /// A boundary loop of the region carries fewer than 3 mesh vertices (e.g. a covered hole).
+    #[error("boundary loop {0} carries {1} mesh vertices; a meshed loop needs at least 3")]
+    LoopUncovered(usize, usize),
 }
 
-/// Check that `mesh` conforms to `region`: finite vertices inside Ω̄, boundary markers on the
-/// boundary, CCW non-degenerate triangles whose interiors stay in Ω (sampled along edges with
-/// the allowance a straight chord of a curved piece needs), a manifold with no orphan vertices
-/// whose boundary edges join boundary vertices, and the region's topology (V − E + F = 1 − holes).
+/// Check that `mesh` conforms to `region`: one marker per vertex, finite vertices inside Ω̄,
+/// boundary markers on the boundary, every boundary loop carrying at least 3 vertices, CCW
+/// non-degenerate triangles whose interiors stay in Ω (sampled along edges with the allowance a
+/// straight chord of a curved piece needs), a manifold with no orphan vertices whose boundary
+/// edges join boundary vertices of one loop, and the region's topology (V − E + F = 1 − holes).
 pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityError> {
     let eps = 1e-9 * region.diameter();
+    if mesh.markers.len() != mesh.points.len() {
+        return Err(ConformityError::MarkerCount(
+            mesh.markers.len(),
+            mesh.points.len(),
+        ));
+    }
+    let mut on_loop = vec![0usize; region.loops().len()];
     for (i, p) in mesh.points.iter().enumerate() {
         if !p.is_finite() {
             return Err(ConformityError::NotFinite(i));
@@ -53,6 +70,12 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
         if mesh.markers[i].on_boundary() && sd.abs() > eps {
             return Err(ConformityError::MarkerOffBoundary(i, sd.abs()));
         }
+        if sd.abs() <= eps {
+            on_loop[region.project(*p).loop_index] += 1;
+        }
+    }
+    if let Some((l, &n)) = on_loop.iter().enumerate().find(|(_, &n)| n < 3) {
+        return Err(ConformityError::LoopUncovered(l, n));
     }
     let n = mesh.points.len() as u32;
     let mean_area = region.area() / mesh.triangles.len().max(1) as f64;
@@ -94,11 +117,19 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
         return Err(ConformityError::Orphan(i));
     }
     let mut undirected = 0i64;
-    for &(a, b) in edges.keys() {
+    // Sorted so that the first problem reported does not depend on hash order.
+    let mut keys: Vec<(u32, u32)> = edges.keys().copied().collect();
+    keys.sort_unstable();
+    for (a, b) in keys {
         if !edges.contains_key(&(b, a)) {
             undirected += 1;
-            if !mesh.markers[a as usize].on_boundary() || !mesh.markers[b as usize].on_boundary() {
+            let (ma, mb) = (mesh.markers[a as usize], mesh.markers[b as usize]);
+            if !ma.on_boundary() || !mb.on_boundary() {
                 return Err(ConformityError::OpenBoundary(a, b));
+            }
+            let loop_of = |p: u32| region.project(mesh.points[p as usize]).loop_index;
+            if loop_of(a) != loop_of(b) {
+                return Err(ConformityError::CrossLoopEdge(a, b));
             }
         } else if a < b {
             undirected += 1;

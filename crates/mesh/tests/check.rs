@@ -1,0 +1,129 @@
+//! The conformity check catches the ways a mesh can fail its region.
+use geometry::{DVec2, LoopRole, Piece, Region};
+use mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
+
+fn square(lo: f64, hi: f64) -> Vec<DVec2> {
+    vec![
+        DVec2::new(lo, lo),
+        DVec2::new(hi, lo),
+        DVec2::new(hi, hi),
+        DVec2::new(lo, hi),
+    ]
+}
+
+fn lines(p: &[DVec2]) -> Vec<Piece> {
+    (0..p.len())
+        .map(|i| Piece::Line {
+            a: p[i],
+            b: p[(i + 1) % p.len()],
+        })
+        .collect()
+}
+
+/// [0,4]² minus [1,3]².
+fn frame_region() -> Region {
+    let mut hole = square(1.0, 3.0);
+    hole.reverse();
+    Region::new(
+        "frame",
+        vec![
+            (LoopRole::Outer, lines(&square(0.0, 4.0))),
+            (LoopRole::Hole, lines(&hole)),
+        ],
+        None,
+    )
+    .unwrap()
+}
+
+fn on(loop_index: usize) -> VertexMarker {
+    VertexMarker::Boundary {
+        loop_index,
+        piece: 0,
+        loop_param: 0.0,
+    }
+}
+
+/// Eight vertices, eight triangles around the hole.
+fn frame_mesh() -> Mesh {
+    let mut points = square(0.0, 4.0);
+    points.extend(square(1.0, 3.0));
+    let mut triangles = Vec::new();
+    for i in 0..4u32 {
+        let (o0, o1, h0, h1) = (i, (i + 1) % 4, 4 + i, 4 + (i + 1) % 4);
+        triangles.push([o0, o1, h1]);
+        triangles.push([o0, h1, h0]);
+    }
+    let markers = (0..8).map(|i| on(usize::from(i >= 4))).collect();
+    Mesh {
+        points,
+        triangles,
+        markers,
+    }
+}
+
+#[test]
+fn a_frame_around_the_hole_conforms() {
+    check_conforming(&frame_mesh(), &frame_region()).unwrap();
+}
+
+#[test]
+fn triangles_across_the_hole_are_caught() {
+    let m = Mesh {
+        points: square(0.0, 4.0),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        markers: vec![on(0); 4],
+    };
+    let e = check_conforming(&m, &frame_region()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ConformityError::LoopUncovered(1, 0) | ConformityError::TriangleOutside(..)
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_missing_triangle_is_caught() {
+    let mut m = frame_mesh();
+    m.triangles.pop();
+    assert!(check_conforming(&m, &frame_region()).is_err());
+}
+
+#[test]
+fn an_inverted_triangle_is_caught() {
+    let mut m = frame_mesh();
+    m.triangles[0].swap(1, 2);
+    assert!(matches!(
+        check_conforming(&m, &frame_region()),
+        Err(ConformityError::Degenerate(0, _))
+    ));
+}
+
+#[test]
+fn marker_count_and_interior_markers_on_the_hull_are_caught() {
+    let mut m = frame_mesh();
+    m.markers.pop();
+    assert_eq!(
+        check_conforming(&m, &frame_region()),
+        Err(ConformityError::MarkerCount(7, 8))
+    );
+    let mut m = frame_mesh();
+    m.markers[0] = VertexMarker::Interior;
+    assert!(matches!(
+        check_conforming(&m, &frame_region()),
+        Err(ConformityError::OpenBoundary(..))
+    ));
+}
+
+#[test]
+fn the_reported_problem_does_not_depend_on_hash_order() {
+    let mut m = frame_mesh();
+    for k in 0..8 {
+        m.markers[k] = VertexMarker::Interior;
+    }
+    let first = check_conforming(&m, &frame_region()).unwrap_err();
+    for _ in 0..5 {
+        assert_eq!(check_conforming(&m, &frame_region()).unwrap_err(), first);
+    }
+}
