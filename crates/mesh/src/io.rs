@@ -331,6 +331,16 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
         }
         written.push((tmp, target));
     }
+    // Renames cannot be made atomic together; refuse the foreseeable failure (a directory in
+    // the way) before any rename, and move the first file (.node, the one readers open) last.
+    if let Some((_, target)) = written.iter().find(|(_, t)| t.is_dir()) {
+        let target = target.clone();
+        cleanup(&written);
+        return Err(file_err(&target, "is a directory"));
+    }
+    if written.len() > 1 {
+        written.rotate_left(1);
+    }
     for i in 0..written.len() {
         let (tmp, target) = &written[i];
         if let Err(e) = fs::rename(tmp, target) {
@@ -798,6 +808,27 @@ mod tests {
         let e = write_files(vec![(dir.path("a.txt"), ok), (dir.path("b.txt"), bad)]).unwrap_err();
         assert!(e.to_string().contains("disk full"), "{e}");
         assert!(dir.files().is_empty(), "{:?}", dir.files());
+    }
+
+    #[test]
+    fn a_directory_in_the_way_changes_no_file() {
+        let dir = TempDir::new("dirway");
+        let m = square_with_hole();
+        let base = dir.path("m.node");
+        write_mesh(&m, &base).unwrap();
+        let node_before = fs::read(&base).unwrap();
+        fs::remove_file(dir.path("m.poly")).unwrap();
+        fs::create_dir(dir.path("m.poly")).unwrap();
+        let mut moved = m.clone();
+        moved.points[0].x += 0.25;
+        let e = write_mesh(&moved, &base).unwrap_err().to_string();
+        assert!(e.contains("is a directory"), "{e}");
+        assert_eq!(fs::read(&base).unwrap(), node_before, ".node was replaced");
+        assert!(
+            !dir.files().iter().any(|f| f.ends_with(".tmp")),
+            "{:?}",
+            dir.files()
+        );
     }
 
     #[test]
