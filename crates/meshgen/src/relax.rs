@@ -969,6 +969,17 @@ pub fn relax(
     for it in 1..=request.max_iter {
         let mesh = tessellation::conforming_mesh(&state.points, &state.markers(&frame), region)
             .map_err(|e| fail(e, &format!("iteration {it}")))?;
+        // Targets are indexed by vertex: a triangulation that dropped a point would misalign them.
+        if mesh.num_vertices() != state.points.len() {
+            return Err(MeshError::Failed {
+                method: method.into(),
+                message: format!(
+                    "iteration {it}: {} of {} points could not be triangulated (coincident or outside the boundary chords)",
+                    state.points.len() - mesh.num_vertices(),
+                    state.points.len()
+                ),
+            });
+        }
         let (goal, energy) = targets(&mesh, &request.density);
         let max_move = state.advance(&frame, &goal, h) / h;
         result.iterations = it;
