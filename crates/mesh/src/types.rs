@@ -26,6 +26,27 @@ pub enum VertexMarker {
 }
 
 impl VertexMarker {
+    /// The marker of a vertex sitting on corner `corner` of `region`.
+    pub fn at_corner(region: &geometry::Region, corner: usize) -> VertexMarker {
+        let c = &region.corners()[corner];
+        VertexMarker::Corner {
+            loop_index: c.loop_index,
+            corner,
+            loop_param: c.loop_param,
+        }
+    }
+
+    /// The marker of a vertex at `p` on boundary piece `piece` (its loop and arc-length position
+    /// come from the projection onto that piece).
+    pub fn on_piece(region: &geometry::Region, p: DVec2, piece: PieceId) -> VertexMarker {
+        let bp = region.project_onto_piece(p, piece);
+        VertexMarker::Boundary {
+            loop_index: bp.loop_index,
+            piece,
+            loop_param: bp.loop_param,
+        }
+    }
+
     /// True for boundary and corner vertices.
     pub fn on_boundary(&self) -> bool {
         !matches!(self, VertexMarker::Interior)

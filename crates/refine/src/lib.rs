@@ -119,22 +119,8 @@ impl Refine {
             .zip(&r.kinds)
             .map(|(p, k)| match *k {
                 VKind::Interior => VertexMarker::Interior,
-                VKind::Corner(c) => {
-                    let corner = &region.corners()[c];
-                    VertexMarker::Corner {
-                        loop_index: corner.loop_index,
-                        corner: c,
-                        loop_param: corner.loop_param,
-                    }
-                }
-                VKind::Boundary(piece) => {
-                    let bp = region.project_onto_piece(*p, piece);
-                    VertexMarker::Boundary {
-                        loop_index: bp.loop_index,
-                        piece,
-                        loop_param: bp.loop_param,
-                    }
-                }
+                VKind::Corner(c) => VertexMarker::at_corner(region, c),
+                VKind::Boundary(piece) => VertexMarker::on_piece(region, *p, piece),
             })
             .collect();
         Ok(Refinement {
