@@ -1,5 +1,5 @@
-//! Run CCVT on a built-in region and print iterations, energy and timings:
-//! `cargo run --release -p ccvt --example solve -- REGION K [ccvt1|ccvt2|fast] [seed]`.
+//! Run CCVT on a built-in region and print iterations per phase, energy and where the time went:
+//! `cargo run --release -p ccvt --example solve -- REGION K [ccvt1|ccvt2|fast|fast1] [seed]`.
 use ccvt::Ccvt;
 use geometry::Region;
 use mesh::MeshRequest;
@@ -8,7 +8,10 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let region =
         Region::builtin(args.get(1).map(String::as_str).unwrap_or("circle")).expect("region");
-    let k: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(88);
+    let k: usize = args
+        .get(2)
+        .and_then(|s| s.parse::<f64>().ok())
+        .map_or(88, |x| x.round() as usize);
     let m = match args.get(3).map(String::as_str).unwrap_or("ccvt2") {
         "ccvt1" => Ccvt::algorithm1(),
         "fast" => Ccvt::fast(),
@@ -18,18 +21,48 @@ fn main() {
         },
         _ => Ccvt::algorithm2(),
     };
+    // CCVT_EPS_PHASE_TOL overrides the ε-phase tolerance (for experiments).
+    let m = Ccvt {
+        eps_phase_tol: std::env::var("CCVT_EPS_PHASE_TOL")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(m.eps_phase_tol),
+        ..m
+    };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let req = MeshRequest::points(k).seed(seed).max_iter(5000);
+    let req = MeshRequest::points(k).seed(seed).max_iter(20_000);
+    // Iterations of each phase (the progress count restarts at 1 in every phase).
+    let mut phases: Vec<usize> = Vec::new();
     let t = std::time::Instant::now();
-    let g = m.generators(&region, &req, &mut |_| {}).expect("solve");
+    let g = m
+        .generators(&region, &req, &mut |p| {
+            if p.iteration == 1 {
+                phases.push(0);
+            }
+            if let Some(n) = phases.last_mut() {
+                *n = p.iteration;
+            }
+        })
+        .expect("solve");
+    let omega = region.polygonize(1e-4 * req.spacing(&region));
+    let e_omega = tessellation::clipped_cells(
+        &g.points,
+        &tessellation::Delaunay::new(&g.points),
+        &omega,
+        &geometry::Density::Uniform,
+    )
+    .energy();
+    println!("energy on region {e_omega:.10e}");
     let boundary = g.markers.iter().filter(|m| m.on_boundary()).count();
     println!(
-        "{} K={k} iterations={} converged={} energy={:.8e} boundary={boundary} {:.3}s notes={:?}",
+        "{} K={k} iterations={} {:?} converged={} energy={:.8e} boundary={boundary} {:.3}s notes={:?}",
         region.name(),
         g.iterations,
+        phases,
         g.converged,
         g.energy_history.last().unwrap(),
         t.elapsed().as_secs_f64(),
         g.notes
     );
+    println!("{:?}", g.profile);
 }

@@ -2,9 +2,47 @@
 //! to its centroid) or the constrained rules of Algorithm 1, steps 1–7.
 use crate::anderson::Anderson;
 use crate::method::Solver;
+use crate::sublevel::Sublevel;
 use geometry::{DVec2, Density, PieceId, Polygon, Region};
 use mesh::Progress;
+use rayon::prelude::*;
+use std::time::Instant;
 use tessellation::{clipped_cells, Cells, Delaunay};
+
+/// Wall-clock seconds spent in each part of the iteration, summed over all iterations.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Profile {
+    /// Delaunay triangulation of the generators.
+    pub triangulation: f64,
+    /// Clipped Voronoi cells with their moments and the energy.
+    pub cells: f64,
+    /// Labels, projections onto pieces and corners (Algorithm 1, steps 3–6).
+    pub projection: f64,
+    /// Largest move and the convergence test.
+    pub convergence: f64,
+    /// Anderson mixing and re-constraining (zero for Lloyd).
+    pub acceleration: f64,
+    /// Evaluations of the map (iterations, including rejected accelerated steps).
+    pub evaluations: usize,
+    /// Accelerated steps rejected because they raised the energy.
+    pub rejected: usize,
+    /// Anderson histories dropped because a label (interior/piece/corner) changed.
+    pub label_resets: usize,
+}
+
+impl Profile {
+    /// Seconds of all timed parts.
+    pub fn total(&self) -> f64 {
+        self.triangulation + self.cells + self.projection + self.convergence + self.acceleration
+    }
+}
+
+fn lap(t: &mut Instant) -> f64 {
+    let now = Instant::now();
+    let s = now.duration_since(*t).as_secs_f64();
+    *t = now;
+    s
+}
 
 /// What a generator is constrained to in the current iteration (Section 2.2.3 labels).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,6 +68,9 @@ pub struct Phase<'a> {
     pub region: &'a Region,
     /// The tessellated domain: Ω (Algorithm 1) or Ω_ε (Algorithm 2), polygonized.
     pub domain: &'a Polygon,
+    /// Where an interior generator may sit: Ω itself when constrained (signed distance < 0,
+    /// exact), else a part of the domain polygon (signed distance < ε − 2·chord tolerance).
+    pub inside: &'a Sublevel<'a>,
     pub density: &'a Density,
     /// Algorithm 1's labels and projections (false: ordinary CVT of the domain).
     pub constrained: bool,
@@ -51,39 +92,56 @@ pub struct PhaseResult {
 
 /// Evaluate the map at `z`: Voronoi cells clipped to the domain → centroids → labels →
 /// projection of boundary centroids onto their own piece, corners to corners.
-pub fn step(phase: &Phase, z: &[DVec2]) -> Step {
+pub fn step(phase: &Phase, z: &[DVec2], prof: &mut Profile) -> Step {
+    let mut t = Instant::now();
+    prof.evaluations += 1;
     let del = Delaunay::new(z);
+    prof.triangulation += lap(&mut t);
     let cells = clipped_cells(z, &del, phase.domain, phase.density);
     let energy = cells.energy();
-    let mut targets: Vec<DVec2> = cells.cells.iter().map(|c| c.mass_centroid).collect();
-    let mut roles = vec![Role::Interior; z.len()];
-    if phase.constrained {
+    prof.cells += lap(&mut t);
+    let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) = if phase.constrained {
         let region = phase.region;
-        for (k, cell) in cells.cells.iter().enumerate() {
-            if !cell.on_boundary() {
-                continue;
-            }
-            // Section 2.3: of the projections onto the pieces the cell touches, the nearest.
-            let best = cell
-                .pieces
-                .iter()
-                .map(|&j| region.project_onto_piece(targets[k], j))
-                .min_by(|a, b| a.distance.total_cmp(&b.distance))
-                .expect("boundary cell has a piece");
-            roles[k] = Role::Boundary(best.piece);
-            targets[k] = best.point;
-        }
-        for k in 0..z.len() {
-            // Interior centroids of Ω_ε may fall outside Ω; such a cell behaves as a boundary
-            // cell (its generator must stay in Ω̄ for the mesh).
-            if roles[k] == Role::Interior && region.signed_distance(targets[k]) > 0.0 {
-                let bp = region.project(targets[k]);
-                roles[k] = Role::Boundary(bp.piece);
-                targets[k] = bp.point;
-            }
-        }
-        assign_corners(region, z, &del, &mut roles, &mut targets);
+        cells
+            .cells
+            .par_iter()
+            .map(|cell| {
+                let c = cell.mass_centroid;
+                if cell.on_boundary() {
+                    // Section 2.3: of the projections onto the pieces the cell touches, the
+                    // nearest.
+                    let best = cell
+                        .pieces
+                        .iter()
+                        .map(|&j| region.project_onto_piece(c, j))
+                        .min_by(|a, b| a.distance.total_cmp(&b.distance))
+                        .expect("boundary cell has a piece");
+                    (Role::Boundary(best.piece), best.point)
+                } else if phase.inside.contains(c) || !c.is_finite() {
+                    (Role::Interior, c)
+                } else {
+                    // Interior centroids of Ω_ε may fall outside Ω (or on ∂Ω); such a cell
+                    // behaves as a boundary cell (its generator must stay in Ω̄ for the mesh).
+                    let sd = region.signed_distance(c);
+                    if sd > 0.0 {
+                        let bp = region.project(c);
+                        (Role::Boundary(bp.piece), bp.point)
+                    } else {
+                        (Role::Interior, c)
+                    }
+                }
+            })
+            .unzip()
+    } else {
+        (
+            vec![Role::Interior; z.len()],
+            cells.cells.par_iter().map(|c| c.mass_centroid).collect(),
+        )
+    };
+    if phase.constrained {
+        assign_corners(phase.region, z, &del, &mut roles, &mut targets);
     }
+    prof.projection += lap(&mut t);
     Step {
         cells,
         energy,
@@ -119,11 +177,21 @@ fn assign_corners(
     }
 }
 
+/// Largest |a_k − b_k| (a parallel max: exact and independent of the thread count); infinite
+/// if any move is NaN, so that a non-finite centroid never passes the convergence test.
 fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
-    a.iter()
+    a.par_iter()
         .zip(b)
-        .map(|(p, q)| (*p - *q).length())
-        .fold(0.0, f64::max)
+        .map(|(p, q)| {
+            let d = (*p - *q).length_squared();
+            if d.is_nan() {
+                f64::INFINITY
+            } else {
+                d
+            }
+        })
+        .reduce(|| 0.0, f64::max)
+        .sqrt()
 }
 
 /// Iterate the map of `step` from `z` until the largest move is below tol·spacing or the cap.
@@ -134,86 +202,106 @@ pub fn run(
     energies: &mut Vec<f64>,
     moves: &mut Vec<f64>,
     progress: &mut dyn FnMut(Progress),
+    prof: &mut Profile,
 ) -> PhaseResult {
     let mut anderson = match phase.solver {
         Solver::Lloyd => None,
         Solver::Anderson { depth } => Some(Anderson::new(depth)),
     };
-    // The last plain Lloyd step and its energy, to fall back on if acceleration overshoots.
+    // The last plain Lloyd step and the energy at the iterate it came from, to fall back on if
+    // acceleration overshoots.
     let mut fallback: Option<(Vec<DVec2>, f64)> = None;
     let mut prev_roles: Vec<Role> = Vec::new();
+    let mut mixed: Vec<DVec2> = Vec::new();
     let mut iterations = 0;
     loop {
-        let s = step(phase, &z);
+        let s = step(phase, &z, prof);
         iterations += 1;
-        if let (Some(aa), Some((lloyd_z, e_prev))) = (anderson.as_mut(), fallback.as_ref()) {
-            if s.energy > *e_prev * (1.0 + 1e-12) {
+        if let (Some(aa), Some(&(_, e_prev))) = (anderson.as_mut(), fallback.as_ref()) {
+            if s.energy > e_prev * (1.0 + 1e-12) {
                 // The accelerated iterate raised the energy: take the safe Lloyd step instead.
                 aa.reset();
-                z = lloyd_z.clone();
-                fallback = None;
+                prof.rejected += 1;
+                z = fallback.take().expect("checked above").0;
                 if iterations >= phase.max_iter {
-                    let s = step(phase, &z);
+                    let s = step(phase, &z, prof);
                     return finish(z, s, iterations, false);
                 }
                 continue;
             }
         }
+        let mut t = Instant::now();
         let mv = max_move(&s.targets, &z) / phase.spacing;
         energies.push(s.energy);
         moves.push(mv);
+        prof.convergence += lap(&mut t);
         progress(Progress {
             iteration: iterations,
             max_iter: phase.max_iter,
             energy: s.energy,
             max_move: mv,
         });
-        if mv < phase.tol {
-            return finish(s.targets.clone(), s, iterations, true);
+        if mv < phase.tol || iterations >= phase.max_iter {
+            let converged = mv < phase.tol;
+            let Step {
+                cells,
+                roles,
+                targets,
+                ..
+            } = s;
+            return PhaseResult {
+                z: targets,
+                roles,
+                cells,
+                iterations,
+                converged,
+            };
         }
-        if iterations >= phase.max_iter {
-            return finish(s.targets.clone(), s, iterations, false);
-        }
-        let next = match anderson.as_mut() {
-            None => s.targets.clone(),
+        let Step {
+            cells,
+            energy,
+            roles,
+            targets,
+        } = s;
+        match anderson.as_mut() {
+            None => z = targets,
             Some(aa) => {
-                if s.roles != prev_roles {
+                if roles != prev_roles {
                     aa.reset();
+                    prof.label_resets += 1;
                 }
-                let flat = |v: &[DVec2]| v.iter().flat_map(|p| [p.x, p.y]).collect::<Vec<f64>>();
-                let mixed = aa.step(&flat(&z), &flat(&s.targets));
-                fallback = Some((s.targets.clone(), s.energy));
-                constrain(phase, &s, &mixed)
+                drop(cells);
+                aa.step(&z, &targets, &mut mixed);
+                constrain(phase, &roles, &targets, &mut mixed);
+                std::mem::swap(&mut z, &mut mixed);
+                fallback = Some((targets, energy));
+                prof.acceleration += lap(&mut t);
             }
-        };
-        prev_roles = s.roles.clone();
-        z = next;
+        }
+        prev_roles = roles;
     }
 }
 
-/// Put accelerated positions back on their constraint sets (pieces, corners, the domain).
-fn constrain(phase: &Phase, s: &Step, mixed: &[f64]) -> Vec<DVec2> {
-    (0..s.targets.len())
-        .map(|k| {
-            let p = DVec2::new(mixed[2 * k], mixed[2 * k + 1]);
-            match s.roles[k] {
-                Role::Corner(_) => s.targets[k],
-                Role::Boundary(j) => phase.region.project_onto_piece(p, j).point,
+/// Put accelerated positions back on their constraint sets (pieces, corners, the domain);
+/// a position that cannot be kept falls back to the plain Lloyd target.
+fn constrain(phase: &Phase, roles: &[Role], targets: &[DVec2], mixed: &mut [DVec2]) {
+    mixed
+        .par_iter_mut()
+        .zip(roles.par_iter().zip(targets))
+        .for_each(|(p, (role, target))| {
+            *p = match *role {
+                Role::Corner(_) => *target,
+                Role::Boundary(j) if p.is_finite() => phase.region.project_onto_piece(*p, j).point,
+                Role::Boundary(_) => *target,
                 Role::Interior => {
-                    let inside = if phase.constrained {
-                        phase.region.signed_distance(p) < 0.0
+                    if phase.inside.contains(*p) {
+                        *p
                     } else {
-                        phase.domain.contains(p)
-                    };
-                    if p.is_finite() && inside {
-                        p
-                    } else {
-                        s.targets[k]
+                        *target
                     }
                 }
             }
-        })
-        .collect()
+        });
 }
 
 fn finish(z: Vec<DVec2>, s: Step, iterations: usize, converged: bool) -> PhaseResult {

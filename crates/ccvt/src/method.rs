@@ -1,6 +1,7 @@
 //! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
 use crate::init::{initial_points, Init};
-use crate::iterate::{run, Phase, Role};
+use crate::iterate::{run, Phase, Profile, Role};
+use crate::sublevel::Sublevel;
 use geometry::Region;
 use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
 
@@ -28,7 +29,7 @@ pub enum Solver {
 /// CCVT mesher. Defaults: Algorithm 2, Lloyd, the centred equilateral lattice start
 /// ([`Init::Lattice`], one of step 0's options),
 /// polygonization tolerance 1e-4 of the mean spacing, ε tolerance 1e-2 of the spacing with at
-/// most 30 ε-updates.
+/// most 30 ε-updates, intermediate CVTs of Ω_ε stopped at moves below 1e-3 of the spacing.
 #[derive(Clone, Debug)]
 pub struct Ccvt {
     /// Algorithm 1 or 2.
@@ -43,6 +44,11 @@ pub struct Ccvt {
     pub eps_tol: f64,
     /// Cap on ε-updates of Algorithm 2.
     pub max_eps_updates: usize,
+    /// Algorithm 2's intermediate CVTs of Ω_ε (steps 1–3, "some convergence criteria" in the
+    /// paper) stop when the largest move is below this fraction of the spacing, or below the
+    /// request's tolerance if that is looser: they only serve to estimate ε to `eps_tol`.
+    /// The final constrained phase always uses the request's tolerance.
+    pub eps_phase_tol: f64,
 }
 
 impl Default for Ccvt {
@@ -54,6 +60,7 @@ impl Default for Ccvt {
             polygon_tol: 1e-4,
             eps_tol: 1e-2,
             max_eps_updates: 30,
+            eps_phase_tol: 1e-3,
         }
     }
 }
@@ -96,6 +103,8 @@ pub struct Generators {
     pub move_history: Vec<f64>,
     /// What the user should know (ε, reductions).
     pub notes: Vec<String>,
+    /// Where the time went.
+    pub profile: Profile,
 }
 
 impl Ccvt {
@@ -107,38 +116,54 @@ impl Ccvt {
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {
         let k = request.size.points(region);
-        let corners = region.corners().len();
-        if k < corners.max(3) || k < 3 * region.loops().len() + corners {
-            return Err(MeshError::BadRequest(format!(
-                "K = {k} is too small for region '{}': it has {corners} corners and {} boundary loops (need at least {})",
-                region.name(),
-                region.loops().len(),
-                (3 * region.loops().len() + corners).max(3)
-            )));
-        }
+        check_size(region, k)?;
+        let z = initial_points(region, k, self.init, request.seed);
+        self.generators_from(region, request, z, progress)
+    }
+
+    /// Run the algorithm from the given initial generators (step 0 done by the caller, e.g. a
+    /// restart or a refined coarser solution): K is their number and `request.size` is ignored.
+    /// They should lie in Ω.
+    pub fn generators_from(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        mut z: Vec<geometry::DVec2>,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Generators, MeshError> {
+        let request = &MeshRequest {
+            size: mesh::Size::Points(z.len()),
+            ..request.clone()
+        };
+        check_size(region, z.len())?;
         let spacing = request.spacing(region);
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
-        let mut z = initial_points(region, k, self.init, request.seed);
         let (mut energies, mut moves, mut notes) = (Vec::new(), Vec::new(), Vec::new());
         let mut iterations = 0;
         let mut converged = true;
+        let mut prof = Profile::default();
         let solver = self.solver;
+        // Squares of about three spacings: most generators are answered by the grid.
+        let in_region = Sublevel::new(region, 0.0, 3.0 * spacing);
+        // A point of Ω_ε's polygon (chord error ≤ tol_poly) if closer than ε − 2·tol_poly.
+        let in_domain = |eps: f64| Sublevel::new(region, eps - 2.0 * tol_poly, 3.0 * spacing);
+        let common = (region, request, solver, spacing);
         fn phase<'a>(
-            region: &'a Region,
+            (region, request, solver, spacing): (&'a Region, &'a MeshRequest, Solver, f64),
             domain: &'a geometry::Polygon,
-            request: &'a MeshRequest,
+            inside: &'a Sublevel<'a>,
             constrained: bool,
-            solver: Solver,
-            spacing: f64,
+            tol: f64,
         ) -> Phase<'a> {
             Phase {
                 region,
                 domain,
+                inside,
                 density: &request.density,
                 constrained,
                 solver,
-                tol: request.tol,
+                tol,
                 max_iter: request.max_iter,
                 spacing,
             }
@@ -147,11 +172,12 @@ impl Ccvt {
             Algorithm::One => {
                 if self.init == Init::Cvt {
                     let r = run(
-                        &phase(region, &omega, request, false, solver, spacing),
+                        &phase(common, &omega, &in_domain(0.0), false, request.tol),
                         z,
                         &mut energies,
                         &mut moves,
                         progress,
+                        &mut prof,
                     );
                     iterations += r.iterations;
                     converged &= r.converged;
@@ -165,11 +191,18 @@ impl Ccvt {
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
                     let r = run(
-                        &phase(region, &domain, request, false, solver, spacing),
+                        &phase(
+                            common,
+                            &domain,
+                            &in_domain(eps),
+                            false,
+                            request.tol.max(self.eps_phase_tol),
+                        ),
                         z,
                         &mut energies,
                         &mut moves,
                         progress,
+                        &mut prof,
                     );
                     iterations += r.iterations;
                     converged &= r.converged;
@@ -200,11 +233,12 @@ impl Ccvt {
         };
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
         let r = run(
-            &phase(region, &final_domain, request, true, solver, spacing),
+            &phase(common, &final_domain, &in_region, true, request.tol),
             z,
             &mut energies,
             &mut moves,
             progress,
+            &mut prof,
         );
         iterations += r.iterations;
         converged &= r.converged;
@@ -239,6 +273,7 @@ impl Ccvt {
             energy_history: energies,
             move_history: moves,
             notes,
+            profile: prof,
         })
     }
 }
@@ -277,6 +312,20 @@ impl Mesher for Ccvt {
             notes,
         })
     }
+}
+
+/// K must cover the corners and give every loop a few generators.
+fn check_size(region: &Region, k: usize) -> Result<(), MeshError> {
+    let corners = region.corners().len();
+    if k < corners.max(3) || k < 3 * region.loops().len() + corners {
+        return Err(MeshError::BadRequest(format!(
+            "K = {k} is too small for region '{}': it has {corners} corners and {} boundary loops (need at least {})",
+            region.name(),
+            region.loops().len(),
+            (3 * region.loops().len() + corners).max(3)
+        )));
+    }
+    Ok(())
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
