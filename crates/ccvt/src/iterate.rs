@@ -110,13 +110,19 @@ pub fn step(phase: &Phase, z: &[DVec2], prof: &mut Profile) -> Step {
                 if cell.on_boundary() {
                     // Section 2.3: of the projections onto the pieces the cell touches, the
                     // nearest.
-                    let best = cell
+                    let (j, best) = cell
                         .pieces
                         .iter()
-                        .map(|&j| region.project_onto_piece(c, j))
-                        .min_by(|a, b| a.distance.total_cmp(&b.distance))
+                        .map(|&j| (j, region.project_onto_piece(c, j)))
+                        .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
                         .expect("boundary cell has a piece");
-                    (Role::Boundary(best.piece), best.point)
+                    match best.corner {
+                        Some(corner) => (
+                            Role::Boundary(j),
+                            off_corner(region, corner, j, c, phase.spacing),
+                        ),
+                        None => (Role::Boundary(j), best.point),
+                    }
                 } else if phase.inside.contains(c) || !c.is_finite() {
                     (Role::Interior, c)
                 } else {
@@ -148,6 +154,35 @@ pub fn step(phase: &Phase, z: &[DVec2], prof: &mut Profile) -> Step {
         roles,
         targets,
     }
+}
+
+/// A centroid beyond the end of its piece (in the normal cone of a reflex corner) projects onto
+/// the corner itself, where the corner's own generator sits: the two would coincide and one cell
+/// would vanish. Section 2.3 allows any constrained centroid in that case; keep the generator on
+/// its piece at the centroid's distance from the corner, clamped to [0.1, 0.5] of the spacing
+/// (and to half the piece).
+fn off_corner(
+    region: &Region,
+    corner: usize,
+    piece: PieceId,
+    centroid: DVec2,
+    spacing: f64,
+) -> DVec2 {
+    let c = &region.corners()[corner];
+    let p = &region.pieces()[piece];
+    let (t_start, t_end) = p.end_tangents();
+    let into_piece = if c.piece_out == piece {
+        t_start
+    } else {
+        -t_end
+    };
+    let d = (centroid - c.pos)
+        .length()
+        .clamp(0.1 * spacing, 0.5 * spacing)
+        .min(0.5 * p.length());
+    region
+        .project_onto_piece(c.pos + into_piece * d, piece)
+        .point
 }
 
 /// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two

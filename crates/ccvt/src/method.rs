@@ -247,22 +247,8 @@ impl Ccvt {
                 .zip(&r.roles)
                 .map(|(p, role)| match *role {
                     Role::Interior => VertexMarker::Interior,
-                    Role::Corner(c) => {
-                        let corner = &region.corners()[c];
-                        VertexMarker::Corner {
-                            loop_index: corner.loop_index,
-                            corner: c,
-                            loop_param: corner.loop_param,
-                        }
-                    }
-                    Role::Boundary(j) => {
-                        let bp = region.project_onto_piece(*p, j);
-                        VertexMarker::Boundary {
-                            loop_index: bp.loop_index,
-                            piece: j,
-                            loop_param: bp.loop_param,
-                        }
-                    }
+                    Role::Corner(c) => VertexMarker::at_corner(region, c),
+                    Role::Boundary(j) => VertexMarker::on_piece(region, *p, j),
                 })
                 .collect();
         Ok(Generators {

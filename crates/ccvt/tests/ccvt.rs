@@ -264,3 +264,13 @@ fn loose_epsilon_phases_leave_the_final_tolerance_alone() {
         .iter()
         .any(|&(_, mv)| mv >= 1e-4));
 }
+
+/// Regression: at the reflex corners of square_two_hex's hexagonal holes, a boundary cell's
+/// centroid projected onto the corner itself, on top of the corner's generator; two generators
+/// were then dropped from the mesh.
+#[test]
+fn reflex_corner_projection_keeps_every_generator() {
+    let region = Region::builtin("square_two_hex").unwrap();
+    let r = run(&Ccvt::algorithm1(), &region, 203, 1);
+    assert_ccvt_properties(&region, &r, 203);
+}
