@@ -4,7 +4,7 @@ score every mesh with `cvtmesh measure --csv`; write results/compare/compare.{cs
 Each external tool is timed around its mesher call only. K is matched by a short search on
 the tool's size parameter (area bound, characteristic length, h0).
 """
-import argparse, json, math, os, subprocess, sys, time, multiprocessing as mp
+import argparse, json, math, os, queue, subprocess, sys, time, multiprocessing as mp
 import numpy as np
 
 MEASURES = "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p".split(",")
@@ -42,7 +42,7 @@ def write_node_ele(base, p, t):
     with open(base + ".node", "w") as f:
         f.write(f"{len(p)} 2 0 0\n")
         for i, (x, y) in enumerate(p):
-            f.write(f"{i+1} {x!r} {y!r}\n")
+            f.write(f"{i+1} {float(x)!r} {float(y)!r}\n")
     with open(base + ".ele", "w") as f:
         f.write(f"{len(t)} 3 0\n")
         for i, (a, b, c) in enumerate(t):
@@ -74,7 +74,8 @@ def run_triangle(domain_file, k, area):
         if holes:
             geom["holes"] = holes
         t0 = time.perf_counter()
-        m = triangle.triangulate(geom, f"pq30a{a:.17g}Y")
+        # Triangle's switches take no exponent: "a5.4e-05" would be read as a5.4.
+        m = triangle.triangulate(geom, f"pq30a{a:.20f}Y")
         sec = time.perf_counter() - t0
         kk = len(m["vertices"])
         if best is None or abs(kk - k) < abs(best[2] - k):
@@ -164,13 +165,18 @@ def run_distmesh(domain_file, k, area):
     return np.asarray(p), np.asarray(t), sec
 
 
-def cvtmesh_run(exe, region, k, base):
+def cvtmesh_run(exe, region, k, base, max_iter, timeout):
+    """Seconds of the whole command and a note: iterations and whether it converged."""
     t0 = time.perf_counter()
-    out = subprocess.run([exe, "mesh", region, "--points", str(k), "--quiet", "-o", base + ".node"],
-                         capture_output=True, text=True)
+    out = subprocess.run([exe, "mesh", region, "--points", str(k), "--quiet", "--max-iter", str(max_iter),
+                          "-o", base + ".node"], capture_output=True, text=True, timeout=timeout)
     if out.returncode != 0:
         raise RuntimeError(out.stderr)
-    return time.perf_counter() - t0
+    sec = time.perf_counter() - t0
+    line = out.stdout.strip().splitlines()[-1]
+    its = next((w.split("=")[1] for w in line.split() if w.startswith("iterations=")), "?")
+    state = "not converged" if "not converged" in line else "converged"
+    return sec, f"whole command; {its} iterations; {state}"
 
 
 def measure(exe, base, region):
@@ -189,14 +195,18 @@ def _worker(q, fn, args):
 
 
 def with_timeout(fn, args, timeout):
+    """fn(*args) in a child process; None if it takes longer than `timeout` seconds.
+    The result is read before joining: a large result blocks the child until it is read."""
     q = mp.Queue()
     pr = mp.Process(target=_worker, args=(q, fn, args))
     pr.start()
-    pr.join(timeout)
-    if pr.is_alive():
+    try:
+        r = q.get(timeout=timeout)
+    except queue.Empty:
         pr.terminate()
+        pr.join()
         return None
-    r = q.get()
+    pr.join()
     if isinstance(r, Exception):
         raise r
     return r
@@ -210,11 +220,20 @@ def main():
     ap.add_argument("--sizes", default="10000,100000")
     ap.add_argument("--regions", default="circle,lake")
     ap.add_argument("--timeout", type=float, default=600)
+    ap.add_argument("--update", action="store_true",
+                    help="keep the rows of an existing table that this run does not redo")
+    ap.add_argument("--name", default="compare", help="stem of the CSV and Markdown tables in --out")
+    ap.add_argument("--tools", default="triangle,gmsh-delaunay,gmsh-frontal,distmeshpy,cvtmesh",
+                    help="which tools to run (e.g. leave out the slow ones at 10^6)")
+    ap.add_argument("--cvtmesh-max-iter", type=int, default=10000,
+                    help="cvtmesh's iteration cap per phase (a capped run is reported as not converged)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     tools = [("triangle", run_triangle, ()), ("gmsh-delaunay", run_gmsh, (5,)),
              ("gmsh-frontal", run_gmsh, (6,)), ("distmeshpy", run_distmesh, ())]
+    wanted = set(a.tools.split(","))
+    tools = [t for t in tools if t[0] in wanted]
     for region in a.regions.split(","):
         dfile = os.path.join(a.domains, region + ".json")
         area = json.load(open(dfile))["area"]
@@ -235,22 +254,44 @@ def main():
                 m = measure(a.cvtmesh, base, region)
                 rows.append(dict(region=region, K_requested=k, tool=name, seconds=sec, note="", **m))
                 print(f"{region} {k} {name}: K={m['K']:.0f} {sec:.2f}s", file=sys.stderr)
+            if "cvtmesh" not in wanted:
+                continue
             base = os.path.join(a.out, f"{region}_{k}_cvtmesh")
-            sec = cvtmesh_run(a.cvtmesh, region, k, base)
+            try:
+                sec, note = cvtmesh_run(a.cvtmesh, region, k, base, a.cvtmesh_max_iter, a.timeout)
+            except subprocess.TimeoutExpired:
+                print(f"{region} {k} cvtmesh: no result within {a.timeout:.0f} s", file=sys.stderr)
+                rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=float("nan"), note="timeout"))
+                continue
             m = measure(a.cvtmesh, base, region)
-            rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=sec, note="whole command", **m))
+            rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=sec, note=note, **m))
             print(f"{region} {k} cvtmesh: K={m['K']:.0f} {sec:.2f}s", file=sys.stderr)
     cols = ["region", "K_requested", "tool", "seconds"] + MEASURES + ["note"]
-    with open(os.path.join(a.out, "compare.csv"), "w") as f:
+    old_csv = os.path.join(a.out, a.name + ".csv")
+    if a.update and os.path.exists(old_csv):
+        import csv
+        done = {(r["region"], int(r["K_requested"]), r["tool"]) for r in rows}
+        kept = []
+        with open(old_csv) as f:
+            for r in csv.DictReader(f):
+                r["K_requested"] = int(r["K_requested"])
+                for c in ["seconds"] + MEASURES:
+                    r[c] = float(r[c]) if r.get(c) not in (None, "") else ""
+                if (r["region"], r["K_requested"], r["tool"]) not in done:
+                    kept.append(r)
+        order = {t: i for i, t in enumerate(["triangle", "gmsh-delaunay", "gmsh-frontal", "distmeshpy", "cvtmesh"])}
+        rows = sorted(kept + rows, key=lambda r: (r["region"] != "circle", r["region"], r["K_requested"],
+                                                  order.get(r["tool"], 99)))
+    with open(os.path.join(a.out, a.name + ".csv"), "w") as f:
         f.write(",".join(cols) + "\n")
         for r in rows:
             f.write(",".join(str(r.get(c, "")) for c in cols) + "\n")
-    with open(os.path.join(a.out, "compare.md"), "w") as f:
+    with open(os.path.join(a.out, a.name + ".md"), "w") as f:
         f.write("| " + " | ".join(cols[:-1]) + " |\n|" + "---|" * (len(cols) - 1) + "\n")
         for r in rows:
             cells = [str(r.get(c, "")) if not isinstance(r.get(c), float) else f"{r[c]:.3g}" for c in cols[:-1]]
             f.write("| " + " | ".join(cells) + " |\n")
-    print(open(os.path.join(a.out, "compare.md")).read())
+    print(open(os.path.join(a.out, a.name + ".md")).read())
 
 
 if __name__ == "__main__":

@@ -3,6 +3,8 @@
 # on the same regions at the same K, scored by `cvtmesh measure`, timed per mesher call.
 # Needs the network once (PyPI) for its own virtual environment; not part of CI.
 #   scripts/compare_tools.sh [--sizes 10000,100000] [--regions circle,lake] [--timeout 600]
+#     [--tools triangle,gmsh-delaunay,gmsh-frontal,distmeshpy,cvtmesh] [--cvtmesh-max-iter N]
+#     [--name compare] [--update]   (--update keeps the rows of results/compare/NAME.csv not redone)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 top="$(dirname "$here")"

@@ -30,7 +30,12 @@ fn main() {
         ..m
     };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let req = MeshRequest::points(k).seed(seed).max_iter(20_000);
+    // CCVT_MAX_ITER caps every phase (default 20 000).
+    let cap = std::env::var("CCVT_MAX_ITER")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000);
+    let req = MeshRequest::points(k).seed(seed).max_iter(cap);
     // Iterations of each phase (the progress count restarts at 1 in every phase).
     let mut phases: Vec<usize> = Vec::new();
     let t = std::time::Instant::now();
@@ -65,4 +70,27 @@ fn main() {
         g.notes
     );
     println!("{:?}", g.profile);
+    // CCVT_HISTORY=1 prints the largest move (per spacing) at log-spaced iterations of each phase
+    // (exact for Lloyd; Anderson's phase counts include rejected steps, which have no move).
+    if std::env::var("CCVT_HISTORY").is_ok() {
+        let mut start = 0;
+        for (i, n) in phases.iter().enumerate() {
+            let end = (start + n).min(g.move_history.len());
+            let h = &g.move_history[start.min(end)..end];
+            let n = &h.len();
+            if *n == 0 {
+                break;
+            }
+            let mut marks: Vec<usize> = (0..40)
+                .map(|e| (1.25f64.powi(e) as usize).min(*n) - 1)
+                .collect();
+            marks.dedup();
+            let line: Vec<String> = marks
+                .iter()
+                .map(|&m| format!("{}:{:.1e}", m + 1, h[m]))
+                .collect();
+            println!("phase {i}: {}", line.join(" "));
+            start += n;
+        }
+    }
 }

@@ -7,7 +7,7 @@ use geometry::{DVec2, Density, PieceId, Polygon, Region};
 use mesh::Progress;
 use rayon::prelude::*;
 use std::time::Instant;
-use tessellation::{clipped_cells, Cells, Delaunay};
+use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay};
 
 /// Wall-clock seconds spent in each part of the iteration, summed over all iterations.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -55,9 +55,27 @@ pub enum Role {
     Corner(usize),
 }
 
-/// The fixed-point map at one iterate: cells, energy, labels and the next positions.
+/// The triangulation and cells of the current iterate, in memory kept from one iteration to
+/// the next (at 10⁶ generators fresh ones would fault in ~300 MB of new pages per iteration).
+pub struct Work {
+    del: Delaunay,
+    cells: Cells,
+    buffer: CellsBuffer,
+}
+
+impl Work {
+    fn new() -> Work {
+        Work {
+            del: Delaunay::new(&[]),
+            cells: Cells { cells: Vec::new() },
+            buffer: CellsBuffer::default(),
+        }
+    }
+}
+
+/// The fixed-point map at one iterate (its cells are in the `Work`): energy, labels and the
+/// next positions.
 pub struct Step {
-    pub cells: Cells,
     pub energy: f64,
     pub roles: Vec<Role>,
     pub targets: Vec<DVec2>,
@@ -92,12 +110,21 @@ pub struct PhaseResult {
 
 /// Evaluate the map at `z`: Voronoi cells clipped to the domain → centroids → labels →
 /// projection of boundary centroids onto their own piece, corners to corners.
-pub fn step(phase: &Phase, z: &[DVec2], prof: &mut Profile) -> Step {
+pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> Step {
     let mut t = Instant::now();
     prof.evaluations += 1;
-    let del = Delaunay::new(z);
+    work.del.rebuild(z);
+    let del = &work.del;
     prof.triangulation += lap(&mut t);
-    let cells = clipped_cells(z, &del, phase.domain, phase.density);
+    clipped_cells_into(
+        z,
+        del,
+        phase.domain,
+        phase.density,
+        &mut work.cells,
+        &mut work.buffer,
+    );
+    let cells = &work.cells;
     let energy = cells.energy();
     prof.cells += lap(&mut t);
     let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) = if phase.constrained {
@@ -145,11 +172,10 @@ pub fn step(phase: &Phase, z: &[DVec2], prof: &mut Profile) -> Step {
         )
     };
     if phase.constrained {
-        assign_corners(phase.region, z, &del, &mut roles, &mut targets);
+        assign_corners(phase.region, z, del, &mut roles, &mut targets);
     }
     prof.projection += lap(&mut t);
     Step {
-        cells,
         energy,
         roles,
         targets,
@@ -249,8 +275,9 @@ pub fn run(
     let mut prev_roles: Vec<Role> = Vec::new();
     let mut mixed: Vec<DVec2> = Vec::new();
     let mut iterations = 0;
+    let mut work = Work::new();
     loop {
-        let s = step(phase, &z, prof);
+        let s = step(phase, &z, &mut work, prof);
         iterations += 1;
         if let (Some(aa), Some(&(_, e_prev))) = (anderson.as_mut(), fallback.as_ref()) {
             if s.energy > e_prev * (1.0 + 1e-12) {
@@ -259,8 +286,14 @@ pub fn run(
                 prof.rejected += 1;
                 z = fallback.take().expect("checked above").0;
                 if iterations >= phase.max_iter {
-                    let s = step(phase, &z, prof);
-                    return finish(z, s, iterations, false);
+                    let s = step(phase, &z, &mut work, prof);
+                    return PhaseResult {
+                        z,
+                        roles: s.roles,
+                        cells: work.cells,
+                        iterations,
+                        converged: false,
+                    };
                 }
                 continue;
             }
@@ -278,22 +311,16 @@ pub fn run(
         });
         if mv < phase.tol || iterations >= phase.max_iter {
             let converged = mv < phase.tol;
-            let Step {
-                cells,
-                roles,
-                targets,
-                ..
-            } = s;
+            let Step { roles, targets, .. } = s;
             return PhaseResult {
                 z: targets,
                 roles,
-                cells,
+                cells: work.cells,
                 iterations,
                 converged,
             };
         }
         let Step {
-            cells,
             energy,
             roles,
             targets,
@@ -305,7 +332,6 @@ pub fn run(
                     aa.reset();
                     prof.label_resets += 1;
                 }
-                drop(cells);
                 aa.step(&z, &targets, &mut mixed);
                 constrain(phase, &roles, &targets, &mut mixed);
                 std::mem::swap(&mut z, &mut mixed);
@@ -337,14 +363,4 @@ fn constrain(phase: &Phase, roles: &[Role], targets: &[DVec2], mixed: &mut [DVec
                 }
             }
         });
-}
-
-fn finish(z: Vec<DVec2>, s: Step, iterations: usize, converged: bool) -> PhaseResult {
-    PhaseResult {
-        z,
-        roles: s.roles,
-        cells: s.cells,
-        iterations,
-        converged,
-    }
 }

@@ -18,6 +18,6 @@ mod clip;
 mod conforming;
 mod delaunay;
 
-pub use cells::{clipped_cells, Cell, Cells};
+pub use cells::{clipped_cells, clipped_cells_into, Cell, Cells, CellsBuffer};
 pub use conforming::{conforming_mesh, mark_vertices};
 pub use delaunay::Delaunay;
