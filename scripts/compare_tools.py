@@ -175,7 +175,7 @@ def cvtmesh_run(exe, region, k, base, max_iter, timeout):
     sec = time.perf_counter() - t0
     line = out.stdout.strip().splitlines()[-1]
     its = next((w.split("=")[1] for w in line.split() if w.startswith("iterations=")), "?")
-    state = "not converged" if "not converged" in line else "converged"
+    state = "not converged" if "not converged" in line.lower() else "converged"
     return sec, f"whole command; {its} iterations; {state}"
 
 
