@@ -95,16 +95,8 @@ pub fn clipped_cells(
     density: &Density,
 ) -> Cells {
     let mut cells = Cells { cells: Vec::new() };
-    let mut buffer = Vec::new();
-    cells_with(
-        points,
-        delaunay,
-        domain,
-        density,
-        false,
-        &mut cells.cells,
-        &mut buffer,
-    );
+    let mut buffer = CellsBuffer::default();
+    clipped_cells_into(points, delaunay, domain, density, &mut cells, &mut buffer);
     cells
 }
 
