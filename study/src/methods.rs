@@ -17,7 +17,7 @@ pub enum MethodId {
     Ccvt1,
     /// CCVT Algorithm 2 (crate `ccvt`).
     Ccvt2,
-    /// Algorithm 2 with Anderson acceleration and lattice start: not in the paper.
+    /// Algorithm 2 with Newton's method and lattice start: not in the paper.
     CcvtFast,
 }
 

@@ -112,8 +112,8 @@ pub fn render_table(
     let _ = writeln!(
         out,
         "Region `{region}`, K = {k} requested, {}. TRIANGLE is our constrained Delaunay refinement \
-         (crate `refine`) standing in for Shewchuk's Triangle; CCVT-fast (Algorithm 2 with Anderson \
-         acceleration from a lattice start) is ours and not in the paper. Each row carries the \
+         (crate `refine`) standing in for Shewchuk's Triangle; CCVT-fast (Algorithm 2 with Newton's \
+         method from a lattice start) is ours and not in the paper. Each row carries the \
          paper's ×10ⁿ scaling for this table; lower is better for every measure.\n",
         describe_seeds(&agg.all_seeds())
     );

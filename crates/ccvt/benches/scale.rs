@@ -7,8 +7,9 @@
 //! - TABLES (default `iter converge anderson`):
 //!   - `iter`: one iteration split into its phases, against spade's `bulk_load` of the same
 //!     points (best of 3);
-//!   - `converge` / `fast`: Algorithm 2 with Lloyd / Anderson to the default tolerance (largest
-//!     move < 1e-4 of the mean spacing), iterations per phase, seconds, time split, peak RSS;
+//!   - `converge` / `fast` / `newton`: Algorithm 2 with Lloyd / Anderson / Newton to the default
+//!     tolerance (largest move < 1e-4 of the mean spacing), iterations per phase, seconds, time
+//!     split, peak RSS;
 //!   - `anderson`: Lloyd against Anderson (Algorithms 1 and 2);
 //!   - `c2f`: Algorithm 2 from a refined coarse solution (vertices and edge midpoints of the
 //!     CCVT mesh of about K/4 generators) against the lattice start at the same K.
@@ -163,6 +164,7 @@ fn solver_name(s: Solver) -> &'static str {
     match s {
         Solver::Lloyd => "Lloyd",
         Solver::Anderson { .. } => "Anderson",
+        Solver::Newton => "Newton",
     }
 }
 
@@ -219,10 +221,12 @@ fn table_converge(args: &Args, solver: Solver) {
         solver_name(solver)
     );
     println!(
-        "Per-phase counts are accepted iterations; the total also counts rejected Anderson steps."
+        "Counts are energy evaluations, including rejected accelerated steps; 'acceleration' is \
+         Anderson's mixing or Newton's Hessian, restriction and candidate; CG = Newton's \
+         conjugate-gradient solves (iterations, seconds)."
     );
-    println!("| region | K | iterations (per phase) | rejected | converged | total s | s / iteration | ns / (K log2 K) per iteration | triangulation s | cells s | projection s | convergence s | acceleration s | setup s | energy on Ω | peak MiB | notes |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| region | K | iterations (per phase) | rejected | converged | total s | s / iteration | ns / (K log2 K) per iteration | triangulation s | cells s | projection s | convergence s | acceleration s | CG its | CG s | setup s | energy on Ω | peak MiB | notes |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
@@ -235,7 +239,7 @@ fn table_converge(args: &Args, solver: Solver) {
             let per = p.total() / p.evaluations.max(1) as f64;
             let e = energy_on_region(&region, &r.g.points);
             println!(
-                "| {name} | {k} | {} ({}) | {} | {} | {:.2} | {per:.4} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {e:.10e} | {:.0} | {} |",
+                "| {name} | {k} | {} ({}) | {} | {} | {:.2} | {per:.4} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {e:.10e} | {:.0} | {} |",
                 r.g.iterations,
                 r.phases(),
                 p.rejected,
@@ -246,7 +250,9 @@ fn table_converge(args: &Args, solver: Solver) {
                 p.cells,
                 p.projection,
                 p.convergence,
-                p.acceleration,
+                p.acceleration + p.hessian,
+                p.linear_iterations,
+                p.linear_solve,
                 r.secs - p.total(),
                 r.peak_mib,
                 r.g.notes.join("; ")
@@ -410,9 +416,12 @@ fn main() {
             "iter" => table_iter(&args),
             "converge" => table_converge(&args, Solver::Lloyd),
             "fast" => table_converge(&args, Solver::Anderson { depth: 5 }),
+            "newton" => table_converge(&args, Solver::Newton),
             "anderson" => table_anderson(&args),
             "c2f" => table_c2f(&args),
-            other => eprintln!("unknown table '{other}' (iter, converge, fast, anderson, c2f)"),
+            other => {
+                eprintln!("unknown table '{other}' (iter, converge, fast, newton, anderson, c2f)")
+            }
         }
     }
 }

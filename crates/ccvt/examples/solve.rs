@@ -1,5 +1,5 @@
 //! Run CCVT on a built-in region and print iterations per phase, energy and where the time went:
-//! `cargo run --release -p ccvt --example solve -- REGION K [ccvt1|ccvt2|fast|fast1] [seed]`.
+//! `cargo run --release -p ccvt --example solve -- REGION K [ccvt1|ccvt2|fast|fast1|anderson] [seed]`.
 use ccvt::Ccvt;
 use geometry::Region;
 use mesh::MeshRequest;
@@ -15,6 +15,7 @@ fn main() {
     let m = match args.get(3).map(String::as_str).unwrap_or("ccvt2") {
         "ccvt1" => Ccvt::algorithm1(),
         "fast" => Ccvt::fast(),
+        "anderson" => Ccvt::anderson(),
         "fast1" => Ccvt {
             algorithm: ccvt::Algorithm::One,
             ..Ccvt::fast()

@@ -20,24 +20,36 @@ pub struct Profile {
     pub projection: f64,
     /// Largest move and the convergence test.
     pub convergence: f64,
-    /// Anderson mixing and re-constraining (zero for Lloyd).
+    /// Anderson mixing and re-constraining (zero for Lloyd and Newton).
     pub acceleration: f64,
+    /// Newton: the Hessian, its restriction to the allowed moves and the candidate.
+    pub hessian: f64,
+    /// Newton: the conjugate-gradient solves.
+    pub linear_solve: f64,
     /// Evaluations of the map (iterations, including rejected accelerated steps).
     pub evaluations: usize,
     /// Accelerated steps rejected because they raised the energy.
     pub rejected: usize,
     /// Anderson histories dropped because a label (interior/piece/corner) changed.
     pub label_resets: usize,
+    /// Conjugate-gradient iterations of Newton's linear solves (zero for Lloyd and Anderson).
+    pub linear_iterations: usize,
 }
 
 impl Profile {
     /// Seconds of all timed parts.
     pub fn total(&self) -> f64 {
-        self.triangulation + self.cells + self.projection + self.convergence + self.acceleration
+        self.triangulation
+            + self.cells
+            + self.projection
+            + self.convergence
+            + self.acceleration
+            + self.hessian
+            + self.linear_solve
     }
 }
 
-fn lap(t: &mut Instant) -> f64 {
+pub(crate) fn lap(t: &mut Instant) -> f64 {
     let now = Instant::now();
     let s = now.duration_since(*t).as_secs_f64();
     *t = now;
@@ -58,13 +70,13 @@ pub enum Role {
 /// The triangulation and cells of the current iterate, in memory kept from one iteration to
 /// the next (at 10⁶ generators fresh ones would fault in ~300 MB of new pages per iteration).
 pub struct Work {
-    del: Delaunay,
-    cells: Cells,
+    pub(crate) del: Delaunay,
+    pub(crate) cells: Cells,
     buffer: CellsBuffer,
 }
 
 impl Work {
-    fn new() -> Work {
+    pub(crate) fn new() -> Work {
         Work {
             del: Delaunay::new(&[]),
             cells: Cells { cells: Vec::new() },
@@ -240,7 +252,7 @@ fn assign_corners(
 
 /// Largest |a_k − b_k| (a parallel max: exact and independent of the thread count); infinite
 /// if any move is NaN, so that a non-finite centroid never passes the convergence test.
-fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
+pub(crate) fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
     a.par_iter()
         .zip(b)
         .map(|(p, q)| {
@@ -268,6 +280,7 @@ pub fn run(
     let mut anderson = match phase.solver {
         Solver::Lloyd => None,
         Solver::Anderson { depth } => Some(Anderson::new(depth)),
+        Solver::Newton => return crate::newton::run(phase, z, energies, moves, progress, prof),
     };
     // The last plain Lloyd step and the energy at the iterate it came from, to fall back on if
     // acceleration overshoots.

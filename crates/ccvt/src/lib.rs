@@ -7,9 +7,12 @@
 //!   adaptively, then Algorithm 1 on Ω_ε with boundary centroids projected onto ∂Ω.
 //! * [`Solver::Anderson`] accelerates either with Anderson mixing of the fixed-point map,
 //!   safeguarded by the CVT energy (a step that raises it is replaced by the plain Lloyd step).
+//! * [`Solver::Newton`] (the fast solver, [`Ccvt::fast`]) takes Newton steps on the energy with
+//!   its exact Hessian (`tessellation::energy_hessian`) restricted to the moves Algorithm 1
+//!   allows, a Levenberg–Marquardt shift and the same energy safeguard.
 //!
 //! Every per-generator pass (triangulation and clipped cells in `tessellation`, labels and
-//! projections, the convergence test, Anderson's mixing) is parallel and independent of the
+//! projections, the convergence test, Anderson's mixing, Newton's linear algebra) is parallel and independent of the
 //! thread count; [`Generators::profile`] says where the time went. `benches/scale.rs` measures
 //! one iteration against spade alone and converged runs up to 10⁶ generators.
 #![forbid(unsafe_code)]
@@ -18,6 +21,8 @@ mod anderson;
 mod init;
 mod iterate;
 mod method;
+mod multigrid;
+mod newton;
 mod sublevel;
 
 pub use init::{initial_points, Init};

@@ -24,6 +24,9 @@ pub enum Solver {
         /// History depth (5 is a good default).
         depth: usize,
     },
+    /// Newton's method on the energy with the Hessian restricted to the allowed moves, a
+    /// Levenberg–Marquardt shift and an energy safeguard (falls back to the Lloyd step).
+    Newton,
 }
 
 /// CCVT mesher. Defaults: Algorithm 2, Lloyd, the centred equilateral lattice start
@@ -77,8 +80,16 @@ impl Ccvt {
     pub fn algorithm2() -> Self {
         Ccvt::default()
     }
-    /// Algorithm 2 with Anderson acceleration: the fast solver.
+    /// Algorithm 2 with Newton's method: the fast solver (4–15× fewer energy evaluations
+    /// than Lloyd from 10³ to 10⁵ generators, see the README).
     pub fn fast() -> Self {
+        Ccvt {
+            solver: Solver::Newton,
+            ..Ccvt::default()
+        }
+    }
+    /// Algorithm 2 with Anderson acceleration (depth 5).
+    pub fn anderson() -> Self {
         Ccvt {
             solver: Solver::Anderson { depth: 5 },
             ..Ccvt::default()
@@ -269,8 +280,10 @@ impl Mesher for Ccvt {
         match (self.algorithm, self.solver) {
             (Algorithm::One, Solver::Lloyd) => "ccvt1",
             (Algorithm::Two, Solver::Lloyd) => "ccvt2",
-            (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-fast",
-            (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-fast",
+            (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-anderson",
+            (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-anderson",
+            (Algorithm::One, Solver::Newton) => "ccvt1-fast",
+            (Algorithm::Two, Solver::Newton) => "ccvt-fast",
         }
     }
 

@@ -32,7 +32,7 @@ pub struct MeshArgs {
     /// Target edge length h (K follows from the region's area).
     #[arg(long)]
     size: Option<f64>,
-    /// Method: ccvt (Algorithm 2, Anderson-accelerated; default), ccvt2, ccvt1, distmesh, meshgen, vtm, refine.
+    /// Method: ccvt (Algorithm 2 with Newton's method; default), ccvt-anderson, ccvt2, ccvt1, distmesh, meshgen, vtm, refine.
     #[arg(long, short = 'm', default_value = "ccvt")]
     method: String,
     /// Density ρ(x, y) for graded meshes, e.g. '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)'.

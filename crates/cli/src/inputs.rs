@@ -30,13 +30,21 @@ pub fn mesh(path: &Path) -> Result<Mesh> {
 
 /// Method names accepted by `--method`, best first.
 pub const METHODS: &[&str] = &[
-    "ccvt", "ccvt2", "ccvt1", "distmesh", "meshgen", "vtm", "refine",
+    "ccvt",
+    "ccvt-anderson",
+    "ccvt2",
+    "ccvt1",
+    "distmesh",
+    "meshgen",
+    "vtm",
+    "refine",
 ];
 
 /// The mesher behind a `--method` word.
 pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
     Ok(match name {
         "ccvt" | "ccvt-fast" => Box::new(ccvt::Ccvt::fast()),
+        "ccvt-anderson" => Box::new(ccvt::Ccvt::anderson()),
         "ccvt2" => Box::new(ccvt::Ccvt::algorithm2()),
         "ccvt1" => Box::new(ccvt::Ccvt::algorithm1()),
         "distmesh" => Box::new(distmesh::DistMesh::default()),

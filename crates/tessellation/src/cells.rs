@@ -258,7 +258,7 @@ fn max_norm(pts: &[DVec2]) -> f64 {
 /// Circumcentre of the triangle of vertices `a`, `b`, `c` (index, position), computed with the
 /// vertices in index order so that the three cells sharing the triangle get bit-identical
 /// Voronoi vertices.
-fn canonical_circumcenter(a: (u32, DVec2), b: (u32, DVec2), c: (u32, DVec2)) -> DVec2 {
+pub(crate) fn canonical_circumcenter(a: (u32, DVec2), b: (u32, DVec2), c: (u32, DVec2)) -> DVec2 {
     let (a, b) = if a.0 < b.0 { (a, b) } else { (b, a) };
     let (b, c) = if b.0 < c.0 { (b, c) } else { (c, b) };
     let (a, b) = if a.0 < b.0 { (a, b) } else { (b, a) };

@@ -92,6 +92,12 @@ impl Delaunay {
         (v != NONE).then(|| self.point_of_vertex[v as usize] as usize)
     }
 
+    /// The input index of vertex `v` (vertices are numbered `0..num_vertices()` along a Hilbert
+    /// curve, so passes in vertex order are cache-friendly).
+    pub fn point_of_vertex(&self, v: usize) -> usize {
+        self.point_of_vertex[v] as usize
+    }
+
     /// All finite triangles as CCW index triples into the input points.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.dt

@@ -17,7 +17,11 @@ mod cells;
 mod clip;
 mod conforming;
 mod delaunay;
+mod hessian;
+mod sparse;
 
 pub use cells::{clipped_cells, clipped_cells_into, Cell, Cells, CellsBuffer};
 pub use conforming::{conforming_mesh, mark_vertices};
 pub use delaunay::Delaunay;
+pub use hessian::energy_hessian;
+pub use sparse::{dot, BlockMatrix};

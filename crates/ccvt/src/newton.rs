@@ -1,0 +1,366 @@
+//! Newton's method for one phase: the CVT energy's Hessian (from `tessellation`) restricted to
+//! the moves Algorithm 1 allows (interior generators anywhere, boundary ones along their piece,
+//! corners fixed), shifted by σ·2m (Levenberg–Marquardt), solved inexactly by block-Jacobi
+//! preconditioned conjugate gradients. Lloyd's tail is a slow elastic mode, which the linear
+//! solve removes in one step; Anderson's is a string of saddle escapes, where the Hessian is
+//! indefinite: the shift, and a floor on every diagonal block, keep the step a descent direction.
+//!
+//! A candidate is kept only if it lowers the energy; otherwise σ grows and the plain Lloyd step
+//! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
+//! cell that reached the boundary, a corner) take their Lloyd target.
+use crate::iterate::{lap, max_move, step, Phase, PhaseResult, Profile, Role, Step, Work};
+use geometry::{DVec2, PieceId, Region};
+use glam::DMat2;
+use mesh::Progress;
+use rayon::prelude::*;
+use std::time::Instant;
+use tessellation::{dot, energy_hessian, BlockMatrix};
+
+/// First shift σ (relative to 2m, Lloyd's own scale), its floor and its cap.
+const SIGMA_START: f64 = 0.1;
+const SIGMA_MIN: f64 = 1e-3;
+const SIGMA_MAX: f64 = 1e6;
+/// Least eigenvalue of a diagonal block on its allowed moves, relative to 2m.
+const BLOCK_FLOOR: f64 = 0.1;
+/// Relative residual at which the linear solve stops, and its iteration cap (an inexact
+/// Newton step: tighter solves did not lower the number of energy evaluations).
+const CG_TOL: f64 = 1e-2;
+const CG_MAX: usize = 400;
+/// Linear solves per step: after negative curvature, σ ×4 and solve again.
+const CURVATURE_RETRIES: usize = 3;
+
+/// What a generator may do in the Newton step.
+#[derive(Clone, Copy)]
+enum Dof {
+    /// Any move (interior generator).
+    Free,
+    /// Along the unit tangent of its piece (with the piece's curvature vector d²γ/ds²), then
+    /// back onto the piece.
+    Tangent(DVec2, PieceId, DVec2),
+    /// Goes to its Lloyd target (corner, or a label that changed).
+    Fixed,
+}
+
+impl Dof {
+    fn project(self, v: DVec2) -> DVec2 {
+        match self {
+            Dof::Free => v,
+            Dof::Tangent(t, _, _) => t * t.dot(v),
+            Dof::Fixed => DVec2::ZERO,
+        }
+    }
+    fn matrix(self) -> DMat2 {
+        match self {
+            Dof::Free => DMat2::IDENTITY,
+            Dof::Tangent(t, _, _) => DMat2::from_cols(t * t.x, t * t.y),
+            Dof::Fixed => DMat2::ZERO,
+        }
+    }
+}
+
+/// Unit tangent and curvature vector of piece `j` at its point `z`, from projections of nearby
+/// points.
+fn tangent(region: &Region, z: DVec2, j: PieceId, spacing: f64) -> (DVec2, DVec2) {
+    let along = |d: f64, e: DVec2| {
+        (
+            region.project_onto_piece(z + e * d, j).point,
+            region.project_onto_piece(z - e * d, j).point,
+        )
+    };
+    let d = 1e-3 * spacing;
+    let ((a, b), (c, e)) = (along(d, DVec2::X), along(d, DVec2::Y));
+    let t = if (a - b).length_squared() >= (c - e).length_squared() {
+        a - b
+    } else {
+        c - e
+    }
+    .normalize_or_zero();
+    // Over a quarter spacing (about a Newton step): the bend a polyline piece makes within a
+    // step, not the spike at one of its vertices.
+    let d = 0.25 * spacing;
+    let (a, b) = along(d, t);
+    (t, (a + b - 2.0 * z) / (d * d))
+}
+
+/// Memory reused from one Newton step to the next.
+#[derive(Default)]
+struct Buffers {
+    hess: BlockMatrix,
+    /// Per Delaunay vertex.
+    dofs: Vec<Dof>,
+    rhs: Vec<DVec2>,
+    x: Vec<DVec2>,
+    cg: Vec<Vec<DVec2>>,
+}
+
+/// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
+pub fn run(
+    phase: &Phase,
+    mut z: Vec<DVec2>,
+    energies: &mut Vec<f64>,
+    moves: &mut Vec<f64>,
+    progress: &mut dyn FnMut(Progress),
+    prof: &mut Profile,
+) -> PhaseResult {
+    let mut work = Work::new();
+    let mut buf = Buffers::default();
+    let mut sigma = SIGMA_START;
+    let mut s = step(phase, &z, &mut work, prof);
+    let mut iterations = 1;
+    loop {
+        let mut t = Instant::now();
+        let mv = max_move(&s.targets, &z) / phase.spacing;
+        energies.push(s.energy);
+        moves.push(mv);
+        prof.convergence += lap(&mut t);
+        progress(Progress {
+            iteration: iterations,
+            max_iter: phase.max_iter,
+            energy: s.energy,
+            max_move: mv,
+        });
+        if mv < phase.tol || iterations >= phase.max_iter {
+            return PhaseResult {
+                z: s.targets,
+                roles: s.roles,
+                cells: work.cells,
+                iterations,
+                converged: mv < phase.tol,
+            };
+        }
+        let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, prof);
+        let next = step(phase, &candidate, &mut work, prof);
+        iterations += 1;
+        if next.energy < s.energy {
+            z = candidate;
+            s = next;
+            sigma = (sigma * 0.5).max(SIGMA_MIN);
+        } else {
+            prof.rejected += 1;
+            sigma = (sigma * 4.0).min(SIGMA_MAX);
+            let Step { targets, .. } = s;
+            z = targets;
+            s = step(phase, &z, &mut work, prof);
+            iterations += 1;
+        }
+    }
+}
+
+/// The Newton candidate from `z`, whose map value is `s` and whose triangulation and cells are
+/// in `work`. Raises `sigma` when the shifted Hessian is not positive definite.
+fn newton_point(
+    phase: &Phase,
+    z: &[DVec2],
+    s: &Step,
+    work: &Work,
+    buf: &mut Buffers,
+    sigma: &mut f64,
+    prof: &mut Profile,
+) -> Vec<DVec2> {
+    let mut t = Instant::now();
+    let (del, cells) = (&work.del, &work.cells.cells);
+    energy_hessian(del, phase.domain, phase.density, &work.cells, &mut buf.hess);
+    let nv = del.num_vertices();
+    let pt = |v: usize| del.point_of_vertex(v);
+    let region = phase.region;
+    (0..nv)
+        .into_par_iter()
+        .map(|v| {
+            let i = pt(v);
+            let p = z[i];
+            if cells[i].mass <= 0.0 {
+                return Dof::Fixed;
+            }
+            match s.roles[i] {
+                Role::Corner(_) => Dof::Fixed,
+                Role::Boundary(j) => {
+                    let bp = region.project_onto_piece(p, j);
+                    if bp.distance <= 1e-9 * phase.spacing && bp.corner.is_none() {
+                        let (t, k) = tangent(region, p, j, phase.spacing);
+                        Dof::Tangent(t, j, k)
+                    } else {
+                        Dof::Fixed
+                    }
+                }
+                Role::Interior if phase.inside.contains(p) => Dof::Free,
+                Role::Interior => Dof::Fixed,
+            }
+        })
+        .collect_into_vec(&mut buf.dofs);
+    let dofs = &buf.dofs;
+    // rhs = −P (g + H d_fixed), with the fixed generators' prescribed moves d_fixed.
+    let fixed: Vec<DVec2> = (0..nv)
+        .into_par_iter()
+        .map(|v| match dofs[v] {
+            Dof::Fixed => s.targets[pt(v)] - z[pt(v)],
+            _ => DVec2::ZERO,
+        })
+        .collect();
+    buf.rhs.resize(nv, DVec2::ZERO);
+    buf.hess.mul_vec(&fixed, &mut buf.rhs);
+    drop(fixed);
+    buf.rhs.par_iter_mut().enumerate().for_each(|(v, r)| {
+        let c = &cells[pt(v)];
+        let g = 2.0 * c.mass * (z[pt(v)] - c.mass_centroid);
+        *r = -dofs[v].project(g + *r);
+    });
+    shift(&mut buf.hess, dofs, |v| &cells[pt(v)], |v| z[pt(v)], *sigma);
+    prof.hessian += lap(&mut t);
+    for attempt in 0..=CURVATURE_RETRIES {
+        let h = &buf.hess;
+        let inv: Vec<DMat2> = (0..nv)
+            .into_par_iter()
+            .map(|v| h.diagonal(v).inverse())
+            .collect();
+        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |r, out| {
+            out.par_iter_mut()
+                .zip(r.par_iter().zip(inv.par_iter()))
+                .for_each(|(o, (r, m))| *o = *m * *r)
+        });
+        prof.linear_iterations += its;
+        if !negative || attempt == CURVATURE_RETRIES || *sigma >= SIGMA_MAX {
+            break;
+        }
+        // Negative curvature: the shift was too small for this iterate; raise it, solve again.
+        let add = 3.0 * *sigma;
+        *sigma *= 4.0;
+        let h = &mut buf.hess;
+        for v in 0..nv {
+            let k = h.row_start[v];
+            h.block[k] += dofs[v].matrix() * (add * 2.0 * cells[pt(v)].mass);
+        }
+    }
+    prof.linear_solve += lap(&mut t);
+    // Every point starts at its Lloyd target; vertices with a Newton move overwrite theirs.
+    let mut candidate = s.targets.clone();
+    let x = &buf.x;
+    let moved: Vec<(usize, DVec2)> = (0..nv)
+        .into_par_iter()
+        .filter_map(|v| {
+            let (i, p) = (pt(v), z[pt(v)] + x[v]);
+            match dofs[v] {
+                Dof::Fixed => None,
+                Dof::Free => phase.inside.contains(p).then_some((i, p)),
+                Dof::Tangent(_, j, _) => p
+                    .is_finite()
+                    .then(|| (i, region.project_onto_piece(p, j).point)),
+            }
+        })
+        .collect();
+    for (i, p) in moved {
+        candidate[i] = p;
+    }
+    prof.hessian += lap(&mut t);
+    candidate
+}
+
+/// Turn the Hessian into A = P H P + σ·2m·P + 2m·(I − P) (+ the curvature term of boundary
+/// generators, + a floor on each diagonal block): symmetric, the identity's multiple on moves a
+/// generator may not make, and positive definite wherever the shift suffices.
+fn shift<'a>(
+    h: &mut BlockMatrix,
+    dofs: &[Dof],
+    cell: impl Fn(usize) -> &'a tessellation::Cell + Sync,
+    z: impl Fn(usize) -> DVec2 + Sync,
+    sigma: f64,
+) {
+    let n = h.rows();
+    let starts = &h.row_start;
+    let mut rows: Vec<(&mut [u32], &mut [DMat2])> = Vec::with_capacity(n);
+    let (mut cols, mut blocks) = (&mut h.col[..], &mut h.block[..]);
+    for v in 0..n {
+        let d = starts[v + 1] - starts[v];
+        let (c, cr) = cols.split_at_mut(d);
+        let (b, br) = blocks.split_at_mut(d);
+        rows.push((c, b));
+        cols = cr;
+        blocks = br;
+    }
+    rows.into_par_iter()
+        .enumerate()
+        .for_each(|(v, (col, block))| {
+            let pv = dofs[v].matrix();
+            for (j, b) in col.iter().zip(block.iter_mut()) {
+                *b = pv * *b * dofs[*j as usize].matrix();
+            }
+            let c = cell(v);
+            let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);
+            block[0] += pv * (sigma * m2) + (DMat2::IDENTITY - pv) * m2;
+            // Along a curved piece the second derivative of the energy also has g · γ''.
+            if let Dof::Tangent(_, _, k) = dofs[v] {
+                block[0] += pv * (m2 * (z(v) - c.mass_centroid)).dot(k);
+            }
+            // Two close generators with a long common edge make their diagonal blocks
+            // indefinite (a saddle): lift each to a least eigenvalue of BLOCK_FLOOR·2m.
+            let lowest = match dofs[v] {
+                Dof::Free => {
+                    let b = block[0];
+                    let (a, c, d) = (b.x_axis.x, 0.5 * (b.x_axis.y + b.y_axis.x), b.y_axis.y);
+                    0.5 * (a + d) - (0.25 * (a - d) * (a - d) + c * c).sqrt()
+                }
+                Dof::Tangent(t, _, _) => t.dot(block[0] * t),
+                Dof::Fixed => f64::INFINITY,
+            };
+            let floor = BLOCK_FLOOR * m2;
+            if lowest < floor {
+                block[0] += pv * (floor - lowest);
+            }
+        });
+}
+
+/// Preconditioned conjugate gradients for A x = b from x = 0, to a relative residual of
+/// `CG_TOL`; stops early at a direction of non-positive curvature. Returns whether it met one,
+/// and the number of iterations.
+fn pcg(
+    a: &BlockMatrix,
+    b: &[DVec2],
+    x: &mut Vec<DVec2>,
+    work: &mut Vec<Vec<DVec2>>,
+    precond: impl Fn(&[DVec2], &mut [DVec2]),
+) -> (bool, usize) {
+    let n = b.len();
+    x.clear();
+    x.resize(n, DVec2::ZERO);
+    work.resize_with(4, Vec::new);
+    for v in work.iter_mut() {
+        v.clear();
+        v.resize(n, DVec2::ZERO);
+    }
+    let [r, zv, p, ap] = &mut work[..] else {
+        unreachable!("four vectors")
+    };
+    r.copy_from_slice(b);
+    let b_norm = dot(b, b).sqrt();
+    if b_norm == 0.0 || !b_norm.is_finite() {
+        return (false, 0);
+    }
+    precond(r, zv);
+    p.copy_from_slice(zv);
+    let mut rz = dot(r, zv);
+    for it in 1..=CG_MAX {
+        a.mul_vec(p, ap);
+        let pap = dot(p, ap);
+        if pap <= 0.0 || !pap.is_finite() {
+            return (true, it);
+        }
+        let alpha = rz / pap;
+        x.par_iter_mut()
+            .zip(r.par_iter_mut())
+            .zip(p.par_iter().zip(ap.par_iter()))
+            .for_each(|((x, r), (p, ap))| {
+                *x += *p * alpha;
+                *r -= *ap * alpha;
+            });
+        if dot(r, r).sqrt() <= CG_TOL * b_norm {
+            return (false, it);
+        }
+        precond(r, zv);
+        let rz_new = dot(r, zv);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        p.par_iter_mut()
+            .zip(zv.par_iter())
+            .for_each(|(p, z)| *p = *z + *p * beta);
+    }
+    (false, CG_MAX)
+}

@@ -1,0 +1,336 @@
+//! Second derivatives of the CVT energy (4) with respect to the generators.
+//!
+//! With cells clipped to a fixed domain, moving z_j moves only the Voronoi edge e_ij it shares
+//! with z_i, so (for ρ continuous) the gradient 2 m_i (z_i − c_i) has the derivatives
+//!
+//! * ∂²F/∂z_i∂z_j = (2/|z_i − z_j|) ∫_{e_ij ∩ Ω} ρ (x − z_i)(x − z_j)ᵀ ds,
+//! * ∂²F/∂z_i²   = 2 m_i I − Σ_j (2/|z_i − z_j|) ∫_{e_ij ∩ Ω} ρ (x − z_i)(x − z_i)ᵀ ds,
+//!
+//! (boundary edges of the domain do not move). The edge integrals use Simpson's rule on each
+//! part of e_ij inside the domain, exact for constant ρ.
+use crate::boundary::Boundary;
+use crate::cells::Cells;
+use crate::delaunay::Delaunay;
+use crate::sparse::BlockMatrix;
+use geometry::{DVec2, Density, Polygon};
+use glam::DMat2;
+use rayon::prelude::*;
+use spade::handles::FixedVertexHandle;
+use spade::Triangulation;
+
+/// The Hessian of the CVT energy of `points` (triangulated by `del`, cells from
+/// `clipped_cells` on the same `domain` and `density`) written into `out`, with one block row
+/// per Delaunay *vertex* (row and column `v` belong to the point `del.point_of_vertex(v)`; a
+/// duplicate or non-finite point has no row), its diagonal first, then its neighbours. Rows in
+/// vertex order keep the passes cache-friendly. Parallel over rows; the result does not depend
+/// on the thread count.
+pub fn energy_hessian(
+    del: &Delaunay,
+    domain: &Polygon,
+    density: &Density,
+    cells: &Cells,
+    out: &mut BlockMatrix,
+) {
+    let nv = del.num_vertices();
+    let degree: Vec<usize> = (0..nv)
+        .into_par_iter()
+        .map(|v| {
+            1 + del
+                .dt
+                .vertex(FixedVertexHandle::from_index(v))
+                .out_edges()
+                .count()
+        })
+        .collect();
+    out.row_start.clear();
+    out.row_start.push(0);
+    let mut total = 0;
+    for d in &degree {
+        total += d;
+        out.row_start.push(total);
+    }
+    out.col.resize(total, 0);
+    out.block.resize(total, DMat2::ZERO);
+    let bnd = Boundary::new(domain, nv);
+    let density = (!density.is_uniform()).then_some(density);
+    // Disjoint row slices, filled in parallel.
+    let mut rows: Vec<(&mut [u32], &mut [DMat2])> = Vec::with_capacity(nv);
+    let (mut cols, mut blocks) = (&mut out.col[..], &mut out.block[..]);
+    for &d in &degree {
+        let (c, cr) = cols.split_at_mut(d);
+        let (b, br) = blocks.split_at_mut(d);
+        rows.push((c, b));
+        cols = cr;
+        blocks = br;
+    }
+    rows.into_par_iter().enumerate().for_each_init(
+        || (Vec::new(), Vec::new(), Vec::new()),
+        |(nb, cc, parts), (v, (col, block))| {
+            col[0] = v as u32;
+            block[0] = DMat2::ZERO;
+            let Some(bnd) = bnd.as_ref() else {
+                return;
+            };
+            let mass = cells.cells[del.point_of_vertex[v] as usize].mass;
+            let z = del.pos[v];
+            nb.clear();
+            cc.clear();
+            for e in del.dt.vertex(FixedVertexHandle::from_index(v)).out_edges() {
+                let u = e.to().fix().index();
+                nb.push((u as u32, del.pos[u]));
+            }
+            // Circumcentre of face k = (v, n_k, n_k+1), or None for the outer face.
+            for (k, e) in del
+                .dt
+                .vertex(FixedVertexHandle::from_index(v))
+                .out_edges()
+                .enumerate()
+            {
+                let next = nb[(k + 1) % nb.len()];
+                cc.push(
+                    (!e.face().is_outer())
+                        .then(|| crate::cells::canonical_circumcenter((v as u32, z), nb[k], next)),
+                );
+            }
+            let m = nb.len();
+            // Every Voronoi edge lies in boundary-free squares: no clipping needed.
+            let inner = cc.iter().all(|c| c.is_some()) && {
+                let (lo, hi) = cc.iter().flatten().fold(
+                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), c| (lo.min(*c), hi.max(*c)),
+                );
+                bnd.box_inside(lo, hi)
+            };
+            let mut diag = DMat2::from_diagonal(DVec2::splat(2.0 * mass));
+            for k in 0..m {
+                let (u, zj) = nb[k];
+                let prev = (k + m - 1) % m;
+                let ray = |c: DVec2, third: DVec2| {
+                    let mut d = (zj - z).perp().normalize_or_zero();
+                    if d.dot(third - z) > 0.0 {
+                        d = -d;
+                    }
+                    let reach = (bnd.hi - bnd.lo).length() + (c - bnd.lo).length();
+                    c + d * reach
+                };
+                let seg = match (cc[prev], cc[k]) {
+                    (Some(p), Some(q)) => Some((p, q)),
+                    (Some(p), None) => Some((p, ray(p, nb[prev].1))),
+                    (None, Some(q)) => Some((ray(q, nb[(k + 1) % m].1), q)),
+                    (None, None) => None,
+                };
+                let mut wij = DMat2::ZERO;
+                let dist = (zj - z).length();
+                if let Some((p, q)) = seg.filter(|(p, q)| p.is_finite() && q.is_finite()) {
+                    if dist > 0.0 {
+                        if inner {
+                            parts.clear();
+                            parts.push((0.0, 1.0));
+                        } else {
+                            inside_parts(bnd, p, q, parts);
+                        }
+                        for &(t0, t1) in parts.iter() {
+                            let (a, b) = (p.lerp(q, t0), p.lerp(q, t1));
+                            let (wa, wb) = edge_integrals(a, b, z, zj, density);
+                            wij += wa * (2.0 / dist);
+                            diag -= wb * (2.0 / dist);
+                        }
+                    }
+                }
+                col[k + 1] = u;
+                block[k + 1] = wij;
+            }
+            block[0] = diag;
+        },
+    );
+}
+
+/// (∫ ρ (x − zi)(x − zj)ᵀ ds, ∫ ρ (x − zi)(x − zi)ᵀ ds) over the segment a–b: exact for
+/// constant ρ, else Simpson's rule.
+fn edge_integrals(
+    a: DVec2,
+    b: DVec2,
+    zi: DVec2,
+    zj: DVec2,
+    density: Option<&Density>,
+) -> (DMat2, DMat2) {
+    let len = (b - a).length();
+    let (ua, ub) = (a - zi, b - zi);
+    let w = zi - zj;
+    let outer = |u: DVec2, v: DVec2| DMat2::from_cols(u * v.x, u * v.y);
+    let (uu, u1) = match density {
+        // ∫ u uᵀ for u linear along the segment, and ∫ u.
+        None => (
+            (outer(ua, ua) + outer(ub, ub)) * (len / 3.0)
+                + (outer(ua, ub) + outer(ub, ua)) * (len / 6.0),
+            (ua + ub) * (0.5 * len),
+        ),
+        Some(d) => {
+            let um = 0.5 * (ua + ub);
+            let (ra, rm, rb) = (d.at(a), d.at(zi + um), d.at(b));
+            (
+                (outer(ua, ua) * ra + outer(um, um) * (4.0 * rm) + outer(ub, ub) * rb)
+                    * (len / 6.0),
+                (ua * ra + um * (4.0 * rm) + ub * rb) * (len / 6.0),
+            )
+        }
+    };
+    // x − zj = (x − zi) + (zi − zj).
+    (uu + outer(u1, w), uu)
+}
+
+/// Parameter intervals of the segment p–q inside the domain (written into `out`).
+fn inside_parts(bnd: &Boundary, p: DVec2, q: DVec2, out: &mut Vec<(f64, f64)>) {
+    out.clear();
+    // Nothing lies outside the boundary's box: clip to it first (Liang–Barsky).
+    let d = q - p;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (pk, dk, lo, hi) in [
+        (p.x, d.x, bnd.lo.x, bnd.hi.x),
+        (p.y, d.y, bnd.lo.y, bnd.hi.y),
+    ] {
+        if dk == 0.0 {
+            if pk < lo || pk > hi {
+                return;
+            }
+        } else {
+            let (a, b) = ((lo - pk) / dk, (hi - pk) / dk);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+    }
+    if t0 >= t1 {
+        return;
+    }
+    let (a, b) = (p + d * t0, p + d * t1);
+    let (lo, hi) = (a.min(b), a.max(b));
+    if bnd.box_inside(lo, hi) {
+        out.push((t0, t1));
+        return;
+    }
+    let mut ts = vec![t0, t1];
+    bnd.edges_near(lo, hi, |e| {
+        let (ea, eb) = (bnd.a[e as usize], bnd.b[e as usize]);
+        let (r, s) = (d, eb - ea);
+        let den = r.perp_dot(s);
+        if den != 0.0 {
+            let t = (ea - p).perp_dot(s) / den;
+            let u = (ea - p).perp_dot(r) / den;
+            if (0.0..=1.0).contains(&u) && t > t0 && t < t1 {
+                ts.push(t);
+            }
+        }
+    });
+    ts.sort_by(f64::total_cmp);
+    ts.dedup();
+    for w in ts.windows(2) {
+        if w[1] > w[0] && bnd.inside(p + d * (0.5 * (w[0] + w[1]))) {
+            match out.last_mut() {
+                Some(last) if last.1 == w[0] => last.1 = w[1],
+                _ => out.push((w[0], w[1])),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cells::clipped_cells;
+    use geometry::{Region, Rng};
+
+    /// Gradient of the energy: 2 m_i (z_i − c_i).
+    fn gradient(points: &[DVec2], domain: &Polygon) -> Vec<DVec2> {
+        let del = Delaunay::new(points);
+        let cells = clipped_cells(points, &del, domain, &Density::Uniform);
+        points
+            .iter()
+            .zip(&cells.cells)
+            .map(|(z, c)| 2.0 * c.mass * (*z - c.mass_centroid))
+            .collect()
+    }
+
+    /// The Hessian agrees with central differences of the gradient, also for cells cut by the
+    /// boundary of a region with a hole.
+    #[test]
+    fn matches_finite_differences_of_the_gradient() {
+        for name in ["circle", "lake", "annulus"] {
+            let region = Region::builtin(name).unwrap();
+            let domain = region.polygonize(1e-4);
+            let (lo, hi) = region.bbox();
+            let mut rng = Rng::new(3);
+            let mut pts = Vec::new();
+            while pts.len() < 300 {
+                let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+                if region.signed_distance(p) < 0.0 {
+                    pts.push(p);
+                }
+            }
+            let del = Delaunay::new(&pts);
+            let cells = clipped_cells(&pts, &del, &domain, &Density::Uniform);
+            let mut h = BlockMatrix::default();
+            energy_hessian(&del, &domain, &Density::Uniform, &cells, &mut h);
+            assert_eq!(h.rows(), pts.len());
+            let scale = (hi - lo).length() * 1e-7;
+            let mut worst: f64 = 0.0;
+            let mut norm: f64 = 0.0;
+            for j in (0..pts.len()).step_by(7) {
+                for axis in [DVec2::X, DVec2::Y] {
+                    let (mut a, mut b) = (pts.clone(), pts.clone());
+                    a[j] += axis * scale;
+                    b[j] -= axis * scale;
+                    let (ga, gb) = (gradient(&a, &domain), gradient(&b, &domain));
+                    let vj = del.vertex_of_point[j];
+                    for i in 0..pts.len() {
+                        let fd = (ga[i] - gb[i]) / (2.0 * scale);
+                        let vi = del.vertex_of_point[i] as usize;
+                        let r = h.row_start[vi]..h.row_start[vi + 1];
+                        let an = h.col[r.clone()]
+                            .iter()
+                            .zip(&h.block[r])
+                            .filter(|(&c, _)| c == vj)
+                            .fold(DVec2::ZERO, |s, (_, m)| s + *m * axis);
+                        worst = worst.max((fd - an).length());
+                        norm = norm.max(fd.length());
+                    }
+                }
+            }
+            assert!(
+                worst < 1e-4 * norm,
+                "{name}: Hessian differs from finite differences by {worst:e} (scale {norm:e})"
+            );
+        }
+    }
+
+    /// The matrix is symmetric: block (i, j) is the transpose of block (j, i).
+    #[test]
+    fn is_symmetric() {
+        let region = Region::builtin("pie_hole").unwrap();
+        let domain = region.polygonize(1e-4);
+        let pts: Vec<DVec2> = {
+            let (lo, hi) = region.bbox();
+            let mut rng = Rng::new(8);
+            std::iter::repeat_with(|| DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y)))
+                .filter(|p| region.signed_distance(*p) < 0.0)
+                .take(500)
+                .collect()
+        };
+        let del = Delaunay::new(&pts);
+        let cells = clipped_cells(&pts, &del, &domain, &Density::Uniform);
+        let mut h = BlockMatrix::default();
+        energy_hessian(&del, &domain, &Density::Uniform, &cells, &mut h);
+        let find = |i: usize, j: usize| {
+            (h.row_start[i]..h.row_start[i + 1])
+                .find(|&k| h.col[k] as usize == j)
+                .map(|k| h.block[k])
+        };
+        for i in 0..h.rows() {
+            for k in h.row_start[i] + 1..h.row_start[i + 1] {
+                let j = h.col[k] as usize;
+                let back = find(j, i).expect("neighbour relation is symmetric");
+                let diff = (h.block[k] - back.transpose()).abs_diff_eq(DMat2::ZERO, 1e-14);
+                assert!(diff, "block ({i},{j}) is not the transpose of ({j},{i})");
+            }
+        }
+    }
+}

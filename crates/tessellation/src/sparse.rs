@@ -1,0 +1,51 @@
+//! Sparse symmetric matrices of 2×2 blocks, one block row per generator (the CVT energy's
+//! Hessian and the operators built from it).
+use geometry::DVec2;
+use glam::DMat2;
+use rayon::prelude::*;
+
+/// Block-CSR matrix: row `i` holds the blocks `block[row_start[i]..row_start[i + 1]]` in the
+/// columns `col[..]` of the same range. Every row starts with its diagonal block.
+#[derive(Clone, Debug, Default)]
+pub struct BlockMatrix {
+    /// Start of each row in `col` / `block` (length rows + 1).
+    pub row_start: Vec<usize>,
+    /// Column (generator index) of each block.
+    pub col: Vec<u32>,
+    /// The blocks.
+    pub block: Vec<DMat2>,
+}
+
+impl BlockMatrix {
+    /// Number of block rows.
+    pub fn rows(&self) -> usize {
+        self.row_start.len().saturating_sub(1)
+    }
+
+    /// The diagonal block of row `i`.
+    pub fn diagonal(&self, i: usize) -> DMat2 {
+        self.block[self.row_start[i]]
+    }
+
+    /// `out = A x` (parallel over rows; each row is summed in a fixed order).
+    pub fn mul_vec(&self, x: &[DVec2], out: &mut [DVec2]) {
+        out.par_iter_mut().enumerate().for_each(|(i, o)| {
+            let r = self.row_start[i]..self.row_start[i + 1];
+            *o = self.col[r.clone()]
+                .iter()
+                .zip(&self.block[r])
+                .fold(DVec2::ZERO, |s, (&j, b)| s + *b * x[j as usize]);
+        });
+    }
+}
+
+/// Parallel dot product with a fixed chunking (the same bits on any number of threads).
+pub fn dot(a: &[DVec2], b: &[DVec2]) -> f64 {
+    const CHUNK: usize = 4096;
+    let partial: Vec<f64> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .map(|(a, b)| a.iter().zip(b).map(|(p, q)| p.dot(*q)).sum())
+        .collect();
+    partial.iter().sum()
+}
