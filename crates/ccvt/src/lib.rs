@@ -21,7 +21,6 @@ mod anderson;
 mod init;
 mod iterate;
 mod method;
-mod multigrid;
 mod newton;
 mod sublevel;
 
