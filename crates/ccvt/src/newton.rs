@@ -128,6 +128,14 @@ pub fn run(
                 converged: mv < phase.tol,
             };
         }
+        if iterations + 1 >= phase.max_iter {
+            // Room for one evaluation only: the plain Lloyd step, which needs no fallback.
+            let Step { targets, .. } = s;
+            z = targets;
+            s = step(phase, &z, &mut work, prof);
+            iterations += 1;
+            continue;
+        }
         let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, prof);
         let next = step(phase, &candidate, &mut work, prof);
         iterations += 1;
@@ -363,4 +371,87 @@ fn pcg(
             .for_each(|(p, z)| *p = *z + *p * beta);
     }
     (false, CG_MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain of n points with springs of stiffness `k` between neighbours and `mass` added to
+    /// the diagonal, as a block matrix: positive definite for mass > 0, indefinite for mass < 0.
+    fn chain(n: usize, k: f64, mass: f64) -> BlockMatrix {
+        let mut a = BlockMatrix::default();
+        a.row_start.push(0);
+        for i in 0..n {
+            let mut diag = mass;
+            let mut row = Vec::new();
+            for j in [i.wrapping_sub(1), i + 1] {
+                if j < n {
+                    diag += k;
+                    row.push((j as u32, DMat2::from_diagonal(DVec2::new(-k, -0.5 * k))));
+                }
+            }
+            a.col.push(i as u32);
+            a.block.push(DMat2::from_diagonal(DVec2::new(
+                diag,
+                diag - 0.5 * (diag - mass),
+            )));
+            for (j, b) in row {
+                a.col.push(j);
+                a.block.push(b);
+            }
+            a.row_start.push(a.col.len());
+        }
+        a
+    }
+
+    fn jacobi(a: &BlockMatrix) -> impl Fn(&[DVec2], &mut [DVec2]) + '_ {
+        move |r, out| {
+            for (i, (o, r)) in out.iter_mut().zip(r).enumerate() {
+                *o = a.diagonal(i).inverse() * *r;
+            }
+        }
+    }
+
+    #[test]
+    fn pcg_reaches_its_tolerance_on_a_positive_definite_system() {
+        let a = chain(500, 1.0, 0.01);
+        let b: Vec<DVec2> = (0..500)
+            .map(|i| DVec2::new((i as f64 * 0.1).sin(), (i % 7) as f64 - 3.0))
+            .collect();
+        let (mut x, mut work) = (Vec::new(), Vec::new());
+        let (negative, its) = pcg(&a, &b, &mut x, &mut work, jacobi(&a));
+        assert!(!negative);
+        assert!(its > 1 && its < CG_MAX, "{its} iterations");
+        let mut ax = vec![DVec2::ZERO; 500];
+        a.mul_vec(&x, &mut ax);
+        let r: Vec<DVec2> = ax.iter().zip(&b).map(|(p, q)| *p - *q).collect();
+        assert!(dot(&r, &r).sqrt() <= CG_TOL * dot(&b, &b).sqrt() * (1.0 + 1e-9));
+    }
+
+    #[test]
+    fn pcg_reports_negative_curvature() {
+        // A negative mass makes the smooth modes of the chain directions of negative curvature.
+        let a = chain(200, 1.0, -0.05);
+        let b = vec![DVec2::new(1.0, 1.0); 200];
+        let (mut x, mut work) = (Vec::new(), Vec::new());
+        let (negative, _) = pcg(&a, &b, &mut x, &mut work, |r, out| out.copy_from_slice(r));
+        assert!(negative);
+        assert!(x.iter().all(|p| p.is_finite()));
+    }
+
+    #[test]
+    fn tangent_and_curvature_of_the_unit_circle() {
+        let region = Region::builtin("circle").unwrap();
+        let z = DVec2::from_angle(0.7);
+        let j = region.project(z).piece;
+        let (t, k) = tangent(&region, z, j, 0.01);
+        assert!(
+            t.dot(z).abs() < 1e-6,
+            "tangent {t} not perpendicular to {z}"
+        );
+        assert!((t.length() - 1.0).abs() < 1e-12);
+        // d²γ/ds² = −z / R² on a circle of radius 1.
+        assert!((k + z).length() < 1e-3, "curvature vector {k}");
+    }
 }
