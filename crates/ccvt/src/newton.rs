@@ -218,14 +218,12 @@ fn newton_point(
     prof.hessian += lap(&mut t);
     for attempt in 0..=CURVATURE_RETRIES {
         let h = &buf.hess;
-        let inv: Vec<DMat2> = (0..nv)
-            .into_par_iter()
-            .map(|v| h.diagonal(v).inverse())
-            .collect();
+        // Block-Jacobi: the 2×2 inverses are recomputed on the fly (cheaper than 32 MB at 10⁶).
         let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |r, out| {
             out.par_iter_mut()
-                .zip(r.par_iter().zip(inv.par_iter()))
-                .for_each(|(o, (r, m))| *o = *m * *r)
+                .zip(r.par_iter())
+                .enumerate()
+                .for_each(|(v, (o, r))| *o = h.diagonal(v).inverse() * *r)
         });
         prof.linear_iterations += its;
         if !negative || attempt == CURVATURE_RETRIES || *sigma >= SIGMA_MAX {
@@ -241,25 +239,24 @@ fn newton_point(
         }
     }
     prof.linear_solve += lap(&mut t);
-    // Every point starts at its Lloyd target; vertices with a Newton move overwrite theirs.
-    let mut candidate = s.targets.clone();
+    // A point without a Newton move (fixed, or a duplicate) goes to its Lloyd target.
     let x = &buf.x;
-    let moved: Vec<(usize, DVec2)> = (0..nv)
+    let candidate = (0..z.len())
         .into_par_iter()
-        .filter_map(|v| {
-            let (i, p) = (pt(v), z[pt(v)] + x[v]);
+        .map(|i| {
+            let Some(v) = del.vertex_index(i) else {
+                return s.targets[i];
+            };
+            let p = z[i] + x[v];
             match dofs[v] {
-                Dof::Fixed => None,
-                Dof::Free => phase.inside.contains(p).then_some((i, p)),
-                Dof::Tangent(_, j, _) => p
-                    .is_finite()
-                    .then(|| (i, region.project_onto_piece(p, j).point)),
+                Dof::Fixed => s.targets[i],
+                Dof::Free if phase.inside.contains(p) => p,
+                Dof::Free => s.targets[i],
+                Dof::Tangent(_, j, _) if p.is_finite() => region.project_onto_piece(p, j).point,
+                Dof::Tangent(..) => s.targets[i],
             }
         })
         .collect();
-    for (i, p) in moved {
-        candidate[i] = p;
-    }
     prof.hessian += lap(&mut t);
     candidate
 }
@@ -274,21 +271,9 @@ fn shift<'a>(
     z: impl Fn(usize) -> DVec2 + Sync,
     sigma: f64,
 ) {
-    let n = h.rows();
-    let starts = &h.row_start;
-    let mut rows: Vec<(&mut [u32], &mut [DMat2])> = Vec::with_capacity(n);
-    let (mut cols, mut blocks) = (&mut h.col[..], &mut h.block[..]);
-    for v in 0..n {
-        let d = starts[v + 1] - starts[v];
-        let (c, cr) = cols.split_at_mut(d);
-        let (b, br) = blocks.split_at_mut(d);
-        rows.push((c, b));
-        cols = cr;
-        blocks = br;
-    }
-    rows.into_par_iter()
-        .enumerate()
-        .for_each(|(v, (col, block))| {
+    h.par_rows_mut(
+        || (),
+        |_, v, col, block| {
             let pv = dofs[v].matrix();
             for (j, b) in col.iter().zip(block.iter_mut()) {
                 *b = pv * *b * dofs[*j as usize].matrix();
@@ -315,7 +300,8 @@ fn shift<'a>(
             if lowest < floor {
                 block[0] += pv * (floor - lowest);
             }
-        });
+        },
+    );
 }
 
 /// Preconditioned conjugate gradients for A x = b from x = 0, to a relative residual of

@@ -98,6 +98,13 @@ impl Delaunay {
         self.point_of_vertex[v] as usize
     }
 
+    /// The vertex of point `i` if `i` is the first point at its position (`None` for a
+    /// duplicate, a point that was not inserted, or an out-of-range `i`).
+    pub fn vertex_index(&self, i: usize) -> Option<usize> {
+        let v = *self.vertex_of_point.get(i)?;
+        (v != NONE && self.point_of_vertex[v as usize] as usize == i).then_some(v as usize)
+    }
+
     /// All finite triangles as CCW index triples into the input points.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.dt

@@ -53,19 +53,9 @@ pub fn energy_hessian(
     out.block.resize(total, DMat2::ZERO);
     let bnd = Boundary::new(domain, nv);
     let density = (!density.is_uniform()).then_some(density);
-    // Disjoint row slices, filled in parallel.
-    let mut rows: Vec<(&mut [u32], &mut [DMat2])> = Vec::with_capacity(nv);
-    let (mut cols, mut blocks) = (&mut out.col[..], &mut out.block[..]);
-    for &d in &degree {
-        let (c, cr) = cols.split_at_mut(d);
-        let (b, br) = blocks.split_at_mut(d);
-        rows.push((c, b));
-        cols = cr;
-        blocks = br;
-    }
-    rows.into_par_iter().enumerate().for_each_init(
+    out.par_rows_mut(
         || (Vec::new(), Vec::new(), Vec::new()),
-        |(nb, cc, parts), (v, (col, block))| {
+        |(nb, cc, parts), v, col, block| {
             col[0] = v as u32;
             block[0] = DMat2::ZERO;
             let Some(bnd) = bnd.as_ref() else {

@@ -27,6 +27,37 @@ impl BlockMatrix {
         self.block[self.row_start[i]]
     }
 
+    /// Calls `f(scratch, row, columns, blocks)` for every row, in parallel over chunks of rows
+    /// (each chunk gets its own `init()` scratch). The row layout (`row_start`) must be set.
+    pub fn par_rows_mut<S>(
+        &mut self,
+        init: impl Fn() -> S + Sync + Send,
+        f: impl Fn(&mut S, usize, &mut [u32], &mut [DMat2]) + Sync + Send,
+    ) {
+        const ROWS: usize = 2048;
+        let n = self.rows();
+        let starts = &self.row_start;
+        let mut chunks = Vec::with_capacity(n.div_ceil(ROWS));
+        let (mut cols, mut blocks) = (&mut self.col[..], &mut self.block[..]);
+        for first in (0..n).step_by(ROWS) {
+            let last = (first + ROWS).min(n);
+            let len = starts[last] - starts[first];
+            let (c, cr) = std::mem::take(&mut cols).split_at_mut(len);
+            let (b, br) = std::mem::take(&mut blocks).split_at_mut(len);
+            chunks.push((first, last, c, b));
+            cols = cr;
+            blocks = br;
+        }
+        chunks.into_par_iter().for_each(|(first, last, c, b)| {
+            let mut scratch = init();
+            let base = starts[first];
+            for row in first..last {
+                let r = starts[row] - base..starts[row + 1] - base;
+                f(&mut scratch, row, &mut c[r.clone()], &mut b[r]);
+            }
+        });
+    }
+
     /// `out = A x` (parallel over rows; each row is summed in a fixed order).
     pub fn mul_vec(&self, x: &[DVec2], out: &mut [DVec2]) {
         out.par_iter_mut().enumerate().for_each(|(i, o)| {
