@@ -80,8 +80,8 @@ impl Ccvt {
     pub fn algorithm2() -> Self {
         Ccvt::default()
     }
-    /// Algorithm 2 with Newton's method: the fast solver (4–15× fewer energy evaluations
-    /// than Lloyd from 10³ to 10⁵ generators, see the README).
+    /// Algorithm 2 with Newton's method: the fast solver (6–19× fewer energy evaluations
+    /// than Lloyd on the circle and the lake from 10³ to 10⁵ generators, see the README).
     pub fn fast() -> Self {
         Ccvt {
             solver: Solver::Newton,
