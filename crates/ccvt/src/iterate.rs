@@ -252,7 +252,7 @@ fn assign_corners(
 
 /// Largest |a_k − b_k| (a parallel max: exact and independent of the thread count); infinite
 /// if any move is NaN, so that a non-finite centroid never passes the convergence test.
-pub(crate) fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
+fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
     a.par_iter()
         .zip(b)
         .map(|(p, q)| {
@@ -265,6 +265,33 @@ pub(crate) fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
         })
         .reduce(|| 0.0, f64::max)
         .sqrt()
+}
+
+/// The largest move of the map at `z` (relative to the spacing), appended with the energy to
+/// the histories and reported as progress.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn record(
+    phase: &Phase,
+    s: &Step,
+    z: &[DVec2],
+    iterations: usize,
+    energies: &mut Vec<f64>,
+    moves: &mut Vec<f64>,
+    progress: &mut dyn FnMut(Progress),
+    prof: &mut Profile,
+) -> f64 {
+    let mut t = Instant::now();
+    let mv = max_move(&s.targets, z) / phase.spacing;
+    energies.push(s.energy);
+    moves.push(mv);
+    prof.convergence += lap(&mut t);
+    progress(Progress {
+        iteration: iterations,
+        max_iter: phase.max_iter,
+        energy: s.energy,
+        max_move: mv,
+    });
+    mv
 }
 
 /// Iterate the map of `step` from `z` until the largest move is below tol·spacing or the cap.
@@ -311,17 +338,8 @@ pub fn run(
                 continue;
             }
         }
+        let mv = record(phase, &s, &z, iterations, energies, moves, progress, prof);
         let mut t = Instant::now();
-        let mv = max_move(&s.targets, &z) / phase.spacing;
-        energies.push(s.energy);
-        moves.push(mv);
-        prof.convergence += lap(&mut t);
-        progress(Progress {
-            iteration: iterations,
-            max_iter: phase.max_iter,
-            energy: s.energy,
-            max_move: mv,
-        });
         if mv < phase.tol || iterations >= phase.max_iter {
             let converged = mv < phase.tol;
             let Step { roles, targets, .. } = s;

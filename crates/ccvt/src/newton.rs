@@ -8,7 +8,7 @@
 //! A candidate is kept only if it lowers the energy; otherwise σ grows and the plain Lloyd step
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
-use crate::iterate::{lap, max_move, step, Phase, PhaseResult, Profile, Role, Step, Work};
+use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Work};
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use mesh::Progress;
@@ -118,17 +118,7 @@ pub fn run(
     let mut s = step(phase, &z, &mut work, prof);
     let mut iterations = 1;
     loop {
-        let mut t = Instant::now();
-        let mv = max_move(&s.targets, &z) / phase.spacing;
-        energies.push(s.energy);
-        moves.push(mv);
-        prof.convergence += lap(&mut t);
-        progress(Progress {
-            iteration: iterations,
-            max_iter: phase.max_iter,
-            energy: s.energy,
-            max_move: mv,
-        });
+        let mv = record(phase, &s, &z, iterations, energies, moves, progress, prof);
         if mv < phase.tol || iterations >= phase.max_iter {
             return PhaseResult {
                 z: s.targets,

@@ -54,8 +54,8 @@ pub fn energy_hessian(
     let bnd = Boundary::new(domain, nv);
     let density = (!density.is_uniform()).then_some(density);
     out.par_rows_mut(
-        || (Vec::new(), Vec::new(), Vec::new()),
-        |(nb, cc, parts), v, col, block| {
+        || (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
+        |(nb, cc, parts, ts), v, col, block| {
             col[0] = v as u32;
             block[0] = DMat2::ZERO;
             let Some(bnd) = bnd.as_ref() else {
@@ -117,7 +117,7 @@ pub fn energy_hessian(
                             parts.clear();
                             parts.push((0.0, 1.0));
                         } else {
-                            inside_parts(bnd, p, q, parts);
+                            inside_parts(bnd, p, q, parts, ts);
                         }
                         for &(t0, t1) in parts.iter() {
                             let (a, b) = (p.lerp(q, t0), p.lerp(q, t1));
@@ -169,8 +169,9 @@ fn edge_integrals(
     (uu + outer(u1, w), uu)
 }
 
-/// Parameter intervals of the segment p–q inside the domain (written into `out`).
-fn inside_parts(bnd: &Boundary, p: DVec2, q: DVec2, out: &mut Vec<(f64, f64)>) {
+/// Parameter intervals of the segment p–q inside the domain (written into `out`; `ts` is
+/// scratch for the crossing parameters).
+fn inside_parts(bnd: &Boundary, p: DVec2, q: DVec2, out: &mut Vec<(f64, f64)>, ts: &mut Vec<f64>) {
     out.clear();
     // Nothing lies outside the boundary's box: clip to it first (Liang–Barsky).
     let d = q - p;
@@ -198,7 +199,8 @@ fn inside_parts(bnd: &Boundary, p: DVec2, q: DVec2, out: &mut Vec<(f64, f64)>) {
         out.push((t0, t1));
         return;
     }
-    let mut ts = vec![t0, t1];
+    ts.clear();
+    ts.extend([t0, t1]);
     bnd.edges_near(lo, hi, |e| {
         let (ea, eb) = (bnd.a[e as usize], bnd.b[e as usize]);
         let (r, s) = (d, eb - ea);
