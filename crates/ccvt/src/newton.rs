@@ -128,21 +128,14 @@ pub fn run(
                 converged: mv < phase.tol,
             };
         }
-        if sigma >= SIGMA_LLOYD {
-            // The shift dominates the Hessian: a Newton step would be a damped Lloyd step at
-            // the cost of two evaluations. Take Lloyd's and let σ decay until Newton pays again.
-            let Step { targets, .. } = s;
-            z = targets;
-            s = step(phase, &z, &mut work, prof);
-            iterations += 1;
-            sigma *= 0.5;
-            continue;
-        }
-        if iterations + 1 >= phase.max_iter {
-            // Room for one evaluation only: the plain Lloyd step, which needs no fallback.
-            let Step { targets, .. } = s;
-            z = targets;
-            s = step(phase, &z, &mut work, prof);
+        // σ ≥ 1: the shift dominates the Hessian, and a Newton step would be a damped Lloyd step
+        // at the cost of two evaluations; take Lloyd's and let σ decay until Newton pays again.
+        // With room for one evaluation only, the Lloyd step needs no fallback.
+        if sigma >= SIGMA_LLOYD || iterations + 1 >= phase.max_iter {
+            if sigma >= SIGMA_LLOYD {
+                sigma *= 0.5;
+            }
+            (z, s) = lloyd(phase, s, &mut work, prof);
             iterations += 1;
             continue;
         }
@@ -156,12 +149,17 @@ pub fn run(
         } else {
             prof.rejected += 1;
             sigma = (sigma * 4.0).min(SIGMA_MAX);
-            let Step { targets, .. } = s;
-            z = targets;
-            s = step(phase, &z, &mut work, prof);
+            (z, s) = lloyd(phase, s, &mut work, prof);
             iterations += 1;
         }
     }
+}
+
+/// The plain Lloyd step from the iterate whose map value is `s`: the new iterate and its map.
+fn lloyd(phase: &Phase, s: Step, work: &mut Work, prof: &mut Profile) -> (Vec<DVec2>, Step) {
+    let z = s.targets;
+    let s = step(phase, &z, work, prof);
+    (z, s)
 }
 
 /// The Newton candidate from `z`, whose map value is `s` and whose triangulation and cells are
