@@ -267,25 +267,34 @@ fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
         .sqrt()
 }
 
+/// What every phase reports: energy and relative largest move per iteration, progress, and
+/// where the time went.
+pub struct Trace<'a> {
+    /// CVT energy per iteration.
+    pub energies: Vec<f64>,
+    /// Largest move / spacing per iteration.
+    pub moves: Vec<f64>,
+    /// Called after every iteration.
+    pub progress: &'a mut dyn FnMut(Progress),
+    /// Where the time went.
+    pub prof: Profile,
+}
+
 /// The largest move of the map at `z` (relative to the spacing), appended with the energy to
 /// the histories and reported as progress.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn record(
     phase: &Phase,
     s: &Step,
     z: &[DVec2],
     iterations: usize,
-    energies: &mut Vec<f64>,
-    moves: &mut Vec<f64>,
-    progress: &mut dyn FnMut(Progress),
-    prof: &mut Profile,
+    trace: &mut Trace,
 ) -> f64 {
     let mut t = Instant::now();
     let mv = max_move(&s.targets, z) / phase.spacing;
-    energies.push(s.energy);
-    moves.push(mv);
-    prof.convergence += lap(&mut t);
-    progress(Progress {
+    trace.energies.push(s.energy);
+    trace.moves.push(mv);
+    trace.prof.convergence += lap(&mut t);
+    (trace.progress)(Progress {
         iteration: iterations,
         max_iter: phase.max_iter,
         energy: s.energy,
@@ -295,19 +304,12 @@ pub(crate) fn record(
 }
 
 /// Iterate the map of `step` from `z` until the largest move is below tol·spacing or the cap.
-/// Energies and relative moves of every iteration are appended to the histories.
-pub fn run(
-    phase: &Phase,
-    mut z: Vec<DVec2>,
-    energies: &mut Vec<f64>,
-    moves: &mut Vec<f64>,
-    progress: &mut dyn FnMut(Progress),
-    prof: &mut Profile,
-) -> PhaseResult {
+/// Energies and relative moves of every iteration are appended to the trace's histories.
+pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
     let mut anderson = match phase.solver {
         Solver::Lloyd => None,
         Solver::Anderson { depth } => Some(Anderson::new(depth)),
-        Solver::Newton => return crate::newton::run(phase, z, energies, moves, progress, prof),
+        Solver::Newton => return crate::newton::run(phase, z, trace),
     };
     // The last plain Lloyd step and the energy at the iterate it came from, to fall back on if
     // acceleration overshoots.
@@ -317,16 +319,16 @@ pub fn run(
     let mut iterations = 0;
     let mut work = Work::new();
     loop {
-        let s = step(phase, &z, &mut work, prof);
+        let s = step(phase, &z, &mut work, &mut trace.prof);
         iterations += 1;
         if let (Some(aa), Some(&(_, e_prev))) = (anderson.as_mut(), fallback.as_ref()) {
             if s.energy > e_prev * (1.0 + 1e-12) {
                 // The accelerated iterate raised the energy: take the safe Lloyd step instead.
                 aa.reset();
-                prof.rejected += 1;
+                trace.prof.rejected += 1;
                 z = fallback.take().expect("checked above").0;
                 if iterations >= phase.max_iter {
-                    let s = step(phase, &z, &mut work, prof);
+                    let s = step(phase, &z, &mut work, &mut trace.prof);
                     return PhaseResult {
                         z,
                         roles: s.roles,
@@ -338,7 +340,7 @@ pub fn run(
                 continue;
             }
         }
-        let mv = record(phase, &s, &z, iterations, energies, moves, progress, prof);
+        let mv = record(phase, &s, &z, iterations, trace);
         let mut t = Instant::now();
         if mv < phase.tol || iterations >= phase.max_iter {
             let converged = mv < phase.tol;
@@ -361,13 +363,13 @@ pub fn run(
             Some(aa) => {
                 if roles != prev_roles {
                     aa.reset();
-                    prof.label_resets += 1;
+                    trace.prof.label_resets += 1;
                 }
                 aa.step(&z, &targets, &mut mixed);
                 constrain(phase, &roles, &targets, &mut mixed);
                 std::mem::swap(&mut z, &mut mixed);
                 fallback = Some((targets, energy));
-                prof.acceleration += lap(&mut t);
+                trace.prof.acceleration += lap(&mut t);
             }
         }
         prev_roles = roles;

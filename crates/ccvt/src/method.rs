@@ -1,6 +1,6 @@
 //! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
 use crate::init::{initial_points, Init};
-use crate::iterate::{run, Phase, Profile, Role};
+use crate::iterate::{run, Phase, Profile, Role, Trace};
 use crate::sublevel::Sublevel;
 use geometry::Region;
 use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
@@ -150,10 +150,15 @@ impl Ccvt {
         let spacing = request.spacing(region);
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
-        let (mut energies, mut moves, mut notes) = (Vec::new(), Vec::new(), Vec::new());
+        let mut notes = Vec::new();
         let mut iterations = 0;
         let mut converged = true;
-        let mut prof = Profile::default();
+        let mut trace = Trace {
+            energies: Vec::new(),
+            moves: Vec::new(),
+            progress,
+            prof: Profile::default(),
+        };
         let solver = self.solver;
         // Squares of about three spacings: most generators are answered by the grid.
         let in_region = Sublevel::new(region, 0.0, 3.0 * spacing);
@@ -185,10 +190,7 @@ impl Ccvt {
                     let r = run(
                         &phase(common, &omega, &in_domain(0.0), false, request.tol),
                         z,
-                        &mut energies,
-                        &mut moves,
-                        progress,
-                        &mut prof,
+                        &mut trace,
                     );
                     iterations += r.iterations;
                     converged &= r.converged;
@@ -210,10 +212,7 @@ impl Ccvt {
                             request.tol.max(self.eps_phase_tol),
                         ),
                         z,
-                        &mut energies,
-                        &mut moves,
-                        progress,
-                        &mut prof,
+                        &mut trace,
                     );
                     iterations += r.iterations;
                     converged &= r.converged;
@@ -246,10 +245,7 @@ impl Ccvt {
         let r = run(
             &phase(common, &final_domain, &in_region, true, request.tol),
             z,
-            &mut energies,
-            &mut moves,
-            progress,
-            &mut prof,
+            &mut trace,
         );
         iterations += r.iterations;
         converged &= r.converged;
@@ -267,10 +263,10 @@ impl Ccvt {
             markers,
             iterations,
             converged,
-            energy_history: energies,
-            move_history: moves,
+            energy_history: trace.energies,
+            move_history: trace.moves,
             notes,
-            profile: prof,
+            profile: trace.prof,
         })
     }
 }

@@ -8,10 +8,9 @@
 //! A candidate is kept only if it lowers the energy; otherwise σ grows and the plain Lloyd step
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
-use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Work};
+use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
-use mesh::Progress;
 use rayon::prelude::*;
 use std::time::Instant;
 use tessellation::{dot, energy_hessian, BlockMatrix};
@@ -104,21 +103,14 @@ struct Buffers {
 }
 
 /// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
-pub fn run(
-    phase: &Phase,
-    mut z: Vec<DVec2>,
-    energies: &mut Vec<f64>,
-    moves: &mut Vec<f64>,
-    progress: &mut dyn FnMut(Progress),
-    prof: &mut Profile,
-) -> PhaseResult {
+pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
     let mut work = Work::new();
     let mut buf = Buffers::default();
     let mut sigma = SIGMA_START;
-    let mut s = step(phase, &z, &mut work, prof);
+    let mut s = step(phase, &z, &mut work, &mut trace.prof);
     let mut iterations = 1;
     loop {
-        let mv = record(phase, &s, &z, iterations, energies, moves, progress, prof);
+        let mv = record(phase, &s, &z, iterations, trace);
         if mv < phase.tol || iterations >= phase.max_iter {
             return PhaseResult {
                 z: s.targets,
@@ -135,21 +127,21 @@ pub fn run(
             if sigma >= SIGMA_LLOYD {
                 sigma *= 0.5;
             }
-            (z, s) = lloyd(phase, s, &mut work, prof);
+            (z, s) = lloyd(phase, s, &mut work, &mut trace.prof);
             iterations += 1;
             continue;
         }
-        let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, prof);
-        let next = step(phase, &candidate, &mut work, prof);
+        let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, &mut trace.prof);
+        let next = step(phase, &candidate, &mut work, &mut trace.prof);
         iterations += 1;
         if next.energy < s.energy {
             z = candidate;
             s = next;
             sigma = (sigma * 0.5).max(SIGMA_MIN);
         } else {
-            prof.rejected += 1;
+            trace.prof.rejected += 1;
             sigma = (sigma * 4.0).min(SIGMA_MAX);
-            (z, s) = lloyd(phase, s, &mut work, prof);
+            (z, s) = lloyd(phase, s, &mut work, &mut trace.prof);
             iterations += 1;
         }
     }
