@@ -76,9 +76,12 @@ pub struct Work {
 }
 
 impl Work {
-    pub(crate) fn new() -> Work {
+    /// For a phase on `domain`: the triangulation is framed around it, so that rebuilds after
+    /// small moves repair it by flips.
+    pub(crate) fn new(domain: &Polygon) -> Work {
+        let (lo, hi) = domain.bbox();
         Work {
-            del: Delaunay::new(&[]),
+            del: Delaunay::framed(lo, hi),
             cells: Cells { cells: Vec::new() },
             buffer: CellsBuffer::default(),
         }
@@ -317,7 +320,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
     let mut prev_roles: Vec<Role> = Vec::new();
     let mut mixed: Vec<DVec2> = Vec::new();
     let mut iterations = 0;
-    let mut work = Work::new();
+    let mut work = Work::new(phase.domain);
     loop {
         let s = step(phase, &z, &mut work, &mut trace.prof);
         iterations += 1;

@@ -104,7 +104,7 @@ struct Buffers {
 
 /// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
 pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
-    let mut work = Work::new();
+    let mut work = Work::new(phase.domain);
     let mut buf = Buffers::default();
     let mut sigma = SIGMA_START;
     let mut s = step(phase, &z, &mut work, &mut trace.prof);
@@ -276,7 +276,10 @@ fn shift<'a>(
         |_, v, col, block| {
             let pv = dofs[v].matrix();
             for (j, b) in col.iter().zip(block.iter_mut()) {
-                *b = pv * *b * dofs[*j as usize].matrix();
+                // P = I for the (many) free generators.
+                if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
+                    *b = pv * *b * dofs[*j as usize].matrix();
+                }
             }
             let c = cell(v);
             let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);

@@ -18,8 +18,6 @@ use crate::clip::{
 use crate::delaunay::Delaunay;
 use geometry::{DVec2, Density, PieceId, Polygon};
 use rayon::prelude::*;
-use spade::handles::FixedVertexHandle;
-use spade::Triangulation;
 use std::f64::consts::TAU;
 
 /// One generator's Voronoi cell V_k ∩ Ω (the union of its parts if Ω cuts it in several).
@@ -321,17 +319,10 @@ impl Ctx<'_> {
         // Delaunay neighbours in CCW order; the face between consecutive ones is (v, n_i, n_i+1)
         // unless it is the outer face (a hull vertex, whose cell is unbounded).
         s.nb.clear();
-        let mut bounded = true;
-        for e in self
-            .del
-            .dt
-            .vertex(FixedVertexHandle::from_index(v))
-            .out_edges()
-        {
-            bounded &= !e.face().is_outer();
-            let u = e.to().fix().index();
-            s.nb.push((u as u32, self.del.pos[u]));
-        }
+        let (ring, outer) = self.del.rings.of(v);
+        let bounded = !outer.contains(&true);
+        s.nb.extend(ring.iter().map(|&u| (u, self.del.pos[u as usize])));
+        let mut bounded = bounded;
         s.k.clear();
         if bounded {
             let n = s.nb.len();

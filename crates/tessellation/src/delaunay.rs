@@ -1,12 +1,15 @@
 //! Delaunay triangulation of generators, built by inserting in Hilbert-curve order
 //! (see notes: plain `insert` on unsorted points is ~100× slower at 10⁶).
+use crate::topology::{Rings, Topology, NONE};
 use geometry::DVec2;
 use rayon::prelude::*;
 use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 
-/// Marks an input point that is not a vertex (non-finite or rejected coordinates).
-const NONE: u32 = u32::MAX;
+/// A rebuild by flips gives up (and triangulates afresh) beyond this many flips per triangle.
+const MAX_FLIP_FRACTION: usize = 8;
+/// Vertices of the frame around a framed triangulation.
+const FRAME: usize = 8;
 
 /// Delaunay triangulation of a point set. Vertex `i` is `points[i]` (duplicates are merged
 /// onto the first occurrence; `vertex_of` maps each input point to its vertex).
@@ -14,8 +17,12 @@ const NONE: u32 = u32::MAX;
 /// Points with non-finite coordinates (or coordinates spade rejects) are not inserted: they have
 /// no vertex, no neighbours and an empty Voronoi cell.
 pub struct Delaunay {
-    /// The spade triangulation; its vertex `v` was inserted `v`-th (Hilbert order).
-    pub(crate) dt: DelaunayTriangulation<Point2<f64>>,
+    /// Every vertex's neighbours in CCW order, canonically rotated.
+    pub(crate) rings: Rings,
+    /// Triangles and their neighbours (vertex indices).
+    topo: Topology,
+    /// Every point is a vertex and there are triangles: the next rebuild may flip edges.
+    flippable: bool,
     /// Spade vertex index → input index of the first point at that position.
     pub(crate) point_of_vertex: Vec<u32>,
     /// Input index → spade vertex index (`NONE` if not inserted).
@@ -26,52 +33,252 @@ pub struct Delaunay {
     hints: HintGrid,
     /// Hilbert keys of the last rebuild (kept for their memory).
     keys: Vec<u64>,
+    /// A box to keep inside the frame (`Delaunay::framed`), or None for no frame.
+    frame_box: Option<(DVec2, DVec2)>,
+    /// Frame vertices of the current triangulation (numbered after the points' vertices).
+    framed: usize,
+    /// Points farther than `.1` from `.0` send a rebuild to a fresh build (with a new frame).
+    frame_safe: (DVec2, f64),
+    /// Scratch of rebuilds by flips: the previous positions, the vertices whose rings change.
+    scratch: (Vec<DVec2>, Vec<u32>),
+    /// The last rebuild repaired the previous triangulation by flips.
+    flipped: bool,
 }
 
 impl Delaunay {
     /// Triangulate `points`.
     pub fn new(points: &[DVec2]) -> Delaunay {
         let mut d = Delaunay {
-            dt: DelaunayTriangulation::new(),
+            rings: Rings::default(),
+            topo: Topology::default(),
+            flippable: false,
             point_of_vertex: Vec::new(),
             vertex_of_point: Vec::new(),
             pos: Vec::new(),
-            hints: HintGrid::new(&DelaunayTriangulation::new()),
+            hints: HintGrid::new(&[]),
             keys: Vec::new(),
+            frame_box: None,
+            framed: 0,
+            frame_safe: (DVec2::ZERO, 0.0),
+            scratch: (Vec::new(), Vec::new()),
+            flipped: false,
         };
         d.rebuild(points);
         d
     }
 
-    /// Triangulate `points` afresh in this triangulation's memory: the same result as
-    /// [`Delaunay::new`], without the large allocations (at 10⁶ points a fresh triangulation
-    /// faults in ~150 MB of new pages per Lloyd iteration).
+    /// An empty triangulation whose rebuilds add a frame of 8 fixed vertices far around the
+    /// points and the box `lo`–`hi` (where cells are wanted). The frame makes the hull fixed and
+    /// convex, so rebuilds of moved points keep repairing by flips where the points' own hull
+    /// (often slivers along a boundary layer) would turn over. Frame vertices are not in
+    /// `triangles` or `neighbors`; within the box every Voronoi cell and edge is the frameless
+    /// one (the frame's bisectors lie more than a box diagonal outside).
+    pub fn framed(lo: DVec2, hi: DVec2) -> Delaunay {
+        let mut d = Delaunay::new(&[]);
+        d.frame_box = Some((lo, hi));
+        d
+    }
+
+    /// The canonical ring key of vertex `u`: its input index; frame vertices come last.
+    fn key(&self) -> impl Fn(u32) -> u32 + Sync + '_ {
+        let nv = self.point_of_vertex.len();
+        move |u| match self.point_of_vertex.get(u as usize) {
+            Some(&i) => i,
+            None => u32::MAX - (FRAME + nv) as u32 + u,
+        }
+    }
+
+    /// Triangulate `points` in this triangulation's memory: the same result as
+    /// [`Delaunay::new`] (up to the choice of diagonal between exactly cocircular points),
+    /// without the large allocations. When `points` are the previous points moved (the same
+    /// number, all distinct vertices, no triangle turned over, the hull still strictly convex),
+    /// the previous triangulation is repaired by Lawson flips, which at 10⁵ points costs about a
+    /// fifth of building it afresh; otherwise it is built afresh.
     pub fn rebuild(&mut self, points: &[DVec2]) {
+        self.flipped = self.flip_to(points);
+        if !self.flipped {
+            self.build(points);
+        }
+    }
+
+    /// Whether the last rebuild repaired the previous triangulation by flips (rather than
+    /// building afresh).
+    pub fn flipped(&self) -> bool {
+        self.flipped
+    }
+
+    /// Rebuild by flips; false when that is not possible (the state is then rebuilt by `build`).
+    /// A move that turns a triangle over is retried in `SUBSTEPS` straight-line steps, flipping
+    /// after each: a vertex heading for an edge enters its neighbours' circumcircles, and is
+    /// flipped past, before it reaches the edge.
+    fn flip_to(&mut self, points: &[DVec2]) -> bool {
+        const SUBSTEPS: usize = 4;
+        if !self.flippable || points.len() != self.num_points() {
+            return false;
+        }
+        self.flippable = false;
+        let nv = self.point_of_vertex.len();
+        let (c, r) = self.frame_safe;
+        let framed = self.framed > 0;
+        let of = &self.point_of_vertex;
+        let safe = (0..nv).into_par_iter().all(|v| {
+            let p = points[of[v] as usize];
+            p.is_finite() && (!framed || p.distance(c) <= r)
+        });
+        if !safe {
+            return false;
+        }
+        let max_flips = self.topo.tri.len() / MAX_FLIP_FRACTION;
+        let (mut old, mut touched) = std::mem::take(&mut self.scratch);
+        touched.clear();
+        old.clear();
+        old.extend_from_slice(&self.pos[..nv]);
+        let mut done = false;
+        for steps in [1, SUBSTEPS] {
+            let mut ok = true;
+            for step in 1..=steps {
+                let t = step as f64 / steps as f64;
+                let of = &self.point_of_vertex;
+                self.pos[..nv]
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(v, p)| {
+                        let to = points[of[v] as usize];
+                        *p = if step < steps { old[v].lerp(to, t) } else { to };
+                    });
+                match self.topo.flip_to_delaunay(&self.pos, max_flips) {
+                    Some(_) => touched.extend_from_slice(&self.topo.touched),
+                    None => {
+                        ok = false;
+                        break;
+                    }
+                }
+            }
+            if ok {
+                done = true;
+                break;
+            }
+            // The first attempt fails before flipping anything: the topology is still the
+            // previous positions' Delaunay triangulation.
+            if steps == 1 {
+                self.pos[..nv].copy_from_slice(&old);
+            }
+        }
+        if !done {
+            self.scratch = (old, touched);
+            return false;
+        }
+        // Only the flipped quadrilaterals' corners have new rings (in input numbering).
+        touched.sort_unstable();
+        touched.dedup();
+        let mut rings = std::mem::take(&mut self.rings);
+        if !rings.update(&self.topo, &touched, &self.key()) {
+            self.topo.rings(nv, &self.key(), &mut rings);
+        }
+        self.rings = rings;
+        self.scratch = (old, touched);
+        self.hints = HintGrid::new(&self.pos[..nv]);
+        self.flippable = true;
+        true
+    }
+
+    /// Triangulate afresh with spade (inserting along a Hilbert curve).
+    fn build(&mut self, points: &[DVec2]) {
         assert!(
             points.len() < NONE as usize,
             "at most 2^32 - 1 points are supported"
         );
         hilbert_keys(points, &mut self.keys);
-        self.dt.clear();
+        // Spade's triangulation lives only while its topology is copied out (vertex `v` was
+        // inserted `v`-th, in Hilbert order): at 10⁶ points it is ~200 MB that flips never need.
+        let mut dt: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::with_capacity(
+            points.len() + FRAME,
+            3 * points.len(),
+            2 * points.len(),
+        );
         self.point_of_vertex.clear();
         self.vertex_of_point.clear();
         self.vertex_of_point.resize(points.len(), NONE);
         for &key in &self.keys {
             let i = key as u32;
             let p = points[i as usize];
-            let before = self.dt.num_vertices();
+            let before = dt.num_vertices();
             // Errors are NaN/infinite/out-of-range coordinates: such points stay un-inserted.
-            if let Ok(h) = self.dt.insert(Point2::new(p.x, p.y)) {
-                if self.dt.num_vertices() > before {
+            if let Ok(h) = dt.insert(Point2::new(p.x, p.y)) {
+                if dt.num_vertices() > before {
                     self.point_of_vertex.push(i);
                 }
                 self.vertex_of_point[i as usize] = h.index() as u32;
             }
         }
-        self.hints = HintGrid::new(&self.dt);
         self.pos.clear();
         self.pos
             .extend(self.point_of_vertex.iter().map(|&i| points[i as usize]));
+        let nv = self.pos.len();
+        self.framed = 0;
+        if let (Some((lo, hi)), true) = (self.frame_box, nv > 0) {
+            // Around the points and the box: a regular octagon of radius 4 diagonals; points
+            // stay safe while within one diagonal of the centre (then the frame's bisectors
+            // are 1.5 diagonals out, beyond the box).
+            let (plo, phi) = self
+                .pos
+                .iter()
+                .fold((lo, hi), |(a, b), p| (a.min(*p), b.max(*p)));
+            let c = 0.5 * (plo + phi);
+            let diag = (phi - plo).length().max(f64::MIN_POSITIVE.sqrt());
+            for k in 0..FRAME {
+                let a = std::f64::consts::TAU * k as f64 / FRAME as f64;
+                let p = c + DVec2::from_angle(a) * (4.0 * diag);
+                if dt.insert(Point2::new(p.x, p.y)).is_ok() {
+                    self.pos.push(p);
+                    self.framed += 1;
+                }
+            }
+            self.frame_safe = (c, diag);
+        }
+        self.hints = HintGrid::new(&self.pos[..nv]);
+        let dt = &dt;
+        self.topo.tri.clear();
+        self.topo.adj.clear();
+        let faces: Vec<_> = dt.inner_faces().collect();
+        faces
+            .par_iter()
+            .map(|f| {
+                let e = f.adjacent_edges();
+                let mut adj = [NONE; 3];
+                for k in 0..3 {
+                    let r = e[k].rev().face();
+                    // Inner faces are numbered from 1 (0 is the outer face).
+                    adj[(k + 2) % 3] = if r.is_outer() {
+                        NONE
+                    } else {
+                        r.fix().index() as u32 - 1
+                    };
+                }
+                (e.map(|e| e.from().fix().index() as u32), adj)
+            })
+            .unzip_into_vecs(&mut self.topo.tri, &mut self.topo.adj);
+        self.topo.index_vertices(self.pos.len());
+        if self.topo.tri.is_empty() {
+            // No triangles (fewer than three vertices, or all collinear): spade's edges.
+            let out_edges = |v: usize| dt.vertex(FixedVertexHandle::from_index(v)).out_edges();
+            self.rings.fill(
+                |v| out_edges(v).count(),
+                &|u| u,
+                nv,
+                |v, nb, outer| {
+                    for (k, e) in out_edges(v).enumerate() {
+                        nb[k] = e.to().fix().index() as u32;
+                        outer[k] = e.face().is_outer();
+                    }
+                },
+            );
+        } else {
+            let mut rings = std::mem::take(&mut self.rings);
+            self.topo.rings(nv, &self.key(), &mut rings);
+            self.rings = rings;
+        }
+        self.flippable = nv == points.len() && !self.topo.tri.is_empty();
     }
 
     /// Number of input points (including duplicates and rejected points).
@@ -107,9 +314,12 @@ impl Delaunay {
 
     /// All finite triangles as CCW index triples into the input points.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
-        self.dt
-            .inner_faces()
-            .map(|f| f.vertices().map(|v| self.point_of_vertex[v.fix().index()]))
+        let nv = self.num_vertices() as u32;
+        self.topo
+            .tri
+            .iter()
+            .filter(|t| t.iter().all(|&v| v < nv))
+            .map(|t| t.map(|v| self.point_of_vertex[v as usize]))
             .collect()
     }
 
@@ -117,10 +327,11 @@ impl Delaunay {
     pub fn neighbors(&self, i: usize) -> Vec<usize> {
         match self.vertex_of_point.get(i) {
             Some(&v) if v != NONE => self
-                .dt
-                .vertex(FixedVertexHandle::from_index(v as usize))
-                .out_edges()
-                .map(|e| self.point_of_vertex[e.to().fix().index()] as usize)
+                .rings
+                .of(v as usize)
+                .0
+                .iter()
+                .filter_map(|&u| self.point_of_vertex.get(u as usize).map(|&i| i as usize))
                 .collect(),
             _ => Vec::new(),
         }
@@ -139,23 +350,22 @@ impl Delaunay {
         if !p.is_finite() || self.num_vertices() == 0 {
             return None;
         }
-        let mut v = FixedVertexHandle::from_index(self.hints.start(p) as usize);
-        let dist = |h: FixedVertexHandle| {
-            let q = self.dt.vertex(h).position();
-            (q.x - p.x).powi(2) + (q.y - p.y).powi(2)
-        };
+        let mut v = self.hints.start(p) as usize;
+        let dist = |u: usize| self.pos[u].distance_squared(p);
         let mut d = dist(v);
         loop {
             let mut best = (v, d);
-            for e in self.dt.vertex(v).out_edges() {
-                let u = e.to().fix();
-                let du = dist(u);
+            for &u in self.rings.of(v).0 {
+                if u as usize >= self.point_of_vertex.len() {
+                    continue;
+                }
+                let du = dist(u as usize);
                 if du < best.1 {
-                    best = (u, du);
+                    best = (u as usize, du);
                 }
             }
             if best.0 == v {
-                return Some(self.point_of_vertex[v.index()] as usize);
+                return Some(self.point_of_vertex[v] as usize);
             }
             (v, d) = best;
         }
@@ -172,13 +382,12 @@ struct HintGrid {
 }
 
 impl HintGrid {
-    fn new(dt: &DelaunayTriangulation<Point2<f64>>) -> HintGrid {
-        let n = dt.num_vertices();
+    fn new(pos: &[DVec2]) -> HintGrid {
+        let n = pos.len();
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for v in dt.vertices() {
-            let p = DVec2::new(v.position().x, v.position().y);
-            lo = lo.min(p);
-            hi = hi.max(p);
+        for p in pos {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
         }
         if n == 0 {
             return HintGrid {
@@ -205,10 +414,10 @@ impl HintGrid {
             ny,
             cells: vec![NONE; nx * ny],
         };
-        for v in dt.vertices() {
-            let c = grid.cell(DVec2::new(v.position().x, v.position().y));
+        for (v, p) in pos.iter().enumerate() {
+            let c = grid.cell(*p);
             if grid.cells[c] == NONE {
-                grid.cells[c] = v.fix().index() as u32;
+                grid.cells[c] = v as u32;
             }
         }
         // Empty cells borrow the previous filled cell's vertex (any start is correct).
@@ -334,7 +543,8 @@ mod tests {
         let pts = lattice(k);
         let d = Delaunay::new(&pts);
         let hull = 4 * (k - 1);
-        assert_eq!(d.dt.convex_hull_size(), hull);
+        let hull_edges = d.topo.adj.iter().flatten().filter(|&&a| a == NONE).count();
+        assert_eq!(hull_edges, hull);
         let tris = d.triangles();
         assert_eq!(tris.len(), 2 * pts.len() - 2 - hull);
         for t in &tris {
@@ -449,5 +659,112 @@ mod tests {
         // Back to the larger set: nothing of the smaller one remains.
         d.rebuild(&a);
         assert_eq!(d.triangles(), Delaunay::new(&a).triangles());
+    }
+
+    /// Triangles as sorted triples, sorted: the triangulation without its numbering.
+    fn triangle_set(d: &Delaunay) -> Vec<[u32; 3]> {
+        let mut t: Vec<[u32; 3]> = d
+            .triangles()
+            .into_iter()
+            .map(|mut t| {
+                t.sort_unstable();
+                t
+            })
+            .collect();
+        t.sort_unstable();
+        t
+    }
+
+    /// A jittered hexagonal lattice in the unit disc (a CVT-like set) and a random set.
+    fn point_sets(rng: &mut Rng) -> Vec<Vec<DVec2>> {
+        let h = 0.05;
+        let mut hex = Vec::new();
+        for j in -25..=25 {
+            for i in -25..=25 {
+                let p = DVec2::new(i as f64 + 0.5 * j as f64, j as f64 * 0.75f64.sqrt()) * h;
+                if p.length() < 1.0 {
+                    hex.push(p + DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 1e-3 * h);
+                }
+            }
+        }
+        let random = (0..800)
+            .map(|_| DVec2::new(rng.uniform(), rng.uniform()))
+            .collect();
+        vec![hex, random]
+    }
+
+    #[test]
+    fn rebuild_by_flips_equals_a_fresh_triangulation() {
+        let mut rng = Rng::new(5);
+        for pts in point_sets(&mut rng) {
+            let n = pts.len();
+            // Small moves (flips only), larger ones (many flips) and a shuffle (turned-over
+            // triangles: a fresh build).
+            for (scale, steps) in [(1e-3, 5), (0.02, 5), (0.3, 2)] {
+                let mut d = Delaunay::new(&pts);
+                let mut moved = pts.clone();
+                for _ in 0..steps {
+                    for p in moved.iter_mut() {
+                        *p += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * scale * 0.05;
+                    }
+                    d.rebuild(&moved);
+                    let fresh = Delaunay::new(&moved);
+                    assert_eq!(
+                        triangle_set(&d),
+                        triangle_set(&fresh),
+                        "{n} points, {scale}"
+                    );
+                    // The same rings, each from the same neighbour, in input numbering.
+                    for i in 0..n {
+                        assert_eq!(d.neighbors(i), fresh.neighbors(i), "{n} points, {scale}");
+                        let outer =
+                            |d: &Delaunay| d.rings.of(d.vertex_index(i).unwrap()).1.to_vec();
+                        assert_eq!(outer(&d), outer(&fresh));
+                    }
+                    for q in [DVec2::new(0.3, 0.2), DVec2::new(-0.5, 0.1)] {
+                        assert_eq!(d.nearest(q), fresh.nearest(q));
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn flips_repair_what_small_moves_break_and_give_up_on_turned_over_triangles() {
+        let mut rng = Rng::new(9);
+        let pts = point_sets(&mut rng).remove(1);
+        let mut d = Delaunay::new(&pts);
+        let moved_to = |d: &Delaunay, moved: &[DVec2]| -> Vec<DVec2> {
+            (0..d.num_vertices())
+                .map(|v| moved[d.point_of_vertex(v)])
+                .collect()
+        };
+        // Pull a vertex towards a neighbour past the circumcircles around it but not past any
+        // opposite edge: flips repair it, without a fresh build.
+        let mut repaired = 0;
+        for i in 0..pts.len() {
+            let mut moved = pts.clone();
+            moved[i] = pts[i].lerp(pts[d.neighbors(i)[0]], 0.3);
+            let flips = d
+                .topo
+                .clone()
+                .flip_to_delaunay(&moved_to(&d, &moved), usize::MAX);
+            if flips > Some(0) {
+                repaired += 1;
+                let mut e = Delaunay::new(&pts);
+                e.rebuild(&moved);
+                assert!(e.flippable);
+                assert_eq!(triangle_set(&e), triangle_set(&Delaunay::new(&moved)));
+            }
+        }
+        assert!(repaired > 10, "{repaired}");
+        // Past a neighbour: a triangle turns over, flips refuse, the fresh build answers.
+        let mut moved = pts.clone();
+        moved[400] = pts[400].lerp(pts[d.neighbors(400)[0]], 1.5);
+        let pos = moved_to(&d, &moved);
+        assert_eq!(d.topo.clone().flip_to_delaunay(&pos, usize::MAX), None);
+        d.rebuild(&moved);
+        assert_eq!(triangle_set(&d), triangle_set(&Delaunay::new(&moved)));
+        assert!(d.flippable, "the fresh build can flip again");
     }
 }

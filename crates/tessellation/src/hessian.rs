@@ -14,9 +14,6 @@ use crate::delaunay::Delaunay;
 use crate::sparse::BlockMatrix;
 use geometry::{DVec2, Density, Polygon};
 use glam::DMat2;
-use rayon::prelude::*;
-use spade::handles::FixedVertexHandle;
-use spade::Triangulation;
 
 /// The Hessian of the CVT energy of `points` (triangulated by `del`, cells from
 /// `clipped_cells` on the same `domain` and `density`) written into `out`, with one block row
@@ -32,21 +29,18 @@ pub fn energy_hessian(
     out: &mut BlockMatrix,
 ) {
     let nv = del.num_vertices();
-    let degree: Vec<usize> = (0..nv)
-        .into_par_iter()
-        .map(|v| {
-            1 + del
-                .dt
-                .vertex(FixedVertexHandle::from_index(v))
-                .out_edges()
-                .count()
-        })
-        .collect();
+    // A row: the diagonal and the neighbours that are points (not a frame's vertices).
     out.row_start.clear();
     out.row_start.push(0);
     let mut total = 0;
-    for d in &degree {
-        total += d;
+    for v in 0..nv {
+        total += 1 + del
+            .rings
+            .of(v)
+            .0
+            .iter()
+            .filter(|&&u| (u as usize) < nv)
+            .count();
         out.row_start.push(total);
     }
     out.col.resize(total, 0);
@@ -65,21 +59,13 @@ pub fn energy_hessian(
             let z = del.pos[v];
             nb.clear();
             cc.clear();
-            for e in del.dt.vertex(FixedVertexHandle::from_index(v)).out_edges() {
-                let u = e.to().fix().index();
-                nb.push((u as u32, del.pos[u]));
-            }
+            let (ring, outer) = del.rings.of(v);
+            nb.extend(ring.iter().map(|&u| (u, del.pos[u as usize])));
             // Circumcentre of face k = (v, n_k, n_k+1), or None for the outer face.
-            for (k, e) in del
-                .dt
-                .vertex(FixedVertexHandle::from_index(v))
-                .out_edges()
-                .enumerate()
-            {
+            for (k, &o) in outer.iter().enumerate() {
                 let next = nb[(k + 1) % nb.len()];
                 cc.push(
-                    (!e.face().is_outer())
-                        .then(|| crate::cells::canonical_circumcenter((v as u32, z), nb[k], next)),
+                    (!o).then(|| crate::cells::canonical_circumcenter((v as u32, z), nb[k], next)),
                 );
             }
             let m = nb.len();
@@ -92,6 +78,7 @@ pub fn energy_hessian(
                 bnd.box_inside(lo, hi)
             };
             let mut diag = DMat2::from_diagonal(DVec2::splat(2.0 * mass));
+            let mut c = 1;
             for k in 0..m {
                 let (u, zj) = nb[k];
                 let prev = (k + m - 1) % m;
@@ -127,8 +114,11 @@ pub fn energy_hessian(
                         }
                     }
                 }
-                col[k + 1] = u;
-                block[k + 1] = wij;
+                if (u as usize) < nv {
+                    col[c] = u;
+                    block[c] = wij;
+                    c += 1;
+                }
             }
             block[0] = diag;
         },

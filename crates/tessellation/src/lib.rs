@@ -19,6 +19,7 @@ mod conforming;
 mod delaunay;
 mod hessian;
 mod sparse;
+mod topology;
 
 pub use cells::{clipped_cells, clipped_cells_into, Cell, Cells, CellsBuffer};
 pub use conforming::{conforming_mesh, mark_vertices};

@@ -691,3 +691,123 @@ fn large_lake_partition() {
     assert_eq!(ncorner, region.corners().len());
     assert!(cells.cells[..ncorner].iter().all(|c| c.pieces.len() >= 2));
 }
+
+/// Cells of `pts` from a framed triangulation that was built for `start` and then rebuilt (by
+/// flips when it can) for each set in `moves`, against cells of a fresh unframed triangulation.
+/// Returns how many rebuilds were done by flips.
+fn assert_framed_rebuilds_match_fresh(
+    start: &[DVec2],
+    moves: &[Vec<DVec2>],
+    dom: &Polygon,
+) -> usize {
+    let (lo, hi) = dom.bbox();
+    let mut framed = Delaunay::framed(lo, hi);
+    framed.rebuild(start);
+    let scale = dom.area();
+    let mut flipped = 0;
+    for pts in std::iter::once(start).chain(moves.iter().map(Vec::as_slice)) {
+        framed.rebuild(pts);
+        flipped += usize::from(framed.flipped());
+        let got = clipped_cells(pts, &framed, dom, &Density::Uniform);
+        let want = cells_of(pts, dom);
+        for (i, (g, w)) in got.cells.iter().zip(&want.cells).enumerate() {
+            assert!(
+                (g.area - w.area).abs() <= 1e-12 * scale,
+                "cell {i}: {g:?} vs {w:?}"
+            );
+            assert!((g.energy - w.energy).abs() <= 1e-12 * scale, "cell {i}");
+            assert!(g.centroid.distance(w.centroid) <= 1e-12, "cell {i}");
+            assert!((g.h - w.h).abs() <= 1e-12, "cell {i}");
+            assert_eq!(g.pieces, w.pieces, "cell {i}");
+        }
+        let mut a = framed.triangles();
+        let mut b = Delaunay::new(pts).triangles();
+        for t in a.iter_mut().chain(b.iter_mut()) {
+            t.sort_unstable();
+        }
+        a.sort_unstable();
+        b.sort_unstable();
+        // The frame only removes hull slivers of the frameless triangulation.
+        assert!(a.iter().all(|t| b.binary_search(t).is_ok()));
+        for i in 0..pts.len() {
+            assert!(framed.neighbors(i).iter().all(|&j| j < pts.len()));
+        }
+    }
+    flipped
+}
+
+#[test]
+fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
+    let mut rng = Rng::new(4);
+    for dom in [circle(200), square_with_hole(0.3, 0.6), l_shape()] {
+        let (lo, hi) = dom.bbox();
+        let mut pts = Vec::new();
+        while pts.len() < 1500 {
+            let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+            if dom.contains(p) {
+                pts.push(p);
+            }
+        }
+        // Generators on the boundary too (the constrained phase's boundary layer).
+        pts.extend(
+            dom.rings
+                .iter()
+                .flat_map(|r| r.points.iter().step_by(2).copied()),
+        );
+        let mut moves = Vec::new();
+        let mut cur = pts.clone();
+        for step in 0..6 {
+            let size = if step == 3 { 0.02 } else { 1e-4 };
+            cur = cur
+                .iter()
+                .map(|&p| {
+                    let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
+                    if dom.contains(q) {
+                        q
+                    } else {
+                        p
+                    }
+                })
+                .collect();
+            moves.push(cur.clone());
+        }
+        // The same points again, five small moves and one larger: flips (perhaps in
+        // substeps) or a fresh build, but mostly flips.
+        let flipped = assert_framed_rebuilds_match_fresh(&pts, &moves, &dom);
+        assert!(flipped >= 5, "{flipped} of 7 rebuilds by flips");
+    }
+    // Three generators in a large domain: the frame keeps clear of the whole box.
+    let dom = square(0.0, 100.0);
+    let pts = vec![v(50.0, 50.0), v(50.5, 50.0), v(50.0, 50.5)];
+    assert_framed_rebuilds_match_fresh(
+        &pts,
+        &[vec![v(50.0, 50.0), v(50.6, 50.1), v(50.0, 50.5)]],
+        &dom,
+    );
+    assert_partition(&cells_of(&pts, &dom), &pts, &dom);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn framed_rebuilds_match_fresh_cells_for_random_moves(seed in 0u64..1_000_000, n in 3usize..300, size in 1e-4f64..0.2) {
+        let mut rng = Rng::new(seed);
+        let dom = star(&mut rng, 12, seed % 2 == 0);
+        let (lo, hi) = dom.bbox();
+        let mut pts = Vec::new();
+        while pts.len() < n {
+            let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+            if dom.contains(p) {
+                pts.push(p);
+            }
+        }
+        let moved: Vec<DVec2> = pts
+            .iter()
+            .map(|&p| {
+                let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
+                if dom.contains(q) { q } else { p }
+            })
+            .collect();
+        assert_framed_rebuilds_match_fresh(&pts, &[moved], &dom);
+    }
+}

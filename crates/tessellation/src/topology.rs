@@ -1,0 +1,373 @@
+//! The triangulation as flat arrays (triangles, their neighbours across each edge, every
+//! vertex's ring of neighbours) and the Lawson flips that make it Delaunay again after the
+//! generators move. Between two Lloyd or Newton steps few edges change: testing every edge and
+//! flipping the few that fail costs a fraction of building the triangulation again.
+use geometry::DVec2;
+use rayon::prelude::*;
+use robust::{incircle, orient2d, Coord};
+
+/// No triangle (across a hull edge) or no vertex.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Vertices per parallel chunk of ring passes.
+const CHUNK: usize = 4096;
+/// Room for this many more neighbours in every ring, so that after a few flips only the rings
+/// of the flipped quadrilaterals' corners are rewritten, in place.
+const SLACK: usize = 3;
+
+/// Every vertex's Delaunay neighbours in CCW order. An interior vertex's ring starts at the
+/// neighbour with the smallest key (its input index), a hull vertex's right after the outer
+/// face, so the same triangulation gives the same rings however it was built or numbered.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Rings {
+    /// Ring of vertex v: `nb[start[v]..start[v] + len[v]]`, with room up to `start[v + 1]`.
+    pub start: Vec<usize>,
+    pub len: Vec<u32>,
+    pub nb: Vec<u32>,
+    /// `outer[k]`: the face between `nb[k]` and the next neighbour (cyclically) is the outer face.
+    pub outer: Vec<bool>,
+}
+
+impl Rings {
+    /// Neighbours of vertex `v` and the outer-face flags after each.
+    pub fn of(&self, v: usize) -> (&[u32], &[bool]) {
+        let r = self.start[v]..self.start[v] + self.len[v] as usize;
+        (&self.nb[r.clone()], &self.outer[r])
+    }
+
+    /// Rebuild from per-vertex degrees and a writer of each ring (in any rotation), in parallel.
+    pub fn fill(
+        &mut self,
+        degree: impl Fn(usize) -> usize + Sync,
+        key: &(impl Fn(u32) -> u32 + Sync),
+        n: usize,
+        write: impl Fn(usize, &mut [u32], &mut [bool]) + Sync,
+    ) {
+        (0..n)
+            .into_par_iter()
+            .map(|v| degree(v) as u32)
+            .collect_into_vec(&mut self.len);
+        self.start.clear();
+        self.start.reserve(n + 1);
+        self.start.push(0);
+        let mut total = 0;
+        for &d in &self.len {
+            total += d as usize + SLACK;
+            self.start.push(total);
+        }
+        let len = &self.len;
+        self.nb.resize(total, NONE);
+        self.outer.resize(total, false);
+        let starts = &self.start;
+        let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK));
+        let (mut nb, mut outer) = (&mut self.nb[..], &mut self.outer[..]);
+        for first in (0..n).step_by(CHUNK) {
+            let last = (first + CHUNK).min(n);
+            let len = starts[last] - starts[first];
+            let (a, ar) = std::mem::take(&mut nb).split_at_mut(len);
+            let (b, br) = std::mem::take(&mut outer).split_at_mut(len);
+            chunks.push((first, last, a, b));
+            nb = ar;
+            outer = br;
+        }
+        chunks.into_par_iter().for_each(|(first, last, nb, outer)| {
+            let base = starts[first];
+            for v in first..last {
+                let r = starts[v] - base..starts[v] - base + len[v] as usize;
+                let (nb, outer) = (&mut nb[r.clone()], &mut outer[r]);
+                write(v, nb, outer);
+                canonical(nb, outer, key);
+            }
+        });
+    }
+}
+
+impl Rings {
+    /// Rewrite the rings of `touched` vertices in place from `topo`; false if one no longer fits
+    /// its room (then all must be rebuilt).
+    pub fn update(&mut self, topo: &Topology, touched: &[u32], key: &impl Fn(u32) -> u32) -> bool {
+        for &v in touched {
+            let v = v as usize;
+            if v + 1 >= self.start.len() {
+                continue;
+            }
+            let (s, room) = (self.start[v], self.start[v + 1] - self.start[v]);
+            let (nb, outer) = (&mut self.nb[s..s + room], &mut self.outer[s..s + room]);
+            let mut k = 0;
+            let n = topo.walk(v as u32, |u, o| {
+                if k < room {
+                    nb[k] = u;
+                    outer[k] = o;
+                }
+                k += 1;
+            });
+            if n > room {
+                return false;
+            }
+            self.len[v] = n as u32;
+            canonical(&mut nb[..n], &mut outer[..n], key);
+        }
+        true
+    }
+}
+
+/// Rotate a ring to its canonical start: the neighbour with the smallest key that follows an
+/// outer face, or with the smallest key if there is none.
+fn canonical(nb: &mut [u32], outer: &mut [bool], key: &impl Fn(u32) -> u32) {
+    let n = nb.len();
+    if n == 0 {
+        return;
+    }
+    let after_outer = (0..n).filter(|&k| outer[(k + n - 1) % n]);
+    let start = match after_outer.min_by_key(|&k| key(nb[k])) {
+        Some(k) => k,
+        None => (0..n).min_by_key(|&k| key(nb[k])).unwrap_or(0),
+    };
+    nb.rotate_left(start);
+    outer.rotate_left(start);
+}
+
+/// Triangles with their neighbours, for Lawson flips.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Topology {
+    /// CCW vertex triples.
+    pub tri: Vec<[u32; 3]>,
+    /// `adj[t][k]`: the triangle across the edge opposite `tri[t][k]` (`NONE` on the hull).
+    pub adj: Vec<[u32; 3]>,
+    /// One triangle of each vertex (`NONE` for a vertex in no triangle).
+    pub v2t: Vec<u32>,
+    /// Corners of the quadrilaterals flipped by the last `flip_to_delaunay` (sorted, unique).
+    pub touched: Vec<u32>,
+}
+
+fn coord(p: DVec2) -> Coord<f64> {
+    Coord { x: p.x, y: p.y }
+}
+
+fn slot(t: &[u32; 3], v: u32) -> usize {
+    if t[0] == v {
+        0
+    } else if t[1] == v {
+        1
+    } else {
+        2
+    }
+}
+
+impl Topology {
+    /// Set `v2t` from `tri` for `n` vertices.
+    pub fn index_vertices(&mut self, n: usize) {
+        self.v2t.clear();
+        self.v2t.resize(n, NONE);
+        for (t, tri) in self.tri.iter().enumerate() {
+            for &v in tri {
+                self.v2t[v as usize] = t as u32;
+            }
+        }
+    }
+
+    /// Calls `f(neighbour, outer_after)` for the neighbours of `v` in CCW order (a hull
+    /// vertex's starting after the outer face); returns how many.
+    pub fn walk(&self, v: u32, mut f: impl FnMut(u32, bool)) -> usize {
+        let t0 = self.v2t[v as usize];
+        if t0 == NONE {
+            return 0;
+        }
+        // Around v counter-clockwise from t0: all of the ring for an interior vertex.
+        let (mut t, mut i) = (t0 as usize, slot(&self.tri[t0 as usize], v));
+        let mut n = 0;
+        loop {
+            let u = self.adj[t][(i + 1) % 3];
+            if u == NONE {
+                break;
+            }
+            n += 1;
+            t = u as usize;
+            i = slot(&self.tri[t], v);
+            if t == t0 as usize {
+                // Interior: emit the ring from t0.
+                for _ in 0..n {
+                    f(self.tri[t][(i + 1) % 3], false);
+                    t = self.adj[t][(i + 1) % 3] as usize;
+                    i = slot(&self.tri[t], v);
+                }
+                return n;
+            }
+        }
+        // On the hull: from the clockwise-most triangle to the counter-clockwise-most.
+        loop {
+            let u = self.adj[t][(i + 2) % 3];
+            if u == NONE {
+                break;
+            }
+            t = u as usize;
+            i = slot(&self.tri[t], v);
+        }
+        let mut n = 0;
+        loop {
+            f(self.tri[t][(i + 1) % 3], false);
+            n += 1;
+            let u = self.adj[t][(i + 1) % 3];
+            if u == NONE {
+                f(self.tri[t][(i + 2) % 3], true);
+                return n + 1;
+            }
+            t = u as usize;
+            i = slot(&self.tri[t], v);
+        }
+    }
+
+    /// Rings of the vertices `0..n` (`key`: a vertex's input index, for the canonical start).
+    pub fn rings(&self, n: usize, key: &(impl Fn(u32) -> u32 + Sync), rings: &mut Rings) {
+        // Degree: the triangles at a vertex, one more on the hull (each hull vertex starts one
+        // hull edge).
+        let mut degree = vec![0u32; self.v2t.len()];
+        for (t, adj) in self.tri.iter().zip(&self.adj) {
+            for k in 0..3 {
+                degree[t[k] as usize] += 1;
+                if adj[k] == NONE {
+                    degree[t[(k + 1) % 3] as usize] += 1;
+                }
+            }
+        }
+        rings.fill(
+            |v| degree[v] as usize,
+            key,
+            n,
+            |v, nb, outer| {
+                let mut k = 0;
+                self.walk(v as u32, |u, o| {
+                    nb[k] = u;
+                    outer[k] = o;
+                    k += 1;
+                });
+            },
+        );
+    }
+
+    /// Make the triangulation Delaunay for the moved vertices `pos` by Lawson flips; returns
+    /// how many it took, or None (leaving the topology unusable) when flips cannot do it: a triangle turned over, the
+    /// hull stopped being strictly convex, or more than `max_flips` flips were needed. With exact
+    /// predicates the result is the Delaunay triangulation (the same one as any other
+    /// construction when no four vertices are cocircular).
+    pub fn flip_to_delaunay(&mut self, pos: &[DVec2], max_flips: usize) -> Option<usize> {
+        let (tri, adj) = (&self.tri, &self.adj);
+        if tri.is_empty() {
+            return None;
+        }
+        let p = |v: u32| coord(pos[v as usize]);
+        let upright = tri
+            .par_iter()
+            .all(|t| orient2d(p(t[0]), p(t[1]), p(t[2])) > 0.0);
+        // Each hull edge a→b (the triangle on its left) and the next hull edge b→c must turn left.
+        let convex = upright
+            && (0..tri.len()).into_par_iter().all(|t| {
+                (0..3).all(|k| {
+                    adj[t][k] != NONE || {
+                        let (a, b) = (tri[t][(k + 1) % 3], tri[t][(k + 2) % 3]);
+                        let c = self.hull_next(b);
+                        orient2d(p(a), p(b), p(c)) > 0.0
+                    }
+                })
+            });
+        if !convex {
+            return None;
+        }
+        let this = &*self;
+        let mut stack: Vec<(u32, u8)> = (0..tri.len())
+            .into_par_iter()
+            .flat_map_iter(|t| {
+                (0..3u8).filter_map(move |k| {
+                    let u = adj[t][k as usize];
+                    (u != NONE && (t as u32) < u && this.illegal(pos, t as u32, k))
+                        .then_some((t as u32, k))
+                })
+            })
+            .collect();
+        let mut flips = 0;
+        self.touched.clear();
+        while let Some((t, k)) = stack.pop() {
+            if self.adj[t as usize][k as usize] == NONE || !self.illegal(pos, t, k) {
+                continue;
+            }
+            if flips == max_flips {
+                return None;
+            }
+            flips += 1;
+            let (t2, u2) = self.flip(t, k as usize);
+            stack.extend([(t2.0, t2.1), (t2.0, t2.2), (u2.0, u2.1), (u2.0, u2.2)]);
+        }
+        self.touched.sort_unstable();
+        self.touched.dedup();
+        Some(flips)
+    }
+
+    /// The hull vertex after `b` going CCW along the hull (b must be on the hull).
+    fn hull_next(&self, b: u32) -> u32 {
+        // b's CW-most triangle has the hull edge b → next on its CW side.
+        let t0 = self.v2t[b as usize];
+        let (mut t, mut i) = (t0 as usize, slot(&self.tri[t0 as usize], b));
+        loop {
+            let u = self.adj[t][(i + 2) % 3];
+            if u == NONE {
+                return self.tri[t][(i + 1) % 3];
+            }
+            if u == t0 {
+                return b;
+            }
+            t = u as usize;
+            i = slot(&self.tri[t], b);
+        }
+    }
+
+    /// Edge opposite `tri[t][k]` is not locally Delaunay: the far vertex of the neighbour lies
+    /// strictly inside the circumcircle of t.
+    fn illegal(&self, pos: &[DVec2], t: u32, k: u8) -> bool {
+        let (t, k) = (t as usize, k as usize);
+        let u = self.adj[t][k] as usize;
+        let j = (0..3).find(|&j| self.adj[u][j] == t as u32).unwrap_or(0);
+        let [a, b, c] = self.tri[t];
+        let d = self.tri[u][j];
+        let p = |v: u32| coord(pos[v as usize]);
+        incircle(p(a), p(b), p(c), p(d)) > 0.0
+    }
+
+    /// Flip the edge opposite `tri[t][k]`. Returns the two new triangles with the slots of their
+    /// two edges that were on the quadrilateral's boundary: (t, 0, 2) and (u, 0, 1).
+    fn flip(&mut self, t: u32, k: usize) -> ((u32, u8, u8), (u32, u8, u8)) {
+        let (ti, u) = (t as usize, self.adj[t as usize][k]);
+        let ui = u as usize;
+        let a = self.tri[ti][k];
+        let b = self.tri[ti][(k + 1) % 3];
+        let c = self.tri[ti][(k + 2) % 3];
+        let n_ab = self.adj[ti][(k + 2) % 3];
+        let n_ca = self.adj[ti][(k + 1) % 3];
+        // u is (d, c, b) in CCW order.
+        let j = (0..3).find(|&j| self.adj[ui][j] == t).unwrap_or(0);
+        let d = self.tri[ui][j];
+        let n_dc = self.adj[ui][(j + 2) % 3];
+        let n_bd = self.adj[ui][(j + 1) % 3];
+        // t = (a, b, d), u = (a, d, c).
+        self.tri[ti] = [a, b, d];
+        self.adj[ti] = [n_bd, u, n_ab];
+        self.tri[ui] = [a, d, c];
+        self.adj[ui] = [n_dc, n_ca, t];
+        let relink = |adj: &mut Vec<[u32; 3]>, n: u32, from: u32, to: u32| {
+            if n != NONE {
+                for s in adj[n as usize].iter_mut() {
+                    if *s == from {
+                        *s = to;
+                    }
+                }
+            }
+        };
+        relink(&mut self.adj, n_bd, u, t);
+        relink(&mut self.adj, n_ca, t, u);
+        for v in [a, b, d] {
+            self.v2t[v as usize] = t;
+        }
+        self.v2t[c as usize] = u;
+        self.touched.extend([a, b, c, d]);
+        ((t, 0, 2), (u, 0, 1))
+    }
+}
