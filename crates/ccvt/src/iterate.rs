@@ -34,6 +34,9 @@ pub struct Profile {
     pub label_resets: usize,
     /// Conjugate-gradient iterations of Newton's linear solves (zero for Lloyd and Anderson).
     pub linear_iterations: usize,
+    /// Evaluations whose triangulation was the previous one repaired by flips (the rest were
+    /// built afresh).
+    pub flipped: usize,
 }
 
 impl Profile {
@@ -130,6 +133,7 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
     prof.evaluations += 1;
     work.del.rebuild(z);
     let del = &work.del;
+    prof.flipped += usize::from(del.flipped());
     prof.triangulation += lap(&mut t);
     clipped_cells_into(
         z,

@@ -38,30 +38,45 @@ const STEP_CAP: f64 = 0.1;
 /// Linear solves per step: after negative curvature, σ ×4 and solve again.
 const CURVATURE_RETRIES: usize = 3;
 
-/// What a generator may do in the Newton step.
-#[derive(Clone, Copy)]
+/// What a generator may do in the Newton step (8 bytes: at 10⁶ generators a copy of the
+/// tangent data in every entry would be 40 MB more at the peak).
+#[derive(Clone, Copy, PartialEq)]
 enum Dof {
     /// Any move (interior generator).
     Free,
-    /// Along the unit tangent of its piece (with the piece's curvature vector d²γ/ds²), then
-    /// back onto the piece.
-    Tangent(DVec2, PieceId, DVec2),
+    /// Along the tangent of its piece: entry of `Buffers::tangents`.
+    Tangent(u32),
     /// Goes to its Lloyd target (corner, or a label that changed).
     Fixed,
 }
 
+/// A boundary generator's unit tangent, piece and curvature vector d²γ/ds²: it moves along the
+/// tangent, then back onto the piece.
+#[derive(Clone, Copy)]
+struct Tangent {
+    t: DVec2,
+    piece: PieceId,
+    k: DVec2,
+}
+
 impl Dof {
-    fn project(self, v: DVec2) -> DVec2 {
+    fn project(self, v: DVec2, tan: &[Tangent]) -> DVec2 {
         match self {
             Dof::Free => v,
-            Dof::Tangent(t, _, _) => t * t.dot(v),
+            Dof::Tangent(i) => {
+                let t = tan[i as usize].t;
+                t * t.dot(v)
+            }
             Dof::Fixed => DVec2::ZERO,
         }
     }
-    fn matrix(self) -> DMat2 {
+    fn matrix(self, tan: &[Tangent]) -> DMat2 {
         match self {
             Dof::Free => DMat2::IDENTITY,
-            Dof::Tangent(t, _, _) => DMat2::from_cols(t * t.x, t * t.y),
+            Dof::Tangent(i) => {
+                let t = tan[i as usize].t;
+                DMat2::from_cols(t * t.x, t * t.y)
+            }
             Dof::Fixed => DMat2::ZERO,
         }
     }
@@ -97,6 +112,7 @@ struct Buffers {
     hess: BlockMatrix,
     /// Per Delaunay vertex.
     dofs: Vec<Dof>,
+    tangents: Vec<Tangent>,
     rhs: Vec<DVec2>,
     x: Vec<DVec2>,
     cg: Vec<Vec<DVec2>>,
@@ -171,6 +187,8 @@ fn newton_point(
     let nv = del.num_vertices();
     let pt = |v: usize| del.point_of_vertex(v);
     let region = phase.region;
+    // Boundary generators on their piece (and not at a corner) move along it; `Tangent(0)`
+    // marks them until their tangents are numbered.
     (0..nv)
         .into_par_iter()
         .map(|v| {
@@ -184,8 +202,7 @@ fn newton_point(
                 Role::Boundary(j) => {
                     let bp = region.project_onto_piece(p, j);
                     if bp.distance <= 1e-9 * phase.spacing && bp.corner.is_none() {
-                        let (t, k) = tangent(region, p, j, phase.spacing);
-                        Dof::Tangent(t, j, k)
+                        Dof::Tangent(0)
                     } else {
                         Dof::Fixed
                     }
@@ -195,24 +212,47 @@ fn newton_point(
             }
         })
         .collect_into_vec(&mut buf.dofs);
-    let dofs = &buf.dofs;
-    // rhs = −P (g + H d_fixed), with the fixed generators' prescribed moves d_fixed.
-    let fixed: Vec<DVec2> = (0..nv)
+    let on_piece: Vec<u32> = (0..nv as u32)
+        .filter(|&v| buf.dofs[v as usize] == Dof::Tangent(0))
+        .collect();
+    on_piece
+        .par_iter()
+        .map(|&v| {
+            let (i, Role::Boundary(piece)) = (pt(v as usize), s.roles[pt(v as usize)]) else {
+                unreachable!("tangent dofs are boundary generators")
+            };
+            let (t, k) = tangent(region, z[i], piece, phase.spacing);
+            Tangent { t, piece, k }
+        })
+        .collect_into_vec(&mut buf.tangents);
+    for (n, &v) in on_piece.iter().enumerate() {
+        buf.dofs[v as usize] = Dof::Tangent(n as u32);
+    }
+    let (dofs, tan) = (&buf.dofs, &buf.tangents);
+    // rhs = −P (g + H d_fixed), with the fixed generators' prescribed moves d_fixed (in x,
+    // which the linear solve overwrites).
+    (0..nv)
         .into_par_iter()
         .map(|v| match dofs[v] {
             Dof::Fixed => s.targets[pt(v)] - z[pt(v)],
             _ => DVec2::ZERO,
         })
-        .collect();
+        .collect_into_vec(&mut buf.x);
     buf.rhs.resize(nv, DVec2::ZERO);
-    buf.hess.mul_vec(&fixed, &mut buf.rhs);
-    drop(fixed);
+    buf.hess.mul_vec(&buf.x, &mut buf.rhs);
     buf.rhs.par_iter_mut().enumerate().for_each(|(v, r)| {
         let c = &cells[pt(v)];
         let g = 2.0 * c.mass * (z[pt(v)] - c.mass_centroid);
-        *r = -dofs[v].project(g + *r);
+        *r = -dofs[v].project(g + *r, tan);
     });
-    shift(&mut buf.hess, dofs, |v| &cells[pt(v)], |v| z[pt(v)], *sigma);
+    shift(
+        &mut buf.hess,
+        dofs,
+        tan,
+        |v| &cells[pt(v)],
+        |v| z[pt(v)],
+        *sigma,
+    );
     prof.hessian += lap(&mut t);
     for attempt in 0..=CURVATURE_RETRIES {
         let h = &buf.hess;
@@ -233,9 +273,13 @@ fn newton_point(
         let h = &mut buf.hess;
         for v in 0..nv {
             let k = h.row_start[v];
-            h.block[k] += dofs[v].matrix() * (add * 2.0 * cells[pt(v)].mass);
+            h.block[k] += dofs[v].matrix(tan) * (add * 2.0 * cells[pt(v)].mass);
         }
     }
+    // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
+    // 64 MB more at the memory peak (a fresh triangulation of the candidate), and allocating
+    // them again costs ~1 % of a step.
+    buf.cg = Vec::new();
     prof.linear_solve += lap(&mut t);
     // A point without a Newton move (fixed, or a duplicate) goes to its Lloyd target; a long
     // move is shortened to the cap.
@@ -252,7 +296,9 @@ fn newton_point(
                 Dof::Fixed => s.targets[i],
                 Dof::Free if phase.inside.contains(p) => p,
                 Dof::Free => s.targets[i],
-                Dof::Tangent(_, j, _) if p.is_finite() => region.project_onto_piece(p, j).point,
+                Dof::Tangent(n) if p.is_finite() => {
+                    region.project_onto_piece(p, tan[n as usize].piece).point
+                }
                 Dof::Tangent(..) => s.targets[i],
             }
         })
@@ -267,6 +313,7 @@ fn newton_point(
 fn shift<'a>(
     h: &mut BlockMatrix,
     dofs: &[Dof],
+    tan: &[Tangent],
     cell: impl Fn(usize) -> &'a tessellation::Cell + Sync,
     z: impl Fn(usize) -> DVec2 + Sync,
     sigma: f64,
@@ -274,19 +321,19 @@ fn shift<'a>(
     h.par_rows_mut(
         || (),
         |_, v, col, block| {
-            let pv = dofs[v].matrix();
+            let pv = dofs[v].matrix(tan);
             for (j, b) in col.iter().zip(block.iter_mut()) {
                 // P = I for the (many) free generators.
                 if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
-                    *b = pv * *b * dofs[*j as usize].matrix();
+                    *b = pv * *b * dofs[*j as usize].matrix(tan);
                 }
             }
             let c = cell(v);
             let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);
             block[0] += pv * (sigma * m2) + (DMat2::IDENTITY - pv) * m2;
             // Along a curved piece the second derivative of the energy also has g · γ''.
-            if let Dof::Tangent(_, _, k) = dofs[v] {
-                block[0] += pv * (m2 * (z(v) - c.mass_centroid)).dot(k);
+            if let Dof::Tangent(n) = dofs[v] {
+                block[0] += pv * (m2 * (z(v) - c.mass_centroid)).dot(tan[n as usize].k);
             }
             // Two close generators with a long common edge make their diagonal blocks
             // indefinite (a saddle): lift each to a least eigenvalue of BLOCK_FLOOR·2m.
@@ -296,7 +343,10 @@ fn shift<'a>(
                     let (a, c, d) = (b.x_axis.x, 0.5 * (b.x_axis.y + b.y_axis.x), b.y_axis.y);
                     0.5 * (a + d) - (0.25 * (a - d) * (a - d) + c * c).sqrt()
                 }
-                Dof::Tangent(t, _, _) => t.dot(block[0] * t),
+                Dof::Tangent(n) => {
+                    let t = tan[n as usize].t;
+                    t.dot(block[0] * t)
+                }
                 Dof::Fixed => f64::INFINITY,
             };
             let floor = BLOCK_FLOOR * m2;

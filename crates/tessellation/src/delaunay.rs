@@ -190,7 +190,10 @@ impl Delaunay {
         );
         hilbert_keys(points, &mut self.keys);
         // Spade's triangulation lives only while its topology is copied out (vertex `v` was
-        // inserted `v`-th, in Hilbert order): at 10⁶ points it is ~200 MB that flips never need.
+        // inserted `v`-th, in Hilbert order): at 10⁶ points it is ~130 MB that flips never need.
+        // The old rings and the flips' scratch go first, to keep the peak down.
+        self.rings = Rings::default();
+        self.scratch = Default::default();
         let mut dt: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::with_capacity(
             points.len() + FRAME,
             3 * points.len(),
@@ -237,27 +240,37 @@ impl Delaunay {
             self.frame_safe = (c, diag);
         }
         self.hints = HintGrid::new(&self.pos[..nv]);
-        let dt = &dt;
         self.topo.tri.clear();
         self.topo.adj.clear();
-        let faces: Vec<_> = dt.inner_faces().collect();
-        faces
-            .par_iter()
-            .map(|f| {
-                let e = f.adjacent_edges();
-                let mut adj = [NONE; 3];
-                for k in 0..3 {
-                    let r = e[k].rev().face();
-                    // Inner faces are numbered from 1 (0 is the outer face).
-                    adj[(k + 2) % 3] = if r.is_outer() {
-                        NONE
-                    } else {
-                        r.fix().index() as u32 - 1
-                    };
-                }
-                (e.map(|e| e.from().fix().index() as u32), adj)
-            })
-            .unzip_into_vecs(&mut self.topo.tri, &mut self.topo.adj);
+        // In chunks of faces, in parallel within each (a handle per face at once would be
+        // another 32 MB at 10⁶).
+        let mut faces = dt.inner_faces();
+        loop {
+            let chunk: Vec<_> = faces.by_ref().take(1 << 16).collect();
+            if chunk.is_empty() {
+                break;
+            }
+            let (mut tri, mut adj) = (Vec::new(), Vec::new());
+            chunk
+                .par_iter()
+                .map(|f| {
+                    let e = f.adjacent_edges();
+                    let mut adj = [NONE; 3];
+                    for k in 0..3 {
+                        let r = e[k].rev().face();
+                        // Inner faces are numbered from 1 (0 is the outer face).
+                        adj[(k + 2) % 3] = if r.is_outer() {
+                            NONE
+                        } else {
+                            r.fix().index() as u32 - 1
+                        };
+                    }
+                    (e.map(|e| e.from().fix().index() as u32), adj)
+                })
+                .unzip_into_vecs(&mut tri, &mut adj);
+            self.topo.tri.append(&mut tri);
+            self.topo.adj.append(&mut adj);
+        }
         self.topo.index_vertices(self.pos.len());
         if self.topo.tri.is_empty() {
             // No triangles (fewer than three vertices, or all collinear): spade's edges.
@@ -274,6 +287,7 @@ impl Delaunay {
                 },
             );
         } else {
+            drop(dt);
             let mut rings = std::mem::take(&mut self.rings);
             self.topo.rings(nv, &self.key(), &mut rings);
             self.rings = rings;
