@@ -273,7 +273,9 @@ fn newton_point(
         let h = &mut buf.hess;
         for v in 0..nv {
             let k = h.row_start[v];
-            h.block[k] += dofs[v].matrix(tan) * (add * 2.0 * cells[pt(v)].mass);
+            h.block[k] = (h.block[k].as_dmat2()
+                + dofs[v].matrix(tan) * (add * 2.0 * cells[pt(v)].mass))
+                .as_mat2();
         }
     }
     // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
@@ -322,37 +324,38 @@ fn shift<'a>(
         || (),
         |_, v, col, block| {
             let pv = dofs[v].matrix(tan);
-            for (j, b) in col.iter().zip(block.iter_mut()) {
+            for (j, b) in col.iter().zip(block.iter_mut()).skip(1) {
                 // P = I for the (many) free generators.
                 if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
-                    *b = pv * *b * dofs[*j as usize].matrix(tan);
+                    *b = (pv * b.as_dmat2() * dofs[*j as usize].matrix(tan)).as_mat2();
                 }
             }
+            let mut d = pv * block[0].as_dmat2() * pv;
             let c = cell(v);
             let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);
-            block[0] += pv * (sigma * m2) + (DMat2::IDENTITY - pv) * m2;
+            d += pv * (sigma * m2) + (DMat2::IDENTITY - pv) * m2;
             // Along a curved piece the second derivative of the energy also has g · γ''.
             if let Dof::Tangent(n) = dofs[v] {
-                block[0] += pv * (m2 * (z(v) - c.mass_centroid)).dot(tan[n as usize].k);
+                d += pv * (m2 * (z(v) - c.mass_centroid)).dot(tan[n as usize].k);
             }
             // Two close generators with a long common edge make their diagonal blocks
             // indefinite (a saddle): lift each to a least eigenvalue of BLOCK_FLOOR·2m.
             let lowest = match dofs[v] {
                 Dof::Free => {
-                    let b = block[0];
-                    let (a, c, d) = (b.x_axis.x, 0.5 * (b.x_axis.y + b.y_axis.x), b.y_axis.y);
-                    0.5 * (a + d) - (0.25 * (a - d) * (a - d) + c * c).sqrt()
+                    let (a, c, e) = (d.x_axis.x, 0.5 * (d.x_axis.y + d.y_axis.x), d.y_axis.y);
+                    0.5 * (a + e) - (0.25 * (a - e) * (a - e) + c * c).sqrt()
                 }
                 Dof::Tangent(n) => {
                     let t = tan[n as usize].t;
-                    t.dot(block[0] * t)
+                    t.dot(d * t)
                 }
                 Dof::Fixed => f64::INFINITY,
             };
             let floor = BLOCK_FLOOR * m2;
             if lowest < floor {
-                block[0] += pv * (floor - lowest);
+                d += pv * (floor - lowest);
             }
+            block[0] = d.as_mat2();
         },
     );
 }
@@ -429,14 +432,15 @@ mod tests {
             for j in [i.wrapping_sub(1), i + 1] {
                 if j < n {
                     diag += k;
-                    row.push((j as u32, DMat2::from_diagonal(DVec2::new(-k, -0.5 * k))));
+                    row.push((
+                        j as u32,
+                        DMat2::from_diagonal(DVec2::new(-k, -0.5 * k)).as_mat2(),
+                    ));
                 }
             }
             a.col.push(i as u32);
-            a.block.push(DMat2::from_diagonal(DVec2::new(
-                diag,
-                diag - 0.5 * (diag - mass),
-            )));
+            a.block
+                .push(DMat2::from_diagonal(DVec2::new(diag, diag - 0.5 * (diag - mass))).as_mat2());
             for (j, b) in row {
                 a.col.push(j);
                 a.block.push(b);

@@ -1,8 +1,11 @@
 //! Delaunay triangulation of generators (spade) and their Voronoi cells clipped to a region,
 //! with the moments CCVT and the quality measures need.
 //!
-//! - [`Delaunay`]: triangulation built by inserting points along a Hilbert curve; neighbours,
-//!   triangles, nearest generator.
+//! - [`Delaunay`]: triangulation built by inserting points along a Hilbert curve (spade), kept
+//!   as flat arrays (triangles, neighbours, canonically rotated vertex rings) that a rebuild of
+//!   moved points repairs by Lawson flips when it can; optionally framed by far fixed vertices
+//!   ([`Delaunay::framed`]) so that the hull never turns over; neighbours, triangles, nearest
+//!   generator.
 //! - [`clipped_cells`]: every generator's Voronoi cell ∩ Ω (a [`geometry::Polygon`]) with area,
 //!   centroid, second moments, ρ-mass and ρ-centroid, CVT energy term, h_k and the boundary pieces
 //!   it touches; exact for cells cut by holes or split by concave boundaries; parallel and

@@ -1,11 +1,14 @@
 //! Sparse symmetric matrices of 2×2 blocks, one block row per generator (the CVT energy's
 //! Hessian and the operators built from it).
 use geometry::DVec2;
-use glam::DMat2;
+use glam::{DMat2, Mat2};
 use rayon::prelude::*;
 
 /// Block-CSR matrix: row `i` holds the blocks `block[row_start[i]..row_start[i + 1]]` in the
-/// columns `col[..]` of the same range. Every row starts with its diagonal block.
+/// columns `col[..]` of the same range. Every row starts with its diagonal block. Blocks are
+/// stored in single precision (products are formed in double): the matrix only steers inexact
+/// Newton steps, and at 10⁶ rows half the bytes (112 MB instead of 224) make every product
+/// about twice as fast, memory bandwidth being its limit.
 #[derive(Clone, Debug, Default)]
 pub struct BlockMatrix {
     /// Start of each row in `col` / `block` (length rows + 1).
@@ -13,7 +16,7 @@ pub struct BlockMatrix {
     /// Column (generator index) of each block.
     pub col: Vec<u32>,
     /// The blocks.
-    pub block: Vec<DMat2>,
+    pub block: Vec<Mat2>,
 }
 
 impl BlockMatrix {
@@ -24,7 +27,7 @@ impl BlockMatrix {
 
     /// The diagonal block of row `i`.
     pub fn diagonal(&self, i: usize) -> DMat2 {
-        self.block[self.row_start[i]]
+        self.block[self.row_start[i]].as_dmat2()
     }
 
     /// Calls `f(scratch, row, columns, blocks)` for every row, in parallel over chunks of rows
@@ -32,7 +35,7 @@ impl BlockMatrix {
     pub fn par_rows_mut<S>(
         &mut self,
         init: impl Fn() -> S + Sync + Send,
-        f: impl Fn(&mut S, usize, &mut [u32], &mut [DMat2]) + Sync + Send,
+        f: impl Fn(&mut S, usize, &mut [u32], &mut [Mat2]) + Sync + Send,
     ) {
         const ROWS: usize = 2048;
         let n = self.rows();
@@ -65,7 +68,7 @@ impl BlockMatrix {
             *o = self.col[r.clone()]
                 .iter()
                 .zip(&self.block[r])
-                .fold(DVec2::ZERO, |s, (&j, b)| s + *b * x[j as usize]);
+                .fold(DVec2::ZERO, |s, (&j, b)| s + b.as_dmat2() * x[j as usize]);
         });
     }
 }
