@@ -13,7 +13,7 @@ use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
 use std::time::Instant;
-use tessellation::{dot, energy_hessian, BlockMatrix};
+use tessellation::{dot, energy_hessian, BlockMatrix, DOT_CHUNK};
 
 /// First shift σ (relative to 2m, Lloyd's own scale), its floor and its cap.
 const SIGMA_START: f64 = 0.1;
@@ -257,11 +257,8 @@ fn newton_point(
     for attempt in 0..=CURVATURE_RETRIES {
         let h = &buf.hess;
         // Block-Jacobi: the 2×2 inverses are recomputed on the fly (cheaper than 32 MB at 10⁶).
-        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |r, out| {
-            out.par_iter_mut()
-                .zip(r.par_iter())
-                .enumerate()
-                .for_each(|(v, (o, r))| *o = h.diagonal(v).inverse() * *r)
+        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |v, r| {
+            h.diagonal(v).inverse() * r
         });
         prof.linear_iterations += its;
         if !negative || attempt == CURVATURE_RETRIES || *sigma >= SIGMA_MAX {
@@ -368,7 +365,7 @@ fn pcg(
     b: &[DVec2],
     x: &mut Vec<DVec2>,
     work: &mut Vec<Vec<DVec2>>,
-    precond: impl Fn(&[DVec2], &mut [DVec2]),
+    precond: impl Fn(usize, DVec2) -> DVec2 + Sync,
 ) -> (bool, usize) {
     let n = b.len();
     x.clear();
@@ -386,28 +383,60 @@ fn pcg(
     if b_norm == 0.0 || !b_norm.is_finite() {
         return (false, 0);
     }
-    precond(r, zv);
+    zv.par_iter_mut()
+        .zip(r.par_iter())
+        .enumerate()
+        .for_each(|(i, (z, r))| *z = precond(i, *r));
     p.copy_from_slice(zv);
     let mut rz = dot(r, zv);
+    // Each iteration is three passes over the vectors (memory bandwidth is the cost): A p with
+    // p·Ap; the x and r updates with r·r, z = M⁻¹ r and r·z; the new direction. Dot products
+    // are summed per fixed chunk, then in chunk order, as `dot` does.
+    let ordered = |partial: Vec<f64>| partial.iter().sum::<f64>();
     for it in 1..=CG_MAX {
-        a.mul_vec(p, ap);
-        let pap = dot(p, ap);
+        let p_ = &*p;
+        let pap = ordered(
+            ap.par_chunks_mut(DOT_CHUNK)
+                .enumerate()
+                .map(|(c, ap)| {
+                    let base = c * DOT_CHUNK;
+                    for (k, o) in ap.iter_mut().enumerate() {
+                        *o = a.row_times(base + k, p_);
+                    }
+                    p_[base..base + ap.len()]
+                        .iter()
+                        .zip(ap.iter())
+                        .map(|(p, q)| p.dot(*q))
+                        .sum()
+                })
+                .collect(),
+        );
         if pap <= 0.0 || !pap.is_finite() {
             return (true, it);
         }
         let alpha = rz / pap;
-        x.par_iter_mut()
-            .zip(r.par_iter_mut())
-            .zip(p.par_iter().zip(ap.par_iter()))
-            .for_each(|((x, r), (p, ap))| {
-                *x += *p * alpha;
-                *r -= *ap * alpha;
-            });
-        if dot(r, r).sqrt() <= CG_TOL * b_norm {
+        let (rr, rz_new): (Vec<f64>, Vec<f64>) = x
+            .par_chunks_mut(DOT_CHUNK)
+            .zip(r.par_chunks_mut(DOT_CHUNK))
+            .zip(zv.par_chunks_mut(DOT_CHUNK))
+            .zip(p.par_chunks(DOT_CHUNK).zip(ap.par_chunks(DOT_CHUNK)))
+            .enumerate()
+            .map(|(c, (((x, r), z), (p, ap)))| {
+                for k in 0..x.len() {
+                    x[k] += p[k] * alpha;
+                    r[k] -= ap[k] * alpha;
+                    z[k] = precond(c * DOT_CHUNK + k, r[k]);
+                }
+                (
+                    r.iter().zip(r.iter()).map(|(p, q)| p.dot(*q)).sum::<f64>(),
+                    r.iter().zip(z.iter()).map(|(p, q)| p.dot(*q)).sum::<f64>(),
+                )
+            })
+            .unzip();
+        if ordered(rr).sqrt() <= CG_TOL * b_norm {
             return (false, it);
         }
-        precond(r, zv);
-        let rz_new = dot(r, zv);
+        let rz_new = ordered(rz_new);
         let beta = rz_new / rz;
         rz = rz_new;
         p.par_iter_mut()
@@ -450,12 +479,8 @@ mod tests {
         a
     }
 
-    fn jacobi(a: &BlockMatrix) -> impl Fn(&[DVec2], &mut [DVec2]) + '_ {
-        move |r, out| {
-            for (i, (o, r)) in out.iter_mut().zip(r).enumerate() {
-                *o = a.diagonal(i).inverse() * *r;
-            }
-        }
+    fn jacobi(a: &BlockMatrix) -> impl Fn(usize, DVec2) -> DVec2 + Sync + '_ {
+        move |i, r| a.diagonal(i).inverse() * r
     }
 
     #[test]
@@ -480,7 +505,7 @@ mod tests {
         let a = chain(200, 1.0, -0.05);
         let b = vec![DVec2::new(1.0, 1.0); 200];
         let (mut x, mut work) = (Vec::new(), Vec::new());
-        let (negative, _) = pcg(&a, &b, &mut x, &mut work, |r, out| out.copy_from_slice(r));
+        let (negative, _) = pcg(&a, &b, &mut x, &mut work, |_, r| r);
         assert!(negative);
         assert!(x.iter().all(|p| p.is_finite()));
     }

@@ -28,4 +28,4 @@ pub use cells::{clipped_cells, clipped_cells_into, Cell, Cells, CellsBuffer};
 pub use conforming::{conforming_mesh, mark_vertices};
 pub use delaunay::Delaunay;
 pub use hessian::energy_hessian;
-pub use sparse::{dot, BlockMatrix};
+pub use sparse::{dot, BlockMatrix, DOT_CHUNK};

@@ -61,21 +61,30 @@ impl BlockMatrix {
         });
     }
 
-    /// `out = A x` (parallel over rows; each row is summed in a fixed order).
+    /// Row `i` of `A x` (its blocks summed in a fixed order).
+    pub fn row_times(&self, i: usize, x: &[DVec2]) -> DVec2 {
+        let r = self.row_start[i]..self.row_start[i + 1];
+        self.col[r.clone()]
+            .iter()
+            .zip(&self.block[r])
+            .fold(DVec2::ZERO, |s, (&j, b)| s + b.as_dmat2() * x[j as usize])
+    }
+
+    /// `out = A x` (parallel over rows).
     pub fn mul_vec(&self, x: &[DVec2], out: &mut [DVec2]) {
-        out.par_iter_mut().enumerate().for_each(|(i, o)| {
-            let r = self.row_start[i]..self.row_start[i + 1];
-            *o = self.col[r.clone()]
-                .iter()
-                .zip(&self.block[r])
-                .fold(DVec2::ZERO, |s, (&j, b)| s + b.as_dmat2() * x[j as usize]);
-        });
+        out.par_iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| *o = self.row_times(i, x));
     }
 }
 
+/// Length of the fixed chunks of [`dot`] (and of passes that fuse a dot product into other work:
+/// summing per chunk, then the chunks in order, gives the same bits on any number of threads).
+pub const DOT_CHUNK: usize = 4096;
+
 /// Parallel dot product with a fixed chunking (the same bits on any number of threads).
 pub fn dot(a: &[DVec2], b: &[DVec2]) -> f64 {
-    const CHUNK: usize = 4096;
+    const CHUNK: usize = DOT_CHUNK;
     let partial: Vec<f64> = a
         .par_chunks(CHUNK)
         .zip(b.par_chunks(CHUNK))
