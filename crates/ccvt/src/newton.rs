@@ -270,9 +270,7 @@ fn newton_point(
         let h = &mut buf.hess;
         for v in 0..nv {
             let k = h.row_start[v];
-            h.block[k] = (h.block[k].as_dmat2()
-                + dofs[v].matrix(tan) * (add * 2.0 * cells[pt(v)].mass))
-                .as_mat2();
+            h.block[k] += dofs[v].matrix(tan) * (add * 2.0 * cells[pt(v)].mass);
         }
     }
     // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
@@ -324,10 +322,10 @@ fn shift<'a>(
             for (j, b) in col.iter().zip(block.iter_mut()).skip(1) {
                 // P = I for the (many) free generators.
                 if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
-                    *b = (pv * b.as_dmat2() * dofs[*j as usize].matrix(tan)).as_mat2();
+                    *b = pv * *b * dofs[*j as usize].matrix(tan);
                 }
             }
-            let mut d = pv * block[0].as_dmat2() * pv;
+            let mut d = pv * block[0] * pv;
             let c = cell(v);
             let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);
             d += pv * (sigma * m2) + (DMat2::IDENTITY - pv) * m2;
@@ -352,7 +350,7 @@ fn shift<'a>(
             if lowest < floor {
                 d += pv * (floor - lowest);
             }
-            block[0] = d.as_mat2();
+            block[0] = d;
         },
     );
 }

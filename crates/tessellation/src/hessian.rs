@@ -13,7 +13,7 @@ use crate::cells::Cells;
 use crate::delaunay::Delaunay;
 use crate::sparse::BlockMatrix;
 use geometry::{DVec2, Density, Polygon};
-use glam::{DMat2, Mat2};
+use glam::DMat2;
 
 /// The Hessian of the CVT energy of `points` (triangulated by `del`, cells from
 /// `clipped_cells` on the same `domain` and `density`) written into `out`, with one block row
@@ -44,14 +44,14 @@ pub fn energy_hessian(
         out.row_start.push(total);
     }
     out.col.resize(total, 0);
-    out.block.resize(total, Mat2::ZERO);
+    out.block.resize(total, DMat2::ZERO);
     let bnd = Boundary::new(domain, nv);
     let density = (!density.is_uniform()).then_some(density);
     out.par_rows_mut(
         || (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
         |(nb, cc, parts, ts), v, col, block| {
             col[0] = v as u32;
-            block[0] = Mat2::ZERO;
+            block[0] = DMat2::ZERO;
             let Some(bnd) = bnd.as_ref() else {
                 return;
             };
@@ -116,11 +116,11 @@ pub fn energy_hessian(
                 }
                 if (u as usize) < nv {
                     col[c] = u;
-                    block[c] = wij.as_mat2();
+                    block[c] = wij;
                     c += 1;
                 }
             }
-            block[0] = diag.as_mat2();
+            block[0] = diag;
         },
     );
 }
@@ -271,7 +271,7 @@ mod tests {
                             .iter()
                             .zip(&h.block[r])
                             .filter(|(&c, _)| c == vj)
-                            .fold(DVec2::ZERO, |s, (_, m)| s + m.as_dmat2() * axis);
+                            .fold(DVec2::ZERO, |s, (_, m)| s + *m * axis);
                         worst = worst.max((fd - an).length());
                         norm = norm.max(fd.length());
                     }
@@ -304,20 +304,13 @@ mod tests {
         let find = |i: usize, j: usize| {
             (h.row_start[i]..h.row_start[i + 1])
                 .find(|&k| h.col[k] as usize == j)
-                .map(|k| h.block[k].as_dmat2())
+                .map(|k| h.block[k])
         };
         for i in 0..h.rows() {
             for k in h.row_start[i] + 1..h.row_start[i + 1] {
                 let j = h.col[k] as usize;
                 let back = find(j, i).expect("neighbour relation is symmetric");
-                // Equal in double precision to 1e-14; stored in single, to its rounding.
-                let b = h.block[k].as_dmat2();
-                let tol = 1e-6
-                    * b.abs()
-                        .to_cols_array()
-                        .iter()
-                        .fold(0.0f64, |m, x| m.max(*x));
-                let diff = (b - back.transpose()).abs_diff_eq(DMat2::ZERO, tol);
+                let diff = (h.block[k] - back.transpose()).abs_diff_eq(DMat2::ZERO, 1e-14);
                 assert!(diff, "block ({i},{j}) is not the transpose of ({j},{i})");
             }
         }

@@ -1,14 +1,12 @@
 //! Sparse symmetric matrices of 2×2 blocks, one block row per generator (the CVT energy's
 //! Hessian and the operators built from it).
 use geometry::DVec2;
-use glam::{DMat2, Mat2};
+use glam::DMat2;
 use rayon::prelude::*;
 
 /// Block-CSR matrix: row `i` holds the blocks `block[row_start[i]..row_start[i + 1]]` in the
-/// columns `col[..]` of the same range. Every row starts with its diagonal block. Blocks are
-/// stored in single precision (products are formed in double): the matrix only steers inexact
-/// Newton steps, and at 10⁶ rows half the bytes (112 MB instead of 224) make every product
-/// about twice as fast, memory bandwidth being its limit.
+/// columns `col[..]` of the same range. Every row starts with its diagonal block. (Blocks in
+/// single precision were tried: 112 MB less at 10⁶ rows, no faster, and more Newton steps.)
 #[derive(Clone, Debug, Default)]
 pub struct BlockMatrix {
     /// Start of each row in `col` / `block` (length rows + 1).
@@ -16,7 +14,7 @@ pub struct BlockMatrix {
     /// Column (generator index) of each block.
     pub col: Vec<u32>,
     /// The blocks.
-    pub block: Vec<Mat2>,
+    pub block: Vec<DMat2>,
 }
 
 impl BlockMatrix {
@@ -27,7 +25,7 @@ impl BlockMatrix {
 
     /// The diagonal block of row `i`.
     pub fn diagonal(&self, i: usize) -> DMat2 {
-        self.block[self.row_start[i]].as_dmat2()
+        self.block[self.row_start[i]]
     }
 
     /// Calls `f(scratch, row, columns, blocks)` for every row, in parallel over chunks of rows
@@ -35,30 +33,16 @@ impl BlockMatrix {
     pub fn par_rows_mut<S>(
         &mut self,
         init: impl Fn() -> S + Sync + Send,
-        f: impl Fn(&mut S, usize, &mut [u32], &mut [Mat2]) + Sync + Send,
+        f: impl Fn(&mut S, usize, &mut [u32], &mut [DMat2]) + Sync + Send,
     ) {
-        const ROWS: usize = 2048;
-        let n = self.rows();
-        let starts = &self.row_start;
-        let mut chunks = Vec::with_capacity(n.div_ceil(ROWS));
-        let (mut cols, mut blocks) = (&mut self.col[..], &mut self.block[..]);
-        for first in (0..n).step_by(ROWS) {
-            let last = (first + ROWS).min(n);
-            let len = starts[last] - starts[first];
-            let (c, cr) = std::mem::take(&mut cols).split_at_mut(len);
-            let (b, br) = std::mem::take(&mut blocks).split_at_mut(len);
-            chunks.push((first, last, c, b));
-            cols = cr;
-            blocks = br;
-        }
-        chunks.into_par_iter().for_each(|(first, last, c, b)| {
-            let mut scratch = init();
-            let base = starts[first];
-            for row in first..last {
-                let r = starts[row] - base..starts[row + 1] - base;
-                f(&mut scratch, row, &mut c[r.clone()], &mut b[r]);
-            }
-        });
+        par_rows(
+            &self.row_start,
+            &mut self.col,
+            &mut self.block,
+            2048,
+            init,
+            f,
+        );
     }
 
     /// Row `i` of `A x` (its blocks summed in a fixed order).
@@ -67,7 +51,7 @@ impl BlockMatrix {
         self.col[r.clone()]
             .iter()
             .zip(&self.block[r])
-            .fold(DVec2::ZERO, |s, (&j, b)| s + b.as_dmat2() * x[j as usize])
+            .fold(DVec2::ZERO, |s, (&j, b)| s + *b * x[j as usize])
     }
 
     /// `out = A x` (parallel over rows).
@@ -76,6 +60,39 @@ impl BlockMatrix {
             .enumerate()
             .for_each(|(i, o)| *o = self.row_times(i, x));
     }
+}
+
+/// Calls `f(scratch, row, a_row, b_row)` for every row of two arrays laid out by `starts` (row
+/// r is `starts[r]..starts[r + 1]` of both), in parallel over chunks of `rows` rows, each chunk
+/// with its own `init()` scratch.
+pub(crate) fn par_rows<A: Send, B: Send, S>(
+    starts: &[usize],
+    a: &mut [A],
+    b: &mut [B],
+    rows: usize,
+    init: impl Fn() -> S + Sync + Send,
+    f: impl Fn(&mut S, usize, &mut [A], &mut [B]) + Sync + Send,
+) {
+    let n = starts.len().saturating_sub(1);
+    let mut chunks = Vec::with_capacity(n.div_ceil(rows));
+    let (mut a, mut b) = (a, b);
+    for first in (0..n).step_by(rows) {
+        let last = (first + rows).min(n);
+        let len = starts[last] - starts[first];
+        let (ac, ar) = std::mem::take(&mut a).split_at_mut(len);
+        let (bc, br) = std::mem::take(&mut b).split_at_mut(len);
+        chunks.push((first, last, ac, bc));
+        a = ar;
+        b = br;
+    }
+    chunks.into_par_iter().for_each(|(first, last, a, b)| {
+        let mut scratch = init();
+        let base = starts[first];
+        for row in first..last {
+            let r = starts[row] - base..starts[row + 1] - base;
+            f(&mut scratch, row, &mut a[r.clone()], &mut b[r]);
+        }
+    });
 }
 
 /// Length of the fixed chunks of [`dot`] (and of passes that fuse a dot product into other work:

@@ -58,27 +58,19 @@ impl Rings {
         let len = &self.len;
         self.nb.resize(total, NONE);
         self.outer.resize(total, false);
-        let starts = &self.start;
-        let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK));
-        let (mut nb, mut outer) = (&mut self.nb[..], &mut self.outer[..]);
-        for first in (0..n).step_by(CHUNK) {
-            let last = (first + CHUNK).min(n);
-            let len = starts[last] - starts[first];
-            let (a, ar) = std::mem::take(&mut nb).split_at_mut(len);
-            let (b, br) = std::mem::take(&mut outer).split_at_mut(len);
-            chunks.push((first, last, a, b));
-            nb = ar;
-            outer = br;
-        }
-        chunks.into_par_iter().for_each(|(first, last, nb, outer)| {
-            let base = starts[first];
-            for v in first..last {
-                let r = starts[v] - base..starts[v] - base + len[v] as usize;
-                let (nb, outer) = (&mut nb[r.clone()], &mut outer[r]);
+        crate::sparse::par_rows(
+            &self.start,
+            &mut self.nb,
+            &mut self.outer,
+            CHUNK,
+            || (),
+            |_, v, nb, outer| {
+                let l = len[v] as usize;
+                let (nb, outer) = (&mut nb[..l], &mut outer[..l]);
                 write(v, nb, outer);
                 canonical(nb, outer, key);
-            }
-        });
+            },
+        );
     }
 }
 
