@@ -459,15 +459,14 @@ mod tests {
             for j in [i.wrapping_sub(1), i + 1] {
                 if j < n {
                     diag += k;
-                    row.push((
-                        j as u32,
-                        DMat2::from_diagonal(DVec2::new(-k, -0.5 * k)).as_mat2(),
-                    ));
+                    row.push((j as u32, DMat2::from_diagonal(DVec2::new(-k, -0.5 * k))));
                 }
             }
             a.col.push(i as u32);
-            a.block
-                .push(DMat2::from_diagonal(DVec2::new(diag, diag - 0.5 * (diag - mass))).as_mat2());
+            a.block.push(DMat2::from_diagonal(DVec2::new(
+                diag,
+                diag - 0.5 * (diag - mass),
+            )));
             for (j, b) in row {
                 a.col.push(j);
                 a.block.push(b);
