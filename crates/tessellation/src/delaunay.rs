@@ -39,8 +39,8 @@ pub struct Delaunay {
     framed: usize,
     /// Points farther than `.1` from `.0` send a rebuild to a fresh build (with a new frame).
     frame_safe: (DVec2, f64),
-    /// Scratch of rebuilds by flips: the previous positions, the vertices whose rings change.
-    scratch: (Vec<DVec2>, Vec<u32>),
+    /// Scratch of rebuilds by flips: the previous positions.
+    scratch: Vec<DVec2>,
     /// The last rebuild repaired the previous triangulation by flips.
     flipped: bool,
 }
@@ -60,7 +60,7 @@ impl Delaunay {
             frame_box: None,
             framed: 0,
             frame_safe: (DVec2::ZERO, 0.0),
-            scratch: (Vec::new(), Vec::new()),
+            scratch: Vec::new(),
             flipped: false,
         };
         d.rebuild(points);
@@ -129,13 +129,11 @@ impl Delaunay {
             return false;
         }
         let max_flips = self.topo.tri.len() / MAX_FLIP_FRACTION;
-        let (mut old, mut touched) = std::mem::take(&mut self.scratch);
-        touched.clear();
+        let mut old = std::mem::take(&mut self.scratch);
         old.clear();
         old.extend_from_slice(&self.pos[..nv]);
         let mut done = false;
-        for steps in [1, SUBSTEPS] {
-            let mut ok = true;
+        'attempts: for steps in [1, SUBSTEPS] {
             for step in 1..=steps {
                 let t = step as f64 / steps as f64;
                 let of = &self.point_of_vertex;
@@ -146,40 +144,64 @@ impl Delaunay {
                         let to = points[of[v] as usize];
                         *p = if step < steps { old[v].lerp(to, t) } else { to };
                     });
-                match self.topo.flip_to_delaunay(&self.pos, max_flips) {
-                    Some(_) => touched.extend_from_slice(&self.topo.touched),
-                    None => {
-                        ok = false;
-                        break;
+                // Positively oriented triangles can still fold over (a ring winding twice):
+                // only a ring winding once around each vertex makes a triangulation.
+                let flipped = self.rings_wind_once(nv)
+                    && match self.topo.flip_to_delaunay(&self.pos, max_flips) {
+                        Some(_) => {
+                            let mut rings = std::mem::take(&mut self.rings);
+                            if !rings.update(&self.topo, &self.topo.touched, &self.key()) {
+                                self.topo.rings(nv, &self.key(), &mut rings);
+                            }
+                            self.rings = rings;
+                            true
+                        }
+                        None => false,
+                    };
+                if !flipped {
+                    // Only a first step that changed nothing can be retried in substeps.
+                    if step > 1 || !self.topo.touched.is_empty() {
+                        break 'attempts;
                     }
+                    self.pos[..nv].copy_from_slice(&old);
+                    continue 'attempts;
                 }
             }
-            if ok {
-                done = true;
-                break;
-            }
-            // The first attempt fails before flipping anything: the topology is still the
-            // previous positions' Delaunay triangulation.
-            if steps == 1 {
-                self.pos[..nv].copy_from_slice(&old);
-            }
+            done = true;
+            break;
         }
+        self.scratch = old;
         if !done {
-            self.scratch = (old, touched);
             return false;
         }
-        // Only the flipped quadrilaterals' corners have new rings (in input numbering).
-        touched.sort_unstable();
-        touched.dedup();
-        let mut rings = std::mem::take(&mut self.rings);
-        if !rings.update(&self.topo, &touched, &self.key()) {
-            self.topo.rings(nv, &self.key(), &mut rings);
-        }
-        self.rings = rings;
-        self.scratch = (old, touched);
         self.hints = HintGrid::new(&self.pos[..nv]);
         self.flippable = true;
         true
+    }
+
+    /// Every point vertex's ring winds once around it (an open fan, on an unframed hull, turns
+    /// less than half a turn): counted as the ring's passages through the direction +x, with
+    /// exact comparisons of coordinates.
+    fn rings_wind_once(&self, nv: usize) -> bool {
+        let pos = &self.pos;
+        (0..nv).into_par_iter().all(|v| {
+            let (nb, outer) = self.rings.of(v);
+            let z = pos[v];
+            // Angle of the direction to u in [0, π).
+            let above = |u: u32| {
+                let p = pos[u as usize];
+                p.y > z.y || (p.y == z.y && p.x > z.x)
+            };
+            let m = nb.len();
+            if outer.contains(&true) {
+                (1..m).filter(|&k| above(nb[k - 1]) != above(nb[k])).count() <= 1
+            } else {
+                (0..m)
+                    .filter(|&k| !above(nb[k]) && above(nb[(k + 1) % m]))
+                    .count()
+                    == 1
+            }
+        })
     }
 
     /// Triangulate afresh with spade (inserting along a Hilbert curve).

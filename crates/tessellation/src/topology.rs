@@ -128,7 +128,8 @@ pub(crate) struct Topology {
     pub adj: Vec<[u32; 3]>,
     /// One triangle of each vertex (`NONE` for a vertex in no triangle).
     pub v2t: Vec<u32>,
-    /// Corners of the quadrilaterals flipped by the last `flip_to_delaunay` (sorted, unique).
+    /// Corners of the quadrilaterals flipped by the last `flip_to_delaunay` (sorted, unique;
+    /// possibly unsorted and repeated when it gave up).
     pub touched: Vec<u32>,
 }
 
@@ -243,6 +244,7 @@ impl Topology {
     /// predicates the result is the Delaunay triangulation (the same one as any other
     /// construction when no four vertices are cocircular).
     pub fn flip_to_delaunay(&mut self, pos: &[DVec2], max_flips: usize) -> Option<usize> {
+        self.touched.clear();
         let (tri, adj) = (&self.tri, &self.adj);
         if tri.is_empty() {
             return None;
@@ -277,7 +279,6 @@ impl Topology {
             })
             .collect();
         let mut flips = 0;
-        self.touched.clear();
         while let Some((t, k)) = stack.pop() {
             if self.adj[t as usize][k as usize] == NONE || !self.illegal(pos, t, k) {
                 continue;
