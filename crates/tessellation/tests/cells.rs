@@ -758,17 +758,7 @@ fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
         let mut cur = pts.clone();
         for step in 0..6 {
             let size = if step == 3 { 0.02 } else { 1e-4 };
-            cur = cur
-                .iter()
-                .map(|&p| {
-                    let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
-                    if dom.contains(q) {
-                        q
-                    } else {
-                        p
-                    }
-                })
-                .collect();
+            cur = jitter(&mut rng, &dom, &cur, size);
             moves.push(cur.clone());
         }
         // The same points again, five small moves and one larger: flips (perhaps in
@@ -787,27 +777,42 @@ fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
     assert_partition(&cells_of(&pts, &dom), &pts, &dom);
 }
 
+/// A random star-shaped domain (with a hole for even seeds), `n` generators in it, and each
+/// moved by up to `size` in x and y (a move that would leave the domain is not made).
+fn random_moves(seed: u64, n: usize, size: f64) -> (Polygon, Vec<DVec2>, Vec<DVec2>) {
+    let mut rng = Rng::new(seed);
+    let dom = star(&mut rng, 12, seed.is_multiple_of(2));
+    let (lo, hi) = dom.bbox();
+    let mut pts = Vec::new();
+    while pts.len() < n {
+        let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+        if dom.contains(p) {
+            pts.push(p);
+        }
+    }
+    let moved = jitter(&mut rng, &dom, &pts, size);
+    (dom, pts, moved)
+}
+
+/// Each point moved by up to `size` in x and y, unless that would leave the domain.
+fn jitter(rng: &mut Rng, dom: &Polygon, pts: &[DVec2], size: f64) -> Vec<DVec2> {
+    pts.iter()
+        .map(|&p| {
+            let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
+            if dom.contains(q) {
+                q
+            } else {
+                p
+            }
+        })
+        .collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
     #[test]
     fn framed_rebuilds_match_fresh_cells_for_random_moves(seed in 0u64..1_000_000, n in 3usize..300, size in 1e-4f64..0.2) {
-        let mut rng = Rng::new(seed);
-        let dom = star(&mut rng, 12, seed % 2 == 0);
-        let (lo, hi) = dom.bbox();
-        let mut pts = Vec::new();
-        while pts.len() < n {
-            let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
-            if dom.contains(p) {
-                pts.push(p);
-            }
-        }
-        let moved: Vec<DVec2> = pts
-            .iter()
-            .map(|&p| {
-                let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
-                if dom.contains(q) { q } else { p }
-            })
-            .collect();
+        let (dom, pts, moved) = random_moves(seed, n, size);
         assert_framed_rebuilds_match_fresh(&pts, &[moved], &dom);
     }
 }
@@ -817,28 +822,9 @@ proptest! {
 /// rebuild must notice and triangulate afresh.
 #[test]
 fn a_folded_ring_is_not_repaired_by_flips() {
-    let (seed, n, size) = (384431u64, 18usize, 0.05570760859732622);
-    let mut rng = Rng::new(seed);
-    let dom = star(&mut rng, 12, seed % 2 == 0);
+    let n = 18;
+    let (dom, pts, moved) = random_moves(384431, n, 0.05570760859732622);
     let (lo, hi) = dom.bbox();
-    let mut pts = Vec::new();
-    while pts.len() < n {
-        let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
-        if dom.contains(p) {
-            pts.push(p);
-        }
-    }
-    let moved: Vec<DVec2> = pts
-        .iter()
-        .map(|&p| {
-            let q = p + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * size;
-            if dom.contains(q) {
-                q
-            } else {
-                p
-            }
-        })
-        .collect();
     assert_framed_rebuilds_match_fresh(&pts, std::slice::from_ref(&moved), &dom);
     let mut framed = Delaunay::framed(lo, hi);
     framed.rebuild(&pts);
