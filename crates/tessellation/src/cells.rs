@@ -320,9 +320,8 @@ impl Ctx<'_> {
         // unless it is the outer face (a hull vertex, whose cell is unbounded).
         s.nb.clear();
         let (ring, outer) = self.del.rings.of(v);
-        let bounded = !outer.contains(&true);
+        let mut bounded = !outer.contains(&true);
         s.nb.extend(ring.iter().map(|&u| (u, self.del.pos[u as usize])));
-        let mut bounded = bounded;
         s.k.clear();
         if bounded {
             let n = s.nb.len();

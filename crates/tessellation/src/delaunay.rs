@@ -135,6 +135,7 @@ impl Delaunay {
         let mut done = false;
         'attempts: for steps in [1, SUBSTEPS] {
             for step in 1..=steps {
+                self.topo.touched.clear();
                 let t = step as f64 / steps as f64;
                 let of = &self.point_of_vertex;
                 self.pos[..nv]
