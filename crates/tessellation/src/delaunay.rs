@@ -91,9 +91,10 @@ impl Delaunay {
     /// Triangulate `points` in this triangulation's memory: the same result as
     /// [`Delaunay::new`] (up to the choice of diagonal between exactly cocircular points),
     /// without the large allocations. When `points` are the previous points moved (the same
-    /// number, all distinct vertices, no triangle turned over, the hull still strictly convex),
-    /// the previous triangulation is repaired by Lawson flips, which at 10⁵ points costs about a
-    /// fifth of building it afresh; otherwise it is built afresh.
+    /// number, all distinct vertices, no triangle turned over, every ring winding once, the hull
+    /// still strictly convex — directly or in 4 substeps), the previous triangulation is
+    /// repaired by Lawson flips, which at 10⁵ points costs about a tenth of building it afresh;
+    /// otherwise it is built afresh.
     pub fn rebuild(&mut self, points: &[DVec2]) {
         self.flipped = self.flip_to(points);
         if !self.flipped {

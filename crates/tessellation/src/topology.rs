@@ -18,7 +18,7 @@ const SLACK: usize = 3;
 /// Every vertex's Delaunay neighbours in CCW order. An interior vertex's ring starts at the
 /// neighbour with the smallest key (its input index), a hull vertex's right after the outer
 /// face, so the same triangulation gives the same rings however it was built or numbered.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default)]
 pub(crate) struct Rings {
     /// Ring of vertex v: `nb[start[v]..start[v] + len[v]]`, with room up to `start[v + 1]`.
     pub start: Vec<usize>,
@@ -72,9 +72,7 @@ impl Rings {
             },
         );
     }
-}
 
-impl Rings {
     /// Rewrite the rings of `touched` vertices in place from `topo`; false if one no longer fits
     /// its room (then all must be rebuilt).
     pub fn update(&mut self, topo: &Topology, touched: &[u32], key: &impl Fn(u32) -> u32) -> bool {
@@ -239,10 +237,11 @@ impl Topology {
     }
 
     /// Make the triangulation Delaunay for the moved vertices `pos` by Lawson flips; returns
-    /// how many it took, or None (leaving the topology unusable) when flips cannot do it: a triangle turned over, the
-    /// hull stopped being strictly convex, or more than `max_flips` flips were needed. With exact
-    /// predicates the result is the Delaunay triangulation (the same one as any other
-    /// construction when no four vertices are cocircular).
+    /// how many it took, or None when flips cannot do it: a triangle turned over or the hull
+    /// stopped being strictly convex (nothing was changed), or more than `max_flips` flips were
+    /// needed (the triangulation is valid but not Delaunay). The caller also checks that no ring
+    /// winds twice. With exact predicates the result is the Delaunay triangulation (the same
+    /// one as any other construction when no four vertices are cocircular).
     pub fn flip_to_delaunay(&mut self, pos: &[DVec2], max_flips: usize) -> Option<usize> {
         self.touched.clear();
         let (tri, adj) = (&self.tri, &self.adj);
