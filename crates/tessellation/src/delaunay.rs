@@ -93,8 +93,9 @@ impl Delaunay {
     /// without the large allocations. When `points` are the previous points moved (the same
     /// number, all distinct vertices, no triangle turned over, every ring winding once, the hull
     /// still strictly convex — directly or in 4 substeps), the previous triangulation is
-    /// repaired by Lawson flips, which at 10⁵ points costs about a tenth of building it afresh;
-    /// otherwise it is built afresh.
+    /// repaired by Lawson flips, which at 10⁵ points costs about a tenth of building it afresh.
+    /// A framed triangulation also repairs moves that turn triangles over, by removing and
+    /// reinserting the vertices that moved farthest. Otherwise it is built afresh.
     pub fn rebuild(&mut self, points: &[DVec2]) {
         self.flipped = self.flip_to(points);
         if !self.flipped {
@@ -109,9 +110,10 @@ impl Delaunay {
     }
 
     /// Rebuild by flips; false when that is not possible (the state is then rebuilt by `build`).
-    /// A move that turns a triangle over is retried in `SUBSTEPS` straight-line steps, flipping
-    /// after each: a vertex heading for an edge enters its neighbours' circumcircles, and is
-    /// flipped past, before it reaches the edge.
+    /// A move that turns a triangle over is repaired by reinsertions when framed; unframed, it
+    /// is retried in `SUBSTEPS` straight-line steps, flipping after each: a vertex heading for
+    /// an edge enters its neighbours' circumcircles, and is flipped past, before it reaches the
+    /// edge.
     fn flip_to(&mut self, points: &[DVec2]) -> bool {
         const SUBSTEPS: usize = 4;
         if !self.flippable || points.len() != self.num_points() {
@@ -133,51 +135,133 @@ impl Delaunay {
         let mut old = std::mem::take(&mut self.scratch);
         old.clear();
         old.extend_from_slice(&self.pos[..nv]);
-        let mut done = false;
-        'attempts: for steps in [1, SUBSTEPS] {
-            for step in 1..=steps {
-                self.topo.touched.clear();
-                let t = step as f64 / steps as f64;
-                let of = &self.point_of_vertex;
-                self.pos[..nv]
-                    .par_iter_mut()
-                    .enumerate()
-                    .for_each(|(v, p)| {
-                        let to = points[of[v] as usize];
-                        *p = if step < steps { old[v].lerp(to, t) } else { to };
-                    });
-                // Positively oriented triangles can still fold over (a ring winding twice):
-                // only a ring winding once around each vertex makes a triangulation.
-                let flipped = self.rings_wind_once(nv)
-                    && match self.topo.flip_to_delaunay(&self.pos, max_flips) {
-                        Some(_) => {
-                            let mut rings = std::mem::take(&mut self.rings);
-                            if !rings.update(&self.topo, &self.topo.touched, &self.key()) {
-                                self.topo.rings(nv, &self.key(), &mut rings);
-                            }
-                            self.rings = rings;
-                            true
-                        }
-                        None => false,
-                    };
-                if !flipped {
-                    // Only a first step that changed nothing can be retried in substeps.
-                    if step > 1 || !self.topo.touched.is_empty() {
-                        break 'attempts;
-                    }
-                    self.pos[..nv].copy_from_slice(&old);
-                    continue 'attempts;
-                }
-            }
-            done = true;
-            break;
-        }
+        let done = match self.step(points, &old, 1, 1, max_flips) {
+            Some(done) => done,
+            // A triangle turned over (nothing changed yet).
+            None if framed => self.reinsert(points, &old, max_flips),
+            None => (1..=SUBSTEPS)
+                .all(|step| self.step(points, &old, step, SUBSTEPS, max_flips) == Some(true)),
+        };
         self.scratch = old;
         if !done {
             return false;
         }
         self.hints = HintGrid::new(&self.pos[..nv]);
         self.flippable = true;
+        true
+    }
+
+    /// Move the vertices `step / steps` of the way from `old` to `points` and flip: Some(true)
+    /// when that made a Delaunay triangulation, None when it failed without changing the
+    /// topology (a triangle turned over, a ring wound twice), Some(false) otherwise.
+    fn step(
+        &mut self,
+        points: &[DVec2],
+        old: &[DVec2],
+        step: usize,
+        steps: usize,
+        max_flips: usize,
+    ) -> Option<bool> {
+        let nv = old.len();
+        self.topo.touched.clear();
+        let t = step as f64 / steps as f64;
+        let of = &self.point_of_vertex;
+        self.pos[..nv]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(v, p)| {
+                let to = points[of[v] as usize];
+                *p = if step < steps { old[v].lerp(to, t) } else { to };
+            });
+        // Positively oriented triangles can still fold over (a ring winding twice): only a
+        // ring winding once around each vertex makes a triangulation.
+        if !self.rings_wind_once(nv) {
+            return None;
+        }
+        match self.topo.flip_to_delaunay(&self.pos, max_flips) {
+            Some(_) => {
+                self.update_rings(nv);
+                Some(true)
+            }
+            None if self.topo.touched.is_empty() => None,
+            None => Some(false),
+        }
+    }
+
+    /// Rewrite the rings around the vertices the last flips or reinsertions touched.
+    fn update_rings(&mut self, nv: usize) {
+        let mut rings = std::mem::take(&mut self.rings);
+        if !rings.update(&self.topo, &self.topo.touched, &self.key()) {
+            self.topo.rings(nv, &self.key(), &mut rings);
+        }
+        self.rings = rings;
+    }
+
+    /// Repair a framed triangulation where moving every vertex to `points` turns triangles
+    /// over: the vertices of turned-over triangles go back to `old` (repeatedly, until every
+    /// triangle is upright), the rest is flipped to Delaunay, and then each vertex sent back is
+    /// removed and inserted at its new position. The frame keeps the hull fixed, so upright
+    /// triangles make a triangulation (no ring can wind twice). False when more than an eighth
+    /// of the vertices would go back or an insertion fails (a duplicate point): the topology is
+    /// then left for a fresh build.
+    fn reinsert(&mut self, points: &[DVec2], old: &[DVec2], max_flips: usize) -> bool {
+        let nv = old.len();
+        let mut back = vec![false; nv];
+        let mut sent: Vec<u32> = Vec::new();
+        loop {
+            // Of each turned-over triangle, the vertex that moved farthest goes back.
+            let mut turned: Vec<u32> = self
+                .topo
+                .turned_over(&self.pos)
+                .into_iter()
+                .filter_map(|t| {
+                    let moved = |v: u32| match old.get(v as usize) {
+                        Some(&o) if !back[v as usize] => self.pos[v as usize].distance_squared(o),
+                        _ => -1.0,
+                    };
+                    let v = t
+                        .into_iter()
+                        .max_by(|&a, &b| moved(a).total_cmp(&moved(b)))?;
+                    (moved(v) >= 0.0).then_some(v)
+                })
+                .collect();
+            if turned.is_empty() {
+                break;
+            }
+            turned.sort_unstable();
+            turned.dedup();
+            for v in turned {
+                back[v as usize] = true;
+                self.pos[v as usize] = old[v as usize];
+                sent.push(v);
+            }
+            if sent.len() > nv / MAX_FLIP_FRACTION {
+                return false;
+            }
+        }
+        if self.topo.flip_to_delaunay(&self.pos, max_flips).is_none() {
+            return false;
+        }
+        let mut touched = std::mem::take(&mut self.topo.touched);
+        let mut budget = max_flips;
+        for v in sent {
+            self.topo.touched.clear();
+            let Some(hint) = self.topo.remove(&self.pos, v, &mut budget) else {
+                return false;
+            };
+            self.pos[v as usize] = points[self.point_of_vertex[v as usize] as usize];
+            if !self.topo.insert(&self.pos, v, hint, &mut budget) {
+                return false;
+            }
+            touched.append(&mut self.topo.touched);
+        }
+        if !self.topo.free.is_empty() {
+            return false;
+        }
+        touched.sort_unstable();
+        touched.dedup();
+        self.topo.touched = touched;
+        self.update_rings(nv);
         true
     }
 
@@ -266,6 +350,7 @@ impl Delaunay {
         self.hints = HintGrid::new(&self.pos[..nv]);
         self.topo.tri.clear();
         self.topo.adj.clear();
+        self.topo.free.clear();
         // In chunks of faces, in parallel within each (a handle per face at once would be
         // another 32 MB at 10⁶).
         let mut faces = dt.inner_faces();
@@ -804,5 +889,74 @@ mod tests {
         d.rebuild(&moved);
         assert_eq!(triangle_set(&d), triangle_set(&Delaunay::new(&moved)));
         assert!(d.flippable, "the fresh build can flip again");
+    }
+
+    /// Every triangle upright and every edge locally Delaunay (exact predicates), and the
+    /// triangle count of a triangulation of the points' hull.
+    fn assert_delaunay(d: &Delaunay) {
+        let p = |v: u32| crate::topology::coord_of(d.pos[v as usize]);
+        for (t, tri) in d.topo.tri.iter().enumerate() {
+            assert!(robust::orient2d(p(tri[0]), p(tri[1]), p(tri[2])) > 0.0);
+            for k in 0..3 {
+                let u = d.topo.adj[t][k];
+                if u != NONE {
+                    let u = u as usize;
+                    let j = (0..3).find(|&j| d.topo.adj[u][j] == t as u32).unwrap();
+                    let far = d.topo.tri[u][j];
+                    assert!(robust::incircle(p(tri[0]), p(tri[1]), p(tri[2]), p(far)) <= 0.0);
+                }
+            }
+        }
+        let hull = d.topo.adj.iter().flatten().filter(|&&a| a == NONE).count();
+        assert_eq!(d.topo.tri.len(), 2 * d.pos.len() - 2 - hull);
+    }
+
+    #[test]
+    fn framed_rebuilds_reinsert_vertices_that_turn_triangles_over() {
+        let mut rng = Rng::new(17);
+        let pts = point_sets(&mut rng).remove(0);
+        let n = pts.len();
+        let (lo, hi) = (DVec2::splat(-1.1), DVec2::splat(1.1));
+        let mut d = Delaunay::framed(lo, hi);
+        d.rebuild(&pts);
+        // One vertex past its neighbours; a twentieth of them by 1–3 spacings with the rest
+        // jittered; everything jittered again (flips alone).
+        let mut moved = pts.clone();
+        moved[300] = pts[300].lerp(pts[d.neighbors(300)[0]], 2.5);
+        let mut sets = vec![moved.clone()];
+        for (i, p) in moved.iter_mut().enumerate() {
+            let r = if i % 20 == 0 { 0.1 } else { 0.005 };
+            *p += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * r;
+        }
+        sets.push(moved.clone());
+        for p in moved.iter_mut() {
+            *p += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 1e-3;
+        }
+        sets.push(moved);
+        for m in &sets {
+            d.rebuild(m);
+            assert!(d.flipped(), "repaired without a fresh build");
+            assert_delaunay(&d);
+            // Against a fresh framed triangulation (the same frame: the box holds the points).
+            let mut fresh = Delaunay::framed(lo, hi);
+            fresh.rebuild(m);
+            assert!(triangle_set(&d) == triangle_set(&fresh));
+            assert!((0..n).all(|i| d.neighbors(i) == fresh.neighbors(i)));
+        }
+        // Onto the middle of an edge (exact on an integer lattice: the edge is split), and
+        // onto another vertex (a duplicate: a fresh build merges it).
+        let pts = lattice(12);
+        let mut d = Delaunay::framed(DVec2::ZERO, DVec2::splat(11.0));
+        d.rebuild(&pts);
+        let mut m = pts.clone();
+        m[5 * 12 + 5] = DVec2::new(2.5, 2.0);
+        d.rebuild(&m);
+        assert!(d.flipped());
+        assert_delaunay(&d);
+        assert_eq!(d.num_vertices(), pts.len());
+        m[5 * 12 + 5] = pts[3];
+        d.rebuild(&m);
+        assert!(!d.flipped());
+        assert_eq!(d.num_vertices(), pts.len() - 1);
     }
 }

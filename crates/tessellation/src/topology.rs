@@ -1,7 +1,8 @@
 //! The triangulation as flat arrays (triangles, their neighbours across each edge, every
 //! vertex's ring of neighbours) and the Lawson flips that make it Delaunay again after the
 //! generators move. Between two Lloyd or Newton steps few edges change: testing every edge and
-//! flipping the few that fail costs a fraction of building the triangulation again.
+//! flipping the few that fail costs a fraction of building the triangulation again. The few
+//! vertices whose move would turn a triangle over are removed and inserted again instead.
 use geometry::DVec2;
 use rayon::prelude::*;
 use robust::{incircle, orient2d, Coord};
@@ -129,10 +130,25 @@ pub(crate) struct Topology {
     /// Corners of the quadrilaterals flipped by the last `flip_to_delaunay` (sorted, unique;
     /// possibly unsorted and repeated when it gave up).
     pub touched: Vec<u32>,
+    /// Slots of `tri` freed by a vertex removal, for the next insertion.
+    pub free: Vec<u32>,
+}
+
+/// Where a point lies in the triangulation.
+enum Location {
+    /// Strictly inside triangle t.
+    Inside(u32),
+    /// On the edge opposite `tri[t][k]`, strictly between its ends.
+    OnEdge(u32, u8),
 }
 
 fn coord(p: DVec2) -> Coord<f64> {
     Coord { x: p.x, y: p.y }
+}
+
+#[cfg(test)]
+pub(crate) fn coord_of(p: DVec2) -> Coord<f64> {
+    coord(p)
 }
 
 fn slot(t: &[u32; 3], v: u32) -> usize {
@@ -236,6 +252,16 @@ impl Topology {
         );
     }
 
+    /// Triangles not strictly positively oriented at `pos`.
+    pub fn turned_over(&self, pos: &[DVec2]) -> Vec<[u32; 3]> {
+        let p = |v: u32| coord(pos[v as usize]);
+        self.tri
+            .par_iter()
+            .filter(|t| orient2d(p(t[0]), p(t[1]), p(t[2])) <= 0.0)
+            .copied()
+            .collect()
+    }
+
     /// Make the triangulation Delaunay for the moved vertices `pos` by Lawson flips; returns
     /// how many it took, or None when flips cannot do it: a triangle turned over or the hull
     /// stopped being strictly convex (nothing was changed), or more than `max_flips` flips were
@@ -277,21 +303,248 @@ impl Topology {
                 })
             })
             .collect();
+        let mut budget = max_flips;
+        let flips = self.lawson(pos, &mut stack, &mut budget)?;
+        self.touched.sort_unstable();
+        self.touched.dedup();
+        Some(flips)
+    }
+
+    /// Flip the stacked edges (triangle, slot of the opposite vertex) and the edges their flips
+    /// expose until all are locally Delaunay; None after `budget` flips.
+    fn lawson(
+        &mut self,
+        pos: &[DVec2],
+        stack: &mut Vec<(u32, u8)>,
+        budget: &mut usize,
+    ) -> Option<usize> {
         let mut flips = 0;
         while let Some((t, k)) = stack.pop() {
             if self.adj[t as usize][k as usize] == NONE || !self.illegal(pos, t, k) {
                 continue;
             }
-            if flips == max_flips {
+            if *budget == 0 {
                 return None;
             }
+            *budget -= 1;
             flips += 1;
             let (t2, u2) = self.flip(t, k as usize);
             stack.extend([(t2.0, t2.1), (t2.0, t2.2), (u2.0, u2.1), (u2.0, u2.2)]);
         }
-        self.touched.sort_unstable();
-        self.touched.dedup();
         Some(flips)
+    }
+
+    /// Where `p` lies, by a visibility walk from triangle `t` (which terminates on a Delaunay
+    /// triangulation): `Inside(t)`, `OnEdge(t, k)` (the edge opposite `tri[t][k]`), or None
+    /// when `p` is outside the hull or at a vertex.
+    fn locate(&self, pos: &[DVec2], p: DVec2, mut t: u32) -> Option<Location> {
+        let q = coord(p);
+        let mut from = NONE;
+        for _ in 0..self.tri.len() + 1 {
+            let tri = self.tri[t as usize];
+            let mut zero = None;
+            let mut next = None;
+            for k in 0..3 {
+                let (a, b) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let u = self.adj[t as usize][k];
+                let o = orient2d(coord(pos[a as usize]), coord(pos[b as usize]), q);
+                if o < 0.0 && u != from {
+                    next = Some(u);
+                    break;
+                } else if o == 0.0 {
+                    if zero.is_some() {
+                        return None;
+                    }
+                    zero = Some(k as u8);
+                }
+            }
+            match next {
+                Some(u) if u == NONE => return None,
+                Some(u) => (from, t) = (t, u),
+                None => {
+                    // The edge back to `from` was skipped: it cannot separate p (we crossed it).
+                    return Some(match zero {
+                        Some(k) => Location::OnEdge(t, k),
+                        None => Location::Inside(t),
+                    });
+                }
+            }
+        }
+        None
+    }
+
+    /// A slot for a new triangle.
+    fn new_triangle(&mut self) -> u32 {
+        self.free.pop().unwrap_or_else(|| {
+            self.tri.push([NONE; 3]);
+            self.adj.push([NONE; 3]);
+            (self.tri.len() - 1) as u32
+        })
+    }
+
+    /// Point `n`'s pointer to `from` at `to` instead.
+    fn relink(&mut self, n: u32, from: u32, to: u32) {
+        if n != NONE {
+            for s in self.adj[n as usize].iter_mut() {
+                if *s == from {
+                    *s = to;
+                }
+            }
+        }
+    }
+
+    /// Insert vertex `v` (not yet in a triangle) at `pos[v]`, starting the walk at triangle
+    /// `hint`, and make the triangulation Delaunay again. False when `pos[v]` is outside the
+    /// hull or on a vertex, or the flips exceed `budget` (the triangulation is then unusable).
+    pub fn insert(&mut self, pos: &[DVec2], v: u32, hint: u32, budget: &mut usize) -> bool {
+        let mut stack = Vec::new();
+        match self.locate(pos, pos[v as usize], hint) {
+            None => return false,
+            Some(Location::Inside(t)) => {
+                let [a, b, c] = self.tri[t as usize];
+                let [n_bc, n_ca, n_ab] = self.adj[t as usize];
+                let (t1, t2) = (self.new_triangle(), self.new_triangle());
+                self.tri[t as usize] = [a, b, v];
+                self.adj[t as usize] = [t1, t2, n_ab];
+                self.tri[t1 as usize] = [b, c, v];
+                self.adj[t1 as usize] = [t2, t, n_bc];
+                self.tri[t2 as usize] = [c, a, v];
+                self.adj[t2 as usize] = [t, t1, n_ca];
+                self.relink(n_bc, t, t1);
+                self.relink(n_ca, t, t2);
+                for (x, s) in [(a, t), (b, t1), (c, t2), (v, t)] {
+                    self.v2t[x as usize] = s;
+                }
+                self.touched.extend([a, b, c, v]);
+                stack.extend([(t, 2), (t1, 2), (t2, 2)]);
+            }
+            Some(Location::OnEdge(t, k)) => {
+                // t = (a, b, c) with p on b–c; u = (d, c, b) across it.
+                let (ti, k) = (t as usize, k as usize);
+                let u = self.adj[ti][k];
+                if u == NONE {
+                    return false;
+                }
+                let ui = u as usize;
+                let (a, b, c) = (
+                    self.tri[ti][k],
+                    self.tri[ti][(k + 1) % 3],
+                    self.tri[ti][(k + 2) % 3],
+                );
+                let (n_ab, n_ca) = (self.adj[ti][(k + 2) % 3], self.adj[ti][(k + 1) % 3]);
+                let j = (0..3).find(|&j| self.adj[ui][j] == t).unwrap_or(0);
+                let d = self.tri[ui][j];
+                let (n_dc, n_bd) = (self.adj[ui][(j + 2) % 3], self.adj[ui][(j + 1) % 3]);
+                let (t2, u2) = (self.new_triangle(), self.new_triangle());
+                self.tri[ti] = [a, b, v];
+                self.adj[ti] = [u2, t2, n_ab];
+                self.tri[t2 as usize] = [a, v, c];
+                self.adj[t2 as usize] = [u, n_ca, t];
+                self.tri[ui] = [d, c, v];
+                self.adj[ui] = [t2, u2, n_dc];
+                self.tri[u2 as usize] = [d, v, b];
+                self.adj[u2 as usize] = [t, n_bd, u];
+                self.relink(n_ca, t, t2);
+                self.relink(n_bd, u, u2);
+                for (x, s) in [(a, t), (b, t), (c, u), (d, u), (v, t)] {
+                    self.v2t[x as usize] = s;
+                }
+                self.touched.extend([a, b, c, d, v]);
+                stack.extend([(t, 2), (t2, 1), (u, 2), (u2, 1)]);
+            }
+        }
+        self.lawson(pos, &mut stack, budget).is_some()
+    }
+
+    /// Remove interior vertex `v`: the hole (star-shaped around `pos[v]`) is cut into ears and
+    /// flipped to Delaunay. Returns a triangle of the hole, or None when `v` is on the hull, no
+    /// ear is found (degenerate hole) or the flips exceed `budget`.
+    pub fn remove(&mut self, pos: &[DVec2], v: u32, budget: &mut usize) -> Option<u32> {
+        // The ring: for each neighbour u_i (CCW), the triangle (v, u_i, u_i+1), and across its
+        // far edge the outside triangle with the slot pointing back.
+        let t0 = self.v2t[v as usize];
+        if t0 == NONE {
+            return None;
+        }
+        let mut ring: Vec<(u32, (u32, u8))> = Vec::new();
+        let mut slots: Vec<u32> = Vec::new();
+        let mut t = t0;
+        loop {
+            let ti = t as usize;
+            let i = slot(&self.tri[ti], v);
+            let out = self.adj[ti][i];
+            let back = if out == NONE {
+                0
+            } else {
+                (0..3).find(|&j| self.adj[out as usize][j] == t)? as u8
+            };
+            ring.push((self.tri[ti][(i + 1) % 3], (out, back)));
+            slots.push(t);
+            t = self.adj[ti][(i + 1) % 3];
+            if t == NONE {
+                return None;
+            }
+            if t == t0 {
+                break;
+            }
+            if ring.len() > self.tri.len() {
+                return None;
+            }
+        }
+        self.v2t[v as usize] = NONE;
+        self.free.extend(slots.iter().rev());
+        let p = |x: u32| coord(pos[x as usize]);
+        // Polygon vertices with the outside of the edge to the next one.
+        let mut stack = Vec::new();
+        let mut last = NONE;
+        while ring.len() >= 3 {
+            let m = ring.len();
+            let ear = (0..m).find(|&i| {
+                let (a, b, c) = (ring[(i + m - 1) % m].0, ring[i].0, ring[(i + 1) % m].0);
+                orient2d(p(a), p(b), p(c)) > 0.0
+                    && ring.iter().all(|&(x, _)| {
+                        x == a
+                            || x == b
+                            || x == c
+                            || orient2d(p(a), p(b), p(x)) < 0.0
+                            || orient2d(p(b), p(c), p(x)) < 0.0
+                            || orient2d(p(c), p(a), p(x)) < 0.0
+                    })
+            })?;
+            let h = (ear + m - 1) % m;
+            let (a, b, c) = (ring[h].0, ring[ear].0, ring[(ear + 1) % m].0);
+            let (oab, obc) = (ring[h].1, ring[ear].1);
+            let n = self.new_triangle();
+            self.tri[n as usize] = [a, b, c];
+            self.adj[n as usize] = [obc.0, NONE, oab.0];
+            for o in [obc, oab] {
+                if o.0 != NONE {
+                    self.adj[o.0 as usize][o.1 as usize] = n;
+                }
+            }
+            stack.extend([(n, 0), (n, 2)]);
+            for x in [a, b, c] {
+                self.v2t[x as usize] = n;
+            }
+            self.touched.extend([a, b, c]);
+            if m == 3 {
+                // The last ear closes the hole: its third edge c–a is the outside of ring[ear+1].
+                let oca = ring[(ear + 1) % m].1;
+                self.adj[n as usize][1] = oca.0;
+                if oca.0 != NONE {
+                    self.adj[oca.0 as usize][oca.1 as usize] = n;
+                }
+                stack.push((n, 1));
+                last = n;
+                break;
+            }
+            // The new diagonal a–c: its outside is n, slot 1 (opposite b).
+            ring[h].1 = (n, 1);
+            ring.remove(ear);
+        }
+        self.touched.push(v);
+        self.lawson(pos, &mut stack, budget)?;
+        Some(last)
     }
 
     /// The hull vertex after `b` going CCW along the hull (b must be on the hull).
@@ -344,17 +597,8 @@ impl Topology {
         self.adj[ti] = [n_bd, u, n_ab];
         self.tri[ui] = [a, d, c];
         self.adj[ui] = [n_dc, n_ca, t];
-        let relink = |adj: &mut Vec<[u32; 3]>, n: u32, from: u32, to: u32| {
-            if n != NONE {
-                for s in adj[n as usize].iter_mut() {
-                    if *s == from {
-                        *s = to;
-                    }
-                }
-            }
-        };
-        relink(&mut self.adj, n_bd, u, t);
-        relink(&mut self.adj, n_ca, t, u);
+        self.relink(n_bd, u, t);
+        self.relink(n_ca, t, u);
         for v in [a, b, d] {
             self.v2t[v as usize] = t;
         }
