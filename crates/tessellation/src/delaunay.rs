@@ -959,4 +959,34 @@ mod tests {
         assert!(!d.flipped());
         assert_eq!(d.num_vertices(), pts.len() - 1);
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+        /// Random points, a random share of them moved far (up to twice the box), the rest a
+        /// little: the framed rebuild repairs (flips and reinsertions) to exactly the fresh
+        /// framed triangulation.
+        #[test]
+        fn framed_rebuilds_equal_fresh_framed_triangulations(
+            seed in 0u64..1_000_000, n in 4usize..300, share in 0.0f64..0.5, far in 0.01f64..2.0
+        ) {
+            let mut rng = Rng::new(seed);
+            let pts: Vec<DVec2> = (0..n).map(|_| DVec2::new(rng.uniform(), rng.uniform())).collect();
+            let (lo, hi) = (DVec2::splat(-1.0), DVec2::splat(2.0));
+            let mut d = Delaunay::framed(lo, hi);
+            d.rebuild(&pts);
+            let mut moved = pts.clone();
+            for p in moved.iter_mut() {
+                let r = if rng.uniform() < share { far } else { 1e-3 };
+                *p = (*p + DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * r)
+                    .clamp(lo, hi);
+            }
+            d.rebuild(&moved);
+            assert_delaunay(&d);
+            let mut fresh = Delaunay::framed(lo, hi);
+            fresh.rebuild(&moved);
+            proptest::prop_assert!(triangle_set(&d) == triangle_set(&fresh));
+            proptest::prop_assert!((0..n).all(|i| d.neighbors(i) == fresh.neighbors(i)));
+            proptest::prop_assert!(d.topo.free.is_empty());
+        }
+    }
 }
