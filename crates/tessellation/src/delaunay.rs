@@ -250,7 +250,7 @@ impl Delaunay {
                 return false;
             };
             self.pos[v as usize] = points[self.point_of_vertex[v as usize] as usize];
-            if !self.topo.insert(&self.pos, v, hint, &mut budget) {
+            if self.topo.insert(&self.pos, v, hint, &mut budget).is_err() {
                 return false;
             }
             touched.append(&mut self.topo.touched);
@@ -290,18 +290,98 @@ impl Delaunay {
         })
     }
 
-    /// Triangulate afresh with spade (inserting along a Hilbert curve).
+    /// Triangulate afresh, inserting along a Hilbert curve: into the frame by our own
+    /// insertions when framed, else (or if that fails) with spade. Vertex `v` is the `v`-th
+    /// point inserted.
     fn build(&mut self, points: &[DVec2]) {
         assert!(
             points.len() < NONE as usize,
             "at most 2^32 - 1 points are supported"
         );
         hilbert_keys(points, &mut self.keys);
-        // Spade's triangulation lives only while its topology is copied out (vertex `v` was
-        // inserted `v`-th, in Hilbert order): at 10⁶ points it is ~130 MB that flips never need.
         // The old rings and the flips' scratch go first, to keep the peak down.
         self.rings = Rings::default();
         self.scratch = Default::default();
+        if let Some(frame_box) = self.frame_box {
+            if self.insert_framed(points, frame_box) {
+                self.finish(points.len());
+                return;
+            }
+        }
+        self.build_spade(points);
+    }
+
+    /// Hints, rings and whether the next rebuild may flip, once `topo` and `pos` are set.
+    fn finish(&mut self, n_points: usize) {
+        let nv = self.point_of_vertex.len();
+        self.hints = HintGrid::new(&self.pos[..nv]);
+        let mut rings = std::mem::take(&mut self.rings);
+        self.topo.rings(nv, &self.key(), &mut rings);
+        self.rings = rings;
+        self.flippable = nv == n_points && !self.topo.tri.is_empty();
+    }
+
+    /// Insert the finite points, in Hilbert order, into the fan of the frame around them and
+    /// `lo`–`hi`. False (to be built by spade) when an insertion fails, which exact predicates
+    /// leave to coordinates too large for them.
+    fn insert_framed(&mut self, points: &[DVec2], (lo, hi): (DVec2, DVec2)) -> bool {
+        let (plo, phi) = points
+            .iter()
+            .filter(|p| p.is_finite())
+            .fold((lo, hi), |(a, b), p| (a.min(*p), b.max(*p)));
+        let m = points.iter().filter(|p| p.is_finite()).count();
+        if m == 0 || m + FRAME >= NONE as usize {
+            return false;
+        }
+        let (c, diag) = frame_around(plo, phi);
+        self.pos.clear();
+        self.pos.resize(m, DVec2::ZERO);
+        self.pos.extend(frame(c, diag));
+        let fan: Vec<u32> = (m..m + FRAME).map(|v| v as u32).collect();
+        self.topo.convex_fan(&fan, m + FRAME);
+        self.point_of_vertex.clear();
+        self.vertex_of_point.clear();
+        self.vertex_of_point.resize(points.len(), NONE);
+        let (mut hint, mut budget) = (0, usize::MAX);
+        for &key in &self.keys {
+            let i = key as u32;
+            let p = points[i as usize];
+            if !p.is_finite() {
+                continue;
+            }
+            let v = self.point_of_vertex.len() as u32;
+            self.pos[v as usize] = p;
+            match self.topo.insert(&self.pos, v, hint, &mut budget) {
+                Ok(()) => {
+                    self.point_of_vertex.push(i);
+                    self.vertex_of_point[i as usize] = v;
+                    hint = self.topo.v2t[v as usize];
+                }
+                Err(Some(u)) if (u as usize) < m => self.vertex_of_point[i as usize] = u,
+                Err(_) => return false,
+            }
+        }
+        // Duplicates left the frame's numbers too high: number it right after the points.
+        let nv = self.point_of_vertex.len();
+        if nv < m {
+            let shift = (m - nv) as u32;
+            self.topo.tri.par_iter_mut().flatten().for_each(|x| {
+                if *x as usize >= m {
+                    *x -= shift;
+                }
+            });
+            self.pos.copy_within(m..m + FRAME, nv);
+            self.pos.truncate(nv + FRAME);
+            self.topo.index_vertices(nv + FRAME);
+        }
+        self.framed = FRAME;
+        self.frame_safe = (c, diag);
+        true
+    }
+
+    /// Triangulate afresh with spade. Spade's triangulation lives only while its topology is
+    /// copied out: at 10⁶ points it is ~130 MB that flips never need.
+    fn build_spade(&mut self, points: &[DVec2]) {
         let mut dt: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::with_capacity(
             points.len() + FRAME,
             3 * points.len(),
@@ -328,18 +408,12 @@ impl Delaunay {
         let nv = self.pos.len();
         self.framed = 0;
         if let (Some((lo, hi)), true) = (self.frame_box, nv > 0) {
-            // Around the points and the box: a regular octagon of radius 4 diagonals; points
-            // stay safe while within one diagonal of the centre (then the frame's bisectors
-            // are 1.5 diagonals out, beyond the box).
             let (plo, phi) = self
                 .pos
                 .iter()
                 .fold((lo, hi), |(a, b), p| (a.min(*p), b.max(*p)));
-            let c = 0.5 * (plo + phi);
-            let diag = (phi - plo).length().max(f64::MIN_POSITIVE.sqrt());
-            for k in 0..FRAME {
-                let a = std::f64::consts::TAU * k as f64 / FRAME as f64;
-                let p = c + DVec2::from_angle(a) * (4.0 * diag);
+            let (c, diag) = frame_around(plo, phi);
+            for p in frame(c, diag) {
                 if dt.insert(Point2::new(p.x, p.y)).is_ok() {
                     self.pos.push(p);
                     self.framed += 1;
@@ -347,7 +421,6 @@ impl Delaunay {
             }
             self.frame_safe = (c, diag);
         }
-        self.hints = HintGrid::new(&self.pos[..nv]);
         self.topo.tri.clear();
         self.topo.adj.clear();
         self.topo.free.clear();
@@ -383,6 +456,7 @@ impl Delaunay {
         self.topo.index_vertices(self.pos.len());
         if self.topo.tri.is_empty() {
             // No triangles (fewer than three vertices, or all collinear): spade's edges.
+            self.hints = HintGrid::new(&self.pos[..nv]);
             let out_edges = |v: usize| dt.vertex(FixedVertexHandle::from_index(v)).out_edges();
             self.rings.fill(
                 |v| out_edges(v).count(),
@@ -395,13 +469,11 @@ impl Delaunay {
                     }
                 },
             );
+            self.flippable = false;
         } else {
             drop(dt);
-            let mut rings = std::mem::take(&mut self.rings);
-            self.topo.rings(nv, &self.key(), &mut rings);
-            self.rings = rings;
+            self.finish(points.len());
         }
-        self.flippable = nv == points.len() && !self.topo.tri.is_empty();
     }
 
     /// Number of input points (including duplicates and rejected points).
@@ -493,6 +565,21 @@ impl Delaunay {
             (v, d) = best;
         }
     }
+}
+
+/// Centre and size of the frame around the box `lo`–`hi`: points stay safe while within one
+/// diagonal of the centre (then the frame's bisectors are 1.5 diagonals out, beyond the box).
+fn frame_around(lo: DVec2, hi: DVec2) -> (DVec2, f64) {
+    let diag = (hi - lo).length().max(f64::MIN_POSITIVE.sqrt());
+    (0.5 * (lo + hi), diag)
+}
+
+/// The frame: a regular octagon of radius 4 diagonals, CCW.
+fn frame(c: DVec2, diag: f64) -> impl Iterator<Item = DVec2> {
+    (0..FRAME).map(move |k| {
+        let a = std::f64::consts::TAU * k as f64 / FRAME as f64;
+        c + DVec2::from_angle(a) * (4.0 * diag)
+    })
 }
 
 /// A coarse grid of start vertices for nearest-point walks.
@@ -958,6 +1045,33 @@ mod tests {
         d.rebuild(&m);
         assert!(!d.flipped());
         assert_eq!(d.num_vertices(), pts.len() - 1);
+        assert_eq!(d.vertex_of(5 * 12 + 5), d.vertex_of(3));
+        assert_delaunay(&d);
+    }
+
+    #[test]
+    fn framed_builds_merge_duplicates_skip_non_finite_points_and_agree_with_spade() {
+        let mut rng = Rng::new(31);
+        let mut pts: Vec<DVec2> = (0..1000)
+            .map(|_| DVec2::new(rng.uniform(), rng.uniform()))
+            .collect();
+        pts[10] = pts[500];
+        pts[20] = DVec2::new(f64::NAN, 0.5);
+        let mut d = Delaunay::framed(DVec2::ZERO, DVec2::ONE);
+        d.rebuild(&pts);
+        assert_delaunay(&d);
+        let spade = Delaunay::new(&pts);
+        assert_eq!(d.num_vertices(), 998);
+        assert_eq!(d.framed, FRAME);
+        for (i, p) in pts.iter().enumerate() {
+            assert_eq!(d.vertex_of(i).is_some(), spade.vertex_of(i).is_some());
+            // Away from the hull the frame changes no edge.
+            if p.cmpgt(DVec2::splat(0.2)).all() && p.cmplt(DVec2::splat(0.8)).all() {
+                assert_eq!(d.neighbors(i), spade.neighbors(i), "point {i}");
+            }
+        }
+        assert_eq!(d.vertex_of(10), d.vertex_of(500));
+        assert!(d.neighbors(20).is_empty());
     }
 
     proptest::proptest! {

@@ -132,6 +132,8 @@ pub(crate) struct Topology {
     pub touched: Vec<u32>,
     /// Slots of `tri` freed by a vertex removal, for the next insertion.
     pub free: Vec<u32>,
+    /// Scratch of insertions: edges to test.
+    stack: Vec<(u32, u8)>,
 }
 
 /// Where a point lies in the triangulation.
@@ -140,6 +142,8 @@ enum Location {
     Inside(u32),
     /// On the edge opposite `tri[t][k]`, strictly between its ends.
     OnEdge(u32, u8),
+    /// At vertex v.
+    Vertex(u32),
 }
 
 fn coord(p: DVec2) -> Coord<f64> {
@@ -252,6 +256,22 @@ impl Topology {
         );
     }
 
+    /// The fan from `vs[0]` over a convex polygon `vs` (CCW, no three collinear): a start for
+    /// insertions.
+    pub fn convex_fan(&mut self, vs: &[u32], n: usize) {
+        self.tri.clear();
+        self.adj.clear();
+        self.free.clear();
+        let m = vs.len() - 2;
+        for j in 0..m {
+            self.tri.push([vs[0], vs[j + 1], vs[j + 2]]);
+            let next = if j + 1 < m { j as u32 + 1 } else { NONE };
+            let prev = if j > 0 { j as u32 - 1 } else { NONE };
+            self.adj.push([NONE, next, prev]);
+        }
+        self.index_vertices(n);
+    }
+
     /// Triangles not strictly positively oriented at `pos`.
     pub fn turned_over(&self, pos: &[DVec2]) -> Vec<[u32; 3]> {
         let p = |v: u32| coord(pos[v as usize]);
@@ -335,8 +355,7 @@ impl Topology {
     }
 
     /// Where `p` lies, by a visibility walk from triangle `t` (which terminates on a Delaunay
-    /// triangulation): `Inside(t)`, `OnEdge(t, k)` (the edge opposite `tri[t][k]`), or None
-    /// when `p` is outside the hull or at a vertex.
+    /// triangulation), or None when `p` is outside the hull.
     fn locate(&self, pos: &[DVec2], p: DVec2, mut t: u32) -> Option<Location> {
         let q = coord(p);
         let mut from = NONE;
@@ -352,8 +371,9 @@ impl Topology {
                     next = Some(u);
                     break;
                 } else if o == 0.0 {
-                    if zero.is_some() {
-                        return None;
+                    if let Some(j) = zero {
+                        // On two edges' lines: at their common vertex.
+                        return Some(Location::Vertex(tri[3 - k - j as usize]));
                     }
                     zero = Some(k as u8);
                 }
@@ -394,12 +414,21 @@ impl Topology {
     }
 
     /// Insert vertex `v` (not yet in a triangle) at `pos[v]`, starting the walk at triangle
-    /// `hint`, and make the triangulation Delaunay again. False when `pos[v]` is outside the
-    /// hull or on a vertex, or the flips exceed `budget` (the triangulation is then unusable).
-    pub fn insert(&mut self, pos: &[DVec2], v: u32, hint: u32, budget: &mut usize) -> bool {
-        let mut stack = Vec::new();
+    /// `hint`, and make the triangulation Delaunay again. Fails with the vertex already at
+    /// `pos[v]` (nothing changed), or with None when `pos[v]` is outside the hull or the flips
+    /// exceed `budget` (the triangulation is then unusable).
+    pub fn insert(
+        &mut self,
+        pos: &[DVec2],
+        v: u32,
+        hint: u32,
+        budget: &mut usize,
+    ) -> Result<(), Option<u32>> {
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
         match self.locate(pos, pos[v as usize], hint) {
-            None => return false,
+            None => return Err(None),
+            Some(Location::Vertex(u)) => return Err(Some(u)),
             Some(Location::Inside(t)) => {
                 let [a, b, c] = self.tri[t as usize];
                 let [n_bc, n_ca, n_ab] = self.adj[t as usize];
@@ -423,7 +452,7 @@ impl Topology {
                 let (ti, k) = (t as usize, k as usize);
                 let u = self.adj[ti][k];
                 if u == NONE {
-                    return false;
+                    return Err(None);
                 }
                 let ui = u as usize;
                 let (a, b, c) = (
@@ -453,7 +482,9 @@ impl Topology {
                 stack.extend([(t, 2), (t2, 1), (u, 2), (u2, 1)]);
             }
         }
-        self.lawson(pos, &mut stack, budget).is_some()
+        let done = self.lawson(pos, &mut stack, budget);
+        self.stack = stack;
+        done.map(|_| ()).ok_or(None)
     }
 
     /// Remove interior vertex `v`: the hole (star-shaped around `pos[v]`) is cut into ears and
