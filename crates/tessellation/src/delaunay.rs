@@ -174,8 +174,10 @@ impl Delaunay {
                 *p = if step < steps { old[v].lerp(to, t) } else { to };
             });
         // Positively oriented triangles can still fold over (a ring winding twice): only a
-        // ring winding once around each vertex makes a triangulation.
-        if !self.rings_wind_once(nv) {
+        // ring winding once around each vertex makes a triangulation. Not within a frame: its
+        // fixed convex hull covered by upright triangles is covered once (a degree argument),
+        // so a fold would turn a triangle over.
+        if self.framed == 0 && !self.rings_wind_once(nv) {
             return None;
         }
         match self.topo.flip_to_delaunay(&self.pos, max_flips) {
