@@ -163,6 +163,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
             iterations += 1;
             continue;
         }
+        work.free_scratch();
         let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, &mut trace.prof);
         let next = step(phase, &candidate, &mut work, &mut trace.prof);
         iterations += 1;

@@ -31,7 +31,7 @@ pub struct Delaunay {
     pub(crate) pos: Vec<DVec2>,
     /// Start vertices for nearest-point walks.
     hints: HintGrid,
-    /// Hilbert keys of the last rebuild (kept for their memory).
+    /// Hilbert keys of a fresh build (freed after it: most rebuilds repair).
     keys: Vec<u64>,
     /// A box to keep inside the frame (`Delaunay::framed`), or None for no frame.
     frame_box: Option<(DVec2, DVec2)>,
@@ -304,13 +304,15 @@ impl Delaunay {
         // The old rings and the flips' scratch go first, to keep the peak down.
         self.rings = Rings::default();
         self.scratch = Default::default();
-        if let Some(frame_box) = self.frame_box {
-            if self.insert_framed(points, frame_box) {
-                self.finish(points.len());
-                return;
-            }
+        if !self
+            .frame_box
+            .is_some_and(|b| self.insert_framed(points, b))
+        {
+            self.build_spade(points);
+        } else {
+            self.finish(points.len());
         }
-        self.build_spade(points);
+        self.keys = Vec::new();
     }
 
     /// Hints, rings and whether the next rebuild may flip, once `topo` and `pos` are set.
