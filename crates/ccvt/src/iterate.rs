@@ -79,13 +79,6 @@ pub struct Work {
 }
 
 impl Work {
-    /// Free the cells' scratch (at 10⁶ generators 112 MB, a copy of every cell in triangulation
-    /// order) while Newton's linear algebra holds the memory peak; the next evaluation
-    /// allocates it again.
-    pub(crate) fn free_scratch(&mut self) {
-        self.buffer = CellsBuffer::default();
-    }
-
     /// For a phase on `domain`: the triangulation is framed around it, so that rebuilds after
     /// small moves repair it by flips.
     pub(crate) fn new(domain: &Polygon) -> Work {

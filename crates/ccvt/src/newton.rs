@@ -163,7 +163,6 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
             iterations += 1;
             continue;
         }
-        work.free_scratch();
         let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, &mut trace.prof);
         let next = step(phase, &candidate, &mut work, &mut trace.prof);
         iterations += 1;
@@ -304,7 +303,6 @@ fn newton_point(
     // 64 MB more at the memory peak (a fresh triangulation of the candidate), and allocating
     // them again costs ~1 % of a step.
     buf.cg = Vec::new();
-    buf.inv = Vec::new();
     buf.local.par_iter_mut().for_each(|l| *l *= LOCAL_DECAY);
     prof.linear_solve += lap(&mut t);
     // A point without a Newton move (fixed, or a duplicate) goes to its Lloyd target; a long
