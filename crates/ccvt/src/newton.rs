@@ -130,8 +130,6 @@ struct Buffers {
     rhs: Vec<DVec2>,
     x: Vec<DVec2>,
     cg: Vec<Vec<DVec2>>,
-    /// Inverses of the diagonal blocks (block Jacobi), for one linear solve.
-    inv: Vec<DMat2>,
 }
 
 /// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
@@ -274,14 +272,10 @@ fn newton_point(
     prof.hessian += lap(&mut t);
     for attempt in 0..=CURVATURE_RETRIES {
         let h = &buf.hess;
-        // Block Jacobi. The inverses are kept in a compact array: read from the matrix at every
-        // CG iteration, each diagonal block is a cache miss of its own (~10 % of a run).
-        (0..nv)
-            .into_par_iter()
-            .map(|v| h.diagonal(v).inverse())
-            .collect_into_vec(&mut buf.inv);
-        let inv = &buf.inv;
-        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |v, r| inv[v] * r);
+        // Block Jacobi (the 2×2 inverses recomputed on the fly from the diagonal, read in order).
+        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |v, r| {
+            h.diagonal(v).inverse() * r
+        });
         prof.linear_iterations += its;
         if !negative || attempt == CURVATURE_RETRIES {
             break;
@@ -296,7 +290,7 @@ fn newton_point(
             let old = buf.local[i];
             buf.local[i] = (old * 4.0).max(LOCAL_START);
             let add = (buf.local[i] - old) * 2.0 * cells[i].mass;
-            h.block[h.row_start[v]] += buf.dofs[v].matrix(&buf.tangents) * add;
+            h.diag[v] += buf.dofs[v].matrix(&buf.tangents) * add;
         }
     }
     // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
@@ -344,15 +338,15 @@ fn shift<'a>(
 ) {
     h.par_rows_mut(
         || (),
-        |_, v, col, block| {
+        |_, v, diagonal, col, block| {
             let pv = dofs[v].matrix(tan);
-            for (j, b) in col.iter().zip(block.iter_mut()).skip(1) {
+            for (j, b) in col.iter().zip(block.iter_mut()) {
                 // P = I for the (many) free generators.
                 if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
                     *b = pv * *b * dofs[*j as usize].matrix(tan);
                 }
             }
-            let mut d = pv * block[0] * pv;
+            let mut d = pv * *diagonal * pv;
             let c = cell(v);
             let m2 = (2.0 * c.mass).max(f64::MIN_POSITIVE);
             d += pv * (sigma(v) * m2) + (DMat2::IDENTITY - pv) * m2;
@@ -377,7 +371,7 @@ fn shift<'a>(
             if lowest < floor {
                 d += pv * (floor - lowest);
             }
-            block[0] = d;
+            *diagonal = d;
         },
     );
 }
@@ -489,8 +483,7 @@ mod tests {
                     row.push((j as u32, DMat2::from_diagonal(DVec2::new(-k, -0.5 * k))));
                 }
             }
-            a.col.push(i as u32);
-            a.block.push(DMat2::from_diagonal(DVec2::new(
+            a.diag.push(DMat2::from_diagonal(DVec2::new(
                 diag,
                 diag - 0.5 * (diag - mass),
             )));

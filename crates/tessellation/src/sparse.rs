@@ -4,39 +4,60 @@ use geometry::DVec2;
 use glam::DMat2;
 use rayon::prelude::*;
 
-/// Block-CSR matrix: row `i` holds the blocks `block[row_start[i]..row_start[i + 1]]` in the
-/// columns `col[..]` of the same range. Every row starts with its diagonal block. (Blocks in
-/// single precision were tried: 112 MB less at 10⁶ rows, no faster, and more Newton steps.)
+/// Block-CSR matrix: row `i` is the diagonal block `diag[i]` and the blocks
+/// `block[row_start[i]..row_start[i + 1]]` in the columns `col[..]` of the same range. The
+/// diagonal apart, in an array of its own: block Jacobi reads it in order at every CG iteration,
+/// where a diagonal within the rows was a cache miss of its own. (Blocks in single precision
+/// were tried: 112 MB less at 10⁶ rows, no faster, and more Newton steps.)
 #[derive(Clone, Debug, Default)]
 pub struct BlockMatrix {
     /// Start of each row in `col` / `block` (length rows + 1).
     pub row_start: Vec<usize>,
-    /// Column (generator index) of each block.
+    /// Column (generator index) of each off-diagonal block.
     pub col: Vec<u32>,
-    /// The blocks.
+    /// The off-diagonal blocks.
     pub block: Vec<DMat2>,
+    /// The diagonal blocks.
+    pub diag: Vec<DMat2>,
 }
 
 impl BlockMatrix {
     /// Number of block rows.
     pub fn rows(&self) -> usize {
-        self.row_start.len().saturating_sub(1)
+        self.diag.len()
     }
 
     /// The diagonal block of row `i`.
     pub fn diagonal(&self, i: usize) -> DMat2 {
-        self.block[self.row_start[i]]
+        self.diag[i]
     }
 
-    /// Calls `f(scratch, row, columns, blocks)` for every row, in parallel over chunks of rows
-    /// (each chunk gets its own `init()` scratch). The row layout (`row_start`) must be set.
+    /// Block (i, j) (zero where there is none).
+    pub fn get(&self, i: usize, j: usize) -> DMat2 {
+        let r = self.row_start[i]..self.row_start[i + 1];
+        let off = self.col[r.clone()]
+            .iter()
+            .zip(&self.block[r])
+            .filter(|(&c, _)| c as usize == j)
+            .fold(DMat2::ZERO, |s, (_, b)| s + *b);
+        if i == j {
+            off + self.diag[i]
+        } else {
+            off
+        }
+    }
+
+    /// Calls `f(scratch, row, diagonal, columns, blocks)` for every row, in parallel over chunks
+    /// of rows (each chunk gets its own `init()` scratch). The row layout (`row_start`) and the
+    /// number of rows (`diag`) must be set.
     pub fn par_rows_mut<S>(
         &mut self,
         init: impl Fn() -> S + Sync + Send,
-        f: impl Fn(&mut S, usize, &mut [u32], &mut [DMat2]) + Sync + Send,
+        f: impl Fn(&mut S, usize, &mut DMat2, &mut [u32], &mut [DMat2]) + Sync + Send,
     ) {
         par_rows(
             &self.row_start,
+            &mut self.diag,
             &mut self.col,
             &mut self.block,
             2048,
@@ -45,13 +66,13 @@ impl BlockMatrix {
         );
     }
 
-    /// Row `i` of `A x` (its blocks summed in a fixed order).
+    /// Row `i` of `A x` (the diagonal, then the other blocks, summed in a fixed order).
     pub fn row_times(&self, i: usize, x: &[DVec2]) -> DVec2 {
         let r = self.row_start[i]..self.row_start[i + 1];
         self.col[r.clone()]
             .iter()
             .zip(&self.block[r])
-            .fold(DVec2::ZERO, |s, (&j, b)| s + *b * x[j as usize])
+            .fold(self.diag[i] * x[i], |s, (&j, b)| s + *b * x[j as usize])
     }
 
     /// `out = A x` (parallel over rows).
@@ -62,35 +83,40 @@ impl BlockMatrix {
     }
 }
 
-/// Calls `f(scratch, row, a_row, b_row)` for every row of two arrays laid out by `starts` (row
-/// r is `starts[r]..starts[r + 1]` of both), in parallel over chunks of `rows` rows, each chunk
-/// with its own `init()` scratch.
-pub(crate) fn par_rows<A: Send, B: Send, S>(
+/// Calls `f(scratch, row, per_row[row], a_row, b_row)` for every row of two arrays laid out by
+/// `starts` (row r is `starts[r]..starts[r + 1]` of both), in parallel over chunks of `rows`
+/// rows, each chunk with its own `init()` scratch.
+pub(crate) fn par_rows<R: Send, A: Send, B: Send, S>(
     starts: &[usize],
+    per_row: &mut [R],
     a: &mut [A],
     b: &mut [B],
     rows: usize,
     init: impl Fn() -> S + Sync + Send,
-    f: impl Fn(&mut S, usize, &mut [A], &mut [B]) + Sync + Send,
+    f: impl Fn(&mut S, usize, &mut R, &mut [A], &mut [B]) + Sync + Send,
 ) {
     let n = starts.len().saturating_sub(1);
+    assert_eq!(per_row.len(), n, "one per-row value for every row");
     let mut chunks = Vec::with_capacity(n.div_ceil(rows));
-    let (mut a, mut b) = (a, b);
+    let (mut p, mut a, mut b) = (per_row, a, b);
     for first in (0..n).step_by(rows) {
         let last = (first + rows).min(n);
         let len = starts[last] - starts[first];
+        let (pc, pr) = std::mem::take(&mut p).split_at_mut(last - first);
         let (ac, ar) = std::mem::take(&mut a).split_at_mut(len);
         let (bc, br) = std::mem::take(&mut b).split_at_mut(len);
-        chunks.push((first, last, ac, bc));
+        chunks.push((first, pc, ac, bc));
+        p = pr;
         a = ar;
         b = br;
     }
-    chunks.into_par_iter().for_each(|(first, last, a, b)| {
+    chunks.into_par_iter().for_each(|(first, p, a, b)| {
         let mut scratch = init();
         let base = starts[first];
-        for row in first..last {
+        for (k, pk) in p.iter_mut().enumerate() {
+            let row = first + k;
             let r = starts[row] - base..starts[row + 1] - base;
-            f(&mut scratch, row, &mut a[r.clone()], &mut b[r]);
+            f(&mut scratch, row, pk, &mut a[r.clone()], &mut b[r]);
         }
     });
 }

@@ -56,17 +56,17 @@ impl Rings {
             total += d as usize + SLACK;
             self.start.push(total);
         }
-        let len = &self.len;
         self.nb.resize(total, NONE);
         self.outer.resize(total, false);
         crate::sparse::par_rows(
             &self.start,
+            &mut self.len,
             &mut self.nb,
             &mut self.outer,
             CHUNK,
             || (),
-            |_, v, nb, outer| {
-                let l = len[v] as usize;
+            |_, v, len, nb, outer| {
+                let l = *len as usize;
                 let (nb, outer) = (&mut nb[..l], &mut outer[..l]);
                 write(v, nb, outer);
                 canonical(nb, outer, key);
