@@ -343,7 +343,7 @@ fn shift<'a>(
             for (j, b) in col.iter().zip(block.iter_mut()) {
                 // P = I for the (many) free generators.
                 if !matches!((dofs[v], dofs[*j as usize]), (Dof::Free, Dof::Free)) {
-                    *b = pv * *b * dofs[*j as usize].matrix(tan);
+                    *b = (pv * b.as_dmat2() * dofs[*j as usize].matrix(tan)).as_mat2();
                 }
             }
             let mut d = pv * *diagonal * pv;
@@ -489,7 +489,7 @@ mod tests {
             )));
             for (j, b) in row {
                 a.col.push(j);
-                a.block.push(b);
+                a.block.push(b.as_mat2());
             }
             a.row_start.push(a.col.len());
         }
