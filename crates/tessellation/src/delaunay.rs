@@ -985,7 +985,7 @@ mod tests {
     /// Every triangle upright and every edge locally Delaunay (exact predicates), and the
     /// triangle count of a triangulation of the points' hull.
     fn assert_delaunay(d: &Delaunay) {
-        let p = |v: u32| crate::topology::coord_of(d.pos[v as usize]);
+        let p = |v: u32| crate::topology::coord(d.pos[v as usize]);
         for (t, tri) in d.topo.tri.iter().enumerate() {
             assert!(robust::orient2d(p(tri[0]), p(tri[1]), p(tri[2])) > 0.0);
             for k in 0..3 {

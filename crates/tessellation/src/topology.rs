@@ -136,6 +136,18 @@ pub(crate) struct Topology {
     stack: Vec<(u32, u8)>,
 }
 
+/// Two triangles sharing the edge b–c (see `Topology::quad`).
+struct Quad {
+    a: u32,
+    b: u32,
+    c: u32,
+    d: u32,
+    n_ab: u32,
+    n_ca: u32,
+    n_dc: u32,
+    n_bd: u32,
+}
+
 /// Where a point lies in the triangulation.
 enum Location {
     /// Strictly inside triangle t.
@@ -146,13 +158,8 @@ enum Location {
     Vertex(u32),
 }
 
-fn coord(p: DVec2) -> Coord<f64> {
+pub(crate) fn coord(p: DVec2) -> Coord<f64> {
     Coord { x: p.x, y: p.y }
-}
-
-#[cfg(test)]
-pub(crate) fn coord_of(p: DVec2) -> Coord<f64> {
-    coord(p)
 }
 
 fn slot(t: &[u32; 3], v: u32) -> usize {
@@ -455,15 +462,16 @@ impl Topology {
                     return Err(None);
                 }
                 let ui = u as usize;
-                let (a, b, c) = (
-                    self.tri[ti][k],
-                    self.tri[ti][(k + 1) % 3],
-                    self.tri[ti][(k + 2) % 3],
-                );
-                let (n_ab, n_ca) = (self.adj[ti][(k + 2) % 3], self.adj[ti][(k + 1) % 3]);
-                let j = (0..3).find(|&j| self.adj[ui][j] == t).unwrap_or(0);
-                let d = self.tri[ui][j];
-                let (n_dc, n_bd) = (self.adj[ui][(j + 2) % 3], self.adj[ui][(j + 1) % 3]);
+                let Quad {
+                    a,
+                    b,
+                    c,
+                    d,
+                    n_ab,
+                    n_ca,
+                    n_dc,
+                    n_bd,
+                } = self.quad(t, k);
                 let (t2, u2) = (self.new_triangle(), self.new_triangle());
                 self.tri[ti] = [a, b, v];
                 self.adj[ti] = [u2, t2, n_ab];
@@ -608,21 +616,38 @@ impl Topology {
         incircle(p(a), p(b), p(c), p(d)) > 0.0
     }
 
+    /// The quadrilateral of triangle t = (a, b, c), a = `tri[t][k]`, and its neighbour
+    /// u = (d, c, b) across b–c, with the triangles outside its four sides.
+    fn quad(&self, t: u32, k: usize) -> Quad {
+        let (ti, ui) = (t as usize, self.adj[t as usize][k] as usize);
+        let j = (0..3).find(|&j| self.adj[ui][j] == t).unwrap_or(0);
+        Quad {
+            a: self.tri[ti][k],
+            b: self.tri[ti][(k + 1) % 3],
+            c: self.tri[ti][(k + 2) % 3],
+            d: self.tri[ui][j],
+            n_ab: self.adj[ti][(k + 2) % 3],
+            n_ca: self.adj[ti][(k + 1) % 3],
+            n_dc: self.adj[ui][(j + 2) % 3],
+            n_bd: self.adj[ui][(j + 1) % 3],
+        }
+    }
+
     /// Flip the edge opposite `tri[t][k]`. Returns the two new triangles with the slots of their
     /// two edges that were on the quadrilateral's boundary: (t, 0, 2) and (u, 0, 1).
     fn flip(&mut self, t: u32, k: usize) -> ((u32, u8, u8), (u32, u8, u8)) {
         let (ti, u) = (t as usize, self.adj[t as usize][k]);
         let ui = u as usize;
-        let a = self.tri[ti][k];
-        let b = self.tri[ti][(k + 1) % 3];
-        let c = self.tri[ti][(k + 2) % 3];
-        let n_ab = self.adj[ti][(k + 2) % 3];
-        let n_ca = self.adj[ti][(k + 1) % 3];
-        // u is (d, c, b) in CCW order.
-        let j = (0..3).find(|&j| self.adj[ui][j] == t).unwrap_or(0);
-        let d = self.tri[ui][j];
-        let n_dc = self.adj[ui][(j + 2) % 3];
-        let n_bd = self.adj[ui][(j + 1) % 3];
+        let Quad {
+            a,
+            b,
+            c,
+            d,
+            n_ab,
+            n_ca,
+            n_dc,
+            n_bd,
+        } = self.quad(t, k);
         // t = (a, b, d), u = (a, d, c).
         self.tri[ti] = [a, b, d];
         self.adj[ti] = [n_bd, u, n_ab];
