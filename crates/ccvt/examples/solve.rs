@@ -39,11 +39,17 @@ fn main() {
     let req = MeshRequest::points(k).seed(seed).max_iter(cap);
     // Iterations of each phase (the progress count restarts at 1 in every phase).
     let mut phases: Vec<usize> = Vec::new();
+    // Wall-clock time at the end of each phase's last reported iteration.
+    let mut ends: Vec<f64> = Vec::new();
     let t = std::time::Instant::now();
     let g = m
         .generators(&region, &req, &mut |p| {
             if p.iteration == 1 {
                 phases.push(0);
+                ends.push(0.0);
+            }
+            if let Some(e) = ends.last_mut() {
+                *e = t.elapsed().as_secs_f64();
             }
             if let Some(n) = phases.last_mut() {
                 *n = p.iteration;
@@ -71,6 +77,19 @@ fn main() {
         g.notes
     );
     println!("{:?}", g.profile);
+    let mut prev = 0.0;
+    let secs: Vec<String> = ends
+        .iter()
+        .map(|&e| {
+            let d = e - prev;
+            prev = e;
+            format!("{d:.2}")
+        })
+        .collect();
+    println!(
+        "seconds per phase (to its last iteration): {}",
+        secs.join(" ")
+    );
     // CCVT_HISTORY=1 prints the largest move (per spacing) at log-spaced iterations of each phase
     // (exact for Lloyd; Anderson's phase counts include rejected steps, which have no move).
     if std::env::var("CCVT_HISTORY").is_ok() {

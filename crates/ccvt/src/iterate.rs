@@ -7,7 +7,7 @@ use geometry::{DVec2, Density, PieceId, Polygon, Region};
 use mesh::Progress;
 use rayon::prelude::*;
 use std::time::Instant;
-use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay};
+use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay, DomainGrid};
 
 /// Wall-clock seconds spent in each part of the iteration, summed over all iterations.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -37,6 +37,11 @@ pub struct Profile {
     /// Evaluations whose triangulation was the previous one repaired by flips (the rest were
     /// built afresh).
     pub flipped: usize,
+    /// Evaluations of active-set steps (included in `evaluations`): only a few generators
+    /// moved, and only the cells around them were recomputed.
+    pub local_evaluations: usize,
+    /// Generators moved by active-set steps, summed over those steps.
+    pub local_moved: usize,
 }
 
 impl Profile {
@@ -76,6 +81,8 @@ pub struct Work {
     pub(crate) del: Delaunay,
     pub(crate) cells: Cells,
     buffer: CellsBuffer,
+    /// The domain's boundary grid for partial updates, and the vertex count it was built for.
+    pub(crate) grid: Option<(DomainGrid, usize)>,
 }
 
 impl Work {
@@ -87,7 +94,18 @@ impl Work {
             del: Delaunay::framed(lo, hi),
             cells: Cells { cells: Vec::new() },
             buffer: CellsBuffer::default(),
+            grid: None,
         }
+    }
+
+    /// The domain's grid for partial cell and Hessian updates of the current triangulation
+    /// (built as a full cells pass builds it, so updated cells are bit-identical).
+    pub(crate) fn grid(&mut self, domain: &Polygon) -> &DomainGrid {
+        let nv = self.del.num_vertices();
+        if self.grid.as_ref().is_none_or(|g| g.1 != nv) {
+            self.grid = Some((DomainGrid::new(domain, nv), nv));
+        }
+        &self.grid.as_ref().expect("just built").0
     }
 }
 
@@ -114,6 +132,8 @@ pub struct Phase<'a> {
     pub tol: f64,
     pub max_iter: usize,
     pub spacing: f64,
+    /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
+    pub active_from: usize,
 }
 
 /// Result of a phase.
@@ -146,50 +166,8 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
     let cells = &work.cells;
     let energy = cells.energy();
     prof.cells += lap(&mut t);
-    let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) = if phase.constrained {
-        let region = phase.region;
-        cells
-            .cells
-            .par_iter()
-            .map(|cell| {
-                let c = cell.mass_centroid;
-                if cell.on_boundary() {
-                    // Section 2.3: of the projections onto the pieces the cell touches, the
-                    // nearest.
-                    let (j, best) = cell
-                        .pieces
-                        .iter()
-                        .map(|&j| (j, region.project_onto_piece(c, j)))
-                        .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
-                        .expect("boundary cell has a piece");
-                    match best.corner {
-                        Some(corner) => (
-                            Role::Boundary(j),
-                            off_corner(region, corner, j, c, phase.spacing),
-                        ),
-                        None => (Role::Boundary(j), best.point),
-                    }
-                } else if phase.inside.contains(c) || !c.is_finite() {
-                    (Role::Interior, c)
-                } else {
-                    // Interior centroids of Ω_ε may fall outside Ω (or on ∂Ω); such a cell
-                    // behaves as a boundary cell (its generator must stay in Ω̄ for the mesh).
-                    let sd = region.signed_distance(c);
-                    if sd > 0.0 {
-                        let bp = region.project(c);
-                        (Role::Boundary(bp.piece), bp.point)
-                    } else {
-                        (Role::Interior, c)
-                    }
-                }
-            })
-            .unzip()
-    } else {
-        (
-            vec![Role::Interior; z.len()],
-            cells.cells.par_iter().map(|c| c.mass_centroid).collect(),
-        )
-    };
+    let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) =
+        cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip();
     if phase.constrained {
         assign_corners(phase.region, z, del, &mut roles, &mut targets);
     }
@@ -198,6 +176,44 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         energy,
         roles,
         targets,
+    }
+}
+
+/// The map at one cell: its label and where its generator goes (the centroid; for a boundary
+/// cell of a constrained phase its projection onto the nearest piece the cell touches).
+pub(crate) fn map_cell(phase: &Phase, cell: &tessellation::Cell) -> (Role, DVec2) {
+    let c = cell.mass_centroid;
+    if !phase.constrained {
+        return (Role::Interior, c);
+    }
+    let region = phase.region;
+    if cell.on_boundary() {
+        // Section 2.3: of the projections onto the pieces the cell touches, the nearest.
+        let (j, best) = cell
+            .pieces
+            .iter()
+            .map(|&j| (j, region.project_onto_piece(c, j)))
+            .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
+            .expect("boundary cell has a piece");
+        match best.corner {
+            Some(corner) => (
+                Role::Boundary(j),
+                off_corner(region, corner, j, c, phase.spacing),
+            ),
+            None => (Role::Boundary(j), best.point),
+        }
+    } else if phase.inside.contains(c) || !c.is_finite() {
+        (Role::Interior, c)
+    } else {
+        // Interior centroids of Ω_ε may fall outside Ω (or on ∂Ω); such a cell behaves as a
+        // boundary cell (its generator must stay in Ω̄ for the mesh).
+        let sd = region.signed_distance(c);
+        if sd > 0.0 {
+            let bp = region.project(c);
+            (Role::Boundary(bp.piece), bp.point)
+        } else {
+            (Role::Interior, c)
+        }
     }
 }
 
@@ -232,7 +248,7 @@ fn off_corner(
 
 /// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
 /// corners share a nearest generator (too coarse), the next-nearest free neighbour takes it.
-fn assign_corners(
+pub(crate) fn assign_corners(
     region: &Region,
     z: &[DVec2],
     del: &Delaunay,

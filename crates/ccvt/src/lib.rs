@@ -17,6 +17,7 @@
 //! one iteration against spade alone and converged runs up to 10⁶ generators.
 #![forbid(unsafe_code)]
 
+mod active;
 mod anderson;
 mod init;
 mod iterate;

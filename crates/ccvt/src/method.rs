@@ -52,6 +52,10 @@ pub struct Ccvt {
     /// request's tolerance if that is looser: they only serve to estimate ε to `eps_tol`.
     /// The final constrained phase always uses the request's tolerance.
     pub eps_phase_tol: f64,
+    /// Newton only: from this many generators on, once at most a twentieth of them still move
+    /// more than half the tolerance, steps move only those and two rings of their neighbours
+    /// (active-set steps: O(active) instead of O(K) per step; the stopping rule is the same).
+    pub active_from: usize,
 }
 
 impl Default for Ccvt {
@@ -64,6 +68,7 @@ impl Default for Ccvt {
             eps_tol: 1e-2,
             max_eps_updates: 30,
             eps_phase_tol: 1e-3,
+            active_from: 10_000,
         }
     }
 }
@@ -164,9 +169,15 @@ impl Ccvt {
         let in_region = Sublevel::new(region, 0.0, 3.0 * spacing);
         // A point of Ω_ε's polygon (chord error ≤ tol_poly) if closer than ε − 2·tol_poly.
         let in_domain = |eps: f64| Sublevel::new(region, eps - 2.0 * tol_poly, 3.0 * spacing);
-        let common = (region, request, solver, spacing);
+        let common = (region, request, solver, spacing, self.active_from);
         fn phase<'a>(
-            (region, request, solver, spacing): (&'a Region, &'a MeshRequest, Solver, f64),
+            (region, request, solver, spacing, active_from): (
+                &'a Region,
+                &'a MeshRequest,
+                Solver,
+                f64,
+                usize,
+            ),
             domain: &'a geometry::Polygon,
             inside: &'a Sublevel<'a>,
             constrained: bool,
@@ -182,6 +193,7 @@ impl Ccvt {
                 tol,
                 max_iter: request.max_iter,
                 spacing,
+                active_from,
             }
         }
         let final_domain = match self.algorithm {

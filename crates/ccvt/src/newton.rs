@@ -9,12 +9,13 @@
 //! A candidate is kept only if it lowers the energy; otherwise σ grows and the plain Lloyd step
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
+use crate::active;
 use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
 use std::time::Instant;
-use tessellation::{dot, energy_hessian, BlockMatrix, DOT_CHUNK};
+use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CHUNK};
 
 /// First shift σ (relative to 2m, Lloyd's own scale), its floor and its cap.
 const SIGMA_START: f64 = 0.1;
@@ -152,6 +153,24 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
                 converged: mv < phase.tol,
             };
         }
+        // An active-set step takes up to 3 evaluations.
+        let room = iterations + 3 <= phase.max_iter;
+        if let Some(set) = room
+            .then(|| active::active_set(phase, &z, &s, &work, mv))
+            .flatten()
+        {
+            iterations += active_step(
+                phase,
+                &mut z,
+                &mut s,
+                &mut work,
+                &mut buf,
+                &mut sigma,
+                &set,
+                &mut trace.prof,
+            );
+            continue;
+        }
         // σ ≥ 1: the shift dominates the Hessian, and a Newton step would be a damped Lloyd step
         // at the cost of two evaluations; take Lloyd's and let σ decay until Newton pays again.
         // With room for one evaluation only, the Lloyd step needs no fallback.
@@ -186,6 +205,29 @@ fn lloyd(phase: &Phase, s: Step, work: &mut Work, prof: &mut Profile) -> (Vec<DV
     (z, s)
 }
 
+/// The rows of a Newton step: every Delaunay vertex, or an active set (sorted vertices) with
+/// every other generator held where it is.
+#[derive(Clone, Copy)]
+enum Rows<'a> {
+    All(usize),
+    Active(&'a [u32]),
+}
+
+impl Rows<'_> {
+    fn len(self) -> usize {
+        match self {
+            Rows::All(n) => n,
+            Rows::Active(a) => a.len(),
+        }
+    }
+    fn vertex(self, r: usize) -> usize {
+        match self {
+            Rows::All(_) => r,
+            Rows::Active(a) => a[r] as usize,
+        }
+    }
+}
+
 /// The Newton candidate from `z`, whose map value is `s` and whose triangulation and cells are
 /// in `work`. Raises `sigma` when the shifted Hessian is not positive definite.
 fn newton_point(
@@ -198,17 +240,146 @@ fn newton_point(
     prof: &mut Profile,
 ) -> Vec<DVec2> {
     let mut t = Instant::now();
-    let (del, cells) = (&work.del, &work.cells.cells);
+    let del = &work.del;
     energy_hessian(del, phase.domain, phase.density, &work.cells, &mut buf.hess);
-    let nv = del.num_vertices();
-    let pt = |v: usize| del.point_of_vertex(v);
+    prof.hessian += lap(&mut t);
+    newton_move(
+        phase,
+        z,
+        s,
+        work,
+        Rows::All(del.num_vertices()),
+        buf,
+        sigma,
+        prof,
+    );
+    let mut t = Instant::now();
+    // A point without a Newton move (a duplicate) goes to its Lloyd target.
+    let candidate = (0..z.len())
+        .into_par_iter()
+        .map(|i| match del.vertex_index(i) {
+            Some(v) => moved_to(
+                phase,
+                z[i],
+                buf.x[v],
+                buf.dofs[v],
+                &buf.tangents,
+                s.targets[i],
+            ),
+            None => s.targets[i],
+        })
+        .collect();
+    prof.hessian += lap(&mut t);
+    candidate
+}
+
+/// Where a generator at `z` goes with the Newton move `x`: a long move is shortened to the
+/// cap, and one that is not allowed (a fixed generator, a move out of the domain) goes to its
+/// Lloyd target.
+fn moved_to(phase: &Phase, z: DVec2, x: DVec2, dof: Dof, tan: &[Tangent], target: DVec2) -> DVec2 {
+    let p = z + x.clamp_length_max(STEP_CAP * phase.spacing);
+    match dof {
+        Dof::Fixed => target,
+        Dof::Free if phase.inside.contains(p) => p,
+        Dof::Free => target,
+        Dof::Tangent(n) if p.is_finite() => {
+            phase
+                .region
+                .project_onto_piece(p, tan[n as usize].piece)
+                .point
+        }
+        Dof::Tangent(..) => target,
+    }
+}
+
+/// An active-set step (module `active`): Newton on the active generators with every other one
+/// held fixed, or the Lloyd step on them when σ ≥ 1 or the Newton step does not lower the
+/// energy. Returns the evaluations it took.
+#[allow(clippy::too_many_arguments)]
+fn active_step(
+    phase: &Phase,
+    z: &mut [DVec2],
+    s: &mut Step,
+    work: &mut Work,
+    buf: &mut Buffers,
+    sigma: &mut f64,
+    set: &[u32],
+    prof: &mut Profile,
+) -> usize {
+    if *sigma >= SIGMA_LLOYD {
+        *sigma *= 0.5;
+        let m = active::lloyd_moves(z, s, work, set);
+        active::apply(phase, z, s, work, &m, prof);
+        return 1;
+    }
+    let mut t = Instant::now();
+    work.grid(phase.domain);
+    let grid = work.grid.as_ref().expect("built above");
+    energy_hessian_rows(
+        &work.del,
+        &grid.0,
+        phase.density,
+        &work.cells,
+        set,
+        &mut buf.hess,
+    );
+    prof.hessian += lap(&mut t);
+    newton_move(phase, z, s, work, Rows::Active(set), buf, sigma, prof);
+    let moves: Vec<(u32, DVec2)> = set
+        .iter()
+        .enumerate()
+        .filter_map(|(r, &v)| {
+            let i = work.del.point_of_vertex(v as usize);
+            let p = moved_to(
+                phase,
+                z[i],
+                buf.x[r],
+                buf.dofs[r],
+                &buf.tangents,
+                s.targets[i],
+            );
+            (p != z[i]).then_some((i as u32, p))
+        })
+        .collect();
+    let e0 = s.energy;
+    let undo = active::apply(phase, z, s, work, &moves, prof);
+    if s.energy < e0 {
+        *sigma = (*sigma * 0.5).max(SIGMA_MIN);
+        return 1;
+    }
+    prof.rejected += 1;
+    *sigma = (*sigma * 4.0).min(SIGMA_MAX);
+    active::apply(phase, z, s, work, &undo, prof);
+    let m = active::lloyd_moves(z, s, work, set);
+    active::apply(phase, z, s, work, &m, prof);
+    3
+}
+
+/// Newton's move for the rows `rows` (whose Hessian block is in `buf.hess`), left in `buf.x`
+/// with the rows' degrees of freedom in `buf.dofs` and `buf.tangents`. Raises `sigma` when the
+/// shifted Hessian is not positive definite.
+#[allow(clippy::too_many_arguments)]
+fn newton_move(
+    phase: &Phase,
+    z: &[DVec2],
+    s: &Step,
+    work: &Work,
+    rows: Rows,
+    buf: &mut Buffers,
+    sigma: &mut f64,
+    prof: &mut Profile,
+) {
+    let mut t = Instant::now();
+    let (del, cells) = (&work.del, &work.cells.cells);
+    let n = rows.len();
+    let pt = |r: usize| del.point_of_vertex(rows.vertex(r));
     let region = phase.region;
     // Boundary generators on their piece (and not at a corner) move along it; `Tangent(0)`
     // marks them until their tangents are numbered.
-    (0..nv)
+    (0..n)
         .into_par_iter()
-        .map(|v| {
-            let i = pt(v);
+        .map(|r| {
+            let i = pt(r);
             let p = z[i];
             if cells[i].mass <= 0.0 {
                 return Dof::Fixed;
@@ -228,38 +399,38 @@ fn newton_point(
             }
         })
         .collect_into_vec(&mut buf.dofs);
-    let on_piece: Vec<u32> = (0..nv as u32)
-        .filter(|&v| buf.dofs[v as usize] == Dof::Tangent(0))
+    let on_piece: Vec<u32> = (0..n as u32)
+        .filter(|&r| buf.dofs[r as usize] == Dof::Tangent(0))
         .collect();
     on_piece
         .par_iter()
-        .map(|&v| {
-            let (i, Role::Boundary(piece)) = (pt(v as usize), s.roles[pt(v as usize)]) else {
+        .map(|&r| {
+            let (i, Role::Boundary(piece)) = (pt(r as usize), s.roles[pt(r as usize)]) else {
                 unreachable!("tangent dofs are boundary generators")
             };
             let (t, k) = tangent(region, z[i], piece, phase.spacing);
             Tangent { t, piece, k }
         })
         .collect_into_vec(&mut buf.tangents);
-    for (n, &v) in on_piece.iter().enumerate() {
-        buf.dofs[v as usize] = Dof::Tangent(n as u32);
+    for (k, &r) in on_piece.iter().enumerate() {
+        buf.dofs[r as usize] = Dof::Tangent(k as u32);
     }
     let (dofs, tan) = (&buf.dofs, &buf.tangents);
     // rhs = −P (g + H d_fixed), with the fixed generators' prescribed moves d_fixed (in x,
     // which the linear solve overwrites).
-    (0..nv)
+    (0..n)
         .into_par_iter()
-        .map(|v| match dofs[v] {
-            Dof::Fixed => s.targets[pt(v)] - z[pt(v)],
+        .map(|r| match dofs[r] {
+            Dof::Fixed => s.targets[pt(r)] - z[pt(r)],
             _ => DVec2::ZERO,
         })
         .collect_into_vec(&mut buf.x);
-    buf.rhs.resize(nv, DVec2::ZERO);
+    buf.rhs.resize(n, DVec2::ZERO);
     buf.hess.mul_vec(&buf.x, &mut buf.rhs);
-    buf.rhs.par_iter_mut().enumerate().for_each(|(v, r)| {
-        let c = &cells[pt(v)];
-        let g = 2.0 * c.mass * (z[pt(v)] - c.mass_centroid);
-        *r = -dofs[v].project(g + *r, tan);
+    buf.rhs.par_iter_mut().enumerate().for_each(|(r, out)| {
+        let c = &cells[pt(r)];
+        let g = 2.0 * c.mass * (z[pt(r)] - c.mass_centroid);
+        *out = -dofs[r].project(g + *out, tan);
     });
     buf.local.resize(z.len(), 0.0);
     let (local, sig) = (&buf.local, *sigma);
@@ -267,16 +438,16 @@ fn newton_point(
         &mut buf.hess,
         dofs,
         tan,
-        |v| &cells[pt(v)],
-        |v| z[pt(v)],
-        |v| sig + local[pt(v)],
+        |r| &cells[pt(r)],
+        |r| z[pt(r)],
+        |r| sig + local[pt(r)],
     );
     prof.hessian += lap(&mut t);
     for attempt in 0..=CURVATURE_RETRIES {
         let h = &buf.hess;
         // Block Jacobi (the 2×2 inverses recomputed on the fly from the diagonal, read in order).
-        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |v, r| {
-            h.diagonal(v).inverse() * r
+        let (negative, its) = pcg(h, &buf.rhs, &mut buf.x, &mut buf.cg, |r, v| {
+            h.diagonal(r).inverse() * v
         });
         prof.linear_iterations += its;
         if !negative || attempt == CURVATURE_RETRIES {
@@ -287,12 +458,12 @@ fn newton_point(
         let p = &buf.cg[2];
         let pmax = p.iter().fold(0.0f64, |m, q| m.max(q.length()));
         let h = &mut buf.hess;
-        for v in (0..nv).filter(|&v| p[v].length() >= LOCAL_SHARE * pmax) {
-            let i = pt(v);
+        for r in (0..n).filter(|&r| p[r].length() >= LOCAL_SHARE * pmax) {
+            let i = pt(r);
             let old = buf.local[i];
             buf.local[i] = (old * 4.0).max(LOCAL_START);
             let add = (buf.local[i] - old) * 2.0 * cells[i].mass;
-            h.diag[v] += buf.dofs[v].matrix(&buf.tangents) * add;
+            h.diag[r] += buf.dofs[r].matrix(&buf.tangents) * add;
         }
     }
     // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
@@ -301,30 +472,6 @@ fn newton_point(
     buf.cg = Vec::new();
     buf.local.par_iter_mut().for_each(|l| *l *= LOCAL_DECAY);
     prof.linear_solve += lap(&mut t);
-    // A point without a Newton move (fixed, or a duplicate) goes to its Lloyd target; a long
-    // move is shortened to the cap.
-    let x = &buf.x;
-    let cap = STEP_CAP * phase.spacing;
-    let candidate = (0..z.len())
-        .into_par_iter()
-        .map(|i| {
-            let Some(v) = del.vertex_index(i) else {
-                return s.targets[i];
-            };
-            let p = z[i] + x[v].clamp_length_max(cap);
-            match dofs[v] {
-                Dof::Fixed => s.targets[i],
-                Dof::Free if phase.inside.contains(p) => p,
-                Dof::Free => s.targets[i],
-                Dof::Tangent(n) if p.is_finite() => {
-                    region.project_onto_piece(p, tan[n as usize].piece).point
-                }
-                Dof::Tangent(..) => s.targets[i],
-            }
-        })
-        .collect();
-    prof.hessian += lap(&mut t);
-    candidate
 }
 
 /// Turn the Hessian into A = P H P + σ·2m·P + 2m·(I − P) (+ the curvature term of boundary

@@ -125,6 +125,55 @@ pub fn clipped_cells_into(
     );
 }
 
+/// A domain's boundary edges indexed on a grid, built once for many partial updates
+/// ([`update_cells`], [`crate::energy_hessian_rows`]) where building it per call would cost
+/// more than the few cells updated.
+pub struct DomainGrid {
+    pub(crate) bnd: Option<Boundary>,
+}
+
+impl DomainGrid {
+    /// The grid of `domain` as [`clipped_cells`] builds it for a triangulation of `vertices`
+    /// distinct points (the same grid gives bit-identical cells).
+    pub fn new(domain: &Polygon, vertices: usize) -> DomainGrid {
+        DomainGrid {
+            bnd: Boundary::new(domain, vertices),
+        }
+    }
+}
+
+/// Recompute, in `out`, the cells of the Delaunay vertices `vertices` (e.g. those
+/// [`Delaunay::move_points`] reports), leaving every other cell as it is. `grid` must be
+/// [`DomainGrid::new`] of the domain the cells were clipped to, with `delaunay.num_vertices()`;
+/// the cells are then bit-identical to those of a full [`clipped_cells`].
+pub fn update_cells(
+    delaunay: &Delaunay,
+    grid: &DomainGrid,
+    density: &Density,
+    vertices: &[u32],
+    out: &mut Cells,
+) {
+    let Some(bnd) = grid.bnd.as_ref() else {
+        return;
+    };
+    let ctx = Ctx {
+        del: delaunay,
+        bnd,
+        density: (!density.is_uniform()).then_some(density),
+        whole_rings: false,
+    };
+    let new: Vec<Cell> = vertices
+        .par_iter()
+        .map_init(
+            || Scratch::new(bnd.num_edges()),
+            |s, &v| ctx.cell(s, v as usize),
+        )
+        .collect();
+    for (&v, c) in vertices.iter().zip(new) {
+        out.cells[delaunay.point_of_vertex(v as usize)] = c;
+    }
+}
+
 /// `clipped_cells`, optionally clipping whole rings instead of nearby edges (the fallback,
 /// forced in tests to cross-check the local method).
 fn cells_with(

@@ -103,6 +103,72 @@ impl Delaunay {
         }
     }
 
+    /// Move only the points `moved` (input indices) to their positions in `points`; every other
+    /// point must be where it was. Each moved vertex is removed and inserted again: O(its
+    /// degree) instead of a pass over every edge, for active-set iterations where a few hundred
+    /// of 10⁵–10⁶ generators move. Returns the vertices whose Voronoi cells may have changed
+    /// (the moved ones and their neighbours before and after, sorted), or None when the
+    /// triangulation is not framed or a move cannot be done locally (a duplicate, a point
+    /// outside the frame): it is then rebuilt from `points` by [`Delaunay::rebuild`].
+    pub fn move_points(&mut self, points: &[DVec2], moved: &[u32]) -> Option<Vec<u32>> {
+        let mut affected = Vec::new();
+        if self.framed > 0 && points.len() == self.num_points() && self.flippable {
+            if self.move_each(points, moved, &mut affected) {
+                self.flipped = true;
+                return Some(affected);
+            }
+            self.flippable = false;
+        }
+        self.rebuild(points);
+        None
+    }
+
+    /// `move_points` by removal and insertion; false (the topology is then unusable) when a
+    /// vertex cannot be moved so.
+    fn move_each(&mut self, points: &[DVec2], moved: &[u32], affected: &mut Vec<u32>) -> bool {
+        let nv = self.point_of_vertex.len();
+        let (c, r) = self.frame_safe;
+        // A removal and an insertion take about twice the vertex's degree in flips.
+        let mut budget = self.topo.tri.len() / MAX_FLIP_FRACTION + 64 * moved.len();
+        self.topo.touched.clear();
+        for &i in moved {
+            let v = self.vertex_of_point[i as usize];
+            let p = points[i as usize];
+            if v == NONE || self.point_of_vertex[v as usize] != i || !p.is_finite() {
+                return false;
+            }
+            if p.distance(c) > r {
+                return false;
+            }
+            if p == self.pos[v as usize] {
+                continue;
+            }
+            self.topo.walk(v, |u, _| affected.push(u));
+            let Some(hint) = self.topo.remove(&self.pos, v, &mut budget) else {
+                return false;
+            };
+            self.pos[v as usize] = p;
+            if self.topo.insert(&self.pos, v, hint, &mut budget).is_err() {
+                return false;
+            }
+            self.topo.walk(v, |u, _| affected.push(u));
+            affected.push(v);
+        }
+        if !self.topo.free.is_empty() {
+            return false;
+        }
+        let mut touched = std::mem::take(&mut self.topo.touched);
+        touched.sort_unstable();
+        touched.dedup();
+        affected.extend_from_slice(&touched);
+        self.topo.touched = touched;
+        self.update_rings(nv);
+        affected.retain(|&u| (u as usize) < nv);
+        affected.sort_unstable();
+        affected.dedup();
+        true
+    }
+
     /// Whether the last rebuild repaired the previous triangulation by flips (rather than
     /// building afresh).
     pub fn flipped(&self) -> bool {
@@ -520,6 +586,12 @@ impl Delaunay {
             .filter(|t| t.iter().all(|&v| v < nv))
             .map(|t| t.map(|v| self.point_of_vertex[v as usize]))
             .collect()
+    }
+
+    /// Neighbours of vertex `v` in CCW order, as vertices (a frame's vertices, numbered from
+    /// `num_vertices()`, included).
+    pub fn ring(&self, v: usize) -> &[u32] {
+        self.rings.of(v).0
     }
 
     /// Delaunay neighbours of input point `i`, in CCW order (empty for a point without vertex).

@@ -9,7 +9,7 @@
 //! (boundary edges of the domain do not move). The edge integrals use Simpson's rule on each
 //! part of e_ij inside the domain, exact for constant ρ.
 use crate::boundary::Boundary;
-use crate::cells::Cells;
+use crate::cells::{Cells, DomainGrid};
 use crate::delaunay::Delaunay;
 use crate::sparse::BlockMatrix;
 use geometry::{DVec2, Density, Polygon};
@@ -46,83 +46,140 @@ pub fn energy_hessian(
     out.col.resize(total, 0);
     out.block.resize(total, glam::Mat2::ZERO);
     out.diag.resize(nv, DMat2::ZERO);
-    let bnd = Boundary::new(domain, nv);
+    let Some(bnd) = Boundary::new(domain, nv) else {
+        out.diag.iter_mut().for_each(|d| *d = DMat2::ZERO);
+        return;
+    };
     let density = (!density.is_uniform()).then_some(density);
-    out.par_rows_mut(
-        || (Vec::new(), Vec::new(), Vec::new(), Vec::new()),
-        |(nb, cc, parts, ts), v, diagonal, col, block| {
-            *diagonal = DMat2::ZERO;
-            let Some(bnd) = bnd.as_ref() else {
-                return;
-            };
-            let mass = cells.cells[del.point_of_vertex[v] as usize].mass;
-            let z = del.pos[v];
-            nb.clear();
-            cc.clear();
-            let (ring, outer) = del.rings.of(v);
-            nb.extend(ring.iter().map(|&u| (u, del.pos[u as usize])));
-            // Circumcentre of face k = (v, n_k, n_k+1), or None for the outer face.
-            for (k, &o) in outer.iter().enumerate() {
-                let next = nb[(k + 1) % nb.len()];
-                cc.push(
-                    (!o).then(|| crate::cells::canonical_circumcenter((v as u32, z), nb[k], next)),
-                );
+    out.par_rows_mut(Scratch::default, |s, v, diagonal, col, block| {
+        let mut c = 0;
+        *diagonal = row(del, &bnd, density, cells, v, s, |u, w| {
+            if (u as usize) < nv {
+                col[c] = u;
+                block[c] = w.as_mat2();
+                c += 1;
             }
-            let m = nb.len();
-            // Every Voronoi edge lies in boundary-free squares: no clipping needed.
-            let inner = cc.iter().all(|c| c.is_some()) && {
-                let (lo, hi) = cc.iter().flatten().fold(
-                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                    |(lo, hi), c| (lo.min(*c), hi.max(*c)),
-                );
-                bnd.box_inside(lo, hi)
-            };
-            let mut diag = DMat2::from_diagonal(DVec2::splat(2.0 * mass));
-            let mut c = 0;
-            for k in 0..m {
-                let (u, zj) = nb[k];
-                let prev = (k + m - 1) % m;
-                let ray = |c: DVec2, third: DVec2| {
-                    let mut d = (zj - z).perp().normalize_or_zero();
-                    if d.dot(third - z) > 0.0 {
-                        d = -d;
-                    }
-                    let reach = (bnd.hi - bnd.lo).length() + (c - bnd.lo).length();
-                    c + d * reach
-                };
-                let seg = match (cc[prev], cc[k]) {
-                    (Some(p), Some(q)) => Some((p, q)),
-                    (Some(p), None) => Some((p, ray(p, nb[prev].1))),
-                    (None, Some(q)) => Some((ray(q, nb[(k + 1) % m].1), q)),
-                    (None, None) => None,
-                };
-                let mut wij = DMat2::ZERO;
-                let dist = (zj - z).length();
-                if let Some((p, q)) = seg.filter(|(p, q)| p.is_finite() && q.is_finite()) {
-                    if dist > 0.0 {
-                        if inner {
-                            parts.clear();
-                            parts.push((0.0, 1.0));
-                        } else {
-                            inside_parts(bnd, p, q, parts, ts);
-                        }
-                        for &(t0, t1) in parts.iter() {
-                            let (a, b) = (p.lerp(q, t0), p.lerp(q, t1));
-                            let (wa, wb) = edge_integrals(a, b, z, zj, density);
-                            wij += wa * (2.0 / dist);
-                            diag -= wb * (2.0 / dist);
-                        }
-                    }
+        });
+    });
+}
+
+/// Rows `rows` (Delaunay vertices, sorted) of the Hessian of [`energy_hessian`], restricted to
+/// the columns in `rows`: row and column `r` of `out` belong to vertex `rows[r]`. This is the
+/// Hessian of the energy with every other generator held fixed (an active set). `grid` is
+/// the domain's [`DomainGrid`] for `del.num_vertices()`.
+pub fn energy_hessian_rows(
+    del: &Delaunay,
+    grid: &DomainGrid,
+    density: &Density,
+    cells: &Cells,
+    rows: &[u32],
+    out: &mut BlockMatrix,
+) {
+    debug_assert!(rows.windows(2).all(|w| w[0] < w[1]), "rows sorted");
+    out.row_start.clear();
+    out.col.clear();
+    out.block.clear();
+    out.diag.clear();
+    out.row_start.push(0);
+    let Some(bnd) = grid.bnd.as_ref() else {
+        out.diag.resize(rows.len(), DMat2::ZERO);
+        out.row_start.resize(rows.len() + 1, 0);
+        return;
+    };
+    let density = (!density.is_uniform()).then_some(density);
+    let mut s = Scratch::default();
+    for &v in rows {
+        let d = row(del, bnd, density, cells, v as usize, &mut s, |u, w| {
+            if let Ok(c) = rows.binary_search(&u) {
+                out.col.push(c as u32);
+                out.block.push(w.as_mat2());
+            }
+        });
+        out.diag.push(d);
+        out.row_start.push(out.col.len());
+    }
+}
+
+/// Per-row scratch: neighbours, circumcentres, parts of an edge inside the domain.
+#[derive(Default)]
+struct Scratch {
+    nb: Vec<(u32, DVec2)>,
+    cc: Vec<Option<DVec2>>,
+    parts: Vec<(f64, f64)>,
+    ts: Vec<f64>,
+}
+
+/// Row `v` of the Hessian: calls `emit(u, block)` for every ring neighbour `u` (frame vertices
+/// included) and returns the diagonal block.
+fn row(
+    del: &Delaunay,
+    bnd: &Boundary,
+    density: Option<&Density>,
+    cells: &Cells,
+    v: usize,
+    s: &mut Scratch,
+    mut emit: impl FnMut(u32, DMat2),
+) -> DMat2 {
+    let Scratch { nb, cc, parts, ts } = s;
+    let mass = cells.cells[del.point_of_vertex[v] as usize].mass;
+    let z = del.pos[v];
+    nb.clear();
+    cc.clear();
+    let (ring, outer) = del.rings.of(v);
+    nb.extend(ring.iter().map(|&u| (u, del.pos[u as usize])));
+    // Circumcentre of face k = (v, n_k, n_k+1), or None for the outer face.
+    for (k, &o) in outer.iter().enumerate() {
+        let next = nb[(k + 1) % nb.len()];
+        cc.push((!o).then(|| crate::cells::canonical_circumcenter((v as u32, z), nb[k], next)));
+    }
+    let m = nb.len();
+    // Every Voronoi edge lies in boundary-free squares: no clipping needed.
+    let inner = cc.iter().all(|c| c.is_some()) && {
+        let (lo, hi) = cc.iter().flatten().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), c| (lo.min(*c), hi.max(*c)),
+        );
+        bnd.box_inside(lo, hi)
+    };
+    let mut diag = DMat2::from_diagonal(DVec2::splat(2.0 * mass));
+    for k in 0..m {
+        let (u, zj) = nb[k];
+        let prev = (k + m - 1) % m;
+        let ray = |c: DVec2, third: DVec2| {
+            let mut d = (zj - z).perp().normalize_or_zero();
+            if d.dot(third - z) > 0.0 {
+                d = -d;
+            }
+            let reach = (bnd.hi - bnd.lo).length() + (c - bnd.lo).length();
+            c + d * reach
+        };
+        let seg = match (cc[prev], cc[k]) {
+            (Some(p), Some(q)) => Some((p, q)),
+            (Some(p), None) => Some((p, ray(p, nb[prev].1))),
+            (None, Some(q)) => Some((ray(q, nb[(k + 1) % m].1), q)),
+            (None, None) => None,
+        };
+        let mut wij = DMat2::ZERO;
+        let dist = (zj - z).length();
+        if let Some((p, q)) = seg.filter(|(p, q)| p.is_finite() && q.is_finite()) {
+            if dist > 0.0 {
+                if inner {
+                    parts.clear();
+                    parts.push((0.0, 1.0));
+                } else {
+                    inside_parts(bnd, p, q, parts, ts);
                 }
-                if (u as usize) < nv {
-                    col[c] = u;
-                    block[c] = wij.as_mat2();
-                    c += 1;
+                for &(t0, t1) in parts.iter() {
+                    let (a, b) = (p.lerp(q, t0), p.lerp(q, t1));
+                    let (wa, wb) = edge_integrals(a, b, z, zj, density);
+                    wij += wa * (2.0 / dist);
+                    diag -= wb * (2.0 / dist);
                 }
             }
-            *diagonal = diag;
-        },
-    );
+        }
+        emit(u, wij);
+    }
+    diag
 }
 
 /// (∫ ρ (x − zi)(x − zj)ᵀ ds, ∫ ρ (x − zi)(x − zi)ᵀ ds) over the segment a–b: exact for

@@ -24,8 +24,10 @@ mod hessian;
 mod sparse;
 mod topology;
 
-pub use cells::{clipped_cells, clipped_cells_into, Cell, Cells, CellsBuffer};
+pub use cells::{
+    clipped_cells, clipped_cells_into, update_cells, Cell, Cells, CellsBuffer, DomainGrid,
+};
 pub use conforming::{conforming_mesh, mark_vertices};
 pub use delaunay::Delaunay;
-pub use hessian::energy_hessian;
+pub use hessian::{energy_hessian, energy_hessian_rows};
 pub use sparse::{dot, BlockMatrix, DOT_CHUNK};

@@ -2,7 +2,7 @@
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
 use std::sync::Arc;
-use tessellation::{clipped_cells, Cell, Cells, Delaunay};
+use tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
 
 fn ring(points: Vec<DVec2>, pieces: Vec<usize>, loop_index: usize, hole: bool) -> Ring {
     Ring {
@@ -862,5 +862,85 @@ proptest! {
         for i in 0..n {
             prop_assert_eq!(d.neighbors(i), fresh.neighbors(i));
         }
+    }
+}
+
+/// A framed triangulation of `pts` after `moved` (a subset of input indices) were moved to their
+/// positions in `after` by `move_points`, with the cells updated only around them, against a
+/// fresh triangulation and a full cells pass.
+fn assert_moved_points_match_fresh(dom: &Polygon, pts: &[DVec2], after: &[DVec2], moved: &[u32]) {
+    let (lo, hi) = dom.bbox();
+    let mut framed = Delaunay::framed(lo, hi);
+    framed.rebuild(pts);
+    let mut cells = clipped_cells(pts, &framed, dom, &Density::Uniform);
+    let changed = framed
+        .move_points(after, moved)
+        .expect("a framed triangulation moves points locally");
+    let grid = DomainGrid::new(dom, framed.num_vertices());
+    update_cells(&framed, &grid, &Density::Uniform, &changed, &mut cells);
+    // Bit for bit the cells of a full pass over the same triangulation.
+    assert_eq!(
+        cells.cells,
+        clipped_cells(after, &framed, dom, &Density::Uniform).cells
+    );
+    let fresh = Delaunay::new(after);
+    for i in 0..pts.len() {
+        let (mut a, mut b) = (framed.neighbors(i), fresh.neighbors(i));
+        a.sort_unstable();
+        b.sort_unstable();
+        // The frame only removes hull slivers of the frameless triangulation.
+        assert!(
+            a.iter().all(|j| b.contains(j)),
+            "neighbours of {i}: {a:?} vs {b:?}"
+        );
+        if !b.iter().any(|&j| !a.contains(&j)) {
+            continue;
+        }
+        assert!(
+            fresh.neighbors(i).len() > a.len(),
+            "a hull vertex of the frameless triangulation only"
+        );
+    }
+    let want = cells_of(after, dom);
+    let scale = dom.area();
+    for (i, (g, w)) in cells.cells.iter().zip(&want.cells).enumerate() {
+        assert!((g.area - w.area).abs() <= 1e-12 * scale, "cell {i}");
+        assert!(g.centroid.distance(w.centroid) <= 1e-12, "cell {i}");
+    }
+}
+
+#[test]
+fn moving_a_few_points_updates_the_triangulation_and_cells_locally() {
+    let mut rng = Rng::new(11);
+    let dom = circle(200);
+    let (lo, hi) = dom.bbox();
+    let mut pts = Vec::new();
+    while pts.len() < 2000 {
+        let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+        if dom.contains(p) {
+            pts.push(p);
+        }
+    }
+    let mut after = pts.clone();
+    let moved: Vec<u32> = (0..2000).step_by(37).collect();
+    for &i in &moved {
+        let q = pts[i as usize] + v(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 0.05;
+        if dom.contains(q) {
+            after[i as usize] = q;
+        }
+    }
+    assert_moved_points_match_fresh(&dom, &pts, &after, &moved);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+    #[test]
+    fn moving_random_subsets_matches_fresh_triangulations(seed in 0u64..1_000_000, n in 4usize..300, size in 1e-4f64..0.3, every in 1usize..6) {
+        let (dom, pts, all_moved) = random_moves(seed, n, size);
+        let moved: Vec<u32> = (0..n as u32).filter(|i| (*i as usize).is_multiple_of(every)).collect();
+        let after: Vec<DVec2> = (0..n)
+            .map(|i| if i.is_multiple_of(every) { all_moved[i] } else { pts[i] })
+            .collect();
+        assert_moved_points_match_fresh(&dom, &pts, &after, &moved);
     }
 }
