@@ -234,8 +234,8 @@ fn table_converge(args: &Args, solver: Solver) {
          Anderson's mixing or Newton's Hessian, restriction and candidate; CG = Newton's \
          conjugate-gradient solves (iterations, seconds)."
     );
-    println!("| region | K | iterations (per phase) | rejected | converged | total s | s / iteration | ns / (K log2 K) per iteration | triangulation s (by flips) | cells s | projection s | convergence s | acceleration s | CG its | CG s | setup s | energy on Ω | peak MiB | notes |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| region | K | iterations (per phase) | rejected | converged | total s | s / iteration | ns / (K log2 K) per iteration | triangulation s (by flips) | cells s | projection s | convergence s | acceleration s | CG its | CG s | setup s | active-set evaluations (moved per step) | energy on Ω | peak MiB | notes |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
@@ -248,7 +248,7 @@ fn table_converge(args: &Args, solver: Solver) {
             let per = p.total() / p.evaluations.max(1) as f64;
             let e = energy_on_region(&region, &r.g.points);
             println!(
-                "| {name} | {k} | {} ({}) | {} | {} | {:.2} | {per:.4} | {:.1} | {:.2} ({}) | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {e:.10e} | {:.0} | {} |",
+                "| {name} | {k} | {} ({}) | {} | {} | {:.2} | {per:.4} | {:.1} | {:.2} ({}) | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} ({:.0}) | {e:.10e} | {:.0} | {} |",
                 r.g.iterations,
                 r.phases(),
                 p.rejected,
@@ -264,6 +264,8 @@ fn table_converge(args: &Args, solver: Solver) {
                 p.linear_iterations,
                 p.linear_solve,
                 r.secs - p.total(),
+                p.local_evaluations,
+                p.local_moved as f64 / p.local_evaluations.max(1) as f64,
                 r.peak_mib,
                 r.g.notes.join("; ")
             );
