@@ -44,22 +44,34 @@ pub(crate) fn active_set(
     let del = &work.del;
     let cap = (ACTIVE_FRACTION * k as f64) as usize;
     let tol = phase.tol * phase.spacing;
-    let above = (0..k)
-        .into_par_iter()
-        .filter(|&i| (s.targets[i] - z[i]).length() > tol)
-        .count();
-    if above > cap {
-        return None;
-    }
     let thr = (DEFECT_SHARE * max_move).max(0.5 * phase.tol) * phase.spacing;
-    let seeds: Vec<u32> = (0..k)
+    // One pass: how many move more than the tolerance, and the defects.
+    let (above, seeds) = (0..k)
         .into_par_iter()
-        .filter(|&i| (s.targets[i] - z[i]).length() > thr)
-        .filter_map(|i| del.vertex_index(i).map(|v| v as u32))
-        .collect();
-    if seeds.is_empty() || seeds.len() > cap {
+        .fold(
+            || (0usize, Vec::new()),
+            |(n, mut seeds), i| {
+                let d = (s.targets[i] - z[i]).length();
+                if d > thr {
+                    if let Some(v) = del.vertex_index(i) {
+                        seeds.push(v as u32);
+                    }
+                }
+                (n + usize::from(d > tol), seeds)
+            },
+        )
+        .reduce(
+            || (0, Vec::new()),
+            |(a, mut x), (b, mut y)| {
+                x.append(&mut y);
+                (a + b, x)
+            },
+        );
+    if above > cap || seeds.is_empty() || seeds.len() > cap {
         return None;
     }
+    let mut seeds = seeds;
+    seeds.sort_unstable();
     let nv = del.num_vertices() as u32;
     let mut set = seeds.clone();
     let mut front = seeds;
@@ -113,8 +125,17 @@ pub(crate) fn apply(
         del, cells, grid, ..
     } = work;
     let grid = &grid.as_ref().expect("built above").0;
+    // The energy changes by the changed cells' terms (summing all K terms again would read
+    // every cell: ~10 ms at 10⁶).
+    let energy_of = |cells: &tessellation::Cells| -> f64 {
+        changed
+            .iter()
+            .map(|&v| cells.cells[del.point_of_vertex(v as usize)].energy)
+            .sum()
+    };
+    let before = energy_of(cells);
     update_cells(del, grid, phase.density, &changed, cells);
-    s.energy = cells.energy();
+    s.energy += energy_of(cells) - before;
     prof.cells += lap(&mut t);
     // Labels and targets of the changed cells; corners are re-assigned from scratch (their
     // previous holders first get their own cell's label back).
@@ -227,9 +248,14 @@ mod tests {
             "{name}: energy"
         );
         apply(&phase, &mut z, &mut s, &mut work, &undo, &mut prof);
+        // Labels and targets bit for bit; the energy, updated by differences, to rounding.
         assert!(
-            (s.energy, s.roles, s.targets) == first,
+            (s.roles, s.targets) == (first.1, first.2),
             "{name}: not undone"
+        );
+        assert!(
+            (s.energy - first.0).abs() <= 1e-12 * first.0,
+            "{name}: energy not undone"
         );
     }
 

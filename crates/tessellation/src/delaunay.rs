@@ -162,7 +162,7 @@ impl Delaunay {
         touched.dedup();
         affected.extend_from_slice(&touched);
         self.topo.touched = touched;
-        self.update_rings(nv);
+        self.update_rings();
         affected.retain(|&u| (u as usize) < nv);
         affected.sort_unstable();
         affected.dedup();
@@ -248,7 +248,7 @@ impl Delaunay {
         }
         match self.topo.flip_to_delaunay(&self.pos, max_flips) {
             Some(_) => {
-                self.update_rings(nv);
+                self.update_rings();
                 Some(true)
             }
             None if self.topo.touched.is_empty() => None,
@@ -257,11 +257,9 @@ impl Delaunay {
     }
 
     /// Rewrite the rings around the vertices the last flips or reinsertions touched.
-    fn update_rings(&mut self, nv: usize) {
+    fn update_rings(&mut self) {
         let mut rings = std::mem::take(&mut self.rings);
-        if !rings.update(&self.topo, &self.topo.touched, &self.key()) {
-            self.topo.rings(nv, &self.key(), &mut rings);
-        }
+        rings.update(&self.topo, &self.topo.touched, &self.key());
         self.rings = rings;
     }
 
@@ -329,7 +327,7 @@ impl Delaunay {
         touched.sort_unstable();
         touched.dedup();
         self.topo.touched = touched;
-        self.update_rings(nv);
+        self.update_rings();
         true
     }
 

@@ -14,6 +14,7 @@ use crate::delaunay::Delaunay;
 use crate::sparse::BlockMatrix;
 use geometry::{DVec2, Density, Polygon};
 use glam::DMat2;
+use rayon::prelude::*;
 
 /// The Hessian of the CVT energy of `points` (triangulated by `del`, cells from
 /// `clipped_cells` on the same `domain` and `density`) written into `out`, with one block row
@@ -87,16 +88,31 @@ pub fn energy_hessian_rows(
         return;
     };
     let density = (!density.is_uniform()).then_some(density);
-    let mut s = Scratch::default();
-    for &v in rows {
-        let d = row(del, bnd, density, cells, v as usize, &mut s, |u, w| {
-            if let Ok(c) = rows.binary_search(&u) {
-                out.col.push(c as u32);
-                out.block.push(w.as_mat2());
+    // Rows in parallel (fixed chunks, each a block matrix of its own), then concatenated.
+    let parts: Vec<BlockMatrix> = rows
+        .par_chunks(512)
+        .map(|chunk| {
+            let mut s = Scratch::default();
+            let mut m = BlockMatrix::default();
+            for &v in chunk {
+                let d = row(del, bnd, density, cells, v as usize, &mut s, |u, w| {
+                    if let Ok(c) = rows.binary_search(&u) {
+                        m.col.push(c as u32);
+                        m.block.push(w.as_mat2());
+                    }
+                });
+                m.diag.push(d);
+                m.row_start.push(m.col.len());
             }
-        });
-        out.diag.push(d);
-        out.row_start.push(out.col.len());
+            m
+        })
+        .collect();
+    for m in parts {
+        let base = out.col.len();
+        out.diag.extend(m.diag);
+        out.row_start.extend(m.row_start.iter().map(|l| base + l));
+        out.col.extend(m.col);
+        out.block.extend(m.block);
     }
 }
 

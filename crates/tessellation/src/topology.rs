@@ -21,9 +21,11 @@ const SLACK: usize = 3;
 /// face, so the same triangulation gives the same rings however it was built or numbered.
 #[derive(Debug, Default)]
 pub(crate) struct Rings {
-    /// Ring of vertex v: `nb[start[v]..start[v] + len[v]]`, with room up to `start[v + 1]`.
+    /// Ring of vertex v: `nb[start[v]..start[v] + len[v]]`, with room for `room[v]`
+    /// (contiguous after a fill; a ring that outgrows its room moves to the end).
     pub start: Vec<usize>,
     pub len: Vec<u32>,
+    pub room: Vec<u32>,
     pub nb: Vec<u32>,
     /// `outer[k]`: the face between `nb[k]` and the next neighbour (cyclically) is the outer face.
     pub outer: Vec<bool>,
@@ -56,8 +58,12 @@ impl Rings {
             total += d as usize + SLACK;
             self.start.push(total);
         }
+        self.nb.clear();
+        self.outer.clear();
         self.nb.resize(total, NONE);
         self.outer.resize(total, false);
+        self.room.clear();
+        self.room.extend(self.len.iter().map(|&d| d + SLACK as u32));
         crate::sparse::par_rows(
             &self.start,
             &mut self.len,
@@ -74,31 +80,32 @@ impl Rings {
         );
     }
 
-    /// Rewrite the rings of `touched` vertices in place from `topo`; false if one no longer fits
-    /// its room (then all must be rebuilt).
-    pub fn update(&mut self, topo: &Topology, touched: &[u32], key: &impl Fn(u32) -> u32) -> bool {
+    /// Rewrite the rings of `touched` vertices from `topo`: in place, or at the end of the
+    /// arrays for a ring that outgrew its room (a full refill would cost O(n) per update).
+    pub fn update(&mut self, topo: &Topology, touched: &[u32], key: &impl Fn(u32) -> u32) {
         for &v in touched {
             let v = v as usize;
-            if v + 1 >= self.start.len() {
+            if v >= self.room.len() {
                 continue;
             }
-            let (s, room) = (self.start[v], self.start[v + 1] - self.start[v]);
-            let (nb, outer) = (&mut self.nb[s..s + room], &mut self.outer[s..s + room]);
+            let n = topo.walk(v as u32, |_, _| {});
+            if n > self.room[v] as usize {
+                self.start[v] = self.nb.len();
+                self.room[v] = (n + SLACK) as u32;
+                self.nb.resize(self.start[v] + n + SLACK, NONE);
+                self.outer.resize(self.start[v] + n + SLACK, false);
+            }
+            let s = self.start[v];
+            let (nb, outer) = (&mut self.nb[s..s + n], &mut self.outer[s..s + n]);
             let mut k = 0;
-            let n = topo.walk(v as u32, |u, o| {
-                if k < room {
-                    nb[k] = u;
-                    outer[k] = o;
-                }
+            topo.walk(v as u32, |u, o| {
+                nb[k] = u;
+                outer[k] = o;
                 k += 1;
             });
-            if n > room {
-                return false;
-            }
             self.len[v] = n as u32;
-            canonical(&mut nb[..n], &mut outer[..n], key);
+            canonical(nb, outer, key);
         }
-        true
     }
 }
 

@@ -944,3 +944,25 @@ proptest! {
         assert_moved_points_match_fresh(&dom, &pts, &after, &moved);
     }
 }
+
+/// A moved vertex whose ring outgrows the room left for it (16 neighbours after the move, a
+/// handful before) gets its ring rewritten elsewhere, not a refill of every ring.
+#[test]
+fn a_ring_that_outgrows_its_room_is_moved() {
+    let dom = square(-2.0, 2.0);
+    let mut pts: Vec<DVec2> = (0..16)
+        .map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / 16.0) * 1.0)
+        .collect();
+    pts.push(v(1.55, 0.13));
+    pts.extend([v(-1.8, -1.7), v(1.7, -1.8), v(1.8, 1.75), v(-1.75, 1.8)]);
+    let mut after = pts.clone();
+    after[16] = v(0.01, -0.02);
+    assert_moved_points_match_fresh(&dom, &pts, &after, &[16]);
+    let (lo, hi) = dom.bbox();
+    let mut framed = Delaunay::framed(lo, hi);
+    framed.rebuild(&pts);
+    let before = framed.neighbors(16).len();
+    framed.move_points(&after, &[16]).unwrap();
+    assert!(before < 8, "{before} neighbours before");
+    assert_eq!(framed.neighbors(16).len(), 16);
+}
