@@ -1,7 +1,7 @@
 //! Active-set steps. Late in a phase only a few hundred of 10⁵–10⁶ generators still move more
 //! than the tolerance (rearrangements in the boundary layer), yet a full step re-triangulates and
-//! re-clips every cell. An active-set step moves only the generators whose move exceeds
-//! `ACTIVE_SHARE` of the tolerance, with `MARGIN_RINGS` rings of Delaunay neighbours, holds
+//! re-clips every cell. An active-set step moves only the defects (generators whose move exceeds
+//! `DEFECT_SHARE` of the largest), with `MARGIN_RINGS` rings of Delaunay neighbours, holds
 //! every other one fixed, repairs the triangulation by removing and reinserting the moved
 //! vertices and recomputes only the cells that changed: O(active) per step instead of O(K).
 //!
@@ -16,9 +16,10 @@ use tessellation::update_cells;
 /// A generator is active when its move exceeds this fraction of the largest move (and half
 /// the tolerance): the defects, not the smooth halo around them.
 const DEFECT_SHARE: f64 = 0.1;
-/// Active-set steps only while the largest move exceeds this many tolerances: below, what is
-/// left is a smooth elastic residual that only a global Newton step removes at once (active-set
-/// steps spread it like Gauss–Seidel: 200 steps at 1.5–3 tolerances at circle 10⁵).
+/// Below this many tolerances of largest move, what is left is mostly a smooth elastic residual
+/// that only a global Newton step removes at once: active-set steps alone spread it like
+/// Gauss–Seidel (200 steps at 1.5–3 tolerances at circle 10⁵). There they are only a cleanup
+/// after a global step, taken while they lower the count above the tolerance.
 const DEFECT_ABOVE: f64 = 4.0;
 /// Rings of Delaunay neighbours around the active generators that move with them (room for the
 /// Newton step to spread a rearrangement).
@@ -28,17 +29,27 @@ const MARGIN_RINGS: usize = 2;
 /// stalled at circle 10⁵).
 const ACTIVE_FRACTION: f64 = 0.01;
 
-/// The Delaunay vertices an active-set step moves (sorted), or None when the phase is too small
-/// for active-set steps or too many generators are active.
+/// An active-set step on offer.
+pub(crate) struct Active {
+    /// The Delaunay vertices it moves (sorted).
+    pub set: Vec<u32>,
+    /// Generators moving more than the tolerance.
+    pub above: usize,
+    /// The largest move is below `DEFECT_ABOVE` tolerances (a cleanup after a global step).
+    pub cleanup: bool,
+}
+
+/// The active-set step at this iterate, or None when the phase is too small for active-set
+/// steps or too many generators are active.
 pub(crate) fn active_set(
     phase: &Phase,
     z: &[DVec2],
     s: &Step,
     work: &Work,
     max_move: f64,
-) -> Option<Vec<u32>> {
+) -> Option<Active> {
     let k = z.len();
-    if k < phase.active_from || max_move < DEFECT_ABOVE * phase.tol {
+    if k < phase.active_from {
         return None;
     }
     let del = &work.del;
@@ -88,7 +99,11 @@ pub(crate) fn active_set(
         set.sort_unstable();
         front = next;
     }
-    Some(set)
+    Some(Active {
+        set,
+        above,
+        cleanup: max_move < DEFECT_ABOVE * phase.tol,
+    })
 }
 
 /// Move the generators `moves` (input index, new position) of the iterate `z`, whose map is `s`

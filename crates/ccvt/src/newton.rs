@@ -142,6 +142,9 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
     let mut sigma = SIGMA_START;
     let mut s = step(phase, &z, &mut work, &mut trace.prof);
     let mut iterations = 1;
+    // Generators above the tolerance before the last cleanup active-set step (None after any
+    // other step).
+    let mut cleanup_above: Option<usize> = None;
     loop {
         let mv = record(phase, &s, &z, iterations, trace);
         if mv < phase.tol || iterations >= phase.max_iter {
@@ -153,12 +156,15 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
                 converged: mv < phase.tol,
             };
         }
-        // An active-set step takes up to 3 evaluations.
+        // An active-set step takes up to 3 evaluations. In the cleanup after a global step,
+        // active-set steps continue while the count above the tolerance falls.
         let room = iterations + 3 <= phase.max_iter;
-        if let Some(set) = room
+        if let Some(a) = room
             .then(|| active::active_set(phase, &z, &s, &work, mv))
             .flatten()
+            .filter(|a| !a.cleanup || cleanup_above.is_none_or(|prev| a.above < prev))
         {
+            cleanup_above = a.cleanup.then_some(a.above);
             iterations += active_step(
                 phase,
                 &mut z,
@@ -166,11 +172,12 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
                 &mut work,
                 &mut buf,
                 &mut sigma,
-                &set,
+                &a.set,
                 &mut trace.prof,
             );
             continue;
         }
+        cleanup_above = None;
         // σ ≥ 1: the shift dominates the Hessian, and a Newton step would be a damped Lloyd step
         // at the cost of two evaluations; take Lloyd's and let σ decay until Newton pays again.
         // With room for one evaluation only, the Lloyd step needs no fallback.
