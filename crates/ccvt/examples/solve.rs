@@ -30,6 +30,14 @@ fn main() {
             .unwrap_or(m.eps_phase_tol),
         ..m
     };
+    // CCVT_ACTIVE_FROM overrides the size from which Newton takes active-set steps.
+    let m = Ccvt {
+        active_from: std::env::var("CCVT_ACTIVE_FROM")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(m.active_from),
+        ..m
+    };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
     // CCVT_MAX_ITER caps every phase (default 20 000).
     let cap = std::env::var("CCVT_MAX_ITER")
