@@ -57,7 +57,7 @@ pub(crate) fn active_set(
     let tol = phase.tol * phase.spacing;
     let thr = (DEFECT_SHARE * max_move).max(0.5 * phase.tol) * phase.spacing;
     // One pass: how many move more than the tolerance, and the defects.
-    let (above, seeds) = (0..k)
+    let (above, mut seeds) = (0..k)
         .into_par_iter()
         .fold(
             || (0usize, Vec::new()),
@@ -81,7 +81,6 @@ pub(crate) fn active_set(
     if above > cap || seeds.is_empty() || seeds.len() > cap {
         return None;
     }
-    let mut seeds = seeds;
     seeds.sort_unstable();
     let nv = del.num_vertices() as u32;
     let mut set = seeds.clone();
@@ -135,11 +134,7 @@ pub(crate) fn apply(
     prof.local_evaluations += 1;
     prof.local_moved += moves.len();
     prof.triangulation += lap(&mut t);
-    work.grid(phase.domain);
-    let Work {
-        del, cells, grid, ..
-    } = work;
-    let grid = &grid.as_ref().expect("built above").0;
+    let (del, cells, grid) = work.parts(phase.domain);
     // The energy changes by the changed cells' terms (summing all K terms again would read
     // every cell: ~10 ms at 10⁶).
     let energy_of = |cells: &tessellation::Cells| -> f64 {

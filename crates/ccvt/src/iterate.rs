@@ -82,7 +82,7 @@ pub struct Work {
     pub(crate) cells: Cells,
     buffer: CellsBuffer,
     /// The domain's boundary grid for partial updates, and the vertex count it was built for.
-    pub(crate) grid: Option<(DomainGrid, usize)>,
+    grid: Option<(DomainGrid, usize)>,
 }
 
 impl Work {
@@ -98,14 +98,15 @@ impl Work {
         }
     }
 
-    /// The domain's grid for partial cell and Hessian updates of the current triangulation
+    /// The triangulation, the cells and the domain's grid for partial cell and Hessian updates
     /// (built as a full cells pass builds it, so updated cells are bit-identical).
-    pub(crate) fn grid(&mut self, domain: &Polygon) -> &DomainGrid {
+    pub(crate) fn parts(&mut self, domain: &Polygon) -> (&Delaunay, &mut Cells, &DomainGrid) {
         let nv = self.del.num_vertices();
         if self.grid.as_ref().is_none_or(|g| g.1 != nv) {
             self.grid = Some((DomainGrid::new(domain, nv), nv));
         }
-        &self.grid.as_ref().expect("just built").0
+        let grid = &self.grid.as_ref().expect("just built").0;
+        (&self.del, &mut self.cells, grid)
     }
 }
 

@@ -52,9 +52,10 @@ pub struct Ccvt {
     /// request's tolerance if that is looser: they only serve to estimate ε to `eps_tol`.
     /// The final constrained phase always uses the request's tolerance.
     pub eps_phase_tol: f64,
-    /// Newton only: from this many generators on, once at most a twentieth of them still move
-    /// more than half the tolerance, steps move only those and two rings of their neighbours
-    /// (active-set steps: O(active) instead of O(K) per step; the stopping rule is the same).
+    /// Newton only: from this many generators on, once at most 1 % of them move more than the
+    /// tolerance, steps move only the defects (the largest moves) and two rings of their
+    /// neighbours, updating the triangulation and cells around them (active-set steps, module
+    /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
     pub active_from: usize,
 }
 

@@ -9,6 +9,9 @@
 //! A candidate is kept only if it lowers the energy; otherwise σ grows and the plain Lloyd step
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
+//!
+//! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
+//! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
 use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
@@ -332,16 +335,8 @@ fn active_step(
         return 1;
     }
     let mut t = Instant::now();
-    work.grid(phase.domain);
-    let grid = work.grid.as_ref().expect("built above");
-    energy_hessian_rows(
-        &work.del,
-        &grid.0,
-        phase.density,
-        &work.cells,
-        set,
-        &mut buf.hess,
-    );
+    let (del, cells, grid) = work.parts(phase.domain);
+    energy_hessian_rows(del, grid, phase.density, cells, set, &mut buf.hess);
     prof.hessian += lap(&mut t);
     newton_move(phase, z, s, work, Rows::Active(set), buf, sigma, prof);
     let moves: Vec<(u32, DVec2)> = set
