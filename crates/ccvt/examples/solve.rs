@@ -22,28 +22,16 @@ fn main() {
         },
         _ => Ccvt::algorithm2(),
     };
-    // CCVT_EPS_PHASE_TOL overrides the ε-phase tolerance (for experiments).
+    // For experiments: CCVT_EPS_PHASE_TOL overrides the ε-phase tolerance, CCVT_ACTIVE_FROM the
+    // size from which Newton takes active-set steps.
     let m = Ccvt {
-        eps_phase_tol: std::env::var("CCVT_EPS_PHASE_TOL")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(m.eps_phase_tol),
-        ..m
-    };
-    // CCVT_ACTIVE_FROM overrides the size from which Newton takes active-set steps.
-    let m = Ccvt {
-        active_from: std::env::var("CCVT_ACTIVE_FROM")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(m.active_from),
+        eps_phase_tol: env("CCVT_EPS_PHASE_TOL").unwrap_or(m.eps_phase_tol),
+        active_from: env("CCVT_ACTIVE_FROM").unwrap_or(m.active_from),
         ..m
     };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
     // CCVT_MAX_ITER caps every phase (default 20 000).
-    let cap = std::env::var("CCVT_MAX_ITER")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(20_000);
+    let cap = env("CCVT_MAX_ITER").unwrap_or(20_000);
     let req = MeshRequest::points(k).seed(seed).max_iter(cap);
     // Iterations of each phase (the progress count restarts at 1 in every phase).
     let mut phases: Vec<usize> = Vec::new();
@@ -121,4 +109,9 @@ fn main() {
             start += n;
         }
     }
+}
+
+/// The environment variable `name` parsed, if set and valid.
+fn env<T: std::str::FromStr>(name: &str) -> Option<T> {
+    std::env::var(name).ok().and_then(|v| v.parse().ok())
 }

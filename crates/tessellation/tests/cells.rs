@@ -740,14 +740,7 @@ fn assert_framed_rebuilds_match_fresh(
 fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
     let mut rng = Rng::new(4);
     for dom in [circle(200), square_with_hole(0.3, 0.6), l_shape()] {
-        let (lo, hi) = dom.bbox();
-        let mut pts = Vec::new();
-        while pts.len() < 1500 {
-            let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
-            if dom.contains(p) {
-                pts.push(p);
-            }
-        }
+        let mut pts = random_inside(&mut rng, &dom, 1500);
         // Generators on the boundary too (the constrained phase's boundary layer).
         pts.extend(
             dom.rings
@@ -782,16 +775,22 @@ fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
 fn random_moves(seed: u64, n: usize, size: f64) -> (Polygon, Vec<DVec2>, Vec<DVec2>) {
     let mut rng = Rng::new(seed);
     let dom = star(&mut rng, 12, seed.is_multiple_of(2));
+    let pts = random_inside(&mut rng, &dom, n);
+    let moved = jitter(&mut rng, &dom, &pts, size);
+    (dom, pts, moved)
+}
+
+/// `n` points uniformly random in the domain.
+fn random_inside(rng: &mut Rng, dom: &Polygon, n: usize) -> Vec<DVec2> {
     let (lo, hi) = dom.bbox();
-    let mut pts = Vec::new();
+    let mut pts = Vec::with_capacity(n);
     while pts.len() < n {
         let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         if dom.contains(p) {
             pts.push(p);
         }
     }
-    let moved = jitter(&mut rng, &dom, &pts, size);
-    (dom, pts, moved)
+    pts
 }
 
 /// Each point moved by up to `size` in x and y, unless that would leave the domain.
@@ -913,14 +912,7 @@ fn assert_moved_points_match_fresh(dom: &Polygon, pts: &[DVec2], after: &[DVec2]
 fn moving_a_few_points_updates_the_triangulation_and_cells_locally() {
     let mut rng = Rng::new(11);
     let dom = circle(200);
-    let (lo, hi) = dom.bbox();
-    let mut pts = Vec::new();
-    while pts.len() < 2000 {
-        let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
-        if dom.contains(p) {
-            pts.push(p);
-        }
-    }
+    let pts = random_inside(&mut rng, &dom, 2000);
     let mut after = pts.clone();
     let moved: Vec<u32> = (0..2000).step_by(37).collect();
     for &i in &moved {
