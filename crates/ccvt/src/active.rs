@@ -195,7 +195,12 @@ mod tests {
     /// Moves applied by `apply` (the triangulation repaired around them, only the changed
     /// cells recomputed) leave exactly the map a fresh evaluation computes: cells, labels,
     /// targets and energy, bit for bit; and undoing them restores the first map.
-    fn assert_local_map_is_the_fresh_map(name: &str, k: usize, constrained: bool) {
+    fn assert_local_map_is_the_fresh_map(name: &str, k: usize, constrained: bool, graded: bool) {
+        let density = if graded {
+            Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + 4.0 * p.x * p.x))
+        } else {
+            Density::Uniform
+        };
         let region = Region::builtin(name).unwrap();
         let spacing = MeshRequest::points(k).spacing(&region);
         let domain = region.polygonize(1e-4 * spacing);
@@ -204,7 +209,7 @@ mod tests {
             region: &region,
             domain: &domain,
             inside: &inside,
-            density: &Density::Uniform,
+            density: &density,
             constrained,
             solver: Solver::Newton,
             tol: 1e-4,
@@ -238,7 +243,7 @@ mod tests {
         let undo = apply(&phase, &mut z, &mut s, &mut work, &moves, &mut prof);
         assert!(prof.local_evaluations == 1, "{name}: applied locally");
         // Bit for bit a full pass over the same triangulation.
-        let full = tessellation::clipped_cells(&z, &work.del, &domain, &Density::Uniform);
+        let full = tessellation::clipped_cells(&z, &work.del, &domain, &density);
         assert!(
             work.cells.cells == full.cells,
             "{name}: cells differ from a full pass"
@@ -271,11 +276,13 @@ mod tests {
 
     #[test]
     fn local_updates_equal_fresh_evaluations() {
-        assert_local_map_is_the_fresh_map("circle", 3000, true);
-        assert_local_map_is_the_fresh_map("circle", 3000, false);
+        assert_local_map_is_the_fresh_map("circle", 3000, true, false);
+        assert_local_map_is_the_fresh_map("circle", 3000, false, false);
         // Corners, holes, and pieces meeting at reflex corners.
-        assert_local_map_is_the_fresh_map("square_hole", 2000, true);
-        assert_local_map_is_the_fresh_map("pie_hole", 2000, true);
-        assert_local_map_is_the_fresh_map("lake", 3000, true);
+        assert_local_map_is_the_fresh_map("square_hole", 2000, true, false);
+        assert_local_map_is_the_fresh_map("pie_hole", 2000, true, false);
+        assert_local_map_is_the_fresh_map("lake", 3000, true, false);
+        // A graded mesh: ρ-weighted moments.
+        assert_local_map_is_the_fresh_map("square_hole", 2000, true, true);
     }
 }
