@@ -54,50 +54,58 @@ pub(crate) fn active_set(
     }
     let del = &work.del;
     let cap = (ACTIVE_FRACTION * k as f64) as usize;
-    let tol = phase.tol * phase.spacing;
-    let thr = (DEFECT_SHARE * max_move).max(0.5 * phase.tol) * phase.spacing;
+    let tol2 = (phase.tol * phase.spacing).powi(2);
+    let thr2 = ((DEFECT_SHARE * max_move).max(0.5 * phase.tol) * phase.spacing).powi(2);
     // One pass: how many move more than the tolerance, and the defects.
-    let (above, mut seeds) = (0..k)
-        .into_par_iter()
-        .fold(
-            || (0usize, Vec::new()),
-            |(n, mut seeds), i| {
-                let d = (s.targets[i] - z[i]).length();
-                if d > thr {
-                    if let Some(v) = del.vertex_index(i) {
+    const CHUNK: usize = 8192;
+    let parts: Vec<(usize, Vec<u32>)> = s
+        .targets
+        .par_chunks(CHUNK)
+        .zip(z.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(c, (t, z))| {
+            let mut seeds = Vec::new();
+            let mut n = 0;
+            for (k, (t, z)) in t.iter().zip(z).enumerate() {
+                let d2 = (*t - *z).length_squared();
+                n += usize::from(d2 > tol2);
+                if d2 > thr2 {
+                    if let Some(v) = del.vertex_index(c * CHUNK + k) {
                         seeds.push(v as u32);
                     }
                 }
-                (n + usize::from(d > tol), seeds)
-            },
-        )
-        .reduce(
-            || (0, Vec::new()),
-            |(a, mut x), (b, mut y)| {
-                x.append(&mut y);
-                (a + b, x)
-            },
-        );
+            }
+            (n, seeds)
+        })
+        .collect();
+    let above: usize = parts.iter().map(|p| p.0).sum();
+    let seeds: Vec<u32> = parts.into_iter().flat_map(|p| p.1).collect();
     if above > cap || seeds.is_empty() || seeds.len() > cap {
         return None;
     }
-    seeds.sort_unstable();
-    let nv = del.num_vertices() as u32;
+    // Breadth-first over the rings, with marks (a zeroed allocation costs only the pages
+    // touched).
+    let nv = del.num_vertices();
+    let mut marked = vec![false; nv];
+    for &v in &seeds {
+        marked[v as usize] = true;
+    }
     let mut set = seeds.clone();
     let mut front = seeds;
     for _ in 0..MARGIN_RINGS {
-        let mut next: Vec<u32> = front
-            .iter()
-            .flat_map(|&v| del.ring(v as usize).iter().copied())
-            .filter(|&u| u < nv)
-            .collect();
-        next.sort_unstable();
-        next.dedup();
-        next.retain(|u| set.binary_search(u).is_err());
+        let mut next = Vec::new();
+        for &v in &front {
+            for &u in del.ring(v as usize) {
+                if (u as usize) < nv && !marked[u as usize] {
+                    marked[u as usize] = true;
+                    next.push(u);
+                }
+            }
+        }
         set.extend_from_slice(&next);
-        set.sort_unstable();
         front = next;
     }
+    set.sort_unstable();
     Some(Active {
         set,
         above,

@@ -144,12 +144,22 @@ impl Delaunay {
                 continue;
             }
             self.topo.walk(v, |u, _| affected.push(u));
-            let Some(hint) = self.topo.remove(&self.pos, v, &mut budget) else {
-                return false;
-            };
-            self.pos[v as usize] = p;
-            if self.topo.insert(&self.pos, v, hint, &mut budget).is_err() {
-                return false;
+            // A small move keeps v's triangles upright: flips around v suffice. Otherwise v is
+            // removed and inserted at its new position.
+            let old = std::mem::replace(&mut self.pos[v as usize], p);
+            match self.topo.move_in_place(&self.pos, v, &mut budget) {
+                Some(true) => {}
+                Some(false) => {
+                    self.pos[v as usize] = old;
+                    let Some(hint) = self.topo.remove(&self.pos, v, &mut budget) else {
+                        return false;
+                    };
+                    self.pos[v as usize] = p;
+                    if self.topo.insert(&self.pos, v, hint, &mut budget).is_err() {
+                        return false;
+                    }
+                }
+                None => return false,
             }
             self.topo.walk(v, |u, _| affected.push(u));
             affected.push(v);
