@@ -1,6 +1,7 @@
 //! The conformity check every method's mesh must pass (and every test asserts).
 use crate::Mesh;
 use geometry::Region;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use thiserror::Error;
 
@@ -58,12 +59,24 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
             mesh.points.len(),
         ));
     }
+    // Signed distances in parallel; the checks in index order, so the first problem reported
+    // does not depend on the thread count.
+    let sd: Vec<f64> = mesh
+        .points
+        .par_iter()
+        .map(|p| {
+            if p.is_finite() {
+                region.signed_distance(*p)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect();
     let mut on_loop = vec![0usize; region.loops().len()];
-    for (i, p) in mesh.points.iter().enumerate() {
+    for (i, (p, &sd)) in mesh.points.iter().zip(&sd).enumerate() {
         if !p.is_finite() {
             return Err(ConformityError::NotFinite(i));
         }
-        let sd = region.signed_distance(*p);
         if sd > eps {
             return Err(ConformityError::VertexOutside(i, p.x, p.y, sd));
         }
@@ -79,30 +92,53 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     }
     let n = mesh.points.len() as u32;
     let mean_area = region.area() / mesh.triangles.len().max(1) as f64;
-    let mut used = vec![false; mesh.points.len()];
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        if tri.iter().any(|&v| v >= n) || tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
-            return Err(ConformityError::Degenerate(t, 0.0));
-        }
-        let [a, b, c] = mesh.triangle(t);
-        let area = 0.5 * (b - a).perp_dot(c - a);
-        if area <= 1e-10 * mean_area {
-            return Err(ConformityError::Degenerate(t, area));
-        }
-        let centroid = (a + b + c) / 3.0;
-        if region.signed_distance(centroid) > eps {
-            return Err(ConformityError::TriangleOutside(t, centroid.x, centroid.y));
-        }
-        for (p, q) in [(a, b), (b, c), (c, a)] {
-            let allowance = eps + 0.13 * (q - p).length();
-            for s in 1..8 {
-                let x = p.lerp(q, s as f64 / 8.0);
-                if region.signed_distance(x) > allowance {
-                    return Err(ConformityError::TriangleOutside(t, x.x, x.y));
+    // Each triangle on its own (in parallel, the first problem in triangle order reported).
+    let bad = (0..mesh.triangles.len())
+        .into_par_iter()
+        .find_map_first(|t| {
+            let tri = mesh.triangles[t];
+            if tri.iter().any(|&v| v >= n)
+                || tri[0] == tri[1]
+                || tri[1] == tri[2]
+                || tri[0] == tri[2]
+            {
+                return Some(ConformityError::Degenerate(t, 0.0));
+            }
+            let [a, b, c] = mesh.triangle(t);
+            let area = 0.5 * (b - a).perp_dot(c - a);
+            if area <= 1e-10 * mean_area {
+                return Some(ConformityError::Degenerate(t, area));
+            }
+            let centroid = (a + b + c) / 3.0;
+            let sd_c = region.signed_distance(centroid);
+            if sd_c > eps {
+                return Some(ConformityError::TriangleOutside(t, centroid.x, centroid.y));
+            }
+            // Signed distance is 1-Lipschitz: a triangle within its centroid's depth is inside.
+            let reach = [a, b, c]
+                .iter()
+                .map(|v| v.distance(centroid))
+                .fold(0.0, f64::max);
+            if sd_c + reach < 0.0 {
+                return None;
+            }
+            for (p, q) in [(a, b), (b, c), (c, a)] {
+                let allowance = eps + 0.13 * (q - p).length();
+                for s in 1..8 {
+                    let x = p.lerp(q, s as f64 / 8.0);
+                    if region.signed_distance(x) > allowance {
+                        return Some(ConformityError::TriangleOutside(t, x.x, x.y));
+                    }
                 }
             }
-        }
+            None
+        });
+    if let Some(e) = bad {
+        return Err(e);
+    }
+    let mut used = vec![false; mesh.points.len()];
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    for tri in &mesh.triangles {
         for k in 0..3 {
             used[tri[k] as usize] = true;
             let e = (tri[k], tri[(k + 1) % 3]);
