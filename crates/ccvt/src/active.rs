@@ -156,7 +156,7 @@ pub(crate) fn apply(
     s.energy += energy_of(cells) - before;
     prof.cells += lap(&mut t);
     // Labels and targets of the changed cells; corners are re-assigned from scratch (their
-    // previous holders first get their own cell's label back).
+    // previous holders, found by a scan of all labels, first get their own cell's label back).
     let mut redo: Vec<usize> = changed
         .iter()
         .map(|&v| del.point_of_vertex(v as usize))
