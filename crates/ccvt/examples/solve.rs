@@ -27,6 +27,7 @@ fn main() {
     let m = Ccvt {
         eps_phase_tol: env("CCVT_EPS_PHASE_TOL").unwrap_or(m.eps_phase_tol),
         active_from: env("CCVT_ACTIVE_FROM").unwrap_or(m.active_from),
+        eps_start: env("CCVT_EPS_START").unwrap_or(m.eps_start),
         ..m
     };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);

@@ -395,3 +395,51 @@ fn active_set_steps_converge_to_a_mesh_as_good() {
         assert_eq!(one.mesh, r.mesh, "{name}: thread count changed the mesh");
     }
 }
+
+/// ε settled by Algorithm 2 (relative to the spacing), from the run's notes.
+fn settled_epsilon(notes: &[String]) -> f64 {
+    let note = notes
+        .iter()
+        .find(|n| n.starts_with("epsilon = "))
+        .expect("an epsilon note");
+    assert!(!note.contains("not settled"), "{note}");
+    let rel = note.split('(').nth(1).unwrap().split(' ').next().unwrap();
+    rel.parse().unwrap()
+}
+
+/// Starting ε near its settled value (as `Ccvt::fast` does) skips the CVT of Ω itself: fewer
+/// phases, the same settled ε within a few tolerances, and an energy as low.
+#[test]
+fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
+    let region = Region::builtin("circle").unwrap();
+    let req = MeshRequest::points(3000).seed(1).tol(1e-4).max_iter(3000);
+    let from = |eps_start: f64| {
+        let m = Ccvt {
+            eps_start,
+            ..Ccvt::fast()
+        };
+        let mut phases = 0;
+        let g = m
+            .generators(&region, &req, &mut |p| {
+                phases += usize::from(p.iteration == 1)
+            })
+            .unwrap();
+        assert!(g.converged);
+        (phases, settled_epsilon(&g.notes), g)
+    };
+    let (p0, e0, g0) = from(0.0);
+    let (p1, e1, g1) = from(ccvt::EPS_START_FAST);
+    assert!(p1 < p0, "phases from 0.69: {p1}, from 0: {p0}");
+    assert!(
+        (e1 - e0).abs() < 3.0 * Ccvt::fast().eps_tol,
+        "ε {e1} vs {e0}"
+    );
+    let spacing = req.spacing(&region);
+    let omega = region.polygonize(1e-4 * spacing);
+    let energy = |z: &[geometry::DVec2]| {
+        let del = tessellation::Delaunay::new(z);
+        tessellation::clipped_cells(z, &del, &omega, &geometry::Density::Uniform).energy()
+    };
+    let (en0, en1) = (energy(&g0.points), energy(&g1.points));
+    assert!(en1 < en0 * 1.002, "energy over Ω {en1} vs {en0}");
+}
