@@ -304,11 +304,11 @@ fn moved_to(phase: &Phase, z: DVec2, x: DVec2, dof: Dof, tan: &[Tangent], target
         Dof::Fixed => target,
         Dof::Free if phase.inside.contains(p) => p,
         Dof::Free => target,
+        // Along the piece, but not past a bend of a sampled piece (see `newton_move`).
         Dof::Tangent(n) if p.is_finite() => {
-            phase
-                .region
-                .project_onto_piece(p, tan[n as usize].piece)
-                .point
+            let piece = tan[n as usize].piece;
+            let q = phase.region.project_onto_piece(p, piece).point;
+            phase.region.chain_vertex_between(z, q, piece).unwrap_or(q)
         }
         Dof::Tangent(..) => target,
     }
@@ -400,9 +400,16 @@ fn newton_move(
             }
             match s.roles[i] {
                 Role::Corner(_) => Dof::Fixed,
+                // At a bend of a sampled piece, or with one between it and its Lloyd target,
+                // the energy along the piece has a kink that a Newton step oversteps (bike_seat
+                // at 10⁴: a generator swung across a chain vertex for 1100 steps): Lloyd's
+                // projection instead.
                 Role::Boundary(j) => {
                     let bp = region.project_onto_piece(p, j);
-                    if bp.distance <= 1e-9 * phase.spacing && bp.corner.is_none() {
+                    if bp.distance <= 1e-9 * phase.spacing
+                        && bp.corner.is_none()
+                        && region.chain_vertex_between(p, s.targets[i], j).is_none()
+                    {
                         Dof::Tangent(0)
                     } else {
                         Dof::Fixed

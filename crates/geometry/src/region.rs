@@ -196,6 +196,32 @@ impl Region {
         let hit = self.index.nearest_on_piece(&self.pieces, p, piece);
         self.boundary_point(p, &hit, Some(piece))
     }
+    /// The first interior vertex of a sampled piece (`Piece::Chain`) met going along piece
+    /// `piece` from the nearest point of `a` to that of `b`, a vertex at `a`'s own nearest point
+    /// included. The piece bends there, so the energy along it has a kink: a generator moved
+    /// along its tangent must stop at the vertex. None for the other (smooth) pieces.
+    ///
+    /// # Panics
+    /// If `piece` is not a valid piece id.
+    pub fn chain_vertex_between(&self, a: DVec2, b: DVec2, piece: PieceId) -> Option<DVec2> {
+        let Piece::Chain(pts) = &self.pieces[piece] else {
+            return None;
+        };
+        // Chain parameters: segment index + t; vertex i is at parameter i.
+        let param = |p| self.index.nearest_on_piece(&self.pieces, p, piece).aux;
+        let (sa, sb) = (param(a), param(b));
+        let interior = |i: f64| (i >= 1.0 && (i as usize) + 1 < pts.len()).then(|| pts[i as usize]);
+        if (sa - sa.round()).abs() <= 1e-9 {
+            return interior(sa.round());
+        }
+        if sb > sa && sa.ceil() < sb {
+            interior(sa.ceil())
+        } else if sb < sa && sa.floor() > sb {
+            interior(sa.floor())
+        } else {
+            None
+        }
+    }
     /// Straight-edged approximation with chord error ≤ `tol`; corners are kept as vertices.
     ///
     /// Every piece junction is a vertex (so corners are exact vertices); `tol` is clamped

@@ -254,3 +254,35 @@ fn corner_angle_threshold_merges_nearly_straight_junctions() {
         .iter()
         .any(|p| matches!(p, geometry::Piece::Chain(_))));
 }
+
+#[test]
+fn chain_vertex_between_finds_the_first_bend_on_the_way() {
+    let seat = Region::builtin("bike_seat").unwrap();
+    let (j, pts) = seat
+        .pieces()
+        .iter()
+        .enumerate()
+        .find_map(|(j, p)| match p {
+            geometry::Piece::Chain(pts) => Some((j, pts.clone())),
+            _ => None,
+        })
+        .expect("bike_seat's curves are sampled chains");
+    let mid = |i: usize| 0.5 * (pts[i] + pts[i + 1]);
+    let v = |a, b| seat.chain_vertex_between(a, b, j);
+    // Going forward from segment 9 to segment 11 the first vertex is 10; backward it is 11.
+    assert_eq!(v(mid(9), mid(11)), Some(pts[10]));
+    assert_eq!(v(mid(11), mid(9)), Some(pts[11]));
+    // Within one segment there is none; at a vertex, that vertex.
+    assert_eq!(v(mid(9), 0.7 * pts[9] + 0.3 * pts[10]), None);
+    assert_eq!(v(pts[10], pts[10]), Some(pts[10]));
+    assert_eq!(v(pts[10], mid(12)), Some(pts[10]));
+    // Off-piece points count by their nearest point on it.
+    let n = (pts[10] - pts[9]).perp().normalize() * 1e-3;
+    assert_eq!(v(mid(9) + n, mid(11) - n), Some(pts[10]));
+    // The chain's end points are junctions, not bends of the piece.
+    assert_eq!(v(pts[0], mid(0)), None);
+    // Smooth pieces have no such vertices.
+    let circle = Region::builtin("circle").unwrap();
+    let q = |t: f64| DVec2::new(t.cos(), t.sin());
+    assert_eq!(circle.chain_vertex_between(q(0.1), q(2.0), 0), None);
+}
