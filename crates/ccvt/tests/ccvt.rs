@@ -443,3 +443,24 @@ fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
     let (en0, en1) = (energy(&g0.points), energy(&g1.points));
     assert!(en1 < en0 * 1.002, "energy over Ω {en1} vs {en0}");
 }
+
+/// Regression: bike_seat's curves are sampled chains. Where a boundary generator's Lloyd
+/// target lay across a chain vertex, Newton's tangent step swung it across and back (the energy
+/// along the piece has a kink there): the constrained phase took 97–131 evaluations at these
+/// sizes (551 at K = 3000), now 38–49.
+#[test]
+fn bends_of_sampled_pieces_do_not_stall_newton() {
+    let region = Region::builtin("bike_seat").unwrap();
+    for (k, seed) in [(1000, 1), (1000, 2), (2000, 1)] {
+        let req = MeshRequest::points(k).seed(seed).tol(1e-4).max_iter(3000);
+        let mut last_phase = 0;
+        let r = Ccvt::fast()
+            .mesh(&region, &req, &mut |p| last_phase = p.iteration)
+            .unwrap();
+        assert_ccvt_properties(&region, &r, k);
+        assert!(
+            last_phase < 70,
+            "K = {k}, seed {seed}: constrained phase took {last_phase}"
+        );
+    }
+}
