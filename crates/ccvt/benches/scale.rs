@@ -239,7 +239,6 @@ fn table_converge(args: &Args, solver: Solver) {
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
-            // Newton is `Ccvt::fast` (with its first ε); the others start ε at 0.
             let m = match solver {
                 Solver::Newton => Ccvt::fast(),
                 _ => Ccvt {

@@ -27,4 +27,4 @@ mod sublevel;
 
 pub use init::{initial_points, Init};
 pub use iterate::Profile;
-pub use method::{Algorithm, Ccvt, Generators, Solver, EPS_START_FAST};
+pub use method::{Algorithm, Ccvt, Generators, Solver};

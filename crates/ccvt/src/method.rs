@@ -57,9 +57,12 @@ pub struct Ccvt {
     /// neighbours, updating the triangulation and cells around them (active-set steps, module
     /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
     pub active_from: usize,
-    /// Algorithm 2's first ε, relative to the spacing. The paper sets ε = 0; any start gives an ε
-    /// that settles to `eps_tol`, but the CVT of Ω itself (ε = 0) only serves to estimate ε
-    /// and its boundary layer must then relax a second time.
+    /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
+    /// near the settled ε (0.68–0.75 of the spacing in all ten regions at 10³–10⁵ generators)
+    /// skips the CVT of Ω itself: Newton at circle 10⁵ 2.4–2.8 → 2.0–2.2 s (seeds 1–6) with
+    /// ~0.01 % less energy, but its meshes' worst cells are worse (γ, χ, β 1.2–1.3× at circle
+    /// 10⁵, seeds 1–6), so it is not the default (at the study's K it is the other way round:
+    /// CCVT-fast's best values 37 → 50 of 142).
     pub eps_start: f64,
 }
 
@@ -92,12 +95,10 @@ impl Ccvt {
         Ccvt::default()
     }
     /// Algorithm 2 with Newton's method: the fast solver (6–19× fewer energy evaluations
-    /// than Lloyd on the circle and the lake from 10³ to 10⁵ generators, see the README). It
-    /// starts ε at [`EPS_START_FAST`] of the spacing instead of 0.
+    /// than Lloyd on the circle and the lake from 10³ to 10⁵ generators, see the README).
     pub fn fast() -> Self {
         Ccvt {
             solver: Solver::Newton,
-            eps_start: EPS_START_FAST,
             ..Ccvt::default()
         }
     }
@@ -109,12 +110,6 @@ impl Ccvt {
         }
     }
 }
-
-/// First ε of [`Ccvt::fast`], relative to the spacing: ε settled at 0.68–0.75 of the spacing in
-/// all ten regions at 10³–10⁵ generators (uniform density). Skipping the CVT of Ω took circle
-/// 10⁵ from 2.4–2.8 s to 2.0–2.2 s and lake 10⁵ from 3.8–4.3 s to 3.4–3.9 s (seeds 1–6), with
-/// energies over Ω 0.01–0.02 % lower and ~2 % fewer boundary generators.
-pub const EPS_START_FAST: f64 = 0.69;
 
 /// Converged (or capped) generators with their boundary markers, before triangulation.
 #[derive(Clone, Debug)]

@@ -407,7 +407,7 @@ fn settled_epsilon(notes: &[String]) -> f64 {
     rel.parse().unwrap()
 }
 
-/// Starting ε near its settled value (as `Ccvt::fast` does) skips the CVT of Ω itself: fewer
+/// Starting ε near its settled value (`Ccvt::eps_start`) skips the CVT of Ω itself: fewer
 /// phases, the same settled ε within a few tolerances, and an energy as low.
 #[test]
 fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
@@ -428,7 +428,7 @@ fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
         (phases, settled_epsilon(&g.notes), g)
     };
     let (p0, e0, g0) = from(0.0);
-    let (p1, e1, g1) = from(ccvt::EPS_START_FAST);
+    let (p1, e1, g1) = from(0.69);
     assert!(p1 < p0, "phases from 0.69: {p1}, from 0: {p0}");
     assert!(
         (e1 - e0).abs() < 3.0 * Ccvt::fast().eps_tol,
