@@ -52,17 +52,17 @@ pub struct Ccvt {
     /// request's tolerance if that is looser: they only serve to estimate ε to `eps_tol`.
     /// The final constrained phase always uses the request's tolerance.
     pub eps_phase_tol: f64,
-    /// Newton only: from this many generators on, once at most 1 % of them are defects (moves
-    /// above a tenth of the largest), steps move only the defects and two rings of their
+    /// Newton only: from this many generators on, once at most 1 % of them move more than the
+    /// tolerance, steps move only the defects (the largest moves) and two rings of their
     /// neighbours, updating the triangulation and cells around them (active-set steps, module
     /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
     pub active_from: usize,
     /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
     /// near the settled ε (0.68–0.75 of the spacing in all ten regions at 10³–10⁵ generators)
-    /// skips the CVT of Ω itself: Newton at circle 10⁵ 2.4–2.8 → 2.0–2.2 s (seeds 1–6) with
-    /// ~0.01 % less energy, but its meshes' worst cells are worse (γ, χ, β 1.2–1.3× at circle
-    /// 10⁵, seeds 1–6), so it is not the default (at the study's K it is the other way round:
-    /// CCVT-fast's best values 37 → 50 of 142).
+    /// skips the CVT of Ω itself: Newton at circle 10⁵ took ~15 % less time (seeds 1–6) with
+    /// ~0.01 % less energy, but its meshes' worst cells were worse (γ, χ, β 1.2–1.3×), so it is
+    /// not the default (at the study's K it is the other way round: CCVT-fast's best values
+    /// 37 → 50 of 142).
     pub eps_start: f64,
 }
 
