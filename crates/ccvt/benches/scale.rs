@@ -7,9 +7,9 @@
 //! - TABLES (default `iter converge anderson`):
 //!   - `iter`: one iteration split into its phases, against spade's `bulk_load` of the same
 //!     points (best of 3);
-//!   - `converge` / `fast` / `newton`: Algorithm 2 with Lloyd / Anderson / Newton (`Ccvt::fast`)
-//!     to the default tolerance (largest move < 1e-4 of the mean spacing), iterations per
-//!     phase, seconds, time split, peak RSS;
+//!   - `converge` / `fast` / `newton`: Algorithm 2 with Lloyd / Anderson / Newton to the default
+//!     tolerance (largest move < 1e-4 of the mean spacing), iterations per phase, seconds, time
+//!     split, peak RSS;
 //!   - `anderson`: Lloyd against Anderson (Algorithms 1 and 2);
 //!   - `c2f`: Algorithm 2 from a refined coarse solution (vertices and edge midpoints of the
 //!     CCVT mesh of about K/4 generators) against the lattice start at the same K.
@@ -239,12 +239,9 @@ fn table_converge(args: &Args, solver: Solver) {
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
-            let m = match solver {
-                Solver::Newton => Ccvt::fast(),
-                _ => Ccvt {
-                    solver,
-                    ..Ccvt::algorithm2()
-                },
+            let m = Ccvt {
+                solver,
+                ..Ccvt::algorithm2()
             };
             let r = solve(&m, &region, k, args.seed);
             let p = r.g.profile;
