@@ -98,6 +98,15 @@ impl Work {
         }
     }
 
+    /// Keep the triangulation (and the memory) for the next phase, on `domain`: its first
+    /// evaluation then repairs the triangulation of the previous phase's last iterate instead of
+    /// building one afresh.
+    pub(crate) fn retarget(&mut self, domain: &Polygon) {
+        let (lo, hi) = domain.bbox();
+        self.del.set_frame_box(lo, hi);
+        self.grid = None;
+    }
+
     /// The triangulation, the cells and the domain's grid for partial cell and Hessian updates
     /// (built as a full cells pass builds it, so updated cells are bit-identical).
     pub(crate) fn parts(&mut self, domain: &Polygon) -> (&Delaunay, &mut Cells, &DomainGrid) {
@@ -141,8 +150,6 @@ pub struct Phase<'a> {
 pub struct PhaseResult {
     pub z: Vec<DVec2>,
     pub roles: Vec<Role>,
-    /// Cells of the last iterate that was tessellated (for ε of Algorithm 2).
-    pub cells: Cells,
     pub iterations: usize,
     pub converged: bool,
 }
@@ -329,11 +336,13 @@ pub(crate) fn record(
 
 /// Iterate the map of `step` from `z` until the largest move is below tol·spacing or the cap.
 /// Energies and relative moves of every iteration are appended to the trace's histories.
-pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
+/// `work` holds the triangulation and cells of the last iterate tessellated (kept for the next
+/// phase, and for ε of Algorithm 2).
+pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace) -> PhaseResult {
     let mut anderson = match phase.solver {
         Solver::Lloyd => None,
         Solver::Anderson { depth } => Some(Anderson::new(depth)),
-        Solver::Newton => return crate::newton::run(phase, z, trace),
+        Solver::Newton => return crate::newton::run(phase, z, work, trace),
     };
     // The last plain Lloyd step and the energy at the iterate it came from, to fall back on if
     // acceleration overshoots.
@@ -341,9 +350,8 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
     let mut prev_roles: Vec<Role> = Vec::new();
     let mut mixed: Vec<DVec2> = Vec::new();
     let mut iterations = 0;
-    let mut work = Work::new(phase.domain);
     loop {
-        let s = step(phase, &z, &mut work, &mut trace.prof);
+        let s = step(phase, &z, work, &mut trace.prof);
         iterations += 1;
         if let (Some(aa), Some(&(_, e_prev))) = (anderson.as_mut(), fallback.as_ref()) {
             if s.energy > e_prev * (1.0 + 1e-12) {
@@ -352,11 +360,10 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
                 trace.prof.rejected += 1;
                 z = fallback.take().expect("checked above").0;
                 if iterations >= phase.max_iter {
-                    let s = step(phase, &z, &mut work, &mut trace.prof);
+                    let s = step(phase, &z, work, &mut trace.prof);
                     return PhaseResult {
                         z,
                         roles: s.roles,
-                        cells: work.cells,
                         iterations,
                         converged: false,
                     };
@@ -372,7 +379,6 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
             return PhaseResult {
                 z: targets,
                 roles,
-                cells: work.cells,
                 iterations,
                 converged,
             };

@@ -1,6 +1,6 @@
 //! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
 use crate::init::{initial_points, Init};
-use crate::iterate::{run, Phase, Profile, Role, Trace};
+use crate::iterate::{run, Phase, Profile, Role, Trace, Work};
 use crate::sublevel::Sublevel;
 use geometry::Region;
 use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
@@ -174,6 +174,8 @@ impl Ccvt {
             prof: Profile::default(),
         };
         let solver = self.solver;
+        // One triangulation, repaired from phase to phase.
+        let mut work = Work::new(&omega);
         // Squares of about three spacings: most generators are answered by the grid.
         let in_region = Sublevel::new(region, 0.0, 3.0 * spacing);
         // A point of Ω_ε's polygon (chord error ≤ tol_poly) if closer than ε − 2·tol_poly.
@@ -211,6 +213,7 @@ impl Ccvt {
                     let r = run(
                         &phase(common, &omega, &in_domain(0.0), false, request.tol),
                         z,
+                        &mut work,
                         &mut trace,
                     );
                     iterations += r.iterations;
@@ -227,6 +230,7 @@ impl Ccvt {
                 }
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
+                    work.retarget(&domain);
                     let r = run(
                         &phase(
                             common,
@@ -236,12 +240,13 @@ impl Ccvt {
                             request.tol.max(self.eps_phase_tol),
                         ),
                         z,
+                        &mut work,
                         &mut trace,
                     );
                     iterations += r.iterations;
                     converged &= r.converged;
                     z = r.z;
-                    let boundary: Vec<f64> = r
+                    let boundary: Vec<f64> = work
                         .cells
                         .cells
                         .iter()
@@ -266,9 +271,11 @@ impl Ccvt {
             }
         };
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
+        work.retarget(&final_domain);
         let r = run(
             &phase(common, &final_domain, &in_region, true, request.tol),
             z,
+            &mut work,
             &mut trace,
         );
         iterations += r.iterations;

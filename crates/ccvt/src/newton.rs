@@ -144,11 +144,10 @@ struct Buffers {
 }
 
 /// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
-pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
-    let mut work = Work::new(phase.domain);
+pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace) -> PhaseResult {
     let mut buf = Buffers::default();
     let mut sigma = SIGMA_START;
-    let mut s = step(phase, &z, &mut work, &mut trace.prof);
+    let mut s = step(phase, &z, work, &mut trace.prof);
     let mut iterations = 1;
     // In a cleanup by active-set steps: the fewest generators above the tolerance seen, and the
     // steps since that count last fell (None after any other step).
@@ -159,7 +158,6 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
             return PhaseResult {
                 z: s.targets,
                 roles: s.roles,
-                cells: work.cells,
                 iterations,
                 converged: mv < phase.tol,
             };
@@ -168,7 +166,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
         // active-set steps continue while the count above the tolerance falls (with patience).
         let room = iterations + 3 <= phase.max_iter;
         if let Some(a) = room
-            .then(|| active::active_set(phase, &z, &s, &work, mv))
+            .then(|| active::active_set(phase, &z, &s, work, mv))
             .flatten()
             .filter(|a| {
                 !a.cleanup
@@ -184,7 +182,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
                 phase,
                 &mut z,
                 &mut s,
-                &mut work,
+                work,
                 &mut buf,
                 &mut sigma,
                 &a.set,
@@ -200,12 +198,12 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
             if sigma >= SIGMA_LLOYD {
                 sigma *= 0.5;
             }
-            (z, s) = lloyd(phase, s, &mut work, &mut trace.prof);
+            (z, s) = lloyd(phase, s, work, &mut trace.prof);
             iterations += 1;
             continue;
         }
-        let candidate = newton_point(phase, &z, &s, &work, &mut buf, &mut sigma, &mut trace.prof);
-        let next = step(phase, &candidate, &mut work, &mut trace.prof);
+        let candidate = newton_point(phase, &z, &s, work, &mut buf, &mut sigma, &mut trace.prof);
+        let next = step(phase, &candidate, work, &mut trace.prof);
         iterations += 1;
         if next.energy < s.energy {
             z = candidate;
@@ -214,7 +212,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, trace: &mut Trace) -> PhaseResult {
         } else {
             trace.prof.rejected += 1;
             sigma = (sigma * 4.0).min(SIGMA_MAX);
-            (z, s) = lloyd(phase, s, &mut work, &mut trace.prof);
+            (z, s) = lloyd(phase, s, work, &mut trace.prof);
             iterations += 1;
         }
     }

@@ -79,6 +79,18 @@ impl Delaunay {
         d
     }
 
+    /// Where cells are wanted from now on (a framed triangulation's next domain, e.g. the next
+    /// phase of an iteration): the next fresh build frames this box; the current frame stays
+    /// while the box lies within its safe disc, else the next rebuild triangulates afresh.
+    pub fn set_frame_box(&mut self, lo: DVec2, hi: DVec2) {
+        self.frame_box = Some((lo, hi));
+        let (c, r) = self.frame_safe;
+        let corners = [lo, hi, DVec2::new(lo.x, hi.y), DVec2::new(hi.x, lo.y)];
+        if self.framed > 0 && corners.iter().any(|p| p.distance(c) > r) {
+            self.flippable = false;
+        }
+    }
+
     /// The canonical ring key of vertex `u`: its input index; frame vertices come last.
     fn key(&self) -> impl Fn(u32) -> u32 + Sync + '_ {
         let nv = self.point_of_vertex.len();

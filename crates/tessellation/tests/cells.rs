@@ -958,3 +958,37 @@ fn a_ring_that_outgrows_its_room_is_moved() {
     assert!(before < 8, "{before} neighbours before");
     assert_eq!(framed.neighbors(16).len(), 16);
 }
+
+/// A framed triangulation kept for a new domain: a slightly larger box keeps repairing by flips,
+/// one beyond the frame's safe disc makes the next rebuild fresh; the cells on the new domain
+/// are the frameless ones either way.
+#[test]
+fn frame_box_moved_to_a_new_domain_keeps_the_cells_exact() {
+    let mut rng = Rng::new(11);
+    let pts: Vec<DVec2> = (0..400)
+        .map(|_| v(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
+        .collect();
+    let check = |del: &Delaunay, dom: &Polygon| {
+        let got = clipped_cells(&pts, del, dom, &Density::Uniform);
+        let want = cells_of(&pts, dom);
+        for (i, (g, w)) in got.cells.iter().zip(&want.cells).enumerate() {
+            assert!((g.area - w.area).abs() <= 1e-12, "cell {i}: {g:?} vs {w:?}");
+            assert!(g.centroid.distance(w.centroid) <= 1e-12, "cell {i}");
+        }
+    };
+    let mut del = Delaunay::framed(v(0.0, 0.0), v(1.0, 1.0));
+    del.rebuild(&pts);
+    assert!(!del.flipped(), "the first build is fresh");
+    // Ω_ε-like growth: within the safe disc (one box diagonal around the centre).
+    let grown = square(-0.05, 1.05);
+    del.set_frame_box(v(-0.05, -0.05), v(1.05, 1.05));
+    del.rebuild(&pts);
+    assert!(del.flipped(), "a box inside the safe disc keeps the triangulation");
+    check(&del, &grown);
+    // Far beyond it: the next rebuild triangulates afresh, with a frame around the new box.
+    let far = square(-3.0, 4.0);
+    del.set_frame_box(v(-3.0, -3.0), v(4.0, 4.0));
+    del.rebuild(&pts);
+    assert!(!del.flipped(), "a box beyond the safe disc forces a fresh build");
+    check(&del, &far);
+}
