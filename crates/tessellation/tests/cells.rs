@@ -983,12 +983,18 @@ fn frame_box_moved_to_a_new_domain_keeps_the_cells_exact() {
     let grown = square(-0.05, 1.05);
     del.set_frame_box(v(-0.05, -0.05), v(1.05, 1.05));
     del.rebuild(&pts);
-    assert!(del.flipped(), "a box inside the safe disc keeps the triangulation");
+    assert!(
+        del.flipped(),
+        "a box inside the safe disc keeps the triangulation"
+    );
     check(&del, &grown);
     // Far beyond it: the next rebuild triangulates afresh, with a frame around the new box.
     let far = square(-3.0, 4.0);
     del.set_frame_box(v(-3.0, -3.0), v(4.0, 4.0));
     del.rebuild(&pts);
-    assert!(!del.flipped(), "a box beyond the safe disc forces a fresh build");
+    assert!(
+        !del.flipped(),
+        "a box beyond the safe disc forces a fresh build"
+    );
     check(&del, &far);
 }
