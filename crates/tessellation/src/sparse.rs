@@ -79,30 +79,6 @@ impl BlockMatrix {
             })
     }
 
-    /// Row `i` of `A x` for a matrix whose diagonal blocks are the identity (after
-    /// [`BlockMatrix::scale`] by their Cholesky factors): `diag` is not read.
-    pub fn row_times_unit_diagonal(&self, i: usize, x: &[DVec2]) -> DVec2 {
-        let r = self.row_start[i]..self.row_start[i + 1];
-        self.col[r.clone()]
-            .iter()
-            .zip(&self.block[r])
-            .fold(x[i], |s, (&j, b)| s + b.as_dmat2() * x[j as usize])
-    }
-
-    /// A ← S A Sᵀ for the block diagonal S = diag(`s`): block (i, j) becomes s_i A_ij s_jᵀ.
-    pub fn scale(&mut self, s: &[DMat2]) {
-        assert_eq!(s.len(), self.rows(), "one scaling block per row");
-        self.par_rows_mut(
-            || (),
-            |_, i, diagonal, col, block| {
-                for (&j, b) in col.iter().zip(block.iter_mut()) {
-                    *b = (s[i] * b.as_dmat2() * s[j as usize].transpose()).as_mat2();
-                }
-                *diagonal = s[i] * *diagonal * s[i].transpose();
-            },
-        );
-    }
-
     /// `out = A x` (parallel over rows).
     pub fn mul_vec(&self, x: &[DVec2], out: &mut [DVec2]) {
         out.par_iter_mut()
@@ -162,61 +138,4 @@ pub fn dot(a: &[DVec2], b: &[DVec2]) -> f64 {
         .map(|(a, b)| a.iter().zip(b).map(|(p, q)| p.dot(*q)).sum())
         .collect();
     partial.iter().sum()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Two rows coupled both ways, with a diagonal that is not the identity.
-    fn pair() -> BlockMatrix {
-        let d0 = DMat2::from_cols(DVec2::new(4.0, 1.0), DVec2::new(1.0, 3.0));
-        let d1 = DMat2::from_cols(DVec2::new(2.0, -0.5), DVec2::new(-0.5, 5.0));
-        let b = DMat2::from_cols(DVec2::new(-1.0, 0.25), DVec2::new(0.5, -2.0));
-        BlockMatrix {
-            row_start: vec![0, 1, 2],
-            col: vec![1, 0],
-            block: vec![b.as_mat2(), b.transpose().as_mat2()],
-            diag: vec![d0, d1],
-        }
-    }
-
-    #[test]
-    fn scaling_is_s_a_st_and_undone_by_the_inverse() {
-        let a = pair();
-        let s = [
-            DMat2::from_cols(DVec2::new(0.5, -0.2), DVec2::new(0.0, 0.7)),
-            DMat2::from_cols(DVec2::new(1.5, 0.3), DVec2::new(0.0, 0.4)),
-        ];
-        let mut b = a.clone();
-        b.scale(&s);
-        for i in 0..2 {
-            for j in 0..2 {
-                let want = s[i] * a.get(i, j) * s[j].transpose();
-                assert!(b.get(i, j).abs_diff_eq(want, 1e-6), "block ({i},{j})");
-            }
-        }
-        b.scale(&s.map(|m| m.inverse()));
-        for i in 0..2 {
-            for j in 0..2 {
-                assert!(
-                    b.get(i, j).abs_diff_eq(a.get(i, j), 1e-5),
-                    "block ({i},{j})"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn unit_diagonal_product_skips_only_the_diagonal() {
-        let mut a = pair();
-        let x = [DVec2::new(1.0, -2.0), DVec2::new(0.5, 3.0)];
-        let full = a.row_times(0, &x);
-        let unit = a.row_times_unit_diagonal(0, &x);
-        assert_eq!(full - a.diag[0] * x[0], unit - x[0]);
-        a.diag = vec![DMat2::IDENTITY; 2];
-        for i in 0..2 {
-            assert_eq!(a.row_times(i, &x), a.row_times_unit_diagonal(i, &x));
-        }
-    }
 }
