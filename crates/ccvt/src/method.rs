@@ -153,6 +153,38 @@ impl Ccvt {
         &self,
         region: &Region,
         request: &MeshRequest,
+        z: Vec<geometry::DVec2>,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Generators, MeshError> {
+        if rayon::current_thread_index().is_some() {
+            return self.solve(region, request, z, progress);
+        }
+        // The solve runs on rayon's pool, not on the calling thread: from outside the pool each
+        // of its many parallel passes hands its work over and puts the caller to sleep until it
+        // is done (circle 10⁵, the same iterates: 3.06 → 2.66 s). `progress` stays on the
+        // caller's thread, fed through a channel.
+        let (tx, rx) = std::sync::mpsc::channel();
+        let mut out = None;
+        rayon::in_place_scope(|s| {
+            let out = &mut out;
+            s.spawn(move |_| {
+                *out = Some(self.solve(region, request, z, &mut |p| {
+                    // The receiver outlives the solve (it drains until this sender drops).
+                    let _ = tx.send(p);
+                }));
+            });
+            for p in rx {
+                progress(p);
+            }
+        });
+        out.expect("the scope waits for the solve")
+    }
+
+    /// [`Ccvt::generators_from`] on the current thread.
+    fn solve(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
         mut z: Vec<geometry::DVec2>,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {

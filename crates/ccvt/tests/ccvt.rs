@@ -464,3 +464,33 @@ fn bends_of_sampled_pieces_do_not_stall_newton() {
         );
     }
 }
+
+/// Called from outside rayon's pool, the solve is handed to the pool; the progress callback
+/// still runs on the caller's thread, with the same reports in the same order, and the result is
+/// the same bits as a solve started on the pool itself.
+#[test]
+fn solve_on_the_pool_reports_progress_on_the_callers_thread() {
+    let region = Region::builtin("lake").unwrap();
+    let req = MeshRequest::points(300).seed(2);
+    let caller = std::thread::current().id();
+    let mut reports = Vec::new();
+    let outside = Ccvt::fast()
+        .generators(&region, &req, &mut |p| {
+            assert_eq!(std::thread::current().id(), caller);
+            reports.push((p.iteration, p.energy));
+        })
+        .unwrap();
+    let mut on_pool = Vec::new();
+    let inside = rayon::scope(|_| {
+        assert!(rayon::current_thread_index().is_some());
+        Ccvt::fast()
+            .generators(&region, &req, &mut |p| {
+                on_pool.push((p.iteration, p.energy))
+            })
+            .unwrap()
+    });
+    assert!(reports.len() > 10);
+    assert_eq!(reports, on_pool);
+    assert_eq!(outside.points, inside.points);
+    assert_eq!(outside.energy_history, inside.energy_history);
+}
