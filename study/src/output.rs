@@ -1,6 +1,5 @@
 //! Files under the output directory: atomic writes and where each artefact lives.
 use crate::{MethodId, StudyError};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// `DIR/csv/metrics.csv`.
@@ -56,19 +55,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
-        .and_then(|_| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(StudyError::io(path, e));
-    }
-    Ok(())
+    mesh::io::write_atomic(path, bytes).map_err(|e| StudyError::io(path, e))
 }
 
 /// Create a directory and its parents.

@@ -297,10 +297,36 @@ impl fmt::Display for F {
 /// A file's contents, produced into a writer.
 pub(crate) type Producer<'a> = Box<dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a>;
 
+/// A fresh temporary path beside `target` (hidden, unique per process and call), or None if
+/// `target` has no file name.
+fn temp_beside(target: &Path) -> Option<PathBuf> {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let name = target.file_name()?;
+    Some(target.with_file_name(format!(
+        ".{}.{}.{}.tmp",
+        name.to_string_lossy(),
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    )))
+}
+
+/// Write `bytes` to `path` through a temporary file beside it and a rename: a reader never
+/// sees a partial file, and a failure leaves the previous file (if any) and no temporary file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = temp_beside(path)
+        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"))?;
+    let result = File::create(&tmp)
+        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
+        .and_then(|_| fs::rename(&tmp, path));
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
 /// Write every file to a temp file beside its target, and only when all of them are complete
 /// rename them into place: a failure leaves no partial (or missing-partner) output behind.
 pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), MeshError> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
     let cleanup = |written: &[(PathBuf, PathBuf)]| {
         for (tmp, _) in written {
@@ -308,16 +334,10 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
         }
     };
     for (target, produce) in jobs {
-        let Some(name) = target.file_name() else {
+        let Some(tmp) = temp_beside(&target) else {
             cleanup(&written);
             return Err(file_err(&target, "not a file name"));
         };
-        let tmp = target.with_file_name(format!(
-            ".{}.{}.{}.tmp",
-            name.to_string_lossy(),
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        ));
         let result = (|| -> std::io::Result<()> {
             let mut w = BufWriter::new(File::create(&tmp)?);
             produce(&mut w)?;
@@ -795,6 +815,23 @@ mod tests {
             .contains("triangle 0"));
         assert_eq!(fs::read(&path).unwrap(), before);
         assert_eq!(dir.files(), ["m.msh"]);
+    }
+
+    #[test]
+    fn atomic_write_replaces_the_file_and_a_failure_leaves_it() {
+        let dir = TempDir::new("atomic");
+        let path = dir.path("t.csv");
+        write_atomic(&path, b"first").unwrap();
+        write_atomic(&path, b"second").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"second");
+        // A directory in the way: the rename fails, and the temporary file goes.
+        let blocked = dir.path("sub");
+        fs::create_dir(&blocked).unwrap();
+        fs::write(blocked.join("x"), b"keep").unwrap();
+        assert!(write_atomic(&blocked, b"x").is_err());
+        assert!(write_atomic(Path::new("/"), b"x").is_err());
+        assert_eq!(fs::read(&path).unwrap(), b"second");
+        assert_eq!(dir.files(), ["sub", "t.csv"]);
     }
 
     #[test]

@@ -32,7 +32,6 @@ mod scene;
 mod svg;
 mod text;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub use colormap::viridis;
@@ -282,29 +281,10 @@ pub fn render_svg(panels: &[Panel], layout: &Layout, path: &Path) -> Result<(), 
 
 /// Write `bytes` to a temporary file in `path`'s directory, then rename it over `path`.
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), RenderError> {
-    let io = |source| RenderError::Io {
+    mesh::io::write_atomic(path, bytes).map_err(|source| RenderError::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let name = path.file_name().ok_or_else(|| {
-        io(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "no file name",
-        ))
-    })?;
-    let tmp = path.with_file_name(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = std::fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
-        .and_then(|_| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io(e));
-    }
-    Ok(())
+    })
 }
 
 #[cfg(test)]
