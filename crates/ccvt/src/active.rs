@@ -3,7 +3,8 @@
 //! re-clips every cell. An active-set step moves only the defects (generators whose move exceeds
 //! `DEFECT_SHARE` of the largest), with `MARGIN_RINGS` rings of Delaunay neighbours, holds
 //! every other one fixed, repairs the triangulation around the moved vertices (flips around
-//! each, or its removal and reinsertion) and recomputes only the cells that changed: O(active) per step instead of O(K).
+//! each, or its removal and reinsertion) and recomputes only the cells that changed:
+//! O(active) per step instead of O(K).
 //!
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.

@@ -117,7 +117,8 @@ impl Delaunay {
 
     /// Move only the points `moved` (input indices) to their positions in `points`; every other
     /// point must be where it was. Each moved vertex is repaired by Lawson flips around it when
-    /// its triangles stay upright, else removed and inserted again: O(its degree) instead of a pass over every edge, for active-set iterations where a few hundred
+    /// its triangles stay upright, else removed and inserted again: O(its degree) instead of a
+    /// pass over every edge, for active-set iterations where a few hundred
     /// of 10⁵–10⁶ generators move. Returns the vertices whose Voronoi cells may have changed
     /// (the moved ones and their neighbours before and after, sorted), or None when the
     /// triangulation is not framed or a move cannot be done locally (a duplicate, a point

@@ -19,9 +19,9 @@ use rayon::prelude::*;
 /// The Hessian of the CVT energy of `points` (triangulated by `del`, cells from
 /// `clipped_cells` on the same `domain` and `density`) written into `out`, with one block row
 /// per Delaunay *vertex* (row and column `v` belong to the point `del.point_of_vertex(v)`; a
-/// duplicate or non-finite point has no row): its diagonal in `diag`, its neighbours in the row. Rows in
-/// vertex order keep the passes cache-friendly. Parallel over rows; the result does not depend
-/// on the thread count.
+/// duplicate or non-finite point has no row): its diagonal in `diag`, its neighbours in the
+/// row. Rows in vertex order keep the passes cache-friendly. Parallel over rows; the result
+/// does not depend on the thread count.
 pub fn energy_hessian(
     del: &Delaunay,
     domain: &Polygon,
