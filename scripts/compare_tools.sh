@@ -13,5 +13,5 @@ if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
   "$venv/bin/pip" install --quiet numpy triangle gmsh distmeshpy
 fi
-cargo build --release -p cli --manifest-path "$top/Cargo.toml"
+cargo build --release -p cvtmesh-cli --manifest-path "$top/Cargo.toml"
 exec "$venv/bin/python" "$here/compare_tools.py" --cvtmesh "$top/target/release/cvtmesh" --domains "$top/domains" --out "$top/results/compare" "$@"

@@ -48,10 +48,10 @@ pub enum StudyError {
     Duplicate(String),
     /// A mesh file could not be read or written.
     #[error(transparent)]
-    Mesh(#[from] mesh::MeshError),
+    Mesh(#[from] cvtmesh::MeshError),
     /// A region could not be loaded.
     #[error(transparent)]
-    Geometry(#[from] geometry::GeometryError),
+    Geometry(#[from] cvtmesh::geometry::GeometryError),
     /// A picture could not be drawn or written.
     #[error(transparent)]
     Render(#[from] render::RenderError),

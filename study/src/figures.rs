@@ -3,8 +3,8 @@
 use crate::output::{figure_png, mesh_png};
 use crate::paper::{table_for, TABLES};
 use crate::{MethodId, StudyError};
-use geometry::Region;
-use mesh::Mesh;
+use cvtmesh::geometry::Region;
+use cvtmesh::Mesh;
 use render::{Layout, Panel};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -134,7 +134,7 @@ mod tests {
         assert_eq!(jobs[0].label(), "circle K=19 refine seed 1");
         assert_eq!(jobs[1].label(), "circle K=19 refine seed 2");
         assert_eq!(jobs[2].label(), "circle K=19 distmesh seed 1");
-        assert_eq!(jobs.last().unwrap().label(), "lake K=1109 ccvt-fast seed 2");
+        assert_eq!(jobs.last().unwrap().label(), "lake K=1109 ccvt seed 2");
         // Same arguments, same list; method order on the command line does not matter.
         let rev: Vec<MethodId> = MethodId::ALL.iter().rev().copied().collect();
         assert_eq!(job_list(&all, &rev, 2), jobs);

@@ -160,7 +160,7 @@ pub fn run_study(
                     r.job.seed,
                 );
                 output::create_dir(base.parent().unwrap_or(&opts.out))?;
-                mesh::io::write_triangle(&o.mesh, &base)?;
+                cvtmesh::io::write_triangle(&o.mesh, &base)?;
             }
             Err(_) => failures.extend(r.failure()),
         }
@@ -230,10 +230,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
                     ));
                     continue;
                 }
-                let mesh = mesh::io::read_triangle(&src)?;
+                let mesh = cvtmesh::io::read_triangle(&src)?;
                 let base = output::mesh_base(out, &r.region, r.K_requested, method, r.seed);
                 output::create_dir(base.parent().unwrap_or(out))?;
-                mesh::io::write_triangle(&mesh, &base)?;
+                cvtmesh::io::write_triangle(&mesh, &base)?;
             }
         }
         parts.push(rows);
@@ -274,7 +274,7 @@ pub fn load_meshes(
             ));
             continue;
         }
-        set.insert((region, k, method), mesh::io::read_triangle(&node)?);
+        set.insert((region, k, method), cvtmesh::io::read_triangle(&node)?);
     }
     Ok(set)
 }

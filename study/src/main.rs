@@ -21,7 +21,7 @@ struct Cli {
     /// Comma-separated regions (default: all ten).
     #[arg(long, value_name = "A,B")]
     regions: Option<String>,
-    /// Comma-separated methods: refine (= triangle), distmesh, meshgen, vtm, ccvt1, ccvt2, ccvt-fast (default: all).
+    /// Comma-separated methods: refine (= triangle), distmesh, meshgen, vtm, ccvt1, ccvt2, ccvt (= ccvt-fast) (default: all).
     #[arg(long, value_name = "X,Y")]
     methods: Option<String>,
     /// Run seeds 1..=N; tables then show mean ± sample std over the seeds.

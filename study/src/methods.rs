@@ -1,6 +1,6 @@
 //! The compared methods: the paper's six columns plus our accelerated CCVT.
 use crate::StudyError;
-use mesh::Mesher;
+use cvtmesh::{Mesher, Method};
 
 /// One column of the tables.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -33,17 +33,22 @@ impl MethodId {
         MethodId::CcvtFast,
     ];
 
-    /// The name on the command line and in the CSV (the mesher's own name).
-    pub fn name(self) -> &'static str {
+    /// The method behind this column.
+    pub fn method(self) -> Method {
         match self {
-            MethodId::Triangle => "refine",
-            MethodId::Distmesh => "distmesh",
-            MethodId::Meshgen => "meshgen",
-            MethodId::Vtm => "vtm",
-            MethodId::Ccvt1 => "ccvt1",
-            MethodId::Ccvt2 => "ccvt2",
-            MethodId::CcvtFast => "ccvt-fast",
+            MethodId::Triangle => Method::Refine,
+            MethodId::Distmesh => Method::Distmesh,
+            MethodId::Meshgen => Method::Meshgen,
+            MethodId::Vtm => Method::Vtm,
+            MethodId::Ccvt1 => Method::Ccvt1,
+            MethodId::Ccvt2 => Method::Ccvt2,
+            MethodId::CcvtFast => Method::Ccvt,
         }
+    }
+
+    /// The name on the command line and in the CSV (the method's own name).
+    pub fn name(self) -> &'static str {
+        self.method().name()
     }
 
     /// Column header in the tables and panel titles in the figures.
@@ -85,19 +90,16 @@ impl MethodId {
         }
     }
 
-    /// Parse a command-line or CSV name, case-insensitively; `triangle` is accepted for
-    /// `refine`, and the paper's column names (`CCVT1`, `CCVT(2)`, …) are accepted too.
+    /// Parse a method name or alias ([`Method`]'s `FromStr`), or one of the paper's column
+    /// names (`CCVT1`, `CCVT(2)`, …), case-insensitively.
     pub fn parse(name: &str) -> Option<MethodId> {
-        let n = name.trim().to_ascii_lowercase();
-        let n = n.replace(['(', ')'], "");
-        let n = if n == "triangle" {
-            "refine".to_string()
-        } else {
-            n
-        };
-        MethodId::ALL
-            .into_iter()
-            .find(|m| m.name() == n || m.column().to_ascii_lowercase().replace(['(', ')'], "") == n)
+        let by_method = name
+            .parse::<Method>()
+            .ok()
+            .and_then(|m| MethodId::ALL.into_iter().find(|id| id.method() == m));
+        let column = |m: MethodId| m.column().to_ascii_lowercase().replace(['(', ')'], "");
+        let n = name.trim().to_ascii_lowercase().replace(['(', ')'], "");
+        by_method.or_else(|| MethodId::ALL.into_iter().find(|&m| column(m) == n))
     }
 
     /// Parse a comma-separated list, keeping column order and dropping repeats.
@@ -123,22 +125,19 @@ impl MethodId {
 
     /// The valid names, comma-separated, for error messages.
     pub fn valid_names() -> String {
-        let mut names: Vec<&str> = MethodId::ALL.iter().map(|m| m.name()).collect();
-        names.push("triangle (= refine)");
+        let names: Vec<String> = MethodId::ALL
+            .iter()
+            .map(|m| match m.method().aliases() {
+                [] => m.name().to_string(),
+                aliases => format!("{} (= {})", m.name(), aliases.join(", ")),
+            })
+            .collect();
         names.join(", ")
     }
 
-    /// The mesher with the settings used in the study (each crate's defaults).
+    /// The mesher with the settings used in the study (each method's defaults).
     pub fn mesher(self) -> Box<dyn Mesher> {
-        match self {
-            MethodId::Triangle => Box::new(refine::Refine::default()),
-            MethodId::Distmesh => Box::new(distmesh::DistMesh::default()),
-            MethodId::Meshgen => Box::new(meshgen::Meshgen),
-            MethodId::Vtm => Box::new(vtm::Vtm),
-            MethodId::Ccvt1 => Box::new(ccvt::Ccvt::algorithm1()),
-            MethodId::Ccvt2 => Box::new(ccvt::Ccvt::algorithm2()),
-            MethodId::CcvtFast => Box::new(ccvt::Ccvt::fast()),
-        }
+        self.method().mesher()
     }
 
     /// A rough relative cost, used only to start expensive jobs first.

@@ -55,7 +55,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
-    mesh::io::write_atomic(path, bytes).map_err(|e| StudyError::io(path, e))
+    cvtmesh::io::write_atomic(path, bytes).map_err(|e| StudyError::io(path, e))
 }
 
 /// Create a directory and its parents.
@@ -90,7 +90,7 @@ mod tests {
         assert_eq!(figure_png(d, 3), Path::new("out/figures/fig_3.png"));
         assert_eq!(
             mesh_png(d, "circle", 88, MethodId::CcvtFast),
-            Path::new("out/figures/meshes/circle_K88_ccvt-fast.png")
+            Path::new("out/figures/meshes/circle_K88_ccvt.png")
         );
         assert_eq!(
             mesh_node(d, "lake", 1109, MethodId::Triangle, 2),

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 pub struct TableSpec {
     /// Table number, 1..=12.
     pub number: u8,
-    /// Built-in region name (`geometry::Region::builtin`).
+    /// Built-in region name (`cvtmesh::geometry::Region::builtin`).
     pub region: &'static str,
     /// The K the paper asked for.
     pub k: usize,

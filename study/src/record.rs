@@ -10,9 +10,9 @@ use std::path::Path;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
-    /// `metrics::measures`.
+    /// `cvtmesh::metrics::measures`.
     Exact,
-    /// `metrics::sampled_measures`.
+    /// `cvtmesh::metrics::sampled_measures`.
     Sampled,
 }
 
@@ -298,7 +298,7 @@ mod tests {
         let bytes = rows_csv(&rows).unwrap();
         let text = String::from_utf8(bytes.clone()).unwrap();
         assert_eq!(text.lines().next().unwrap(), METRICS_HEADER);
-        assert!(text.contains("ccvt-fast,2,sampled,"));
+        assert!(text.contains("ccvt,2,sampled,"));
         let back: Vec<Row> = from_csv(&bytes, "t").unwrap();
         assert_eq!(back, rows);
         assert_eq!(back[0].lambda.to_bits(), rows[0].lambda.to_bits());

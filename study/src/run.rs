@@ -3,9 +3,9 @@ use crate::paper::sample_scale;
 use crate::record::{Failure, Kind, Row};
 use crate::tables::{SAMPLES, SAMPLE_SEED};
 use crate::{Job, StudyError};
-use geometry::Region;
-use mesh::{Mesh, MeshRequest};
-use metrics::SampleParams;
+use cvtmesh::geometry::Region;
+use cvtmesh::metrics::SampleParams;
+use cvtmesh::{Mesh, MeshRequest};
 use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -83,10 +83,11 @@ pub fn run_job(job: &Job, region: &Region) -> Result<JobOutput, String> {
             .mesh(region, &request, &mut |_| {})
             .map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
-        let exact =
-            metrics::measures(&result.mesh, region).map_err(|e| format!("exact measures: {e}"))?;
-        let sampled = metrics::sampled_measures(&result.mesh, region, &sample_params(job.region()))
-            .map_err(|e| format!("sampled measures: {e}"))?;
+        let exact = cvtmesh::metrics::measures(&result.mesh, region)
+            .map_err(|e| format!("exact measures: {e}"))?;
+        let sampled =
+            cvtmesh::metrics::sampled_measures(&result.mesh, region, &sample_params(job.region()))
+                .map_err(|e| format!("sampled measures: {e}"))?;
         let row = |kind, values| {
             Row::new(
                 job.region(),

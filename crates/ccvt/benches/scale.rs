@@ -17,7 +17,7 @@
 //! With no argument the words are read from the environment variable `CCVT_BENCH`.
 //! Peak RSS is VmHWM from /proc/self/status, reset before each run by writing 5 to
 //! /proc/self/clear_refs (Linux ≥ 4.0); where the reset is refused it is the process peak.
-use ccvt::{Algorithm, Ccvt, Generators, Init, Solver};
+use cvtmesh_ccvt::{Algorithm, Ccvt, Generators, Init, Solver};
 use geometry::{DVec2, Density, Region};
 use mesh::{MeshRequest, Mesher};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
@@ -180,7 +180,7 @@ fn table_iter(args: &Args) {
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
-            let pts = ccvt::initial_points(&region, k, Init::Lattice, args.seed);
+            let pts = cvtmesh_ccvt::initial_points(&region, k, Init::Lattice, args.seed);
             let mut ts = f64::INFINITY;
             for _ in 0..3 {
                 let t = Instant::now();
@@ -192,7 +192,7 @@ fn table_iter(args: &Args) {
             let mut peak = 0.0f64;
             let mut best = |iters: usize| {
                 let req = MeshRequest::points(k).seed(args.seed).max_iter(iters);
-                let mut best: Option<ccvt::Profile> = None;
+                let mut best: Option<cvtmesh_ccvt::Profile> = None;
                 for _ in 0..3 {
                     reset_peak_rss();
                     let g = m.generators(&region, &req, &mut |_| {}).expect("solve");
@@ -205,8 +205,8 @@ fn table_iter(args: &Args) {
             };
             let (one, five) = (best(1), best(5));
             let n = (five.evaluations - one.evaluations).max(1) as f64;
-            let next = |f: fn(&ccvt::Profile) -> f64| (f(&five) - f(&one)).max(0.0) / n;
-            let it = next(ccvt::Profile::total);
+            let next = |f: fn(&cvtmesh_ccvt::Profile) -> f64| (f(&five) - f(&one)).max(0.0) / n;
+            let it = next(cvtmesh_ccvt::Profile::total);
             println!(
                 "| {name} | {k} | {ts:.3} | {:.3} | {:.3} | {:.3} | {:.4} | {:.3} | {:.2} | {} of {n} | {:.3} | {:.3} | {it:.3} | {:.2} | {peak:.0} |",
                 one.triangulation,

@@ -342,7 +342,7 @@ impl Mesher for Ccvt {
             (Algorithm::One, Solver::Anderson { .. }) => "ccvt1-anderson",
             (Algorithm::Two, Solver::Anderson { .. }) => "ccvt-anderson",
             (Algorithm::One, Solver::Newton) => "ccvt1-fast",
-            (Algorithm::Two, Solver::Newton) => "ccvt-fast",
+            (Algorithm::Two, Solver::Newton) => "ccvt",
         }
     }
 

@@ -1,5 +1,5 @@
 //! End-to-end properties of CCVT meshes (Algorithms 1 and 2; Lloyd, Anderson and Newton).
-use ccvt::Ccvt;
+use cvtmesh_ccvt::Ccvt;
 use geometry::Region;
 use mesh::{check_conforming, MeshRequest, MeshResult, Mesher, VertexMarker};
 
@@ -134,7 +134,7 @@ fn fast_solver_reaches_lloyds_energy_in_fewer_iterations() {
     let region = Region::builtin("annulus").unwrap();
     let lloyd = run(
         &Ccvt {
-            init: ccvt::Init::Lattice,
+            init: cvtmesh_ccvt::Init::Lattice,
             ..Ccvt::algorithm1()
         },
         &region,
@@ -143,7 +143,7 @@ fn fast_solver_reaches_lloyds_energy_in_fewer_iterations() {
     );
     let fast = run(
         &Ccvt {
-            algorithm: ccvt::Algorithm::One,
+            algorithm: cvtmesh_ccvt::Algorithm::One,
             ..Ccvt::fast()
         },
         &region,
@@ -209,7 +209,7 @@ fn generators_from_the_lattice_equal_generators() {
     let req = MeshRequest::points(287).seed(4).tol(1e-4).max_iter(3000);
     let m = Ccvt::fast();
     let a = m.generators(&region, &req, &mut |_| {}).unwrap();
-    let z = ccvt::initial_points(&region, 287, ccvt::Init::Lattice, 4);
+    let z = cvtmesh_ccvt::initial_points(&region, 287, cvtmesh_ccvt::Init::Lattice, 4);
     // `request.size` is ignored: K is the number of given points.
     let b = m
         .generators_from(
@@ -337,7 +337,7 @@ fn capped_newton_run_stops_at_the_cap() {
     for cap in [2, 3, 7] {
         let req = MeshRequest::points(1109).seed(1).max_iter(cap);
         let r = Ccvt {
-            algorithm: ccvt::Algorithm::One,
+            algorithm: cvtmesh_ccvt::Algorithm::One,
             ..Ccvt::fast()
         }
         .mesh(&region, &req, &mut |_| {})

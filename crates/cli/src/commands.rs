@@ -2,9 +2,9 @@
 use crate::inputs;
 use anyhow::{bail, Result};
 use clap::Args;
-use geometry::Region;
+use cvtmesh::geometry::Region;
+use cvtmesh::{MeshRequest, Size};
 use indicatif::{ProgressBar, ProgressStyle};
-use mesh::{MeshRequest, Size};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -129,7 +129,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
     if result.mesh.num_vertices() <= CHECK_LIMIT {
-        if let Err(e) = mesh::check_conforming(&result.mesh, &region) {
+        if let Err(e) = cvtmesh::check_conforming(&result.mesh, &region) {
             bail!(
                 "{} produced a mesh that does not conform to the region ({e}); nothing written",
                 method.name()
@@ -195,19 +195,19 @@ pub struct MeasureArgs {
 pub fn measure(a: MeasureArgs) -> Result<()> {
     let region = inputs::region(&a.region, None)?;
     let mesh = inputs::mesh(&a.mesh)?;
-    if let Err(e) = mesh::check_conforming(&mesh, &region) {
+    if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
         eprintln!(
             "warning: the mesh does not conform to region '{}': {e}",
             region.name()
         );
     }
-    let m = metrics::measures(&mesh, &region)?;
+    let m = cvtmesh::metrics::measures(&mesh, &region)?;
     let sampled = match a.sampled {
         Some(n) if n > MAX_SAMPLES => bail!("--sampled {n} is more than {MAX_SAMPLES} samples"),
-        Some(n) => Some(metrics::sampled_measures(
+        Some(n) => Some(cvtmesh::metrics::sampled_measures(
             &mesh,
             &region,
-            &metrics::SampleParams {
+            &cvtmesh::metrics::SampleParams {
                 samples: n,
                 seed: 1,
                 scale: a.scale,
@@ -216,7 +216,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         None => None,
     };
     if a.csv {
-        println!("{}", metrics::Measures::csv_header());
+        println!("{}", cvtmesh::metrics::Measures::csv_header());
         println!("{}", m.csv_row());
         if let Some(s) = sampled {
             println!("{}", s.csv_row());
@@ -224,7 +224,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         return Ok(());
     }
     println!("mesh {}  region {}", a.mesh.display(), region.name());
-    let names = metrics::Measures::NAMES;
+    let names = cvtmesh::metrics::Measures::NAMES;
     let values = m.values();
     let svalues = sampled.map(|s| s.values());
     for (i, name) in names.iter().enumerate() {
@@ -285,7 +285,7 @@ pub fn show(a: ShowArgs) -> Result<()> {
     inputs::draw(Some(&mesh), &region, &a.output, &title, colour)
 }
 
-fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
+fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {
     // (min angle in degrees, area, q = R/(2r)), shared with the .vtu writer.
     let pick: fn((f64, f64, f64)) -> f64 = match what {
         "min-angle" => |t| t.0,
@@ -294,7 +294,7 @@ fn triangle_values(mesh: &mesh::Mesh, what: &str) -> Result<Vec<f64>> {
         other => bail!("unknown --colour '{other}'; choose min-angle, q or area"),
     };
     Ok((0..mesh.num_triangles())
-        .map(|t| pick(mesh::io::triangle_quality(mesh.triangle(t))))
+        .map(|t| pick(cvtmesh::io::triangle_quality(mesh.triangle(t))))
         .collect())
 }
 

@@ -1,8 +1,8 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
 use anyhow::{anyhow, bail, Context, Result};
-use geometry::{Density, Region};
-use mesh::{Mesh, Mesher};
+use cvtmesh::geometry::{Density, Region};
+use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
 
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.
@@ -10,7 +10,7 @@ use std::path::Path;
 pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
     let path = Path::new(spec);
     let region = if path.exists() || spec.contains('.') || spec.contains('/') {
-        geometry::formats::read_region(path)?
+        cvtmesh::geometry::formats::read_region(path)?
     } else {
         Region::builtin(spec)?
     };
@@ -25,37 +25,12 @@ pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
 
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.
 pub fn mesh(path: &Path) -> Result<Mesh> {
-    Ok(mesh::io::read_mesh(path)?)
+    Ok(cvtmesh::io::read_mesh(path)?)
 }
-
-/// Method names accepted by `--method`, best first.
-pub const METHODS: &[&str] = &[
-    "ccvt",
-    "ccvt-anderson",
-    "ccvt2",
-    "ccvt1",
-    "distmesh",
-    "meshgen",
-    "vtm",
-    "refine",
-];
 
 /// The mesher behind a `--method` word.
 pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
-    Ok(match name {
-        "ccvt" | "ccvt-fast" => Box::new(ccvt::Ccvt::fast()),
-        "ccvt-anderson" => Box::new(ccvt::Ccvt::anderson()),
-        "ccvt2" => Box::new(ccvt::Ccvt::algorithm2()),
-        "ccvt1" => Box::new(ccvt::Ccvt::algorithm1()),
-        "distmesh" => Box::new(distmesh::DistMesh::default()),
-        "meshgen" => Box::new(meshgen::Meshgen),
-        "vtm" => Box::new(vtm::Vtm),
-        "refine" | "triangle" => Box::new(refine::Refine::default()),
-        other => bail!(
-            "unknown method '{other}'; choose one of: {}",
-            METHODS.join(", ")
-        ),
-    })
+    Ok(name.parse::<Method>()?.mesher())
 }
 
 /// Parse `--density` and check it is finite and non-negative over the region (sampled on a
@@ -64,14 +39,16 @@ pub fn density(expr: Option<&str>, region: &Region) -> Result<Density> {
     let Some(text) = expr else {
         return Ok(Density::Uniform);
     };
-    let d =
-        geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))?;
+    let d = cvtmesh::geometry::expr::density_from_expr(text)
+        .map_err(|e| anyhow!("--density '{text}': {e}"))?;
     let (lo, hi) = region.bbox();
     let n = 200;
     let mut positive = false;
     for i in 0..=n {
         for j in 0..=n {
-            let p = lo + (hi - lo) * geometry::DVec2::new(i as f64 / n as f64, j as f64 / n as f64);
+            let p = lo
+                + (hi - lo)
+                    * cvtmesh::geometry::DVec2::new(i as f64 / n as f64, j as f64 / n as f64);
             if !region.contains(p) {
                 continue;
             }
@@ -113,7 +90,7 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
         "svg" | "png" => draw(Some(mesh), region, path, title, None),
-        _ => Ok(mesh::io::write_mesh(mesh, path)
+        _ => Ok(cvtmesh::io::write_mesh(mesh, path)
             .with_context(|| format!("writing {}", path.display()))?),
     }
 }

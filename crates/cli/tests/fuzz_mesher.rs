@@ -1,17 +1,17 @@
 //! Random small regions through every method: no panic, no hang, and every mesh a method
 //! returns conforms to its region (a method may refuse a region it cannot mesh, with an error).
-use geometry::{DVec2, LoopRole, Piece, Region};
-use mesh::{check_conforming, MeshRequest, Mesher};
+use cvtmesh::geometry::{DVec2, LoopRole, Piece, Region};
+use cvtmesh::{check_conforming, MeshRequest, Mesher};
 use proptest::prelude::*;
 
 fn methods() -> Vec<Box<dyn Mesher>> {
     vec![
-        Box::new(ccvt::Ccvt::fast()),
-        Box::new(ccvt::Ccvt::algorithm1()),
-        Box::new(distmesh::DistMesh::default()),
-        Box::new(meshgen::Meshgen),
-        Box::new(vtm::Vtm),
-        Box::new(refine::Refine::default()),
+        Box::new(cvtmesh::ccvt::Ccvt::fast()),
+        Box::new(cvtmesh::ccvt::Ccvt::algorithm1()),
+        Box::new(cvtmesh::distmesh::DistMesh::default()),
+        Box::new(cvtmesh::meshgen::Meshgen),
+        Box::new(cvtmesh::vtm::Vtm),
+        Box::new(cvtmesh::refine::Refine::default()),
     ]
 }
 

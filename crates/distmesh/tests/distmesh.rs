@@ -1,5 +1,5 @@
 //! End-to-end tests of DistMesh.
-use distmesh::{initial_points, DistMesh};
+use cvtmesh_distmesh::{initial_points, DistMesh};
 use geometry::{Density, Region};
 use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
 

@@ -1,5 +1,5 @@
 //! The ten paper regions: loading, areas, corners, lengths, queries.
-use geometry::{DVec2, Region, Rng};
+use cvtmesh_geometry::{DVec2, Region, Rng};
 
 /// The file's stated values (read at test time from the embedded copy via the JSON text).
 fn stated(name: &str) -> serde_json::Value {
@@ -203,7 +203,7 @@ fn corner_angle_threshold_merges_nearly_straight_junctions() {
     assert!((few.perimeter() - lake.perimeter()).abs() <= 1e-9 * lake.perimeter());
     assert_eq!(few.pieces().len(), few.corners().len());
     // The kept corners are exactly the lake corners turning by more than 30°.
-    let turn = |c: &geometry::Corner, r: &Region| {
+    let turn = |c: &cvtmesh_geometry::Corner, r: &Region| {
         let (t1, t2) = (
             r.pieces()[c.piece_in].end_tangents().1,
             r.pieces()[c.piece_out].end_tangents().0,
@@ -252,7 +252,7 @@ fn corner_angle_threshold_merges_nearly_straight_junctions() {
     assert!(merged
         .pieces()
         .iter()
-        .any(|p| matches!(p, geometry::Piece::Chain(_))));
+        .any(|p| matches!(p, cvtmesh_geometry::Piece::Chain(_))));
 }
 
 #[test]
@@ -263,7 +263,7 @@ fn chain_vertex_between_finds_the_first_bend_on_the_way() {
         .iter()
         .enumerate()
         .find_map(|(j, p)| match p {
-            geometry::Piece::Chain(pts) => Some((j, pts.clone())),
+            cvtmesh_geometry::Piece::Chain(pts) => Some((j, pts.clone())),
             _ => None,
         })
         .expect("bike_seat's curves are sampled chains");

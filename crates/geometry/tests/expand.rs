@@ -1,5 +1,5 @@
 //! Ω_ε (Algorithm 2): exact areas of simple cases, simplicity, distance property.
-use geometry::{DVec2, LoopRole, Piece, Polygon, Region, Rng};
+use cvtmesh_geometry::{DVec2, LoopRole, Piece, Polygon, Region, Rng};
 use std::f64::consts::PI;
 
 fn polyline(pts: &[(f64, f64)]) -> Vec<Piece> {

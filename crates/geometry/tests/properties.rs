@@ -1,6 +1,6 @@
 //! Property tests on random star-shaped regions (with an optional circular hole and an
 //! optional arc edge): rigid-motion invariance, sign and projection consistency, Ω_ε.
-use geometry::{DVec2, LoopRole, Piece, Region};
+use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region};
 use proptest::prelude::*;
 use std::f64::consts::TAU;
 

@@ -1,6 +1,6 @@
 //! Invalid regions and region files give clear errors (never panics); valid oddities are
 //! normalised.
-use geometry::{DVec2, GeometryError, LoopRole, Piece, Region};
+use cvtmesh_geometry::{DVec2, GeometryError, LoopRole, Piece, Region};
 
 fn v(x: f64, y: f64) -> DVec2 {
     DVec2::new(x, y)

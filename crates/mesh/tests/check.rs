@@ -1,6 +1,6 @@
 //! The conformity check catches the ways a mesh can fail its region.
+use cvtmesh_mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
 use geometry::{DVec2, LoopRole, Piece, Region};
-use mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
 
 fn square(lo: f64, hi: f64) -> Vec<DVec2> {
     vec![

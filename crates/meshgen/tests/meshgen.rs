@@ -1,7 +1,7 @@
 //! MESHGEN end to end on the paper's regions.
 mod common;
 use common::*;
-use meshgen::Meshgen;
+use cvtmesh_meshgen::Meshgen;
 
 #[test]
 fn circle_medium_mesh() {

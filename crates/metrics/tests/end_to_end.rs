@@ -1,9 +1,9 @@
 //! Measures of real meshes of real regions: geometry + tessellation + metrics together.
-use geometry::{DVec2, Density, LoopRole, Piece, Region, Rng};
-use mesh::{Mesh, VertexMarker};
-use metrics::{
+use cvtmesh_metrics::{
     measures, measures_from_parts, polygon_tolerance, sampled_measures, Measures, SampleParams,
 };
+use geometry::{DVec2, Density, LoopRole, Piece, Region, Rng};
+use mesh::{Mesh, VertexMarker};
 use std::f64::consts::{FRAC_1_SQRT_2, PI, SQRT_2};
 use tessellation::{clipped_cells, Delaunay};
 

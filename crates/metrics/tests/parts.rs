@@ -1,6 +1,6 @@
 //! `measures_from_parts` on hand-built cells and triangles with hand-worked answers.
+use cvtmesh_metrics::{measures_from_parts, Measures, MetricsError};
 use geometry::DVec2;
-use metrics::{measures_from_parts, Measures, MetricsError};
 use std::f64::consts::{FRAC_1_SQRT_2, PI, SQRT_2};
 use tessellation::{Cell, Cells};
 

@@ -1,7 +1,7 @@
 //! End-to-end tests of the Delaunay refinement (TRIANGLE) method.
+use cvtmesh_refine::Refine;
 use geometry::{Density, Region};
 use mesh::{check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
-use refine::Refine;
 
 fn run(m: &Refine, name: &str, k: usize) -> (Region, MeshResult) {
     let region = Region::builtin(name).unwrap();

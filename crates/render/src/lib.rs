@@ -10,8 +10,8 @@
 //! dark line.
 //!
 //! ```no_run
-//! # fn demo(region: &geometry::Region, mesh: &mesh::Mesh) -> Result<(), render::RenderError> {
-//! use render::{Layout, Panel};
+//! # fn demo(region: &cvtmesh_geometry::Region, mesh: &cvtmesh_mesh::Mesh) -> Result<(), cvtmesh_render::RenderError> {
+//! use cvtmesh_render::{Layout, Panel};
 //! let angles: Vec<f64> = vec![45.0; mesh.num_triangles()];
 //! let panels = [
 //!     Panel::new("region", region),
@@ -19,8 +19,8 @@
 //!     Panel::new("min angle", region).with_mesh(mesh).with_colour(angles, "min angle (°)"),
 //! ];
 //! let layout = Layout::new(3).panel_px(400).title("Figure 3");
-//! render::render_png(&panels, &layout, std::path::Path::new("fig3.png"))?;
-//! render::render_svg(&panels, &layout, std::path::Path::new("fig3.svg"))?;
+//! cvtmesh_render::render_png(&panels, &layout, std::path::Path::new("fig3.png"))?;
+//! cvtmesh_render::render_svg(&panels, &layout, std::path::Path::new("fig3.svg"))?;
 //! # Ok(()) }
 //! ```
 #![forbid(unsafe_code)]

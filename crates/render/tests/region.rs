@@ -1,7 +1,7 @@
 //! The public API on real `Region`s: files written, true aspect ratio, holes left white,
 //! boundary drawn dark.
+use cvtmesh_render::{Layout, Panel, RenderError};
 use geometry::{DVec2, LoopRole, Piece, Region};
-use render::{Layout, Panel, RenderError};
 use tiny_skia::Pixmap;
 
 #[path = "../examples/sample/polar.rs"]
@@ -77,7 +77,7 @@ fn annulus_png_has_white_hole_and_dark_boundary() {
     // Untitled, so all ink is the drawing: a disc whose bounding box gives the mapping.
     let panels = [Panel::new("", &region).with_mesh(&m)];
     let path = temp_path("annulus.png");
-    render::render_png(&panels, &Layout::new(1).panel_px(300), &path).unwrap();
+    cvtmesh_render::render_png(&panels, &Layout::new(1).panel_px(300), &path).unwrap();
     let pix = Pixmap::load_png(&path).unwrap();
     let (x0, y0, x1, y1) = ink_bbox(&pix);
     let (w, h) = ((x1 - x0 + 1) as f64, (y1 - y0 + 1) as f64);
@@ -109,7 +109,8 @@ fn drawn_extent_has_the_regions_aspect_ratio() {
     for (w, h) in [(4.0, 1.0), (1.0, 4.0), (15.7, 6.0)] {
         let region = rectangle(w, h);
         let png =
-            render::png_bytes(&[Panel::new("", &region)], &Layout::new(1).panel_px(400)).unwrap();
+            cvtmesh_render::png_bytes(&[Panel::new("", &region)], &Layout::new(1).panel_px(400))
+                .unwrap();
         let pix = Pixmap::decode_png(&png).unwrap();
         let (x0, y0, x1, y1) = ink_bbox(&pix);
         // Minus the boundary stroke's overhang (1 px each side).
@@ -134,7 +135,7 @@ fn svg_file_has_title_and_paths() {
             .with_colour(angles, "min angle"),
     ];
     let path = temp_path("fig.svg");
-    render::render_svg(
+    cvtmesh_render::render_svg(
         &panels,
         &Layout::new(2).panel_px(200).title("Figure 5"),
         &path,
@@ -158,7 +159,7 @@ fn mismatched_colours_are_an_error_and_write_nothing() {
         .with_mesh(&m)
         .with_colour(vec![1.0; 3], "v")];
     let path = temp_path("never.png");
-    let err = render::render_png(&panels, &Layout::default(), &path).unwrap_err();
+    let err = cvtmesh_render::render_png(&panels, &Layout::default(), &path).unwrap_err();
     assert!(
         matches!(
             err,

@@ -1,10 +1,10 @@
 //! Delaunay alone vs Delaunay + all clipped cells with moments, 10⁴–10⁶ generators in the unit
 //! circle and in the lake. Run: `cargo bench -p tessellation --bench cells [-- quick]`
 //! (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds.
+use cvtmesh_tessellation::{clipped_cells, Delaunay};
 use geometry::{DVec2, Density, Polygon, Region, Rng};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 use std::time::Instant;
-use tessellation::{clipped_cells, Delaunay};
 
 /// `n` generators: random points inside plus about 2√n points spread along the boundary rings
 /// (CCVT puts generators on the boundary).

@@ -1,8 +1,8 @@
 //! Clipped Voronoi cells against an independent brute-force reference and exact cases.
+use cvtmesh_tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
 use std::sync::Arc;
-use tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
 
 fn ring(points: Vec<DVec2>, pieces: Vec<usize>, loop_index: usize, hole: bool) -> Ring {
     Ring {

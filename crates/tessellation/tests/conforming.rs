@@ -1,7 +1,7 @@
 //! Conforming meshes of the paper's regions from lattice points plus boundary points.
+use cvtmesh_tessellation::{conforming_mesh, mark_vertices};
 use geometry::{DVec2, LoopRole, Piece, Region, Rng};
 use mesh::{check_conforming, MeshError, VertexMarker};
-use tessellation::{conforming_mesh, mark_vertices};
 
 /// Boundary points about `h` apart (the polygonized rings resampled and projected back onto
 /// the boundary; corners included) and hexagonal-lattice points at least `gap·h` inside.

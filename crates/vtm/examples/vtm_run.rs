@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_iter: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1000);
     let region = Region::builtin(name)?;
     let start = Instant::now();
-    let r = vtm::Vtm.mesh(
+    let r = cvtmesh_vtm::Vtm.mesh(
         &region,
         &MeshRequest::points(k).max_iter(max_iter),
         &mut |_| {},

@@ -2,7 +2,7 @@
 #[path = "../../meshgen/tests/common/mod.rs"]
 mod common;
 use common::*;
-use vtm::Vtm;
+use cvtmesh_vtm::Vtm;
 
 #[test]
 fn circle_medium_mesh() {

@@ -5,8 +5,8 @@
 //! regions as OUT_regions.png, beside it).
 mod polar;
 
+use cvtmesh_render::{Layout, Panel};
 use geometry::{DVec2, LoopRole, Piece, Region};
-use render::{Layout, Panel};
 use std::path::PathBuf;
 
 fn min_angles(m: &mesh::Mesh) -> Vec<f64> {
@@ -110,8 +110,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .panel_px(360)
         .title("render sample: annulus r = 0.4 … 1");
     let t = std::time::Instant::now();
-    render::render_png(&panels, &layout, &out)?;
-    render::render_svg(&panels, &layout, &out.with_extension("svg"))?;
+    cvtmesh_render::render_png(&panels, &layout, &out)?;
+    cvtmesh_render::render_svg(&panels, &layout, &out.with_extension("svg"))?;
     eprintln!("wrote {} and .svg in {:.2?}", out.display(), t.elapsed());
 
     // The paper's ten regions, as `cvtmesh show` draws them.
@@ -126,7 +126,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|s| s.to_string_lossy())
             .unwrap_or_default()
     ));
-    render::render_png(
+    cvtmesh_render::render_png(
         &panels,
         &Layout::new(5).panel_px(220).title("The ten regions"),
         &all,

@@ -1,0 +1,86 @@
+//! Triangular meshes of planar regions by **constrained centroidal Voronoi tessellation**
+//! (CCVT), the mesh generators it is compared against, and the 12 quality measures of
+//! Nguyen, Burkardt, Gunzburger, Ju & Saka, *Constrained CVT meshes and a comparison of
+//! triangular mesh generators* (Computational Geometry 42, 2009).
+//!
+//! This is the crate a Rust user depends on. It re-exports the types of the workspace's
+//! crates and offers one call, [`mesh`], for the common case:
+//!
+//! ```
+//! use cvtmesh::Region;
+//!
+//! // The paper's lake with an island, meshed with 500 vertices by the default method.
+//! let region = Region::builtin("lake")?;
+//! let result = cvtmesh::mesh(&region, 500)?;
+//! assert_eq!(result.mesh.num_vertices(), 500);
+//! assert!(result.converged);
+//! // The triangles tile the region: their areas add up to its area (up to the chords
+//! // that replace curved boundary pieces).
+//! assert!((result.mesh.area() - region.area()).abs() < 1e-2 * region.area());
+//! # Ok::<(), cvtmesh::MeshError>(())
+//! ```
+//!
+//! Everything else goes through a [`Method`] and a [`MeshRequest`]:
+//!
+//! ```
+//! use cvtmesh::{Method, MeshRequest, Region};
+//!
+//! let region = Region::builtin("square_hole")?;
+//! let request = MeshRequest::points(300).seed(7).tol(1e-3);
+//! let result = "distmesh".parse::<Method>()?.run(&region, &request)?;
+//! let measures = cvtmesh::measures(&result.mesh, &region)?;
+//! assert!(measures.beta < 1.0); // the smallest angle is more than 30°
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! | module | what |
+//! |---|---|
+//! | [`geometry`] | regions, boundary pieces, corners, projection, signed distance, region files |
+//! | [`tessellation`] | Delaunay triangulation and Voronoi cells clipped to a region |
+//! | [`metrics`] | the 12 quality measures of Section 3 |
+//! | [`io`] | mesh files: Triangle, Gmsh, VTK, OBJ |
+//! | [`ccvt`], [`refine`], [`distmesh`], [`meshgen`], [`vtm`] | the methods |
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+mod method;
+
+pub use method::{Method, UnknownMethod};
+
+pub use ccvt;
+pub use distmesh;
+pub use geometry;
+pub use meshgen;
+pub use metrics;
+pub use refine;
+pub use tessellation;
+pub use vtm;
+
+pub use ::mesh::io;
+
+pub use ::mesh::{
+    check_conforming, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress,
+    Size, VertexMarker,
+};
+pub use ccvt::Ccvt;
+pub use distmesh::DistMesh;
+pub use geometry::{DVec2, Density, GeometryError, Region};
+pub use meshgen::Meshgen;
+pub use metrics::{measures, sampled_measures, Measures, MetricsError};
+pub use refine::Refine;
+pub use vtm::Vtm;
+
+/// Mesh `region` with `n` vertices by the default method ([`Method::Ccvt`]: Algorithm 2 with
+/// Newton's method) and the default request ([`MeshRequest::points`]: seed 1, tolerance 1e-4
+/// of the mean spacing). This is what `cvtmesh mesh REGION --points N` runs.
+///
+/// ```
+/// let region = cvtmesh::Region::builtin("circle")?;
+/// let result = cvtmesh::mesh(&region, 88)?;
+/// assert_eq!(result.mesh.num_vertices(), 88);
+/// cvtmesh::check_conforming(&result.mesh, &region)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
+    Method::default().run(region, &MeshRequest::points(n))
+}
