@@ -20,6 +20,7 @@ mod polygon;
 mod region;
 mod rng;
 mod se;
+mod size;
 
 pub use density::Density;
 pub use error::GeometryError;
@@ -28,3 +29,4 @@ pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
 pub use region::{BoundaryPoint, Corner, Loop, LoopRole, PieceId, Region};
 pub use rng::Rng;
+pub use size::{SizeField, SizeFieldError, SizeRange};

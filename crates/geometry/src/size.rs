@@ -1,0 +1,378 @@
+//! Size fields: a target edge length h(x) over a region, and the CVT density that realises it.
+//!
+//! Finite-element users think in edge lengths, CVT in densities. A converged CVT is locally a
+//! lattice of regular hexagons whose spacing scales as ρ^(−1/4) in the plane, so the density
+//! that gives spacing ∝ h is **ρ(x) = (h_min / h(x))⁴** ([`SizeField::density`]). A regular
+//! hexagonal cell of spacing h has area (√3/2)h², so a field asks for about
+//! **N ≈ (2/√3) ∫_Ω h(x)⁻² dx** vertices ([`SizeField::predicted_points`]).
+//!
+//! A field is a constant, an expression in `x` and `y` (parsed once, evaluated per point), or
+//! values sampled once on a background grid over the region's bounding box and interpolated
+//! bilinearly ([`SizeField::from_samples`]): a user function is then called a single time on
+//! every grid node at once, never point by point, which is what callers in array languages
+//! need.
+use crate::expr::{Expr, ExprError};
+use crate::{DVec2, Density, Region};
+use std::sync::Arc;
+use thiserror::Error;
+
+/// Nodes per side of the grid on which a field is checked and integrated.
+const CHECK_GRID: usize = 256;
+
+/// Why a size field cannot be used on a region.
+#[derive(Debug, Error)]
+pub enum SizeFieldError {
+    /// The expression does not parse.
+    #[error("size field '{text}': {source}")]
+    Expr {
+        /// The expression as given.
+        text: String,
+        /// Where and why it does not parse.
+        source: ExprError,
+    },
+    /// The field is zero, negative, infinite or NaN somewhere on the region.
+    #[error("size field is {value} at ({x}, {y}): it must be positive and finite on the region")]
+    NotPositive {
+        /// The offending value.
+        value: f64,
+        /// Where (x).
+        x: f64,
+        /// Where (y).
+        y: f64,
+    },
+    /// Sampled values do not match the grid.
+    #[error("size field: {got} samples returned for {expected} grid nodes")]
+    SampleCount {
+        /// Values returned.
+        got: usize,
+        /// Grid nodes asked for.
+        expected: usize,
+    },
+    /// A background grid needs at least 2 nodes per side.
+    #[error("size field: a background grid needs at least 2 nodes per side, got {0}")]
+    GridTooSmall(usize),
+}
+
+/// Values on a regular grid over a box, interpolated bilinearly (clamped outside the box).
+#[derive(Clone, Debug)]
+struct Grid {
+    lo: DVec2,
+    step: DVec2,
+    nx: usize,
+    ny: usize,
+    /// Row-major: node (i, j) at `values[j * nx + i]`, position `lo + (i, j) * step`.
+    values: Vec<f64>,
+}
+
+impl Grid {
+    fn nodes(lo: DVec2, hi: DVec2, nx: usize, ny: usize) -> (DVec2, Vec<DVec2>) {
+        let step = (hi - lo) / DVec2::new((nx - 1) as f64, (ny - 1) as f64);
+        let nodes = (0..ny)
+            .flat_map(|j| (0..nx).map(move |i| lo + step * DVec2::new(i as f64, j as f64)))
+            .collect();
+        (step, nodes)
+    }
+
+    fn at(&self, p: DVec2) -> f64 {
+        let t = (p - self.lo) / self.step;
+        let fx = t.x.clamp(0.0, (self.nx - 1) as f64);
+        let fy = t.y.clamp(0.0, (self.ny - 1) as f64);
+        let i = (fx.floor() as usize).min(self.nx - 2);
+        let j = (fy.floor() as usize).min(self.ny - 2);
+        let (u, v) = (fx - i as f64, fy - j as f64);
+        let at = |i: usize, j: usize| self.values[j * self.nx + i];
+        (1.0 - v) * ((1.0 - u) * at(i, j) + u * at(i + 1, j))
+            + v * ((1.0 - u) * at(i, j + 1) + u * at(i + 1, j + 1))
+    }
+}
+
+#[derive(Clone, Debug)]
+enum Kind {
+    Constant(f64),
+    Expr(Arc<Expr>),
+    Grid(Arc<Grid>),
+}
+
+/// A target edge length h(x) on a region.
+///
+/// ```
+/// use cvtmesh_geometry::{DVec2, Region, SizeField};
+///
+/// let square = Region::builtin("square_hole")?;
+/// // Finer (h = 0.02) at the origin, coarser (h = 0.1) far from it.
+/// let h = SizeField::from_expr("0.02 + 0.08 * min(1, sqrt(x^2 + y^2))")?;
+/// let range = h.check(&square)?;
+/// assert!(range.min >= 0.02 && range.max <= 0.1);
+/// // The density that gives these edge lengths, and the vertex count they ask for.
+/// let rho = h.density(range.min);
+/// assert!((rho.at(DVec2::ZERO) - 1.0).abs() < 1e-9);
+/// let n = h.predicted_points(&square);
+/// assert!(n > 2.0 * square.area() / (3f64.sqrt() * 0.1 * 0.1));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct SizeField {
+    kind: Kind,
+}
+
+/// The smallest and largest size of a field on a region (on the sample grid and the
+/// boundary's polygon vertices).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeRange {
+    /// Smallest h found.
+    pub min: f64,
+    /// Largest h found.
+    pub max: f64,
+}
+
+impl SizeField {
+    /// h ≡ `h` everywhere. Its density is uniform.
+    pub fn constant(h: f64) -> SizeField {
+        SizeField {
+            kind: Kind::Constant(h),
+        }
+    }
+
+    /// h given by an expression in `x` and `y` (the syntax of [`crate::expr`]).
+    pub fn from_expr(text: &str) -> Result<SizeField, SizeFieldError> {
+        let expr = Expr::parse(text).map_err(|source| SizeFieldError::Expr {
+            text: text.to_string(),
+            source,
+        })?;
+        Ok(SizeField {
+            kind: Kind::Expr(Arc::new(expr)),
+        })
+    }
+
+    /// h sampled once on an `n`×`n` grid of nodes over `region`'s bounding box (enlarged by
+    /// one grid step so that every point of the region lies between nodes) and interpolated
+    /// bilinearly. `sample` receives every node at once and returns h at each, in order; its
+    /// own error type passes through.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    ///
+    /// let circle = Region::builtin("circle")?;
+    /// let mut calls = 0;
+    /// let h = SizeField::from_samples(&circle, 64, |nodes| {
+    ///     calls += 1;
+    ///     Ok::<_, std::convert::Infallible>(nodes.iter().map(|p| 0.05 + 0.1 * p.x.abs()).collect())
+    /// })?
+    /// .unwrap();
+    /// assert_eq!(calls, 1);
+    /// // A field linear along each grid line is reproduced exactly between nodes of one sign.
+    /// assert!((h.at(DVec2::new(0.5, 0.3)) - 0.1).abs() < 1e-12);
+    /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
+    /// ```
+    pub fn from_samples<E>(
+        region: &Region,
+        n: usize,
+        sample: impl FnOnce(&[DVec2]) -> Result<Vec<f64>, E>,
+    ) -> Result<Result<SizeField, E>, SizeFieldError> {
+        if n < 2 {
+            return Err(SizeFieldError::GridTooSmall(n));
+        }
+        let (lo, hi) = region.bbox();
+        let pad = (hi - lo) / (n - 1) as f64;
+        let (lo, hi) = (lo - pad, hi + pad);
+        let (step, nodes) = Grid::nodes(lo, hi, n, n);
+        let values = match sample(&nodes) {
+            Ok(v) => v,
+            Err(e) => return Ok(Err(e)),
+        };
+        if values.len() != nodes.len() {
+            return Err(SizeFieldError::SampleCount {
+                got: values.len(),
+                expected: nodes.len(),
+            });
+        }
+        // Nodes outside the region may hold anything (a distance field may be undefined
+        // there); only values that interpolation reads for points of the region matter, and
+        // `check` tests those through `at`.
+        Ok(Ok(SizeField {
+            kind: Kind::Grid(Arc::new(Grid {
+                lo,
+                step,
+                nx: n,
+                ny: n,
+                values,
+            })),
+        }))
+    }
+
+    /// h at `p`.
+    pub fn at(&self, p: DVec2) -> f64 {
+        match &self.kind {
+            Kind::Constant(h) => *h,
+            Kind::Expr(e) => e.eval(p),
+            Kind::Grid(g) => g.at(p),
+        }
+    }
+
+    /// True for a constant field (its density is uniform, which the methods treat exactly).
+    pub fn is_constant(&self) -> bool {
+        matches!(self.kind, Kind::Constant(_))
+    }
+
+    /// Check that h is positive and finite on `region` (at the centres of a 256×256 grid over
+    /// its bounding box that lie inside, and at the vertices of its boundary polygon) and
+    /// return the range found. The first offending point is named in the error.
+    pub fn check(&self, region: &Region) -> Result<SizeRange, SizeFieldError> {
+        let mut range = SizeRange {
+            min: f64::INFINITY,
+            max: 0.0,
+        };
+        let polygon = region.polygonize(1e-3 * region.diameter());
+        let boundary = polygon.rings.iter().flat_map(|r| r.points.iter().copied());
+        let inside = grid_centres(region, CHECK_GRID).0;
+        for p in boundary.chain(inside) {
+            let h = self.at(p);
+            if !(h.is_finite() && h > 0.0) {
+                return Err(SizeFieldError::NotPositive {
+                    value: h,
+                    x: p.x,
+                    y: p.y,
+                });
+            }
+            range.min = range.min.min(h);
+            range.max = range.max.max(h);
+        }
+        Ok(range)
+    }
+
+    /// The vertex count the field asks for, N ≈ (2/√3) ∫_Ω h⁻² dx (a converged CVT is a
+    /// lattice of regular hexagons, each of area (√3/2)h²), by the midpoint rule on a 256×256
+    /// grid whose cell areas are scaled to the region's exact area. Assumes a checked field.
+    pub fn predicted_points(&self, region: &Region) -> f64 {
+        let (inside, _) = grid_centres(region, CHECK_GRID);
+        if inside.is_empty() {
+            return 0.0;
+        }
+        let mean = inside.iter().map(|&p| self.at(p).powi(-2)).sum::<f64>() / inside.len() as f64;
+        2.0 / 3f64.sqrt() * mean * region.area()
+    }
+
+    /// The CVT density whose generators are spaced ∝ h: ρ = (h_min / h)⁴ (uniform for a
+    /// constant field). `h_min` only scales ρ (to 1 where h is smallest); the spacing's shape
+    /// does not depend on it.
+    pub fn density(&self, h_min: f64) -> Density {
+        match &self.kind {
+            Kind::Constant(_) => Density::Uniform,
+            _ => {
+                let field = self.clone();
+                Density::Function(Arc::new(move |p| (h_min / field.at(p)).powi(4)))
+            }
+        }
+    }
+}
+
+/// Centres of an `n`×`n` grid of cells over `region`'s bounding box that lie inside it, and
+/// the cell area.
+fn grid_centres(region: &Region, n: usize) -> (Vec<DVec2>, f64) {
+    let (lo, hi) = region.bbox();
+    let step = (hi - lo) / n as f64;
+    let inside = (0..n)
+        .flat_map(|j| (0..n).map(move |i| lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5)))
+        .filter(|&p| region.contains(p))
+        .collect();
+    (inside, step.x * step.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_field_predicts_the_lattice_count_and_a_uniform_density() {
+        let r = Region::builtin("square_hole").unwrap();
+        let h = SizeField::constant(0.05);
+        let n = h.predicted_points(&r);
+        let lattice = 2.0 * r.area() / (3f64.sqrt() * 0.05 * 0.05);
+        assert!((n - lattice).abs() < 1e-9 * lattice, "{n} vs {lattice}");
+        assert!(h.density(0.05).is_uniform());
+        assert_eq!(
+            h.check(&r).unwrap(),
+            SizeRange {
+                min: 0.05,
+                max: 0.05
+            }
+        );
+    }
+
+    #[test]
+    fn density_gives_spacing_proportional_to_h() {
+        // Spacing ∝ ρ^(-1/4): two points whose h differ by 2 have densities 16 apart.
+        let h = SizeField::from_expr("0.01 * (1 + x)").unwrap();
+        let rho = h.density(0.01);
+        let (a, b) = (DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0));
+        assert!((rho.at(a) / rho.at(b) - 16.0).abs() < 1e-12);
+        assert!((rho.at(a) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_fields_are_refused_with_the_place() {
+        let r = Region::builtin("circle").unwrap();
+        for text in ["x", "0 * x", "1 / 0", "log(-1)", "-1"] {
+            let e = SizeField::from_expr(text).unwrap().check(&r).unwrap_err();
+            assert!(
+                matches!(e, SizeFieldError::NotPositive { .. }),
+                "{text}: {e}"
+            );
+            assert!(e.to_string().contains("positive and finite"), "{e}");
+        }
+        assert!(matches!(
+            SizeField::from_expr("0.1 +").unwrap_err(),
+            SizeFieldError::Expr { .. }
+        ));
+        assert!(matches!(
+            SizeField::from_samples(&r, 8, |_| Ok::<_, ()>(vec![1.0; 3])).unwrap_err(),
+            SizeFieldError::SampleCount {
+                got: 3,
+                expected: 64
+            }
+        ));
+        assert!(matches!(
+            SizeField::from_samples(&r, 1, |_| Ok::<_, ()>(vec![1.0])).unwrap_err(),
+            SizeFieldError::GridTooSmall(1)
+        ));
+        // The sampler's own error passes through untouched.
+        assert_eq!(
+            SizeField::from_samples(&r, 4, |_| Err::<Vec<f64>, _>("no"))
+                .unwrap()
+                .unwrap_err(),
+            "no"
+        );
+    }
+
+    #[test]
+    fn sampled_field_matches_the_expression_it_samples() {
+        let r = Region::builtin("lake").unwrap();
+        let text = "0.02 + 0.01 * (x + 2 * y)";
+        let e = SizeField::from_expr(text).unwrap();
+        let g = SizeField::from_samples(&r, 33, |nodes| {
+            Ok::<_, ()>(nodes.iter().map(|&p| e.at(p)).collect())
+        })
+        .unwrap()
+        .unwrap();
+        // Bilinear interpolation reproduces a linear field.
+        let (lo, hi) = r.bbox();
+        for k in 0..100 {
+            let t = DVec2::new((k as f64 * 0.37).fract(), (k as f64 * 0.61).fract());
+            let p = lo + (hi - lo) * t;
+            assert!((g.at(p) - e.at(p)).abs() < 1e-12 * (1.0 + e.at(p)), "{p}");
+        }
+        let (a, b) = (e.predicted_points(&r), g.predicted_points(&r));
+        assert!((a - b).abs() < 1e-9 * a);
+    }
+
+    #[test]
+    fn predicted_points_integrates_a_graded_field() {
+        // On the unit circle, h = 0.05 (1 + r): ∫ h⁻² = 2π/0.0025 ∫₀¹ r/(1+r)² dr
+        // = 2π/0.0025 (ln 2 − 1/2).
+        let r = Region::builtin("circle").unwrap();
+        let h = SizeField::from_expr("0.05 * (1 + sqrt(x^2 + y^2))").unwrap();
+        let exact = 2.0 / 3f64.sqrt() * 2.0 * std::f64::consts::PI / 0.0025 * (2f64.ln() - 0.5);
+        let n = h.predicted_points(&r);
+        assert!((n - exact).abs() < 5e-3 * exact, "{n} vs {exact}");
+    }
+}
