@@ -104,8 +104,9 @@ enum Kind {
 /// let range = h.check(&square)?;
 /// assert!(range.min >= 0.02 && range.max <= 0.1);
 /// // The density that gives these edge lengths, and the vertex count they ask for.
-/// let rho = h.density(range.min);
-/// assert!((rho.at(DVec2::ZERO) - 1.0).abs() < 1e-9);
+/// let rho = h.density(0.02);
+/// assert!((rho.at(DVec2::ZERO) - 1.0).abs() < 1e-12); // h(0, 0) = 0.02
+/// assert!((rho.at(DVec2::new(3.0, 4.0)) - 1.0 / 625.0).abs() < 1e-12); // h = 0.1
 /// let n = h.predicted_points(&square);
 /// assert!(n > 2.0 * square.area() / (3f64.sqrt() * 0.1 * 0.1));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -162,7 +163,7 @@ impl SizeField {
     /// assert_eq!(calls, 1);
     /// // A field linear along each grid line is reproduced exactly between nodes of one sign.
     /// assert!((h.at(DVec2::new(0.5, 0.3)) - 0.1).abs() < 1e-12);
-    /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn from_samples<E>(
         region: &Region,
