@@ -64,7 +64,7 @@ pub use ::mesh::{
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;
-pub use geometry::{DVec2, Density, GeometryError, Region};
+pub use geometry::{DVec2, Density, GeometryError, Region, SizeField, SizeFieldError};
 pub use meshgen::Meshgen;
 pub use metrics::{measures, sampled_measures, Measures, MetricsError};
 pub use refine::Refine;
@@ -83,4 +83,24 @@ pub use vtm::Vtm;
 /// ```
 pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
     Method::default().run(region, &MeshRequest::points(n))
+}
+
+/// A region by what a user types: the path of a region file in any format
+/// [`geometry::formats::read_region`] reads, or, when no such file exists and the text looks
+/// like no path (no `.` or `/`), the name of a built-in region.
+///
+/// ```
+/// let lake = cvtmesh::load_region("lake")?;
+/// assert_eq!(lake.name(), "lake");
+/// let e = cvtmesh::load_region("no_such_dir/region.poly").unwrap_err();
+/// assert!(e.to_string().contains("no_such_dir/region.poly"), "{e}");
+/// # Ok::<(), cvtmesh::GeometryError>(())
+/// ```
+pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
+    let path = std::path::Path::new(spec);
+    if path.exists() || spec.contains('.') || spec.contains('/') {
+        geometry::formats::read_region(path)
+    } else {
+        Region::builtin(spec)
+    }
 }

@@ -1,0 +1,73 @@
+"""Type stubs of the compiled module (see ``cvtmesh/__init__.py`` for the public layer)."""
+
+from os import PathLike
+from typing import Any, Callable, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class MeshError(ValueError):
+    """A region, request or file that cvtmesh cannot use; the message names the problem."""
+
+class Region:
+    """A planar region: an outer boundary loop and holes, each made of boundary pieces."""
+
+    @staticmethod
+    def from_file(path: Union[str, PathLike[str]]) -> Region: ...
+    @staticmethod
+    def builtin(name: str) -> Region: ...
+    @staticmethod
+    def load(spec: str) -> Region: ...
+    @staticmethod
+    def from_loops(
+        outer: npt.ArrayLike, holes: Sequence[npt.ArrayLike] = ..., name: str = "region"
+    ) -> Region: ...
+    def with_corner_angle(self, degrees: float) -> Region: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def area(self) -> float: ...
+    @property
+    def corners(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def bbox(self) -> tuple[tuple[float, float], tuple[float, float]]: ...
+    def polygonize(self, tol: float) -> list[npt.NDArray[np.float64]]: ...
+    def contains(self, xy: npt.ArrayLike) -> npt.NDArray[np.bool_]: ...
+    def signed_distance(self, xy: npt.ArrayLike) -> npt.NDArray[np.float64]: ...
+
+class Mesh:
+    """A triangle mesh and how it was made; arrays are read-only."""
+
+    points: npt.NDArray[np.float64]
+    triangles: npt.NDArray[np.int64]
+    boundary_edges: npt.NDArray[np.int64]
+    boundary_loop: npt.NDArray[np.int64]
+    converged: bool
+    iterations: int
+    notes: list[str]
+    energy_history: npt.NDArray[np.float64]
+    def write(self, path: Union[str, PathLike[str]]) -> None: ...
+    def measures(self, region: Optional[Region] = None) -> dict[str, float]: ...
+    def to_meshio(self) -> Any: ...
+    @staticmethod
+    def read(path: Union[str, PathLike[str]]) -> Mesh: ...
+
+def mesh(
+    region: Region,
+    *,
+    n: Optional[int] = None,
+    size: Union[None, float, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
+    method: str = "ccvt",
+    seed: int = 1,
+    tol: float = 1e-4,
+    max_iter: int = 10000,
+    density: Union[None, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
+    progress: Optional[Callable[[int, float, float], Any]] = None,
+) -> Mesh: ...
+def measures(
+    points: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], region: Region
+) -> dict[str, float]: ...
+def regions() -> list[str]: ...
+def methods() -> list[str]: ...

@@ -1,0 +1,549 @@
+//! The compiled half of the `cvtmesh` Python package: regions, meshing and measures over the
+//! Rust crates, with numpy arrays in and out. `python/cvtmesh/__init__.py` is the public
+//! layer (keyword-only options, region coercion, meshio interop); this module does the work.
+//!
+//! Arrays cross the boundary whole: inputs are read from numpy buffers into owned vectors
+//! before the interpreter is released, outputs are moved into numpy without a copy, and a
+//! user's size or density function is called once on every node of a background grid.
+#![forbid(unsafe_code)]
+
+use cvtmesh::geometry::{LoopRole, SizeField, SizeFieldError};
+use cvtmesh::{DVec2, Density, Mesh, MeshRequest, Method, Progress, Region};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+create_exception!(
+    _cvtmesh,
+    MeshError,
+    PyValueError,
+    "A region, request or file that cvtmesh cannot use; the message names the problem."
+);
+
+/// Nodes per side of the background grid on which a size or density function is sampled.
+const FIELD_GRID: usize = 256;
+
+fn err(e: impl std::fmt::Display) -> PyErr {
+    MeshError::new_err(e.to_string())
+}
+
+/// Points of an (n, 2) float array, refusing other shapes and non-finite values.
+fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
+    let shape = a.shape();
+    if shape[1] != 2 {
+        return Err(err(format!(
+            "{what} must be an array of shape (n, 2), got {shape:?}"
+        )));
+    }
+    let v = a.as_array();
+    let pts: Vec<DVec2> = v.rows().into_iter().map(|r| DVec2::new(r[0], r[1])).collect();
+    if let Some((i, p)) = pts.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+        return Err(err(format!(
+            "{what} has a non-finite point ({}, {}) at row {i}",
+            p.x, p.y
+        )));
+    }
+    Ok(pts)
+}
+
+fn xy_array<'py>(py: Python<'py>, pts: &[DVec2]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
+    PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
+}
+
+fn read_only<T>(a: &Bound<'_, T>) -> PyResult<()> {
+    a.getattr("flags")?.setattr("writeable", false)
+}
+
+/// A planar region: an outer boundary loop and holes, each made of boundary pieces joined at
+/// corners.
+#[pyclass(name = "Region", module = "cvtmesh", frozen, skip_from_py_object)]
+struct PyRegion {
+    inner: Arc<Region>,
+}
+
+#[pymethods]
+impl PyRegion {
+    /// Read a region file (JSON, Triangle .poly, GeoJSON, or a plain loop list).
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<PyRegion> {
+        Ok(PyRegion {
+            inner: Arc::new(cvtmesh::geometry::formats::read_region(&path).map_err(err)?),
+        })
+    }
+
+    /// One of the paper's ten regions, by name (see `cvtmesh.regions()`).
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<PyRegion> {
+        Ok(PyRegion {
+            inner: Arc::new(Region::builtin(name).map_err(err)?),
+        })
+    }
+
+    /// A file path, or a built-in name when no such file exists.
+    #[staticmethod]
+    fn load(spec: &str) -> PyResult<PyRegion> {
+        Ok(PyRegion {
+            inner: Arc::new(cvtmesh::load_region(spec).map_err(err)?),
+        })
+    }
+
+    /// A polygon with polygonal holes: `outer` is (k, 2), each hole (m, 2); every vertex is a
+    /// corner (see `with_corner_angle`).
+    #[staticmethod]
+    #[pyo3(signature = (outer, holes = Vec::new(), name = "region"))]
+    fn from_loops(
+        outer: PyReadonlyArray2<'_, f64>,
+        holes: Vec<PyReadonlyArray2<'_, f64>>,
+        name: &str,
+    ) -> PyResult<PyRegion> {
+        let mut loops = vec![(LoopRole::Outer, points_of(&outer, "outer")?)];
+        for (i, h) in holes.iter().enumerate() {
+            loops.push((LoopRole::Hole, points_of(h, &format!("hole {i}"))?));
+        }
+        Ok(PyRegion {
+            inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
+        })
+    }
+
+    /// The same region with only the corners where the boundary turns by more than
+    /// `degrees` (digitized outlines have far fewer real corners than vertices).
+    fn with_corner_angle(&self, degrees: f64) -> PyResult<PyRegion> {
+        if !(0.0..180.0).contains(&degrees) {
+            return Err(err(format!(
+                "corner_angle must be in [0, 180) degrees, got {degrees}"
+            )));
+        }
+        Ok(PyRegion {
+            inner: Arc::new(self.inner.with_corner_angle(degrees)),
+        })
+    }
+
+    /// Name (file stem or built-in name).
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name().to_string()
+    }
+
+    /// Exact area.
+    #[getter]
+    fn area(&self) -> f64 {
+        self.inner.area()
+    }
+
+    /// Corner positions, (c, 2).
+    #[getter]
+    fn corners<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let c: Vec<DVec2> = self.inner.corners().iter().map(|c| c.pos).collect();
+        xy_array(py, &c)
+    }
+
+    /// ((xmin, ymin), (xmax, ymax)).
+    #[getter]
+    fn bbox(&self) -> ((f64, f64), (f64, f64)) {
+        let (lo, hi) = self.inner.bbox();
+        ((lo.x, lo.y), (hi.x, hi.y))
+    }
+
+    /// The boundary as polygons with chord error at most `tol`: a list of (k, 2) arrays,
+    /// the outer loop (counter-clockwise) first, then the holes (clockwise).
+    fn polygonize<'py>(&self, py: Python<'py>, tol: f64) -> PyResult<Vec<Bound<'py, PyArray2<f64>>>> {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(err(format!("tol must be positive and finite, got {tol}")));
+        }
+        let poly = self.inner.polygonize(tol);
+        poly.rings.iter().map(|r| xy_array(py, &r.points)).collect()
+    }
+
+    /// True for each of the (n, 2) points that lies inside the region.
+    fn contains<'py>(
+        &self,
+        py: Python<'py>,
+        xy: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let pts = points_of(&xy, "xy")?;
+        let inside: Vec<bool> = py.detach(|| pts.iter().map(|&p| self.inner.contains(p)).collect());
+        Ok(PyArray1::from_vec(py, inside))
+    }
+
+    /// Signed distance to the boundary of each of the (n, 2) points (negative inside).
+    fn signed_distance<'py>(
+        &self,
+        py: Python<'py>,
+        xy: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let pts = points_of(&xy, "xy")?;
+        let d: Vec<f64> =
+            py.detach(|| pts.iter().map(|&p| self.inner.signed_distance(p)).collect());
+        Ok(PyArray1::from_vec(py, d))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Region('{}', area={}, loops={}, corners={})",
+            self.inner.name(),
+            self.inner.area(),
+            self.inner.loops().len(),
+            self.inner.corners().len()
+        )
+    }
+}
+
+/// A triangle mesh and how it was made. Arrays are read-only views of the result.
+#[pyclass(name = "Mesh", module = "cvtmesh", frozen, skip_from_py_object)]
+struct PyMesh {
+    mesh: Mesh,
+    region: Option<Arc<Region>>,
+    #[pyo3(get)]
+    points: Py<PyArray2<f64>>,
+    #[pyo3(get)]
+    triangles: Py<PyArray2<i64>>,
+    #[pyo3(get)]
+    boundary_edges: Py<PyArray2<i64>>,
+    #[pyo3(get)]
+    boundary_loop: Py<PyArray1<i64>>,
+    #[pyo3(get)]
+    converged: bool,
+    #[pyo3(get)]
+    iterations: usize,
+    #[pyo3(get)]
+    notes: Vec<String>,
+    #[pyo3(get)]
+    energy_history: Py<PyArray1<f64>>,
+}
+
+impl PyMesh {
+    fn new(
+        py: Python<'_>,
+        mesh: Mesh,
+        region: Option<Arc<Region>>,
+        converged: bool,
+        iterations: usize,
+        notes: Vec<String>,
+        energy_history: Vec<f64>,
+    ) -> PyResult<PyMesh> {
+        let points = xy_array(py, &mesh.points)?;
+        let tri: Vec<i64> = mesh
+            .triangles
+            .iter()
+            .flat_map(|t| t.map(i64::from))
+            .collect();
+        let triangles = PyArray1::from_vec(py, tri).reshape([mesh.triangles.len(), 3])?;
+        let edges = mesh.boundary_edges();
+        let flat: Vec<i64> = edges
+            .iter()
+            .flat_map(|e| [i64::from(e.a), i64::from(e.b)])
+            .collect();
+        let boundary_edges = PyArray1::from_vec(py, flat).reshape([edges.len(), 2])?;
+        let ids: Vec<i64> = edges.iter().map(|e| e.loop_index as i64).collect();
+        let boundary_loop = PyArray1::from_vec(py, ids);
+        let energy_history = PyArray1::from_vec(py, energy_history);
+        read_only(&points)?;
+        read_only(&triangles)?;
+        read_only(&boundary_edges)?;
+        read_only(&boundary_loop)?;
+        read_only(&energy_history)?;
+        Ok(PyMesh {
+            mesh,
+            region,
+            points: points.unbind(),
+            triangles: triangles.unbind(),
+            boundary_edges: boundary_edges.unbind(),
+            boundary_loop: boundary_loop.unbind(),
+            converged,
+            iterations,
+            notes,
+            energy_history: energy_history.unbind(),
+        })
+    }
+}
+
+#[pymethods]
+impl PyMesh {
+    /// Write the mesh; the format follows the extension (.node/.ele, .msh, .vtu, .obj).
+    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        py.detach(|| cvtmesh::io::write_mesh(&self.mesh, &path))
+            .map_err(err)
+    }
+
+    /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the
+    /// mesh was made for, or `region` if given.
+    #[pyo3(signature = (region = None))]
+    fn measures<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let region = match (region, &self.region) {
+            (Some(r), _) => r.inner.clone(),
+            (None, Some(r)) => r.clone(),
+            (None, None) => {
+                return Err(err(
+                    "this mesh was read from a file: pass the region, mesh.measures(region)",
+                ))
+            }
+        };
+        let m = py
+            .detach(|| cvtmesh::measures(&self.mesh, &region))
+            .map_err(err)?;
+        measures_dict(py, &m)
+    }
+
+    /// Read a mesh file (.node/.ele, .msh, .obj).
+    #[staticmethod]
+    fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
+        let mesh = py.detach(|| cvtmesh::io::read_mesh(&path)).map_err(err)?;
+        PyMesh::new(py, mesh, None, true, 0, Vec::new(), Vec::new())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Mesh(points={}, triangles={}, converged={}, iterations={})",
+            self.mesh.num_vertices(),
+            self.mesh.num_triangles(),
+            self.converged,
+            self.iterations
+        )
+    }
+}
+
+fn measures_dict<'py>(py: Python<'py>, m: &cvtmesh::Measures) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (name, value) in cvtmesh::Measures::NAMES.iter().zip(m.values()) {
+        d.set_item(*name, value)?;
+    }
+    d.set_item("K", m.k)?;
+    d.set_item("K_tilde", m.k_tilde)?;
+    Ok(d)
+}
+
+/// A field given as a number, an expression in x and y, or a vectorized callable.
+fn scalar_field(
+    py: Python<'_>,
+    region: &Region,
+    spec: &Bound<'_, PyAny>,
+    what: &str,
+) -> PyResult<SizeField> {
+    if let Ok(text) = spec.cast::<PyString>() {
+        let text = text.to_str()?;
+        return SizeField::from_expr(text).map_err(|e| err(format!("{what}: {e}")));
+    }
+    if spec.is_callable() {
+        let np = py.import("numpy")?;
+        let sampled = SizeField::from_samples(region, FIELD_GRID, |nodes| -> PyResult<Vec<f64>> {
+            let xy = xy_array(py, nodes)?;
+            let out = spec.call1((xy,))?;
+            let arr = np.call_method1("asarray", (out, "float64"))?;
+            let arr = np.call_method1("ravel", (arr,))?;
+            arr.extract::<Vec<f64>>()
+        })
+        .map_err(|e: SizeFieldError| err(format!("{what}: {e}")))?;
+        return sampled;
+    }
+    let h: f64 = spec.extract().map_err(|_| {
+        err(format!(
+            "{what} must be a number, an expression string in x and y, or a callable taking an (n, 2) array"
+        ))
+    })?;
+    Ok(SizeField::constant(h))
+}
+
+/// Run a mesher with the interpreter released, reporting progress to `progress` (if any)
+/// and stopping at Ctrl-C.
+#[allow(clippy::too_many_arguments)]
+#[pyfunction]
+#[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
+    max_iter = 10_000, density = None, progress = None))]
+fn mesh(
+    py: Python<'_>,
+    region: &PyRegion,
+    n: Option<usize>,
+    size: Option<&Bound<'_, PyAny>>,
+    method: &str,
+    seed: u64,
+    tol: f64,
+    max_iter: usize,
+    density: Option<&Bound<'_, PyAny>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<PyMesh> {
+    let method: Method = method.parse().map_err(err)?;
+    let region = region.inner.clone();
+    if size.is_some() && density.is_some() {
+        return Err(err(
+            "give size (an edge length) or density (a CVT density), not both",
+        ));
+    }
+    let (k, rho) = match (size, density) {
+        (Some(s), _) => {
+            let field = scalar_field(py, &region, s, "size")?;
+            let range = field.check(&region).map_err(|e| err(e.to_string()))?;
+            let k = match n {
+                Some(k) => k,
+                None => {
+                    let predicted = field.predicted_points(&region);
+                    if !(predicted < 1e9) {
+                        return Err(err(format!(
+                            "size asks for about {predicted:.3e} vertices: too many to mesh"
+                        )));
+                    }
+                    predicted.round() as usize
+                }
+            };
+            (k, field.density(range.min))
+        }
+        (None, Some(d)) => {
+            let field = scalar_field(py, &region, d, "density")?;
+            let k = n.ok_or_else(|| err("density needs n, the number of vertices"))?;
+            (k, density_of(&field, &region)?)
+        }
+        (None, None) => (
+            n.ok_or_else(|| err("give n (the number of vertices) or size (an edge length)"))?,
+            Density::Uniform,
+        ),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let request = MeshRequest::points(k)
+        .seed(seed)
+        .tol(tol)
+        .max_iter(max_iter)
+        .density(rho)
+        .cancel_flag(cancel.clone());
+    let mut stopped: Option<PyErr> = None;
+    let result = {
+        let mesher = method.mesher();
+        let region = region.clone();
+        let stopped = &mut stopped;
+        py.detach(move || {
+            let mut report = |p: Progress| {
+                if stopped.is_some() {
+                    return;
+                }
+                let outcome = Python::attach(|py| -> PyResult<()> {
+                    if let Some(cb) = &progress {
+                        cb.call1(py, (p.iteration, p.energy, p.max_move))?;
+                    }
+                    py.check_signals()
+                });
+                if let Err(e) = outcome {
+                    *stopped = Some(e);
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            };
+            mesher.mesh(&region, &request, &mut report)
+        })
+    };
+    if let Some(e) = stopped {
+        return Err(e);
+    }
+    let r = result.map_err(err)?;
+    PyMesh::new(
+        py,
+        r.mesh,
+        Some(region),
+        r.converged,
+        r.iterations,
+        r.notes,
+        r.energy_history,
+    )
+}
+
+/// A density given as a field, checked finite and non-negative on the region and not zero
+/// everywhere (on the centres of a grid over its bounding box that lie inside).
+fn density_of(field: &SizeField, region: &Region) -> PyResult<Density> {
+    let (lo, hi) = region.bbox();
+    let mut positive = false;
+    for j in 0..FIELD_GRID {
+        for i in 0..FIELD_GRID {
+            let t = DVec2::new(i as f64 + 0.5, j as f64 + 0.5) / FIELD_GRID as f64;
+            let p = lo + (hi - lo) * t;
+            if !region.contains(p) {
+                continue;
+            }
+            let v = field.at(p);
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(err(format!(
+                    "density is {v} at ({}, {}): it must be finite and non-negative on the region",
+                    p.x, p.y
+                )));
+            }
+            positive |= v > 0.0;
+        }
+    }
+    if !positive {
+        return Err(err("density is zero everywhere on the region"));
+    }
+    let f = field.clone();
+    Ok(Density::Function(Arc::new(move |p| f.at(p))))
+}
+
+/// The 12 measures of any mesh of `region`: `points` (N, 2), `triangles` (M, 3), 0-based.
+#[pyfunction]
+fn measures<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'_, f64>,
+    triangles: PyReadonlyArray2<'_, i64>,
+    region: &PyRegion,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pts = points_of(&points, "points")?;
+    let t = triangles.as_array();
+    if triangles.shape()[1] != 3 {
+        return Err(err(format!(
+            "triangles must be an array of shape (m, 3), got {:?}",
+            triangles.shape()
+        )));
+    }
+    let mut tris = Vec::with_capacity(t.nrows());
+    for (j, row) in t.rows().into_iter().enumerate() {
+        let mut tri = [0u32; 3];
+        for (k, &v) in row.iter().enumerate() {
+            if v < 0 || v as usize >= pts.len() {
+                return Err(err(format!(
+                    "triangle {j} refers to vertex {v}, but there are {} points",
+                    pts.len()
+                )));
+            }
+            tri[k] = v as u32;
+        }
+        tris.push(tri);
+    }
+    let mesh = Mesh {
+        markers: cvtmesh::io::markers_from_topology(&pts, &tris),
+        points: pts,
+        triangles: tris,
+    };
+    let region = region.inner.clone();
+    let m = py
+        .detach(|| cvtmesh::measures(&mesh, &region))
+        .map_err(err)?;
+    measures_dict(py, &m)
+}
+
+/// Names of the built-in regions.
+#[pyfunction]
+fn regions() -> Vec<&'static str> {
+    Region::builtin_names().to_vec()
+}
+
+/// Names of the methods, the default first.
+#[pyfunction]
+fn methods() -> Vec<&'static str> {
+    Method::ALL.iter().map(|m| m.name()).collect()
+}
+
+#[pymodule]
+fn _cvtmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("MeshError", m.py().get_type::<MeshError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<PyRegion>()?;
+    m.add_class::<PyMesh>()?;
+    m.add_function(wrap_pyfunction!(mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(measures, m)?)?;
+    m.add_function(wrap_pyfunction!(regions, m)?)?;
+    m.add_function(wrap_pyfunction!(methods, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,219 @@
+"""End-to-end tests of the Python package: real meshes, checked for real properties."""
+
+import math
+import threading
+
+import numpy as np
+import pytest
+
+import cvtmesh
+from cvtmesh import MeshError, Region
+
+SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+HOLE = np.array([[0.4, 0.4], [0.4, 0.6], [0.6, 0.6], [0.6, 0.4]])
+
+
+def triangle_areas(points, triangles):
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+
+
+def edge_lengths(points, triangles):
+    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    e = np.unique(np.sort(e, axis=1), axis=0)
+    return e, np.linalg.norm(points[e[:, 0]] - points[e[:, 1]], axis=1)
+
+
+def test_polygon_with_hole_tiles_the_region_and_keeps_the_hole_empty():
+    m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=400)
+    assert m.points.shape == (400, 2) and m.points.dtype == np.float64
+    assert m.triangles.shape[1] == 3 and m.triangles.dtype == np.int64
+    assert m.converged and m.iterations > 0
+    areas = triangle_areas(m.points, m.triangles)
+    assert (areas > 0).all(), "triangles are counter-clockwise"
+    assert areas.sum() == pytest.approx(1.0 - 0.04, rel=1e-12)
+    centroids = m.points[m.triangles].mean(axis=1)
+    in_hole = (abs(centroids[:, 0] - 0.5) < 0.1) & (abs(centroids[:, 1] - 0.5) < 0.1)
+    assert not in_hole.any()
+    # Two boundary loops: the square's 4 sides and the hole's, edges on their own loop.
+    assert sorted(np.unique(m.boundary_loop)) == [0, 1]
+    assert len(m.boundary_edges) == len(m.boundary_loop)
+    ends = m.points[m.boundary_edges]
+    on_hole = (abs(ends - 0.5) <= 0.1 + 1e-12).all(axis=(1, 2))
+    assert (on_hole == (m.boundary_loop == 1)).all()
+
+
+def test_region_coercions_agree():
+    by_name = cvtmesh.mesh("circle", n=88)
+    by_region = cvtmesh.mesh(Region.builtin("circle"), n=88)
+    np.testing.assert_array_equal(by_name.points, by_region.points)
+    assert "circle" in cvtmesh.regions() and cvtmesh.methods()[0] == "ccvt"
+
+
+def test_same_seed_same_arrays_other_seed_other_arrays():
+    a = cvtmesh.mesh("square_hole", n=194, seed=3)
+    b = cvtmesh.mesh("square_hole", n=194, seed=3)
+    c = cvtmesh.mesh("square_hole", n=194, seed=4)
+    assert a.points.tobytes() == b.points.tobytes()
+    assert a.triangles.tobytes() == b.triangles.tobytes()
+    assert a.points.tobytes() != c.points.tobytes()
+
+
+def test_arrays_are_read_only():
+    m = cvtmesh.mesh("circle", n=19)
+    with pytest.raises(ValueError):
+        m.points[0, 0] = 5.0
+
+
+@pytest.mark.parametrize("method", cvtmesh.methods())
+def test_every_method_meshes_the_lake(method):
+    m = cvtmesh.mesh("lake", n=300, method=method, tol=1e-3)
+    region = Region.builtin("lake")
+    assert m.points.shape == (300, 2)
+    assert triangle_areas(m.points, m.triangles).sum() == pytest.approx(region.area, rel=2e-2)
+    assert region.contains(m.points[m.triangles].mean(axis=1)).all()
+
+
+def test_measures_are_those_of_the_paper_and_match_the_free_function():
+    m = cvtmesh.mesh("circle", n=88)
+    own = m.measures()
+    free = cvtmesh.measures(m.points, m.triangles, "circle")
+    names = ["lambda", "gamma", "h", "mu", "chi", "nu", "tau", "d", "alpha", "beta", "q", "p"]
+    for k in names:
+        assert own[k] == pytest.approx(free[k], rel=1e-12), k
+        assert own[k] >= 0.0
+    assert own["K"] == 88
+    # β = (π/3)/(smallest angle) − 1: check it against the angles of the triangles.
+    p = m.points[m.triangles]
+    angles = []
+    for i in range(3):
+        u, v = p[:, (i + 1) % 3] - p[:, i], p[:, (i + 2) % 3] - p[:, i]
+        cos = (u * v).sum(axis=1) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
+        angles.append(np.arccos(np.clip(cos, -1, 1)))
+    assert own["beta"] == pytest.approx(math.pi / 3 / np.min(angles) - 1, rel=1e-9)
+
+
+def test_size_field_grades_the_mesh_and_callable_is_called_once():
+    calls = []
+
+    def h(xy):
+        calls.append(xy.shape)
+        return 0.03 + 0.12 * np.hypot(xy[:, 0], xy[:, 1])
+
+    m = cvtmesh.mesh("circle", size=h, tol=1e-3)
+    assert len(calls) == 1 and calls[0][1] == 2 and calls[0][0] >= 256 * 256
+    # Edges near the centre are shorter than edges near the rim, roughly as h says.
+    e, lengths = edge_lengths(m.points, m.triangles)
+    mid = 0.5 * (m.points[e[:, 0]] + m.points[e[:, 1]])
+    r = np.hypot(mid[:, 0], mid[:, 1])
+    inner, outer = lengths[r < 0.25].mean(), lengths[r > 0.75].mean()
+    assert outer > 2.5 * inner
+    # The vertex count is (2/√3)∫h⁻², within the boundary layer's error.
+    exact = 2 / math.sqrt(3) * 2 * math.pi * (1 / 0.12**2) * (
+        math.log((0.03 + 0.12) / 0.03) - 0.12 / (0.03 + 0.12)
+    )
+    assert len(m.points) == pytest.approx(exact, rel=0.02)
+
+
+def test_size_expression_with_n_keeps_the_shape_and_hits_n():
+    m = cvtmesh.mesh("circle", size="0.03 + 0.12*sqrt(x^2+y^2)", n=500, tol=1e-3)
+    assert len(m.points) == 500
+
+
+def test_constant_size_gives_the_lattice_count():
+    m = cvtmesh.mesh("square_hole", size=0.1, tol=1e-3)
+    area = Region.builtin("square_hole").area
+    assert len(m.points) == round(2 * area / (math.sqrt(3) * 0.01))
+
+
+def test_progress_is_called_and_can_stop_the_run():
+    seen = []
+    cvtmesh.mesh("circle", n=88, progress=lambda it, e, mv: seen.append((it, e, mv)))
+    assert len(seen) > 3 and seen[0][0] == 1
+
+    def stop(it, e, mv):
+        if it == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cvtmesh.mesh("circle", n=2000, progress=stop)
+
+
+def test_threads_mesh_in_parallel_with_the_same_results():
+    out = {}
+
+    def run(seed):
+        out[seed] = cvtmesh.mesh("annulus", n=303, seed=seed).points.tobytes()
+
+    threads = [threading.Thread(target=run, args=(s,)) for s in (1, 2, 1)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert out[1] == cvtmesh.mesh("annulus", n=303, seed=1).points.tobytes()
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        (dict(region="nowhere/region.poly", n=100), "nowhere/region.poly"),
+        (dict(region="no_such_region", n=100), "unknown region"),
+        (dict(region="circle", n=100, method="lloyd"), "unknown method"),
+        (dict(region="circle"), "give n"),
+        (dict(region="circle", size="x"), "positive and finite"),
+        (dict(region="circle", size="0.1 +"), "size"),
+        (dict(region="circle", size=lambda xy: np.full(len(xy), np.nan)), "positive and finite"),
+        (dict(region="circle", size=1e-9), "too many"),
+        (dict(region="circle", n=100, density="-1"), "non-negative"),
+        (dict(region="circle", n=100, size=0.1, density="1"), "not both"),
+        (dict(region="square_hole", n=3), "corner"),
+        (dict(region=[[0, 0], [1, 1], [1, 0], [0, 1]], n=50), "region"),
+        (dict(region=[[0, 0], [1, 0], [float("nan"), 1]], n=50), "non-finite"),
+        (dict(region=[0, 1, 2], n=50), "shape"),
+        (dict(region="circle", n=100, corner_angle=200), "corner_angle"),
+    ],
+)
+def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):
+    region = kwargs.pop("region")
+    with pytest.raises(MeshError) as e:
+        cvtmesh.mesh(region, **kwargs)
+    assert words in str(e.value)
+    assert isinstance(e.value, ValueError)
+
+
+def test_write_every_format_and_read_back(tmp_path):
+    m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=200)
+    for ext in ["node", "msh", "vtu", "obj"]:
+        path = tmp_path / f"mesh.{ext}"
+        m.write(path)
+        assert path.stat().st_size > 0
+    back = cvtmesh.Mesh.read(tmp_path / "mesh.msh")
+    np.testing.assert_allclose(back.points, m.points, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(back.triangles, m.triangles)
+    with pytest.raises(MeshError):
+        m.write(tmp_path / "mesh.xyz")
+    assert not (tmp_path / "mesh.xyz").exists()
+
+
+def test_region_api():
+    r = Region.from_loops(SQUARE, [HOLE], name="sq")
+    assert r.name == "sq" and r.area == pytest.approx(0.96)
+    assert r.corners.shape == (8, 2)
+    rings = r.polygonize(1e-3)
+    assert len(rings) == 2 and rings[0].shape[1] == 2
+    d = r.signed_distance(np.array([[0.5, 0.2], [0.5, 0.5], [2.0, 0.5]]))
+    assert d[0] == pytest.approx(-0.1) and d[1] > 0 and d[2] == pytest.approx(1.0)
+    lake = Region.builtin("lake")
+    assert len(lake.with_corner_angle(60).corners) <= len(lake.corners)
+
+
+def test_to_meshio_names_each_boundary_loop():
+    meshio = pytest.importorskip("meshio")
+    m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=200)
+    mm = m.to_meshio()
+    assert isinstance(mm, meshio.Mesh)
+    assert mm.cells_dict["triangle"].shape == m.triangles.shape
+    assert mm.cells_dict["line"].shape == m.boundary_edges.shape
+    assert set(mm.cell_sets) >= {"boundary_0", "boundary_1", "domain"}
+    hole_edges = mm.cell_sets["boundary_1"][1]
+    assert (m.boundary_loop[hole_edges] == 1).all()
