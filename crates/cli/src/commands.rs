@@ -239,12 +239,13 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
 /// `cvtmesh show`.
 #[derive(Args)]
 pub struct ShowArgs {
-    /// A mesh (.node/.msh/.obj) or a region (file or built-in name).
+    /// A mesh (.node/.ele, .msh, .obj) or a region (file or built-in name).
     input: String,
-    /// The region of a mesh (defaults to drawing the mesh's input as a region).
+    /// The region of a mesh, whose boundary is drawn over it. Without it the mesh's own
+    /// boundary (edges of exactly one triangle) is drawn, as Triangle's showme does.
     #[arg(long, short)]
     region: Option<String>,
-    /// Colour triangles by: min-angle, q (circle ratio R/2r), area.
+    /// Colour triangles by: min-angle, q (circle ratio R/2r), area [default: no colours].
     #[arg(long)]
     colour: Option<String>,
     /// Output picture (.png or .svg).
@@ -258,8 +259,12 @@ pub fn show(a: ShowArgs) -> Result<()> {
     if kind != "png" && kind != "svg" {
         bail!("'{}': show writes .png or .svg", a.output.display());
     }
-    let is_mesh =
-        a.input.ends_with(".node") || a.input.ends_with(".msh") || a.input.ends_with(".ele");
+    let input = PathBuf::from(&a.input);
+    let is_mesh = input.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        cvtmesh::io::READ_EXTENSIONS
+            .iter()
+            .any(|m| m.eq_ignore_ascii_case(e))
+    });
     if !is_mesh {
         if a.colour.is_some() {
             bail!("--colour needs a mesh, but '{}' is a region", a.input);
@@ -267,22 +272,31 @@ pub fn show(a: ShowArgs) -> Result<()> {
         let region = inputs::region(&a.input, None)?;
         return inputs::draw(None, &region, &a.output, region.name(), None);
     }
-    let Some(region_spec) = a.region.as_deref() else {
-        bail!("showing a mesh needs --region (file or built-in name) to draw its boundary");
-    };
-    let region = inputs::region(region_spec, None)?;
-    let mesh = inputs::mesh(PathBuf::from(&a.input).as_path())?;
+    let region = a
+        .region
+        .as_deref()
+        .map(|spec| inputs::region(spec, None))
+        .transpose()?;
+    let mesh = inputs::mesh(&input)?;
     let colour = match a.colour.as_deref() {
         None => None,
         Some(c) => Some((triangle_values(&mesh, c)?, c.to_string())),
     };
+    let name = match &region {
+        Some(r) => r.name().to_string(),
+        None => input
+            .file_name()
+            .map_or_else(|| a.input.clone(), |f| f.to_string_lossy().into_owned()),
+    };
     let title = format!(
-        "{} K={} K~={}",
-        region.name(),
+        "{name} K={} K~={}",
         mesh.num_vertices(),
         mesh.num_triangles()
     );
-    inputs::draw(Some(&mesh), &region, &a.output, &title, colour)
+    match &region {
+        Some(r) => inputs::draw(Some(&mesh), r, &a.output, &title, colour),
+        None => inputs::draw_mesh(&mesh, &a.output, &title, colour),
+    }
 }
 
 fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {

@@ -5,6 +5,9 @@ use cvtmesh::geometry::{Density, Region};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
 
+/// Pixels spanned by the longer side of a picture's bounding box.
+pub const PICTURE_PX: u32 = 1200;
+
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.
 /// `corner_angle` keeps only corners turning more than that many degrees.
 pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
@@ -107,10 +110,29 @@ pub fn draw(
     if let Some(m) = mesh {
         panel = panel.with_mesh(m);
     }
+    picture(panel, colour, path)
+}
+
+/// Draw a mesh without its region: its own boundary edges stand in for the region's.
+pub fn draw_mesh(
+    mesh: &Mesh,
+    path: &Path,
+    title: &str,
+    colour: Option<(Vec<f64>, String)>,
+) -> Result<()> {
+    picture(render::Panel::for_mesh(title, mesh), colour, path)
+}
+
+/// Write one panel, optionally coloured per triangle, as the picture `path` names.
+fn picture(
+    mut panel: render::Panel,
+    colour: Option<(Vec<f64>, String)>,
+    path: &Path,
+) -> Result<()> {
     if let Some((values, label)) = colour {
         panel = panel.with_colour(values, label);
     }
-    let layout = render::Layout::new(1).panel_px(1200);
+    let layout = render::Layout::new(1).panel_px(PICTURE_PX);
     match output_kind(path)? {
         "png" => render::render_png(&[panel], &layout, path)?,
         "svg" => render::render_svg(&[panel], &layout, path)?,

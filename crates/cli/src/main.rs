@@ -34,7 +34,7 @@ enum Command {
     Measure(commands::MeasureArgs),
     /// Draw a mesh or a region to PNG or SVG, optionally coloured by a per-triangle quality.
     #[command(
-        after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
+        after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh -o out.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
     )]
     Show(commands::ShowArgs),
     /// List the built-in regions (the paper's ten), usable by name wherever a region is asked.

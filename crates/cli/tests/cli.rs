@@ -138,6 +138,105 @@ fn every_output_format_is_written_and_meshes_read_back() {
         .contains("<svg"));
 }
 
+/// Number of edges used by exactly one triangle of the mesh in `path`.
+fn boundary_edge_count(path: &std::path::Path) -> usize {
+    let mesh = cvtmesh::io::read_mesh(path).unwrap();
+    let mut uses = std::collections::HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    uses.values().filter(|&&n| n == 1).count()
+}
+
+#[test]
+fn show_draws_a_mesh_without_its_region() {
+    let d = scratch("showme");
+    let mesh = d.join("sq.msh");
+    let o = cvtmesh(&[
+        "mesh",
+        "square_hole",
+        "--points",
+        "300",
+        "--quiet",
+        "-o",
+        s(&mesh),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let expected = boundary_edge_count(&mesh);
+    // The square and its square hole: at least the 8 corners' edges.
+    assert!(expected >= 8, "{expected}");
+
+    let png = d.join("sq.png");
+    let o = cvtmesh(&["show", s(&mesh), "-o", s(&png)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let dim = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    // The square region at 1200 px plus margins and the title.
+    let (w, h) = (dim(16), dim(20));
+    assert!(
+        (1200..1400).contains(&w) && (1200..1500).contains(&h),
+        "{w}x{h}"
+    );
+
+    let svg = d.join("sq.svg");
+    let o = cvtmesh(&["show", s(&mesh), "-o", s(&svg)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let doc = std::fs::read_to_string(&svg).unwrap();
+    assert!(doc.starts_with("<?xml") && doc.trim_end().ends_with("</svg>"));
+    assert!(doc.contains(">sq.msh K=300 K~="), "title names the file");
+    let boundary: Vec<&str> = doc
+        .lines()
+        .filter(|l| l.contains(r#"class="boundary""#))
+        .collect();
+    assert_eq!(boundary.len(), 1, "one boundary path");
+    assert!(boundary[0].contains(r##"stroke="#000000""##));
+    assert_eq!(
+        boundary[0].matches('M').count(),
+        expected,
+        "one boundary stroke per edge of exactly one triangle"
+    );
+
+    let coloured = d.join("angles.svg");
+    let o = cvtmesh(&[
+        "show",
+        s(&mesh),
+        "--colour",
+        "min-angle",
+        "-o",
+        s(&coloured),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let doc = std::fs::read_to_string(&coloured).unwrap();
+    let filled: usize = doc
+        .lines()
+        .filter(|l| l.contains(r#"class="fill""#))
+        .map(|l| l.matches('Z').count())
+        .sum();
+    let triangles = cvtmesh::io::read_mesh(&mesh).unwrap().num_triangles();
+    assert_eq!(filled, triangles, "every triangle coloured once");
+    assert!(doc.contains(">min-angle</text>"), "colour bar label");
+    assert_eq!(doc.matches(r#"class="boundary""#).count(), 1);
+
+    // Unreadable meshes and unknown picture types are refused and write nothing.
+    let out = d.join("never.png");
+    assert_refused(
+        &["show", s(&d.join("missing.msh")), "-o", s(&out)],
+        &out,
+        "missing.msh",
+    );
+    let out = d.join("never.gif");
+    assert_refused(
+        &["show", s(&mesh), "-o", s(&out)],
+        &out,
+        "unknown extension",
+    );
+}
+
 #[test]
 fn each_method_is_reachable() {
     let d = scratch("methods");
