@@ -66,6 +66,96 @@ fn regions_lists_the_ten_builtins() {
 }
 
 #[test]
+fn version_is_printed_by_both_flags() {
+    for flag in ["--version", "-V"] {
+        let o = cvtmesh(&[flag]);
+        assert!(o.status.success(), "{flag}: {}", text(&o));
+        assert_eq!(
+            String::from_utf8_lossy(&o.stdout).trim(),
+            format!("cvtmesh {}", env!("CARGO_PKG_VERSION")),
+            "{flag}"
+        );
+    }
+    assert_eq!(env!("CARGO_PKG_VERSION"), "0.1.0");
+}
+
+/// Help text of `cvtmesh ARGS --help`.
+fn help(args: &[&str]) -> String {
+    let mut all = args.to_vec();
+    all.push("--help");
+    let o = cvtmesh(&all);
+    assert!(o.status.success(), "{args:?}: {}", text(&o));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The help line of option `--name`.
+fn option_line<'h>(help: &'h str, name: &str) -> &'h str {
+    let flag = format!("--{name} ");
+    help.lines()
+        .find(|l| l.trim_start().starts_with(&flag) || l.contains(&format!(", {flag}")))
+        .unwrap_or_else(|| panic!("no --{name} in\n{help}"))
+}
+
+#[test]
+fn help_names_every_default() {
+    let mesh = help(&["mesh"]);
+    for (option, default) in [
+        ("method", "ccvt"),
+        ("seed", "1"),
+        ("tol", "1e-4"),
+        ("max-iter", "10000"),
+        ("density", "1, a uniform mesh"),
+        (
+            "corner-angle",
+            "none: every vertex where the boundary turns is a corner",
+        ),
+    ] {
+        let line = option_line(&mesh, option);
+        assert!(
+            line.contains(&format!("[default: {default}]")),
+            "--{option}: {line}"
+        );
+    }
+    let method = option_line(&mesh, "method");
+    for m in cvtmesh::Method::ALL {
+        assert!(method.contains(m.name()), "{m} missing: {method}");
+    }
+    let measure = help(&["measure"]);
+    assert!(option_line(&measure, "scale").contains("[default: 1]"));
+    assert!(option_line(&measure, "sampled").contains("[default: none"));
+    let show = help(&["show"]);
+    assert!(option_line(&show, "px").contains("[default: 1200]"));
+    assert!(option_line(&show, "colour").contains("[default: none"));
+    assert!(option_line(&show, "region").contains("[default: none: the mesh's own boundary"));
+
+    // Every option that takes a value names its default, unless it is required.
+    let required = ["points", "size", "output", "region"];
+    for (command, text) in [("mesh", &mesh), ("measure", &measure), ("show", &show)] {
+        for line in text.lines().map(str::trim_start) {
+            let Some(start) = line.find("--") else {
+                continue;
+            };
+            if !(line.starts_with("--") || line.starts_with('-')) {
+                continue;
+            }
+            let name: String = line[start + 2..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
+                .collect();
+            let takes_value = line[start..]
+                .split_whitespace()
+                .nth(1)
+                .is_some_and(|w| w.starts_with('<'));
+            let required_here =
+                required.contains(&name.as_str()) && !(command == "show" && name == "region");
+            if takes_value && !required_here {
+                assert!(line.contains("[default: "), "{command} --{name}: {line}");
+            }
+        }
+    }
+}
+
+#[test]
 fn mesh_then_measure_csv_round_trip() {
     let d = scratch("roundtrip");
     let out = d.join("c.node");
@@ -222,7 +312,21 @@ fn show_draws_a_mesh_without_its_region() {
     assert!(doc.contains(">min-angle</text>"), "colour bar label");
     assert_eq!(doc.matches(r#"class="boundary""#).count(), 1);
 
-    // Unreadable meshes and unknown picture types are refused and write nothing.
+    // --px sets the drawing's size.
+    let small = d.join("small.png");
+    let o = cvtmesh(&["show", s(&mesh), "--px", "300", "-o", s(&small)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(&small).unwrap();
+    let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    assert!((300..400).contains(&w), "{w}");
+
+    // Unreadable meshes, unknown picture types and absurd sizes are refused and write nothing.
+    let out = d.join("never.svg");
+    assert_refused(
+        &["show", s(&mesh), "--px", "5", "-o", s(&out)],
+        &out,
+        "--px",
+    );
     let out = d.join("never.png");
     assert_refused(
         &["show", s(&d.join("missing.msh")), "-o", s(&out)],
