@@ -4,7 +4,7 @@ use cvtmesh_render::{Layout, Panel, RenderError};
 use geometry::{DVec2, LoopRole, Piece, Region};
 use tiny_skia::Pixmap;
 
-#[path = "../examples/sample/polar.rs"]
+#[path = "support/polar.rs"]
 mod polar;
 
 fn annulus() -> Region {
