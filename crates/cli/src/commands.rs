@@ -278,9 +278,11 @@ pub struct ShowArgs {
 
 /// `cvtmesh show`: a picture of a region or mesh.
 pub fn show(a: ShowArgs) -> Result<()> {
-    let kind = inputs::output_kind(&a.output)?;
-    if kind != "png" && kind != "svg" {
-        bail!("'{}': show writes .png or .svg", a.output.display());
+    if !matches!(inputs::output_kind(&a.output), Ok("png" | "svg")) {
+        bail!(
+            "cannot write '{}': show writes .png or .svg",
+            a.output.display()
+        );
     }
     let input = PathBuf::from(&a.input);
     let is_mesh = input.extension().and_then(|e| e.to_str()).is_some_and(|e| {

@@ -1,6 +1,6 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
 use cvtmesh::geometry::{Density, Region};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
@@ -93,8 +93,16 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
         "svg" | "png" => draw(Some(mesh), region, path, title, None, PICTURE_PX),
-        _ => Ok(cvtmesh::io::write_mesh(mesh, path)
-            .with_context(|| format!("writing {}", path.display()))?),
+        _ => cvtmesh::io::write_mesh(mesh, path).map_err(|e| {
+            // Most of the writer's errors name the file already.
+            let named = e.to_string().contains(&path.display().to_string());
+            let e = anyhow::Error::new(e);
+            if named {
+                e
+            } else {
+                e.context(format!("writing {}", path.display()))
+            }
+        }),
     }
 }
 

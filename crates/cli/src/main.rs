@@ -52,16 +52,40 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", one_line(&e));
             ExitCode::FAILURE
         }
     }
 }
 
+/// The error and its causes on one line. Many errors already quote their cause in their own
+/// message; such a cause is not repeated.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !line.contains(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line
+}
+
 #[cfg(test)]
 mod tests {
-    use super::Cli;
+    use super::{one_line, Cli};
     use clap::CommandFactory;
+
+    #[test]
+    fn causes_are_shown_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let quoted = anyhow::Error::new(io).context("m.msh: cannot read: no such file");
+        assert_eq!(one_line(&quoted), "m.msh: cannot read: no such file");
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let unquoted = anyhow::Error::new(io).context("writing m.msh");
+        assert_eq!(one_line(&unquoted), "writing m.msh: no such file");
+    }
 
     #[test]
     fn the_command_line_definition_is_consistent() {

@@ -333,12 +333,19 @@ fn show_draws_a_mesh_without_its_region() {
         &out,
         "missing.msh",
     );
-    let out = d.join("never.gif");
-    assert_refused(
-        &["show", s(&mesh), "-o", s(&out)],
-        &out,
-        "unknown extension",
-    );
+    let o = cvtmesh(&["show", s(&d.join("missing.msh")), "-o", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    // The system's message (ending "(os error N)") once, not again as the error's cause.
+    assert_eq!(err.matches("(os error").count(), 1, "{err}");
+    for picture in ["never.gif", "never.msh"] {
+        let out = d.join(picture);
+        assert_refused(
+            &["show", s(&mesh), "-o", s(&out)],
+            &out,
+            "show writes .png or .svg",
+        );
+    }
 }
 
 #[test]
