@@ -3,7 +3,7 @@ use crate::inputs;
 use anyhow::{bail, Result};
 use clap::Args;
 use cvtmesh::geometry::Region;
-use cvtmesh::{MeshRequest, Size};
+use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -21,7 +21,7 @@ const MAX_SAMPLES: usize = 100_000_000;
 pub struct MeshArgs {
     /// Region file (.json, .geojson, .poly, .txt loop list) or built-in name (see `cvtmesh regions`).
     region: String,
-    /// Number of vertices K.
+    /// Number of vertices K (this or --size is required).
     #[arg(
         long,
         short = 'n',
@@ -29,26 +29,28 @@ pub struct MeshArgs {
         required_unless_present = "size"
     )]
     points: Option<usize>,
-    /// Target edge length h (K follows from the region's area).
+    /// Target edge length h; K follows from the region's area (this or --points is required).
     #[arg(long)]
     size: Option<f64>,
-    /// Method: ccvt (Algorithm 2 with Newton's method; default), ccvt-anderson, ccvt2, ccvt1, distmesh, meshgen, vtm, refine.
-    #[arg(long, short = 'm', default_value = "ccvt")]
+    // The names come from `Method::ALL`, so the help cannot fall behind the list of methods.
+    #[arg(long, short = 'm', help = method_help(), default_value_t = Method::default().to_string())]
     method: String,
-    /// Density ρ(x, y) for graded meshes, e.g. '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)'.
+    /// Density ρ(x, y) for graded meshes, e.g. '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)'
+    /// [default: 1, a uniform mesh].
     #[arg(long)]
     density: Option<String>,
     /// Seed of every random choice.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = MeshRequest::points(0).seed)]
     seed: u64,
     /// Convergence tolerance: largest generator move relative to the mean spacing (CVT methods;
     /// DistMesh keeps its original dptol, refinement is not iterative).
-    #[arg(long, default_value_t = DEFAULT_TOL)]
+    #[arg(long, default_value = "1e-4")]
     tol: f64,
     /// Iteration cap.
-    #[arg(long, default_value_t = 10_000)]
+    #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
     max_iter: usize,
-    /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines.
+    /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines
+    /// [default: none: every vertex where the boundary turns is a corner].
     #[arg(long)]
     corner_angle: Option<f64>,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence.
@@ -57,9 +59,26 @@ pub struct MeshArgs {
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
-    /// Output file; the format follows the extension.
+    /// Output file; the format follows the extension (.svg and .png pictures are 1200 px
+    /// across).
     #[arg(long, short)]
     output: PathBuf,
+}
+
+/// `--method`'s help: every name (and alias) of [`Method::ALL`], the default first.
+fn method_help() -> String {
+    let names: Vec<String> = Method::ALL
+        .iter()
+        .map(|m| match m.aliases() {
+            [] => m.name().to_string(),
+            aliases => format!("{} (or {})", m.name(), aliases.join(", ")),
+        })
+        .collect();
+    format!(
+        "Method: {}; {} is Algorithm 2 with Newton's method",
+        names.join(", "),
+        Method::default()
+    )
 }
 
 /// `cvtmesh mesh`: mesh, report, write.
@@ -183,7 +202,8 @@ pub struct MeasureArgs {
     /// Two CSV lines (header, values at full precision) instead of a table.
     #[arg(long)]
     csv: bool,
-    /// Also print the paper-style Monte-Carlo estimate with this many samples.
+    /// Also print the paper-style Monte-Carlo estimate with this many samples (seed 1)
+    /// [default: none, exact measures only].
     #[arg(long)]
     sampled: Option<usize>,
     /// Coordinate scale for the sampled estimate (the paper's circle/annulus τ, d match 0.5).
@@ -239,14 +259,18 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
 /// `cvtmesh show`.
 #[derive(Args)]
 pub struct ShowArgs {
-    /// A mesh (.node/.msh/.obj) or a region (file or built-in name).
+    /// A mesh (.node/.ele, .msh, .obj) or a region (file or built-in name).
     input: String,
-    /// The region of a mesh (defaults to drawing the mesh's input as a region).
+    /// The region of a mesh, whose boundary is drawn over it [default: none: the mesh's own
+    /// boundary, the edges of exactly one triangle, is drawn, as Triangle's showme does].
     #[arg(long, short)]
     region: Option<String>,
-    /// Colour triangles by: min-angle, q (circle ratio R/2r), area.
+    /// Colour triangles by: min-angle, q (circle ratio R/2r), area [default: none, uniform tint].
     #[arg(long)]
     colour: Option<String>,
+    /// Pixels spanned by the longer side of the drawing.
+    #[arg(long, default_value_t = inputs::PICTURE_PX, value_parser = clap::value_parser!(u32).range(100..=20_000))]
+    px: u32,
     /// Output picture (.png or .svg).
     #[arg(long, short)]
     output: PathBuf,
@@ -254,35 +278,50 @@ pub struct ShowArgs {
 
 /// `cvtmesh show`: a picture of a region or mesh.
 pub fn show(a: ShowArgs) -> Result<()> {
-    let kind = inputs::output_kind(&a.output)?;
-    if kind != "png" && kind != "svg" {
-        bail!("'{}': show writes .png or .svg", a.output.display());
+    if !matches!(inputs::output_kind(&a.output), Ok("png" | "svg")) {
+        bail!(
+            "cannot write '{}': show writes .png or .svg",
+            a.output.display()
+        );
     }
-    let is_mesh =
-        a.input.ends_with(".node") || a.input.ends_with(".msh") || a.input.ends_with(".ele");
+    let input = PathBuf::from(&a.input);
+    let is_mesh = input.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        cvtmesh::io::READ_EXTENSIONS
+            .iter()
+            .any(|m| m.eq_ignore_ascii_case(e))
+    });
     if !is_mesh {
         if a.colour.is_some() {
             bail!("--colour needs a mesh, but '{}' is a region", a.input);
         }
         let region = inputs::region(&a.input, None)?;
-        return inputs::draw(None, &region, &a.output, region.name(), None);
+        return inputs::draw(None, &region, &a.output, region.name(), None, a.px);
     }
-    let Some(region_spec) = a.region.as_deref() else {
-        bail!("showing a mesh needs --region (file or built-in name) to draw its boundary");
-    };
-    let region = inputs::region(region_spec, None)?;
-    let mesh = inputs::mesh(PathBuf::from(&a.input).as_path())?;
+    let region = a
+        .region
+        .as_deref()
+        .map(|spec| inputs::region(spec, None))
+        .transpose()?;
+    let mesh = inputs::mesh(&input)?;
     let colour = match a.colour.as_deref() {
         None => None,
         Some(c) => Some((triangle_values(&mesh, c)?, c.to_string())),
     };
+    let name = match &region {
+        Some(r) => r.name().to_string(),
+        None => input
+            .file_name()
+            .map_or_else(|| a.input.clone(), |f| f.to_string_lossy().into_owned()),
+    };
     let title = format!(
-        "{} K={} K~={}",
-        region.name(),
+        "{name} K={} K~={}",
         mesh.num_vertices(),
         mesh.num_triangles()
     );
-    inputs::draw(Some(&mesh), &region, &a.output, &title, colour)
+    match &region {
+        Some(r) => inputs::draw(Some(&mesh), r, &a.output, &title, colour, a.px),
+        None => inputs::draw_mesh(&mesh, &a.output, &title, colour, a.px),
+    }
 }
 
 fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {
@@ -315,4 +354,28 @@ pub fn regions() -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Mesh {
+        #[command(flatten)]
+        args: MeshArgs,
+    }
+
+    #[test]
+    fn mesh_defaults_are_the_librarys() {
+        let a = Mesh::try_parse_from(["mesh", "circle", "-n", "50", "-o", "c.msh"])
+            .unwrap()
+            .args;
+        let d = MeshRequest::points(50);
+        assert_eq!((a.seed, a.tol, a.max_iter), (d.seed, d.tol, d.max_iter));
+        assert_eq!(a.tol, DEFAULT_TOL);
+        assert_eq!(a.method.parse::<Method>(), Ok(Method::default()));
+        assert!(a.density.is_none() && a.corner_angle.is_none());
+    }
 }

@@ -1,9 +1,12 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
 use cvtmesh::geometry::{Density, Region};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
+
+/// Pixels spanned by the longer side of a picture's bounding box, unless `show --px` says.
+pub const PICTURE_PX: u32 = 1200;
 
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.
 /// `corner_angle` keeps only corners turning more than that many degrees.
@@ -89,28 +92,58 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
 /// Write a mesh in the format its extension names (temp file + rename in every writer).
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
-        "svg" | "png" => draw(Some(mesh), region, path, title, None),
-        _ => Ok(cvtmesh::io::write_mesh(mesh, path)
-            .with_context(|| format!("writing {}", path.display()))?),
+        "svg" | "png" => draw(Some(mesh), region, path, title, None, PICTURE_PX),
+        _ => cvtmesh::io::write_mesh(mesh, path).map_err(|e| {
+            // Most of the writer's errors name the file already.
+            let named = e.to_string().contains(&path.display().to_string());
+            let e = anyhow::Error::new(e);
+            if named {
+                e
+            } else {
+                e.context(format!("writing {}", path.display()))
+            }
+        }),
     }
 }
 
-/// Draw a region, or a mesh on it, optionally coloured per triangle.
+/// Draw a region, or a mesh on it, optionally coloured per triangle, `px` pixels across.
 pub fn draw(
     mesh: Option<&Mesh>,
     region: &Region,
     path: &Path,
     title: &str,
     colour: Option<(Vec<f64>, String)>,
+    px: u32,
 ) -> Result<()> {
     let mut panel = render::Panel::new(title, region);
     if let Some(m) = mesh {
         panel = panel.with_mesh(m);
     }
+    picture(panel, colour, path, px)
+}
+
+/// Draw a mesh without its region: its own boundary edges stand in for the region's.
+pub fn draw_mesh(
+    mesh: &Mesh,
+    path: &Path,
+    title: &str,
+    colour: Option<(Vec<f64>, String)>,
+    px: u32,
+) -> Result<()> {
+    picture(render::Panel::for_mesh(title, mesh), colour, path, px)
+}
+
+/// Write one panel, optionally coloured per triangle, as the picture `path` names.
+fn picture(
+    mut panel: render::Panel,
+    colour: Option<(Vec<f64>, String)>,
+    path: &Path,
+    px: u32,
+) -> Result<()> {
     if let Some((values, label)) = colour {
         panel = panel.with_colour(values, label);
     }
-    let layout = render::Layout::new(1).panel_px(1200);
+    let layout = render::Layout::new(1).panel_px(px);
     match output_kind(path)? {
         "png" => render::render_png(&[panel], &layout, path)?,
         "svg" => render::render_svg(&[panel], &layout, path)?,

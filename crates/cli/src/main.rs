@@ -34,7 +34,7 @@ enum Command {
     Measure(commands::MeasureArgs),
     /// Draw a mesh or a region to PNG or SVG, optionally coloured by a per-triangle quality.
     #[command(
-        after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
+        after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh -o out.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
     )]
     Show(commands::ShowArgs),
     /// List the built-in regions (the paper's ten), usable by name wherever a region is asked.
@@ -52,8 +52,43 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", one_line(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The error and its causes on one line. Many errors already quote their cause in their own
+/// message; such a cause is not repeated.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !line.contains(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{one_line, Cli};
+    use clap::CommandFactory;
+
+    #[test]
+    fn causes_are_shown_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let quoted = anyhow::Error::new(io).context("m.msh: cannot read: no such file");
+        assert_eq!(one_line(&quoted), "m.msh: cannot read: no such file");
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let unquoted = anyhow::Error::new(io).context("writing m.msh");
+        assert_eq!(one_line(&unquoted), "writing m.msh: no such file");
+    }
+
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        Cli::command().debug_assert();
     }
 }

@@ -66,6 +66,96 @@ fn regions_lists_the_ten_builtins() {
 }
 
 #[test]
+fn version_is_printed_by_both_flags() {
+    for flag in ["--version", "-V"] {
+        let o = cvtmesh(&[flag]);
+        assert!(o.status.success(), "{flag}: {}", text(&o));
+        assert_eq!(
+            String::from_utf8_lossy(&o.stdout).trim(),
+            format!("cvtmesh {}", env!("CARGO_PKG_VERSION")),
+            "{flag}"
+        );
+    }
+    assert_eq!(env!("CARGO_PKG_VERSION"), "0.1.0");
+}
+
+/// Help text of `cvtmesh ARGS --help`.
+fn help(args: &[&str]) -> String {
+    let mut all = args.to_vec();
+    all.push("--help");
+    let o = cvtmesh(&all);
+    assert!(o.status.success(), "{args:?}: {}", text(&o));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The help line of option `--name`.
+fn option_line<'h>(help: &'h str, name: &str) -> &'h str {
+    let flag = format!("--{name} ");
+    help.lines()
+        .find(|l| l.trim_start().starts_with(&flag) || l.contains(&format!(", {flag}")))
+        .unwrap_or_else(|| panic!("no --{name} in\n{help}"))
+}
+
+#[test]
+fn help_names_every_default() {
+    let mesh = help(&["mesh"]);
+    for (option, default) in [
+        ("method", "ccvt"),
+        ("seed", "1"),
+        ("tol", "1e-4"),
+        ("max-iter", "10000"),
+        ("density", "1, a uniform mesh"),
+        (
+            "corner-angle",
+            "none: every vertex where the boundary turns is a corner",
+        ),
+    ] {
+        let line = option_line(&mesh, option);
+        assert!(
+            line.contains(&format!("[default: {default}]")),
+            "--{option}: {line}"
+        );
+    }
+    let method = option_line(&mesh, "method");
+    for m in cvtmesh::Method::ALL {
+        assert!(method.contains(m.name()), "{m} missing: {method}");
+    }
+    let measure = help(&["measure"]);
+    assert!(option_line(&measure, "scale").contains("[default: 1]"));
+    assert!(option_line(&measure, "sampled").contains("[default: none"));
+    let show = help(&["show"]);
+    assert!(option_line(&show, "px").contains("[default: 1200]"));
+    assert!(option_line(&show, "colour").contains("[default: none"));
+    assert!(option_line(&show, "region").contains("[default: none: the mesh's own boundary"));
+
+    // Every option that takes a value names its default, unless it is required.
+    let required = ["points", "size", "output", "region"];
+    for (command, text) in [("mesh", &mesh), ("measure", &measure), ("show", &show)] {
+        for line in text.lines().map(str::trim_start) {
+            let Some(start) = line.find("--") else {
+                continue;
+            };
+            if !(line.starts_with("--") || line.starts_with('-')) {
+                continue;
+            }
+            let name: String = line[start + 2..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '-')
+                .collect();
+            let takes_value = line[start..]
+                .split_whitespace()
+                .nth(1)
+                .is_some_and(|w| w.starts_with('<'));
+            let required_here =
+                required.contains(&name.as_str()) && !(command == "show" && name == "region");
+            if takes_value && !required_here {
+                assert!(line.contains("[default: "), "{command} --{name}: {line}");
+            }
+        }
+    }
+}
+
+#[test]
 fn mesh_then_measure_csv_round_trip() {
     let d = scratch("roundtrip");
     let out = d.join("c.node");
@@ -136,6 +226,126 @@ fn every_output_format_is_written_and_meshes_read_back() {
     assert!(std::fs::read_to_string(d.join("lake.svg"))
         .unwrap()
         .contains("<svg"));
+}
+
+/// Number of edges used by exactly one triangle of the mesh in `path`.
+fn boundary_edge_count(path: &std::path::Path) -> usize {
+    let mesh = cvtmesh::io::read_mesh(path).unwrap();
+    let mut uses = std::collections::HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    uses.values().filter(|&&n| n == 1).count()
+}
+
+#[test]
+fn show_draws_a_mesh_without_its_region() {
+    let d = scratch("showme");
+    let mesh = d.join("sq.msh");
+    let o = cvtmesh(&[
+        "mesh",
+        "square_hole",
+        "--points",
+        "300",
+        "--quiet",
+        "-o",
+        s(&mesh),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let expected = boundary_edge_count(&mesh);
+    // The square and its square hole: at least the 8 corners' edges.
+    assert!(expected >= 8, "{expected}");
+
+    let png = d.join("sq.png");
+    let o = cvtmesh(&["show", s(&mesh), "-o", s(&png)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let dim = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    // The square region at 1200 px plus margins and the title.
+    let (w, h) = (dim(16), dim(20));
+    assert!(
+        (1200..1400).contains(&w) && (1200..1500).contains(&h),
+        "{w}x{h}"
+    );
+
+    let svg = d.join("sq.svg");
+    let o = cvtmesh(&["show", s(&mesh), "-o", s(&svg)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let doc = std::fs::read_to_string(&svg).unwrap();
+    assert!(doc.starts_with("<?xml") && doc.trim_end().ends_with("</svg>"));
+    assert!(doc.contains(">sq.msh K=300 K~="), "title names the file");
+    let boundary: Vec<&str> = doc
+        .lines()
+        .filter(|l| l.contains(r#"class="boundary""#))
+        .collect();
+    assert_eq!(boundary.len(), 1, "one boundary path");
+    assert!(boundary[0].contains(r##"stroke="#000000""##));
+    assert_eq!(
+        boundary[0].matches('M').count(),
+        expected,
+        "one boundary stroke per edge of exactly one triangle"
+    );
+
+    let coloured = d.join("angles.svg");
+    let o = cvtmesh(&[
+        "show",
+        s(&mesh),
+        "--colour",
+        "min-angle",
+        "-o",
+        s(&coloured),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let doc = std::fs::read_to_string(&coloured).unwrap();
+    let filled: usize = doc
+        .lines()
+        .filter(|l| l.contains(r#"class="fill""#))
+        .map(|l| l.matches('Z').count())
+        .sum();
+    let triangles = cvtmesh::io::read_mesh(&mesh).unwrap().num_triangles();
+    assert_eq!(filled, triangles, "every triangle coloured once");
+    assert!(doc.contains(">min-angle</text>"), "colour bar label");
+    assert_eq!(doc.matches(r#"class="boundary""#).count(), 1);
+
+    // --px sets the drawing's size.
+    let small = d.join("small.png");
+    let o = cvtmesh(&["show", s(&mesh), "--px", "300", "-o", s(&small)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(&small).unwrap();
+    let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    assert!((300..400).contains(&w), "{w}");
+
+    // Unreadable meshes, unknown picture types and absurd sizes are refused and write nothing.
+    let out = d.join("never.svg");
+    assert_refused(
+        &["show", s(&mesh), "--px", "5", "-o", s(&out)],
+        &out,
+        "--px",
+    );
+    let out = d.join("never.png");
+    assert_refused(
+        &["show", s(&d.join("missing.msh")), "-o", s(&out)],
+        &out,
+        "missing.msh",
+    );
+    let o = cvtmesh(&["show", s(&d.join("missing.msh")), "-o", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    // The system's message (ending "(os error N)") once, not again as the error's cause.
+    assert_eq!(err.matches("(os error").count(), 1, "{err}");
+    for picture in ["never.gif", "never.msh"] {
+        let out = d.join(picture);
+        assert_refused(
+            &["show", s(&mesh), "-o", s(&out)],
+            &out,
+            "show writes .png or .svg",
+        );
+    }
 }
 
 #[test]

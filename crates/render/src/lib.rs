@@ -7,16 +7,19 @@
 //! light tint by the even-odd rule (holes stay white), optionally a mesh's triangle edges as
 //! thin anti-aliased strokes, optionally a per-triangle fill colour from a value per triangle
 //! through the viridis colormap with a colour bar, and the region boundary on top as a thicker
-//! dark line.
+//! dark line. A mesh can also be drawn without its region ([`Panel::for_mesh`]), as Triangle's
+//! showme does: the triangles are tinted, the edges of exactly one triangle are drawn in the
+//! boundary style, and the mesh's bounding box sets the frame.
 //!
 //! ```no_run
-//! # fn demo(region: &cvtmesh_geometry::Region, mesh: &cvtmesh_mesh::Mesh) -> Result<(), cvtmesh_render::RenderError> {
+//! # fn demo(region: &geometry::Region, mesh: &mesh::Mesh) -> Result<(), cvtmesh_render::RenderError> {
 //! use cvtmesh_render::{Layout, Panel};
 //! let angles: Vec<f64> = vec![45.0; mesh.num_triangles()];
 //! let panels = [
 //!     Panel::new("region", region),
 //!     Panel::new("mesh", region).with_mesh(mesh),
 //!     Panel::new("min angle", region).with_mesh(mesh).with_colour(angles, "min angle (°)"),
+//!     Panel::for_mesh("mesh alone", mesh),
 //! ];
 //! let layout = Layout::new(3).panel_px(400).title("Figure 3");
 //! cvtmesh_render::render_png(&panels, &layout, std::path::Path::new("fig3.png"))?;
@@ -24,6 +27,7 @@
 //! # Ok(()) }
 //! ```
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 mod colormap;
 mod frame;
@@ -75,8 +79,11 @@ pub enum RenderError {
         /// What is wrong.
         reason: String,
     },
-    /// The region (with the mesh) has an empty or non-finite extent.
-    #[error("panel {0}: the region has no finite, non-zero extent")]
+    /// The panel has neither a region nor a mesh.
+    #[error("panel {0}: nothing to draw: neither a region nor a mesh")]
+    EmptyPanel(usize),
+    /// The region (with the mesh), or the mesh alone, has an empty or non-finite extent.
+    #[error("panel {0}: the region (or mesh) has no finite, non-zero extent")]
     EmptyRegion(usize),
     /// The embedded font could not be parsed.
     #[error("cannot load the embedded DejaVu Sans font")]
@@ -102,15 +109,19 @@ pub enum RenderError {
     },
 }
 
-/// One panel of a figure: a region, optionally with a mesh and per-triangle colours.
+/// One panel of a figure: a region, optionally with a mesh and per-triangle colours; or a mesh
+/// alone ([`Panel::for_mesh`]).
 #[derive(Clone, Debug)]
 pub struct Panel<'a> {
     /// Title drawn above the panel.
     pub title: String,
     /// The mesh to draw, if any (`None`: just the region).
     pub mesh: Option<&'a Mesh>,
-    /// The region: its boundary is drawn from `Region::polygonize`.
-    pub region: &'a Region,
+    /// The region: its boundary is drawn from `Region::polygonize`. `None` (a panel from
+    /// [`Panel::for_mesh`]): the mesh's own boundary edges are drawn instead, and the mesh
+    /// alone sets the frame; a panel with neither region nor mesh is
+    /// [`RenderError::EmptyPanel`].
+    pub region: Option<&'a Region>,
     /// One value per triangle (e.g. its minimum angle), shown as the triangle's fill colour
     /// through the viridis colormap scaled from the minimum to the maximum finite value.
     /// Non-finite values are drawn grey ([`NO_DATA_COLOUR`]).
@@ -125,7 +136,20 @@ impl<'a> Panel<'a> {
         Panel {
             title: title.into(),
             mesh: None,
-            region,
+            region: Some(region),
+            colour_by: None,
+            colour_label: None,
+        }
+    }
+    /// A panel showing `mesh` without its region: the triangles are tinted, the edges of
+    /// exactly one triangle (the outer boundary and the holes' boundaries of a conforming
+    /// mesh) are drawn in the boundary style, and the mesh's bounding box sets the frame. For
+    /// a mesh read from a file whose region is not at hand.
+    pub fn for_mesh(title: impl Into<String>, mesh: &'a Mesh) -> Panel<'a> {
+        Panel {
+            title: title.into(),
+            mesh: Some(mesh),
+            region: None,
             colour_by: None,
             colour_label: None,
         }

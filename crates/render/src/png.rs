@@ -1,8 +1,10 @@
 //! Raster back end (tiny-skia).
 use crate::frame::{self, Frame, PanelFrame};
-use crate::scene::{edge_width, unique_edges, Scene};
+use crate::scene::{edge_width, unique_edges, Outline, Scene};
 use crate::text::Fonts;
 use crate::{colormap, Layout, RenderError, BOUNDARY_COLOUR, NO_DATA_COLOUR, TEXT_COLOUR};
+use geometry::Polygon;
+use mesh::Mesh;
 use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform,
 };
@@ -43,9 +45,9 @@ fn paint(rgb: [u8; 3], anti_alias: bool) -> Paint<'static> {
 }
 
 /// All rings of the region polygon as closed subpaths.
-fn rings_path(s: &Scene, pf: &PanelFrame) -> Option<Path> {
+fn rings_path(polygon: &Polygon, pf: &PanelFrame) -> Option<Path> {
     let mut pb = PathBuilder::new();
-    for r in &s.polygon.rings {
+    for r in &polygon.rings {
         let mut pts = r.points.iter().map(|p| pf.to_px(*p));
         if let Some((x, y)) = pts.next() {
             pb.move_to(x, y);
@@ -58,60 +60,96 @@ fn rings_path(s: &Scene, pf: &PanelFrame) -> Option<Path> {
     pb.finish()
 }
 
+/// Each of `edges` (vertex pairs of `m`) as an open subpath.
+fn segments_path(m: &Mesh, edges: &[(u32, u32)], pf: &PanelFrame) -> Option<Path> {
+    let mut pb = PathBuilder::new();
+    for &(a, b) in edges {
+        let (p, q) = (
+            pf.to_px(m.points[a as usize]),
+            pf.to_px(m.points[b as usize]),
+        );
+        pb.move_to(p.0, p.1);
+        pb.line_to(q.0, q.1);
+    }
+    pb.finish()
+}
+
+/// Every triangle of `m` as a closed subpath.
+fn triangles_path(
+    m: &Mesh,
+    triangles: impl Iterator<Item = usize>,
+    pf: &PanelFrame,
+) -> Option<Path> {
+    let mut pb = PathBuilder::new();
+    for t in triangles {
+        let [p, q, r] = m.triangle(t).map(|v| pf.to_px(v));
+        pb.move_to(p.0, p.1);
+        pb.line_to(q.0, q.1);
+        pb.line_to(r.0, r.1);
+        pb.close();
+    }
+    pb.finish()
+}
+
 fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, fonts: &Fonts) {
     let id = Transform::identity();
     fonts.draw(pixmap, &pf.title, TEXT_COLOUR);
-    let outline = rings_path(s, pf);
-
-    // Region tint; even-odd so that holes stay white.
-    if let Some(path) = &outline {
-        pixmap.fill_path(
-            path,
-            &paint(layout.region_tint, true),
-            FillRule::EvenOdd,
-            id,
-            None,
-        );
-    }
+    let boundary = match (&s.outline, s.mesh) {
+        (Outline::Region(polygon), _) => {
+            let path = rings_path(polygon, pf);
+            // Region tint; even-odd so that holes stay white.
+            if let Some(path) = &path {
+                pixmap.fill_path(
+                    path,
+                    &paint(layout.region_tint, true),
+                    FillRule::EvenOdd,
+                    id,
+                    None,
+                );
+            }
+            path
+        }
+        (Outline::MeshBoundary(edges), Some(m)) => {
+            // Without a region the triangles themselves are the tinted area. Colour fills
+            // would cover the tint completely, so it is skipped then.
+            if s.colours.is_none() {
+                if let Some(path) = triangles_path(m, 0..m.num_triangles(), pf) {
+                    pixmap.fill_path(
+                        &path,
+                        &paint(layout.region_tint, false),
+                        FillRule::Winding,
+                        id,
+                        None,
+                    );
+                }
+            }
+            segments_path(m, edges, pf)
+        }
+        (Outline::MeshBoundary(_), None) => None,
+    };
 
     if let Some(m) = s.mesh {
         // Per-triangle colours: one path per colour bin. Not anti-aliased, so that adjacent
         // triangles leave no faint seams; the edge strokes cover the jagged borders.
         if let Some(c) = &s.colours {
-            let mut builders: Vec<Option<PathBuilder>> =
-                (0..=colormap::BINS).map(|_| None).collect();
+            let mut members: Vec<Vec<usize>> = vec![Vec::new(); colormap::BINS + 1];
             for (t, b) in c.bins.iter().enumerate() {
-                let slot = b.unwrap_or(colormap::BINS);
-                let pb = builders[slot].get_or_insert_with(PathBuilder::new);
-                let [p, q, r] = m.triangle(t).map(|v| pf.to_px(v));
-                pb.move_to(p.0, p.1);
-                pb.line_to(q.0, q.1);
-                pb.line_to(r.0, r.1);
-                pb.close();
+                members[b.unwrap_or(colormap::BINS)].push(t);
             }
-            for (slot, pb) in builders.into_iter().enumerate() {
+            for (slot, ts) in members.into_iter().enumerate() {
                 let rgb = if slot == colormap::BINS {
                     NO_DATA_COLOUR
                 } else {
                     colormap::bin_colour(slot)
                 };
-                if let Some(path) = pb.and_then(PathBuilder::finish) {
+                if let Some(path) = triangles_path(m, ts.into_iter(), pf) {
                     pixmap.fill_path(&path, &paint(rgb, false), FillRule::Winding, id, None);
                 }
             }
         }
         // Every edge once, in a single path: one stroke call, thin and anti-aliased.
         let edges = unique_edges(m);
-        let mut pb = PathBuilder::new();
-        for &(a, b) in &edges {
-            let (p, q) = (
-                pf.to_px(m.points[a as usize]),
-                pf.to_px(m.points[b as usize]),
-            );
-            pb.move_to(p.0, p.1);
-            pb.line_to(q.0, q.1);
-        }
-        if let Some(path) = pb.finish() {
+        if let Some(path) = segments_path(m, &edges, pf) {
             let stroke = Stroke {
                 width: edge_width(s, &edges, layout),
                 ..Stroke::default()
@@ -120,7 +158,7 @@ fn draw_panel(pixmap: &mut Pixmap, s: &Scene, pf: &PanelFrame, layout: &Layout, 
         }
     }
 
-    if let Some(path) = &outline {
+    if let Some(path) = &boundary {
         let stroke = Stroke {
             width: layout.boundary_stroke_px,
             line_join: LineJoin::Round,

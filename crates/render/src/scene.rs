@@ -1,5 +1,6 @@
-//! A panel resolved to what is drawn: the boundary polygon, the mesh and its colours, the
-//! world bounding box and the world→pixel scale. Validation of user input happens here.
+//! A panel resolved to what is drawn: the boundary (the region's polygon, or the mesh's own
+//! boundary edges), the mesh and its colours, the world bounding box and the world→pixel
+//! scale. Validation of user input happens here.
 use crate::{colormap, Layout, Panel, RenderError};
 use geometry::{DVec2, Polygon};
 use mesh::Mesh;
@@ -14,10 +15,18 @@ pub(crate) struct Colours {
     pub label: Option<String>,
 }
 
+/// What is tinted and outlined in the boundary style.
+pub(crate) enum Outline {
+    /// The region's polygonized boundary: rings filled by the even-odd rule, then stroked.
+    Region(Polygon),
+    /// No region: the mesh's triangles are tinted and its boundary edges (vertex pairs) stroked.
+    MeshBoundary(Vec<(u32, u32)>),
+}
+
 /// A panel ready to draw.
 pub(crate) struct Scene<'a> {
     pub title: String,
-    pub polygon: Polygon,
+    pub outline: Outline,
     pub mesh: Option<&'a Mesh>,
     pub colours: Option<Colours>,
     /// World bounding box of region and mesh.
@@ -35,6 +44,9 @@ impl Scene<'_> {
     }
 }
 
+/// A region as [`build`] takes it: its bounding box and a polygonizer (chord error → polygon).
+pub(crate) type RegionSource<'r> = ((DVec2, DVec2), &'r dyn Fn(f64) -> Polygon);
+
 /// Resolve every panel (polygonizing each region to a quarter-pixel chord error).
 pub(crate) fn from_panels<'a>(
     panels: &[Panel<'a>],
@@ -48,12 +60,13 @@ pub(crate) fn from_panels<'a>(
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let region = p.region;
+            let region = p.region.map(|r| (r.bbox(), move |tol| r.polygonize(tol)));
             build(
                 i,
                 &p.title,
-                region.bbox(),
-                &|tol| region.polygonize(tol),
+                region
+                    .as_ref()
+                    .map(|(bbox, f)| (*bbox, f as &dyn Fn(f64) -> Polygon)),
                 p.mesh,
                 p.colour_by.as_deref(),
                 p.colour_label.as_deref(),
@@ -63,19 +76,24 @@ pub(crate) fn from_panels<'a>(
         .collect()
 }
 
-/// Build one scene from a region given as its bounding box and a polygonizer.
-#[allow(clippy::too_many_arguments)]
+/// Build one scene from a region, a mesh, or both. Without a region the mesh alone sets the
+/// frame and its boundary edges stand in for the region's boundary.
 pub(crate) fn build<'a>(
     index: usize,
     title: &str,
-    bbox: (DVec2, DVec2),
-    polygonize: &dyn Fn(f64) -> Polygon,
+    region: Option<RegionSource>,
     mesh: Option<&'a Mesh>,
     colour_by: Option<&[f64]>,
     colour_label: Option<&str>,
     panel_px: u32,
 ) -> Result<Scene<'a>, RenderError> {
-    let (mut lo, mut hi) = bbox;
+    if region.is_none() && mesh.is_none() {
+        return Err(RenderError::EmptyPanel(index));
+    }
+    let (mut lo, mut hi) = region.map_or(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |r| r.0,
+    );
     if let Some(m) = mesh {
         check_mesh(index, m)?;
         for p in &m.points {
@@ -89,7 +107,11 @@ pub(crate) fn build<'a>(
         return Err(RenderError::EmptyRegion(index));
     }
     let scale = panel_px as f64 / long;
-    let polygon = polygonize(0.25 / scale);
+    let outline = match (region, mesh) {
+        (Some((_, polygonize)), _) => Outline::Region(polygonize(0.25 / scale)),
+        (None, Some(m)) => Outline::MeshBoundary(boundary_edges(m)),
+        (None, None) => unreachable!("refused above"),
+    };
     let colours = match (colour_by, mesh) {
         (None, _) => None,
         (Some(_), None) => return Err(RenderError::ColourWithoutMesh(index)),
@@ -118,7 +140,7 @@ pub(crate) fn build<'a>(
     };
     Ok(Scene {
         title: title.to_string(),
-        polygon,
+        outline,
         mesh,
         colours,
         lo,
@@ -164,6 +186,28 @@ pub(crate) fn unique_edges(m: &Mesh) -> Vec<(u32, u32)> {
     keys.into_iter()
         .map(|k| ((k >> 32) as u32, k as u32))
         .collect()
+}
+
+/// The edges of exactly one triangle, each once as (smaller, larger) vertex index, sorted. For
+/// a conforming mesh these are the edges of its boundary loops, outer and holes alike.
+pub(crate) fn boundary_edges(m: &Mesh) -> Vec<(u32, u32)> {
+    let mut keys: Vec<(u32, u32)> = m
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
+        .collect();
+    keys.sort_unstable();
+    // After sorting, an edge shared by two (or more) triangles is a run longer than one.
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < keys.len() {
+        let run = keys[i..].iter().take_while(|&&k| k == keys[i]).count();
+        if run == 1 {
+            out.push(keys[i]);
+        }
+        i += run;
+    }
+    out
 }
 
 /// Mesh edge width in pixels: the layout's width, thinned when edges are short on screen

@@ -1,8 +1,9 @@
 //! Vector back end: a hand-written SVG document with the same geometry as the PNG.
 use crate::frame::{self, PanelFrame};
-use crate::scene::{edge_width, unique_edges, Scene};
+use crate::scene::{edge_width, unique_edges, Outline, Scene};
 use crate::text::{Fonts, TextItem};
 use crate::{colormap, Layout, RenderError, BOUNDARY_COLOUR, NO_DATA_COLOUR, TEXT_COLOUR};
+use mesh::Mesh;
 use std::fmt::Write;
 
 const FONT_FAMILY: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
@@ -72,37 +73,78 @@ fn push_pt(d: &mut String, cmd: char, p: (f32, f32)) {
     let _ = write!(d, "{cmd}{:.2} {:.2}", p.0, p.1);
 }
 
+/// Path data of triangles `ts` of `m`, one closed subpath each.
+fn triangles_d(d: &mut String, m: &Mesh, ts: impl Iterator<Item = usize>, pf: &PanelFrame) {
+    for t in ts {
+        let [p, q, r] = m.triangle(t).map(|v| pf.to_px(v));
+        push_pt(d, 'M', p);
+        push_pt(d, 'L', q);
+        push_pt(d, 'L', r);
+        d.push('Z');
+    }
+}
+
+/// Path data of `edges` (vertex pairs of `m`), one open subpath each.
+fn segments_d(m: &Mesh, edges: &[(u32, u32)], pf: &PanelFrame) -> String {
+    let mut d = String::with_capacity(edges.len() * 32);
+    for &(a, b) in edges {
+        push_pt(&mut d, 'M', pf.to_px(m.points[a as usize]));
+        push_pt(&mut d, 'L', pf.to_px(m.points[b as usize]));
+    }
+    d
+}
+
 fn panel(out: &mut String, index: usize, s: &Scene, pf: &PanelFrame, layout: &Layout) {
     let _ = writeln!(out, r#"<g id="panel{index}">"#);
     text(out, &pf.title);
 
-    let mut outline = String::new();
-    for r in &s.polygon.rings {
-        for (k, p) in r.points.iter().enumerate() {
-            push_pt(&mut outline, if k == 0 { 'M' } else { 'L' }, pf.to_px(*p));
+    let boundary = match (&s.outline, s.mesh) {
+        (Outline::Region(polygon), _) => {
+            let mut d = String::new();
+            for r in &polygon.rings {
+                for (k, p) in r.points.iter().enumerate() {
+                    push_pt(&mut d, if k == 0 { 'M' } else { 'L' }, pf.to_px(*p));
+                }
+                if !r.points.is_empty() {
+                    d.push('Z');
+                }
+            }
+            if !d.is_empty() {
+                let _ = writeln!(
+                    out,
+                    r#"<path class="region" d="{d}" fill="{}" fill-rule="evenodd" stroke="none"/>"#,
+                    hex(layout.region_tint)
+                );
+            }
+            d
         }
-        if !r.points.is_empty() {
-            outline.push('Z');
+        (Outline::MeshBoundary(edges), Some(m)) => {
+            // Without a region the triangles are the tinted area; colour fills would cover
+            // it completely, so it is left out then.
+            if s.colours.is_none() && m.num_triangles() > 0 {
+                let mut d = String::with_capacity(m.num_triangles() * 48);
+                triangles_d(&mut d, m, 0..m.num_triangles(), pf);
+                let _ = writeln!(
+                    out,
+                    r#"<path class="region" d="{d}" fill="{}" stroke="none"/>"#,
+                    hex(layout.region_tint)
+                );
+            }
+            segments_d(m, edges, pf)
         }
-    }
-    if !outline.is_empty() {
-        let _ = writeln!(
-            out,
-            r#"<path class="region" d="{outline}" fill="{}" fill-rule="evenodd" stroke="none"/>"#,
-            hex(layout.region_tint)
-        );
-    }
+        (Outline::MeshBoundary(_), None) => String::new(),
+    };
 
     if let Some(m) = s.mesh {
         if let Some(c) = &s.colours {
             let mut paths: Vec<String> = vec![String::new(); colormap::BINS + 1];
             for (t, b) in c.bins.iter().enumerate() {
-                let d = &mut paths[b.unwrap_or(colormap::BINS)];
-                let [p, q, r] = m.triangle(t).map(|v| pf.to_px(v));
-                push_pt(d, 'M', p);
-                push_pt(d, 'L', q);
-                push_pt(d, 'L', r);
-                d.push('Z');
+                triangles_d(
+                    &mut paths[b.unwrap_or(colormap::BINS)],
+                    m,
+                    [t].into_iter(),
+                    pf,
+                );
             }
             for (slot, d) in paths.iter().enumerate() {
                 if d.is_empty() {
@@ -121,11 +163,7 @@ fn panel(out: &mut String, index: usize, s: &Scene, pf: &PanelFrame, layout: &La
             }
         }
         let edges = unique_edges(m);
-        let mut d = String::with_capacity(edges.len() * 32);
-        for &(a, b) in &edges {
-            push_pt(&mut d, 'M', pf.to_px(m.points[a as usize]));
-            push_pt(&mut d, 'L', pf.to_px(m.points[b as usize]));
-        }
+        let d = segments_d(m, &edges, pf);
         if !d.is_empty() {
             let _ = writeln!(
                 out,
@@ -136,10 +174,10 @@ fn panel(out: &mut String, index: usize, s: &Scene, pf: &PanelFrame, layout: &La
         }
     }
 
-    if !outline.is_empty() {
+    if !boundary.is_empty() {
         let _ = writeln!(
             out,
-            r#"<path class="boundary" d="{outline}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-linejoin="round" stroke-linecap="round"/>"#,
+            r#"<path class="boundary" d="{boundary}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-linejoin="round" stroke-linecap="round"/>"#,
             hex(BOUNDARY_COLOUR),
             layout.boundary_stroke_px
         );

@@ -97,8 +97,7 @@ fn scene<'a>(
     scene::build(
         0,
         title,
-        poly.bbox(),
-        &move |_| p.clone(),
+        Some((poly.bbox(), &move |_| p.clone())),
         mesh,
         colour,
         Some("value"),
@@ -217,6 +216,114 @@ fn mesh_edges_drawn_and_hole_left_empty() {
     let [a, b, d] = mesh.triangle(0);
     let (tx, ty) = pf.to_px((a + b + d) / 3.0);
     assert_eq!(rgb(&pix, tx, ty), layout.region_tint);
+}
+
+/// A scene of `mesh` alone, as `Panel::for_mesh` gives.
+fn mesh_scene<'a>(mesh: &'a Mesh, colour: Option<&[f64]>, px: u32) -> Scene<'a> {
+    scene::build(0, "mesh", None, Some(mesh), colour, Some("value"), px).unwrap()
+}
+
+#[test]
+fn boundary_edges_of_a_mesh_with_a_hole_are_its_loops_edges() {
+    let (_, mut mesh) = square_with_hole();
+    // Vertices 0–3 are the outer square, 4–7 the hole, each in order around its loop.
+    let loops = |first: u32| (0..4).map(move |i| (first + i, first + (i + 1) % 4));
+    let mut expected: Vec<(u32, u32)> = loops(0)
+        .chain(loops(4))
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    expected.sort_unstable();
+    assert_eq!(scene::boundary_edges(&mesh), expected);
+    // Orientation and vertex order within a triangle do not matter.
+    mesh.triangles[3].reverse();
+    mesh.triangles[6].rotate_left(1);
+    assert_eq!(scene::boundary_edges(&mesh), expected);
+    // Dropping a triangle opens its two inner edges to the boundary and closes none.
+    let [a, b, c] = mesh.triangles.remove(0);
+    let got = scene::boundary_edges(&mesh);
+    assert_eq!(got.len(), expected.len() + 1, "{got:?}");
+    assert!(!got.contains(&(a.min(b), a.max(b))), "{got:?}");
+    for (p, q) in [(b, c), (c, a)] {
+        assert!(got.contains(&(p.min(q), p.max(q))), "{got:?}");
+    }
+}
+
+#[test]
+fn mesh_alone_is_framed_by_its_box_and_outlined_by_its_boundary_edges() {
+    let (poly, mesh) = square_with_hole();
+    let s = [mesh_scene(&mesh, None, 200)];
+    assert_eq!((s[0].lo, s[0].hi), poly.bbox());
+    assert_eq!(s[0].scale, 200.0 / 4.0);
+    let layout = Layout::new(1)
+        .panel_px(200)
+        .mesh_stroke_px(1.0)
+        .boundary_stroke_px(6.0);
+    let (pix, frame) = render(&s, &layout);
+    let pf = &frame.panels[0];
+    let px = |p: DVec2| pf.to_px(p);
+    // 2 px inside the outer and the hole boundary: within the thick boundary stroke.
+    let off = 2.0 / 50.0;
+    for p in [
+        DVec2::new(1.0, off),
+        DVec2::new(4.0 - off, 3.0),
+        DVec2::new(2.0, 1.5 - off),
+        DVec2::new(2.5 + off, 2.2),
+    ] {
+        let (x, y) = px(p);
+        let c = rgb(&pix, x, y);
+        assert!(is_dark(c), "boundary pixel at {p} is {c:?}");
+    }
+    // 2 px beside the interior edge 0–5: not in the boundary style.
+    let mid = (mesh.points[0] + mesh.points[5]) * 0.5;
+    let (x, y) = px(mid + DVec2::new(off, -off));
+    let c = rgb(&pix, x, y);
+    assert!(!is_dark(c), "interior edge drawn as boundary: {c:?}");
+    // The triangles are tinted, the hole is not.
+    let [a, b, d] = mesh.triangle(0);
+    let (x, y) = px((a + b + d) / 3.0);
+    assert_eq!(rgb(&pix, x, y), layout.region_tint);
+    let (x, y) = px(DVec2::new(2.0, 2.0));
+    assert_eq!(rgb(&pix, x, y), [255, 255, 255]);
+
+    let doc = svg::draw(&s, &layout).unwrap();
+    check_xml(&doc).unwrap_or_else(|e| panic!("malformed SVG: {e}\n{doc}"));
+    let boundary = doc
+        .lines()
+        .find(|l| l.contains(r#"class="boundary""#))
+        .unwrap();
+    assert_eq!(boundary.matches('M').count(), 8, "{boundary}");
+    let tint = doc
+        .lines()
+        .find(|l| l.contains(r#"class="region""#))
+        .unwrap();
+    assert_eq!(
+        tint.matches('Z').count(),
+        8,
+        "one tinted subpath per triangle"
+    );
+}
+
+#[test]
+fn mesh_alone_coloured_draws_fills_bar_and_boundary() {
+    let (_, mesh) = square_with_hole();
+    let values: Vec<f64> = (0..8).map(|i| 30.0 + i as f64).collect();
+    let s = [mesh_scene(&mesh, Some(&values), 200)];
+    let layout = Layout::new(1).panel_px(200);
+    let (pix, frame) = render(&s, &layout);
+    let pf = &frame.panels[0];
+    assert!(pf.bar.is_some());
+    let [a, b, d] = mesh.triangle(7);
+    let (x, y) = pf.to_px((a + b + d) / 3.0);
+    assert_eq!(rgb(&pix, x, y), colormap::viridis(1.0));
+    let (x, y) = pf.to_px(DVec2::new(0.0, 2.0));
+    assert!(is_dark(rgb(&pix, x, y)));
+    let doc = svg::draw(&s, &layout).unwrap();
+    assert_eq!(doc.matches(r#"class="boundary""#).count(), 1);
+    assert_eq!(
+        doc.matches(r#"class="region""#).count(),
+        0,
+        "the colour fills replace the tint"
+    );
 }
 
 #[test]
@@ -529,7 +636,7 @@ fn bad_input_is_an_error() {
         bbox: (DVec2, DVec2),
     ) -> Result<Scene<'a>, RenderError> {
         let p = poly.clone();
-        scene::build(3, "x", bbox, &move |_| p.clone(), m, c, None, 100)
+        scene::build(3, "x", Some((bbox, &move |_| p.clone())), m, c, None, 100)
     }
     let bbox = poly.bbox();
     assert!(matches!(
@@ -565,6 +672,30 @@ fn bad_input_is_an_error() {
     assert!(matches!(
         build(&poly, None, None, inf),
         Err(RenderError::EmptyRegion(3))
+    ));
+    // Without a region: nothing at all, a mesh without vertices, a mesh on one point.
+    assert!(matches!(
+        scene::build(3, "x", None, None, None, None, 100),
+        Err(RenderError::EmptyPanel(3))
+    ));
+    let empty = Mesh {
+        points: vec![],
+        triangles: vec![],
+        markers: vec![],
+    };
+    assert!(matches!(
+        scene::build(3, "x", None, Some(&empty), None, None, 100),
+        Err(RenderError::EmptyRegion(3))
+    ));
+    let mut degenerate = mesh.clone();
+    degenerate.points.iter_mut().for_each(|p| *p = DVec2::ONE);
+    assert!(matches!(
+        scene::build(3, "x", None, Some(&degenerate), None, None, 100),
+        Err(RenderError::EmptyRegion(3))
+    ));
+    assert!(matches!(
+        scene::build(3, "x", None, Some(&bad), None, None, 100),
+        Err(RenderError::BadMesh { panel: 3, .. })
     ));
 
     assert!(matches!(

@@ -4,7 +4,7 @@ use cvtmesh_render::{Layout, Panel, RenderError};
 use geometry::{DVec2, LoopRole, Piece, Region};
 use tiny_skia::Pixmap;
 
-#[path = "../examples/sample/polar.rs"]
+#[path = "support/polar.rs"]
 mod polar;
 
 fn annulus() -> Region {
@@ -102,6 +102,49 @@ fn annulus_png_has_white_hole_and_dark_boundary() {
         assert_eq!(c, [255, 255, 255]);
     }
     std::fs::remove_file(&path).unwrap();
+}
+
+#[test]
+fn annulus_mesh_alone_is_outlined_by_its_own_boundary() {
+    let c = DVec2::new(3.0, -1.0);
+    let m = polar::annulus_mesh(c, 0.4, 1.0, 0.08);
+    let panels = [Panel::for_mesh("", &m)];
+    let layout = Layout::new(1).panel_px(300);
+    let pix = Pixmap::decode_png(&cvtmesh_render::png_bytes(&panels, &layout).unwrap()).unwrap();
+    // The mesh's bounding box is the disc's (its outer ring has vertices at 0°, 90°, …).
+    let (x0, y0, x1, y1) = ink_bbox(&pix);
+    let (w, h) = ((x1 - x0 + 1) as f64, (y1 - y0 + 1) as f64);
+    assert!(
+        (w - h).abs() <= 1.0 && (w - 302.0).abs() <= 2.0,
+        "disc drawn {w}x{h}"
+    );
+    let (cx, cy) = (x0 as f64 + 0.5 * w, y0 as f64 + 0.5 * h);
+    let s = 150.0;
+    assert_eq!(rgb(&pix, cx, cy), [255, 255, 255], "hole centre");
+    for k in 0..32 {
+        let a = std::f64::consts::TAU * (k as f64 + 0.25) / 32.0;
+        for r in [1.0, 0.4] {
+            let c = rgb(&pix, cx + r * s * a.cos(), cy - r * s * a.sin());
+            assert!(c.iter().all(|&v| v < 90), "boundary r={r} at {a}: {c:?}");
+        }
+    }
+    // In SVG the boundary path has one segment per vertex of the two boundary rings.
+    let on_ring = |r: f64| {
+        m.points
+            .iter()
+            .filter(|p| ((**p - c).length() - r).abs() < 1e-9)
+            .count()
+    };
+    let ring_vertices = on_ring(1.0) + on_ring(0.4);
+    assert!(ring_vertices > 100, "{ring_vertices}");
+    let doc = cvtmesh_render::svg_string(&panels, &layout).unwrap();
+    let boundary: Vec<&str> = doc
+        .lines()
+        .filter(|l| l.contains(r#"class="boundary""#))
+        .collect();
+    assert_eq!(boundary.len(), 1);
+    assert_eq!(boundary[0].matches('M').count(), ring_vertices);
+    assert!(boundary[0].contains(r##"stroke="#000000""##));
 }
 
 #[test]

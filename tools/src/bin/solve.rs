@@ -1,6 +1,6 @@
 //! Run CCVT on a built-in region and print iterations per phase, energy and where the time went:
-//! `cargo run --release -p ccvt --example solve -- REGION K [ccvt1|ccvt2|fast|fast1|anderson] [seed]`.
-use cvtmesh_ccvt::Ccvt;
+//! `cargo run --release -p cvtmesh-tools --bin solve -- REGION K [ccvt1|ccvt2|fast|fast1|anderson] [seed]`.
+use ccvt::Ccvt;
 use geometry::Region;
 use mesh::MeshRequest;
 
@@ -17,7 +17,7 @@ fn main() {
         "fast" => Ccvt::fast(),
         "anderson" => Ccvt::anderson(),
         "fast1" => Ccvt {
-            algorithm: cvtmesh_ccvt::Algorithm::One,
+            algorithm: ccvt::Algorithm::One,
             ..Ccvt::fast()
         },
         _ => Ccvt::algorithm2(),

@@ -1,12 +1,14 @@
 //! Draws a 2×3 sample figure of an annulus (region alone, a mesh, the mesh coloured by each
 //! triangle's minimum angle, at two densities) plus thin regions, to check the pictures by eye.
 //!
-//! `cargo run -p render --example sample -- OUT.png` (also writes OUT.svg, and the paper's ten
+//! `cargo run -p cvtmesh-tools --bin sample -- OUT.png` (also writes OUT.svg, and the paper's ten
 //! regions as OUT_regions.png, beside it).
+// Shared with the render crate's tests, which draw the same mesh.
+#[path = "../../../../crates/render/tests/support/polar.rs"]
 mod polar;
 
-use cvtmesh_render::{Layout, Panel};
 use geometry::{DVec2, LoopRole, Piece, Region};
+use render::{Layout, Panel};
 use std::path::PathBuf;
 
 fn min_angles(m: &mesh::Mesh) -> Vec<f64> {
@@ -110,8 +112,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .panel_px(360)
         .title("render sample: annulus r = 0.4 … 1");
     let t = std::time::Instant::now();
-    cvtmesh_render::render_png(&panels, &layout, &out)?;
-    cvtmesh_render::render_svg(&panels, &layout, &out.with_extension("svg"))?;
+    render::render_png(&panels, &layout, &out)?;
+    render::render_svg(&panels, &layout, &out.with_extension("svg"))?;
     eprintln!("wrote {} and .svg in {:.2?}", out.display(), t.elapsed());
 
     // The paper's ten regions, as `cvtmesh show` draws them.
@@ -126,7 +128,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|s| s.to_string_lossy())
             .unwrap_or_default()
     ));
-    cvtmesh_render::render_png(
+    render::render_png(
         &panels,
         &Layout::new(5).panel_px(220).title("The ten regions"),
         &all,

@@ -1,7 +1,7 @@
 //! Cost per query of `signed_distance` and `project` on the paper regions (and a large
 //! synthetic coastline), in CPU time per call. Run with
-//! `cargo run --release -p geometry --example bench_queries`.
-use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region, Rng};
+//! `cargo run --release -p cvtmesh-tools --bin bench_queries`.
+use geometry::{DVec2, LoopRole, Piece, Region, Rng};
 use std::time::Instant;
 
 /// CPU time of this thread in seconds (Linux; falls back to wall time elsewhere), so that the

@@ -1,7 +1,7 @@
-//! Measure the refinement on one region: `cargo run --release -p refine --example refine_probe -- NAME K [ANGLE]`.
-use cvtmesh_refine::Refine;
+//! Measure the refinement on one region: `cargo run --release -p cvtmesh-tools --bin refine_probe -- NAME K [ANGLE]`.
 use geometry::Region;
 use mesh::{check_conforming, MeshRequest, Mesher};
+use refine::Refine;
 use std::time::Instant;
 
 fn main() {

@@ -1,5 +1,5 @@
-//! Measure DistMesh on one region: `cargo run --release -p distmesh --example distmesh_probe -- NAME K [MAX_ITER]`.
-use cvtmesh_distmesh::DistMesh;
+//! Measure DistMesh on one region: `cargo run --release -p cvtmesh-tools --bin distmesh_probe -- NAME K [MAX_ITER]`.
+use distmesh::DistMesh;
 use geometry::Region;
 use mesh::{check_conforming, MeshRequest, Mesher};
 use std::time::Instant;

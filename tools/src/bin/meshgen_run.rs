@@ -1,5 +1,5 @@
 //! Time MESHGEN on a built-in region (use --release):
-//! `cargo run -p meshgen --release --example meshgen_run -- circle 88 [max_iter]`
+//! `cargo run --release -p cvtmesh-tools --bin meshgen_run -- circle 88 [max_iter]`
 use geometry::Region;
 use mesh::{MeshRequest, Mesher};
 use std::time::Instant;
@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_iter: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1000);
     let region = Region::builtin(name)?;
     let start = Instant::now();
-    let r = cvtmesh_meshgen::Meshgen.mesh(
+    let r = meshgen::Meshgen.mesh(
         &region,
         &MeshRequest::points(k).max_iter(max_iter),
         &mut |_| {},

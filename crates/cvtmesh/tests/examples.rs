@@ -1,0 +1,126 @@
+//! The user examples' own functions, run as tests: `cargo test` builds the examples but never
+//! runs them, so a change that breaks what they show would otherwise go unnoticed.
+#[allow(dead_code)] // its `main`
+#[path = "../examples/mesh_polygon_with_hole.rs"]
+mod mesh_polygon_with_hole;
+
+#[allow(dead_code)] // its `main`
+#[path = "../examples/measure_mesh.rs"]
+mod measure_mesh;
+
+use cvtmesh::DVec2;
+use mesh_polygon_with_hole::{HOLE, OUTER, POINTS};
+use std::path::PathBuf;
+
+/// A fresh scratch directory per test, removed when the test ends.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Scratch {
+        let d =
+            std::env::temp_dir().join(format!("cvtmesh-examples-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        Scratch(d)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn polygon_with_hole_is_meshed_and_written() {
+    let d = Scratch::new("polygon");
+    let out = d.0.join("house.msh");
+    let (region, result) = mesh_polygon_with_hole::run(&out).unwrap();
+    // A 4×3 rectangle under a roof of height 1.5, minus a unit window.
+    assert!((region.area() - 14.0).abs() < 1e-12, "{}", region.area());
+    assert_eq!(region.loops().len(), 2);
+    assert_eq!(region.corners().len(), OUTER.len() + HOLE.len());
+    let mesh = &result.mesh;
+    assert_eq!(mesh.num_vertices(), POINTS);
+    assert!(result.converged);
+    cvtmesh::check_conforming(mesh, &region).unwrap();
+    // Straight edges only, so the triangles cover the region exactly.
+    assert!((mesh.area() - 14.0).abs() < 1e-9, "{}", mesh.area());
+    assert!(mesh.min_angle_deg() > 25.0, "{}", mesh.min_angle_deg());
+    // Every polygon vertex is a mesh vertex.
+    for (x, y) in OUTER.into_iter().chain(HOLE) {
+        let v = DVec2::new(x, y);
+        assert!(
+            mesh.points.iter().any(|p| (*p - v).length() < 1e-12),
+            "no vertex at {v}"
+        );
+    }
+    let back = cvtmesh::io::read_mesh(&out).unwrap();
+    assert_eq!(back.num_vertices(), mesh.num_vertices());
+    assert_eq!(back.num_triangles(), mesh.num_triangles());
+    assert!((back.area() - mesh.area()).abs() < 1e-9);
+}
+
+#[test]
+fn a_hole_outside_the_polygon_is_refused() {
+    let far = [(10.0, 10.0), (11.0, 10.0), (11.0, 11.0)];
+    let e = mesh_polygon_with_hole::polygon_region("bad", &OUTER, &[&far]).unwrap_err();
+    assert!(e.to_string().contains("outside"), "{e}");
+}
+
+#[test]
+fn measures_of_a_written_mesh_match_the_mesh_in_memory() {
+    let d = Scratch::new("measure");
+    let out = d.0.join("house.msh");
+    let (region, result) = mesh_polygon_with_hole::run(&out).unwrap();
+    // The same region as a plain loop-list file, for the example's REGION argument.
+    let loops = |l: &[(f64, f64)]| {
+        l.iter()
+            .map(|(x, y)| format!("{x} {y}\n"))
+            .collect::<String>()
+    };
+    let region_file = d.0.join("house.txt");
+    std::fs::write(&region_file, format!("{}\n{}", loops(&OUTER), loops(&HOLE))).unwrap();
+
+    let args = [out, region_file].map(|p| p.to_str().unwrap().to_string());
+    let (mesh, read_region) = measure_mesh::inputs(&args).unwrap();
+    assert!((read_region.area() - region.area()).abs() < 1e-12);
+    let from_file = cvtmesh::measures(&mesh, &read_region).unwrap();
+    let in_memory = cvtmesh::measures(&result.mesh, &region).unwrap();
+    assert_eq!(
+        (from_file.k, from_file.k_tilde),
+        (POINTS, result.mesh.num_triangles())
+    );
+    let table = measure_mesh::table(&from_file);
+    let names: Vec<&str> = table.iter().map(|t| t.0).collect();
+    assert_eq!(
+        names,
+        ["lambda", "gamma", "h", "mu", "chi", "nu", "tau", "d", "alpha", "beta", "q", "p"]
+    );
+    for ((name, a), (_, b)) in table.iter().zip(measure_mesh::table(&in_memory)) {
+        assert!(a.is_finite() && *a >= 0.0, "{name} = {a}");
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1e-12),
+            "{name}: {a} vs {b}"
+        );
+    }
+    // β is the smallest angle's shortfall from 60°.
+    let beta = 60.0 / mesh.min_angle_deg() - 1.0;
+    assert!(
+        (from_file.beta - beta).abs() < 1e-9,
+        "{} vs {beta}",
+        from_file.beta
+    );
+}
+
+#[test]
+fn measure_mesh_without_arguments_scores_a_fresh_mesh() {
+    let (mesh, region) = measure_mesh::inputs(&[]).unwrap();
+    assert_eq!(region.name(), "square_hole");
+    assert_eq!(mesh.num_vertices(), 500);
+    let m = cvtmesh::measures(&mesh, &region).unwrap();
+    assert_eq!(measure_mesh::table(&m).len(), 12);
+    let e = measure_mesh::inputs(&["only-one.msh".to_string()]).unwrap_err();
+    assert!(e.to_string().contains("usage"), "{e}");
+    assert!(measure_mesh::region("nonesuch").is_err());
+}
