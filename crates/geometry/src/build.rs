@@ -3,6 +3,7 @@ use crate::crossings::candidate_pairs;
 use crate::index::Index;
 use crate::numeric::segment_segment_distance;
 use crate::piece::Piece;
+use crate::predicates::point_in_ring;
 use crate::region::{Corner, Loop, LoopRole, Region};
 use crate::GeometryError;
 use glam::DVec2;
@@ -148,14 +149,14 @@ pub(crate) fn new_region(
     // Holes inside the outer loop and outside each other.
     for h in 1..rings.len() {
         let x = rings[h][0];
-        if !point_in_ring(&rings[0], x) {
+        if !point_in_ring(x, &rings[0]) {
             return Err(err(format!(
                 "{} is not inside the outer loop (its point ({}, {}) is outside)",
                 label[h], x.x, x.y
             )));
         }
         for g in 1..rings.len() {
-            if g != h && point_in_ring(&rings[g], x) {
+            if g != h && point_in_ring(x, &rings[g]) {
                 return Err(err(format!(
                     "{} lies inside {} (holes must be disjoint)",
                     label[h], label[g]
@@ -335,19 +336,6 @@ fn check_crossings(rings: &[Vec<DVec2>], touch: f64) -> Result<(), (usize, usize
         Some(f) => Err(f),
         None => Ok(()),
     }
-}
-
-/// Even-odd point-in-polygon for one ring.
-pub(crate) fn point_in_ring(r: &[DVec2], p: DVec2) -> bool {
-    let n = r.len();
-    let mut inside = false;
-    for i in 0..n {
-        let (a, b) = (r[i], r[(i + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 /// Builds the region's tables from validated, oriented loops (outer first) and per-junction

@@ -19,8 +19,10 @@
 //! inradius; a bay of the outer boundary with a narrow mouth may become a new hole.
 use crate::crossings::candidate_pairs;
 use crate::index::Bvh;
-use crate::numeric::{closest_on_segment, segment_crossing};
-use crate::polygon::{ring_signed_area, Ring};
+use crate::numeric::segment_crossing;
+use crate::polygon::Ring;
+use crate::predicates::closest_on_segment;
+use crate::predicates::ring_signed_area;
 use crate::{Polygon, Region};
 use glam::DVec2;
 

@@ -4,6 +4,7 @@
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
 //! of its vertices as corners, as Triangle users expect. Loops may come in either orientation
 //! (they are oriented here: outer CCW, holes CW); exact repeated points are dropped.
+use crate::predicates::{point_in_ring, ring_signed_area};
 use crate::{GeometryError, LoopRole, Piece, Region};
 use glam::DVec2;
 use serde_json::Value;
@@ -171,25 +172,6 @@ fn dedup_closed(points: &mut Vec<DVec2>) -> Result<(), DVec2> {
     }
 }
 
-/// Twice the signed area (positive for CCW).
-fn signed_area2(p: &[DVec2]) -> f64 {
-    (0..p.len())
-        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
-        .sum()
-}
-
-/// Even-odd point-in-polygon test.
-fn inside(p: DVec2, ring: &[DVec2]) -> bool {
-    let mut c = false;
-    for i in 0..ring.len() {
-        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            c = !c;
-        }
-    }
-    c
-}
-
 /// Build the region from straight loops: check sizes, orient, make line pieces and corners.
 /// Geometric validity (simple, non-crossing, holes inside) is [`Region::new`]'s to check.
 fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, GeometryError> {
@@ -220,8 +202,8 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
                 ),
             ));
         }
-        let area2 = signed_area2(&pts);
-        if area2 == 0.0 || !area2.is_finite() {
+        let area = ring_signed_area(&pts);
+        if area == 0.0 || !area.is_finite() {
             // A symmetric figure-eight has zero area too: report its crossing if it has one.
             let pieces = (0..pts.len())
                 .map(|i| Piece::Line {
@@ -236,7 +218,7 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
             }
             return Err(invalid(label, format!("loop {k} encloses no area")));
         }
-        if (area2 > 0.0) != (role == LoopRole::Outer) {
+        if (area > 0.0) != (role == LoopRole::Outer) {
             pts.reverse();
         }
         let n = pts.len();
@@ -502,21 +484,21 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
     // The outer loop is the largest; every other loop must lie inside it and is a hole.
     let outer = (0..rings.len())
         .max_by(|&i, &j| {
-            signed_area2(&rings[i])
+            ring_signed_area(&rings[i])
                 .abs()
-                .total_cmp(&signed_area2(&rings[j]).abs())
+                .total_cmp(&ring_signed_area(&rings[j]).abs())
         })
         .unwrap_or(0);
     let outer_ring = rings.swap_remove(outer);
     rings.insert(0, outer_ring);
     for (k, r) in rings.iter().enumerate().skip(1) {
-        if !inside(r[0], &rings[0]) {
+        if !point_in_ring(r[0], &rings[0]) {
             return Err(invalid(
                 label,
                 format!("the loop through {} lies outside the outer loop; a region has one outer boundary", r[0]),
             ));
         }
-        if let Some(j) = (1..rings.len()).find(|&j| j != k && inside(r[0], &rings[j])) {
+        if let Some(j) = (1..rings.len()).find(|&j| j != k && point_in_ring(r[0], &rings[j])) {
             return Err(invalid(
                 label,
                 format!("the loop through {} lies inside the hole through {}; islands are not supported", r[0], rings[j][0]),
@@ -527,7 +509,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
     // boundary); a region here has only holes, so say so rather than drop that area.
     if let Some(r) = rings[1..]
         .iter()
-        .find(|r| !holes.iter().any(|(_, h)| inside(*h, r)))
+        .find(|r| !holes.iter().any(|(_, h)| point_in_ring(*h, r)))
     {
         return Err(invalid(
             label,
@@ -538,7 +520,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
         ));
     }
     for (line, h) in holes {
-        if inside(h, &rings[0]) && !rings[1..].iter().any(|r| inside(h, r)) {
+        if point_in_ring(h, &rings[0]) && !rings[1..].iter().any(|r| point_in_ring(h, r)) {
             return Err(parse_err(
                 label,
                 line,
@@ -727,7 +709,7 @@ mod tests {
     fn areas(loops: &Loops) -> Vec<(LoopRole, f64)> {
         loops
             .iter()
-            .map(|(r, p)| (*r, signed_area2(p).abs() / 2.0))
+            .map(|(r, p)| (*r, ring_signed_area(p).abs()))
             .collect()
     }
 

@@ -2,8 +2,9 @@
 //! (one per straight segment of a line or chain, one per arc/circle/super-ellipse), kept in
 //! loop order with their neighbours and end tangents, and searched with a bounding-volume
 //! hierarchy (branch and bound on box distances).
-use crate::numeric::{box_dist2, closest_on_segment};
+use crate::numeric::box_dist2;
 use crate::piece::{FootAt, Piece};
+use crate::predicates::closest_on_segment;
 use glam::DVec2;
 
 /// One boundary element.
@@ -406,7 +407,7 @@ impl Index {
         let (t_in, t_out) = match hit.end {
             FootAt::Interior => {
                 let side = match el.seg {
-                    Some((a, b)) => crate::numeric::orient(a, b, p),
+                    Some((a, b)) => crate::predicates::orient(a, b, p),
                     None => pieces[el.piece as usize].side(p),
                 };
                 return side > 0.0;

@@ -17,6 +17,7 @@ mod index;
 mod numeric;
 mod piece;
 mod polygon;
+pub mod predicates;
 mod region;
 mod rng;
 mod se;

@@ -344,7 +344,7 @@ impl SuperEllipse {
         let dev = (1..6)
             .map(|i| {
                 let p = self.canon(o, u0 + (u1 - u0) * i as f64 / 6.0);
-                crate::numeric::closest_on_segment(p0, p1, p).2.sqrt()
+                crate::predicates::closest_on_segment(p0, p1, p).2.sqrt()
             })
             .fold(0.0, f64::max);
         if (dev <= tol && depth >= 1) || depth >= 40 {
@@ -479,7 +479,7 @@ mod tests {
                 let p = s.point(i as f64 * 8.0 / 4000.0);
                 let d = pts
                     .windows(2)
-                    .map(|w| crate::numeric::closest_on_segment(w[0], w[1], p).2)
+                    .map(|w| crate::predicates::closest_on_segment(w[0], w[1], p).2)
                     .fold(f64::INFINITY, f64::min)
                     .sqrt();
                 assert!(d <= tol * 1.0001, "tol {tol}: {d}");

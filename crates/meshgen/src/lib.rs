@@ -24,6 +24,7 @@
 
 mod relax;
 
+use geometry::predicates::{circumcenter, orient};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
 
@@ -95,14 +96,6 @@ fn voronoi_point(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
     }
 }
 
-/// Circumcenter of triangle (a, b, c) (non-finite if the triangle is degenerate).
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (u, v) = (b - a, c - a);
-    let d = 2.0 * u.perp_dot(v);
-    let (uu, vv) = (u.length_squared(), v.length_squared());
-    a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d
-}
-
 /// Area, centroid and polar second moment about `origin` of a simple polygon.
 fn polygon_moments(poly: &[DVec2], origin: DVec2) -> (f64, DVec2, f64) {
     let (mut a2, mut c, mut j) = (0.0, DVec2::ZERO, 0.0);
@@ -127,7 +120,7 @@ fn mixed_regions(mesh: &Mesh, density: &Density) -> Vec<MixedRegion> {
     let mut out = vec![MixedRegion::default(); mesh.points.len()];
     for tri in &mesh.triangles {
         let x = tri.map(|v| mesh.points[v as usize]);
-        if (x[1] - x[0]).perp_dot(x[2] - x[0]) <= 0.0 {
+        if orient(x[0], x[1], x[2]) <= 0.0 {
             continue; // not a valid CCW triangle: it owns nothing
         }
         let p = voronoi_point(x[0], x[1], x[2]);

@@ -27,6 +27,7 @@
 //!   largest move is below `tol · h` (h = [`MeshRequest::spacing`]), converged = false if
 //!   `max_iter` is reached first. The final mesh is checked with [`mesh::check_conforming`];
 //!   a K too small to follow a thin or strongly curved part of the boundary is an error.
+use geometry::predicates::{edge_crosses_ray, segment_distance, segments_cross};
 use geometry::{DVec2, Density, Piece, PieceId, Region, Rng};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Progress, VertexMarker};
 
@@ -464,12 +465,6 @@ fn crossing_pairs(chords: &[Chord]) -> Vec<(usize, usize)> {
     out
 }
 
-/// True if segments ab and cd cross at a point interior to both.
-fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
-    let o = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
-    o(a, b, c) * o(a, b, d) < 0.0 && o(c, d, a) * o(c, d, b) < 0.0
-}
-
 /// The polygon through the boundary vertices (what the constrained triangulation meshes).
 struct Outline {
     segs: Vec<(DVec2, DVec2)>,
@@ -512,7 +507,7 @@ impl Outline {
         let mut inside = false;
         let mut dmin = f64::INFINITY;
         for &(a, b) in &self.segs {
-            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            if edge_crosses_ray(p, a, b) {
                 inside = !inside;
             }
             dmin = dmin.min(segment_distance(p, a, b));
@@ -538,17 +533,6 @@ impl Outline {
         }
         best.1 + best.2 * margin
     }
-}
-
-fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let f = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * f)).length()
 }
 
 /// Vertices and what each is constrained to.

@@ -12,10 +12,10 @@
 //! parts, or clipped by holes, is integrated exactly.
 use crate::boundary::Boundary;
 use crate::clip::{
-    angle, clip_closed, clip_open, clip_segment, edge_fn, segment_distance, segment_meets_box, Fan,
-    Mom,
+    angle, clip_closed, clip_open, clip_segment, edge_fn, segment_meets_box, Fan, Mom,
 };
 use crate::delaunay::Delaunay;
+use geometry::predicates::{circumcenter, segment_distance};
 use geometry::{DVec2, Density, PieceId, Polygon};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -310,14 +310,6 @@ pub(crate) fn canonical_circumcenter(a: (u32, DVec2), b: (u32, DVec2), c: (u32, 
     let (b, c) = if b.0 < c.0 { (b, c) } else { (c, b) };
     let (a, b) = if a.0 < b.0 { (a, b) } else { (b, a) };
     circumcenter(a.1, b.1, c.1)
-}
-
-/// Circumcentre of a triangle, computed relative to its first vertex.
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (b, c) = (b - a, c - a);
-    let d = 2.0 * b.perp_dot(c);
-    let (bb, cc) = (b.length_squared(), c.length_squared());
-    a + DVec2::new(c.y * bb - b.y * cc, b.x * cc - c.x * bb) / d
 }
 
 /// Drop vertices closer than `eps` to their predecessor (short edges have unreliable

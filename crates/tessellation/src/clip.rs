@@ -221,18 +221,6 @@ pub(crate) fn clip_segment(a: DVec2, b: DVec2, k: &[DVec2], tol: f64) -> Option<
     (t0 <= t1).then_some((t0, t1))
 }
 
-/// Distance from p to the segment a–b.
-pub(crate) fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let l2 = d.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t).distance(p)
-}
-
 /// Signed angle from u to w, in (−π, π].
 #[inline]
 pub(crate) fn angle(u: DVec2, w: DVec2) -> f64 {

@@ -856,7 +856,10 @@ mod tests {
         assert_eq!(tris.len(), 2 * pts.len() - 2 - hull);
         for t in &tris {
             let [a, b, c] = t.map(|i| pts[i as usize]);
-            assert!((b - a).perp_dot(c - a) > 0.0, "triangle {t:?} not CCW");
+            assert!(
+                geometry::predicates::orient(a, b, c) > 0.0,
+                "triangle {t:?} not CCW"
+            );
         }
     }
 

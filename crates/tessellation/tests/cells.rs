@@ -1,5 +1,6 @@
 //! Clipped Voronoi cells against an independent brute-force reference and exact cases.
 use cvtmesh_tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
+use geometry::predicates::segment_distance;
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
 use std::sync::Arc;
@@ -120,12 +121,6 @@ fn reference(points: &[DVec2], domain: &Polygon) -> Vec<(f64, DVec2)> {
             (a, if a > 0.0 { z + s / a } else { z })
         })
         .collect()
-}
-
-fn point_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-    (a + d * t).distance(p)
 }
 
 fn sh_closed(input: &[DVec2], f: impl Fn(DVec2) -> f64) -> Vec<DVec2> {
@@ -521,7 +516,7 @@ fn star(rng: &mut Rng, n: usize, hole: bool) -> Polygon {
         })
         .collect();
     let inradius = (0..n)
-        .map(|i| point_segment(DVec2::ZERO, outer[i], outer[(i + 1) % n]))
+        .map(|i| segment_distance(DVec2::ZERO, outer[i], outer[(i + 1) % n]))
         .fold(f64::INFINITY, f64::min);
     let mut poly = Polygon {
         rings: vec![ring(outer, (0..n).map(|i| i % 3).collect(), 0, false)],

@@ -27,6 +27,7 @@
 #[path = "../../meshgen/src/relax.rs"]
 mod relax;
 
+use geometry::predicates::{circumcenter, triangle_signed_area};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
 use std::collections::HashSet;
@@ -60,14 +61,6 @@ impl Mesher for Vtm {
     }
 }
 
-/// Circumcenter of triangle (a, b, c) (non-finite if the triangle is degenerate).
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (u, v) = (b - a, c - a);
-    let d = 2.0 * u.perp_dot(v);
-    let (uu, vv) = (u.length_squared(), v.length_squared());
-    a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d
-}
-
 /// For each triangle: does one of its edges lie on the mesh boundary (no neighbour across it)?
 fn touches_boundary(mesh: &Mesh) -> Vec<bool> {
     let edges: HashSet<(u32, u32)> = mesh
@@ -94,7 +87,7 @@ pub fn odt_targets(mesh: &Mesh, density: &Density) -> Vec<DVec2> {
     let mut den = vec![0.0; n];
     for (tri, on_boundary) in mesh.triangles.iter().zip(touches_boundary(mesh)) {
         let [a, b, c] = tri.map(|v| mesh.points[v as usize]);
-        let area = 0.5 * (b - a).perp_dot(c - a);
+        let area = triangle_signed_area(a, b, c);
         if area <= 0.0 {
             continue; // not a valid CCW triangle: no weight
         }
@@ -128,7 +121,7 @@ pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
     (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.triangle(t);
-            let area = 0.5 * (b - a).perp_dot(c - a);
+            let area = triangle_signed_area(a, b, c);
             let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
             density.at((a + b + c) / 3.0) * area * l2 / 12.0
         })
