@@ -110,6 +110,24 @@ pub fn loops_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geo
 
 type Loops = Vec<(LoopRole, Vec<DVec2>)>;
 
+/// The first ring as the outer loop, the others as holes.
+fn outer_then_holes(rings: Vec<Vec<DVec2>>) -> Loops {
+    rings
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            (
+                if i == 0 {
+                    LoopRole::Outer
+                } else {
+                    LoopRole::Hole
+                },
+                r,
+            )
+        })
+        .collect()
+}
+
 fn label(path: &Path) -> String {
     path.display().to_string()
 }
@@ -528,20 +546,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
             ));
         }
     }
-    Ok(rings
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if i == 0 {
-                    LoopRole::Outer
-                } else {
-                    LoopRole::Hole
-                },
-                r,
-            )
-        })
-        .collect())
+    Ok(outer_then_holes(rings))
 }
 
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -671,20 +676,7 @@ fn parse_loops(text: &str, label: &str) -> Result<Loops, GeometryError> {
     if loops.is_empty() {
         return Err(invalid(label, "no points: expected loops of 'x y' lines"));
     }
-    Ok(loops
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if i == 0 {
-                    LoopRole::Outer
-                } else {
-                    LoopRole::Hole
-                },
-                r,
-            )
-        })
-        .collect())
+    Ok(outer_then_holes(loops))
 }
 
 #[cfg(test)]

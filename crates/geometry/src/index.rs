@@ -164,20 +164,15 @@ fn split(nodes: &mut Vec<Node>, node: usize, entries: &mut [Entry], offset: usiz
     let mid = entries.len() / 2;
     entries.select_nth_unstable_by(mid, |x, y| key(x).total_cmp(&key(y)));
     let left = nodes.len();
-    nodes.push(Node {
+    // Two placeholders for the children, filled in by the recursive calls below.
+    let placeholder = Node {
         lo,
         hi,
         a: 0,
         b: 0,
         leaf: true,
-    });
-    nodes.push(Node {
-        lo,
-        hi,
-        a: 0,
-        b: 0,
-        leaf: true,
-    });
+    };
+    nodes.extend([placeholder.clone(), placeholder]);
     nodes[node].a = left as u32;
     nodes[node].b = left as u32 + 1;
     nodes[node].leaf = false;

@@ -537,6 +537,27 @@ fn star(rng: &mut Rng, n: usize, hole: bool) -> Polygon {
     poly
 }
 
+/// On each ring of `dom`: fewer than `on_edges` generators at random points of random edges,
+/// then fewer than `at_vertices` at random vertices (exactly on the boundary, the hard case).
+fn add_boundary_generators(
+    rng: &mut Rng,
+    dom: &Polygon,
+    pts: &mut Vec<DVec2>,
+    on_edges: usize,
+    at_vertices: usize,
+) {
+    for r in &dom.rings {
+        let m = r.points.len();
+        for _ in 0..rng.below(on_edges) {
+            let i = rng.below(m);
+            pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
+        }
+        for _ in 0..rng.below(at_vertices) {
+            pts.push(r.points[rng.below(m)]);
+        }
+    }
+}
+
 #[test]
 fn random_polygons_with_boundary_generators_match_reference() {
     for seed in 0..300u64 {
@@ -551,16 +572,7 @@ fn random_polygons_with_boundary_generators_match_reference() {
                 pts.push(p);
             }
         }
-        for r in &dom.rings {
-            let m = r.points.len();
-            for _ in 0..rng.below(3) {
-                let i = rng.below(m);
-                pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
-            }
-            for _ in 0..rng.below(2) {
-                pts.push(r.points[rng.below(m)]);
-            }
-        }
+        add_boundary_generators(&mut rng, &dom, &mut pts, 3, 2);
         let cells = cells_of(&pts, &dom);
         let r = reference(&pts, &dom);
         for (i, c) in cells.cells.iter().enumerate() {
@@ -591,16 +603,7 @@ proptest! {
                 pts.push(p);
             }
         }
-        for r in &dom.rings {
-            let m = r.points.len();
-            for _ in 0..rng.below(5) {
-                let i = rng.below(m);
-                pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
-            }
-            for _ in 0..rng.below(3) {
-                pts.push(r.points[rng.below(m)]);
-            }
-        }
+        add_boundary_generators(&mut rng, &dom, &mut pts, 5, 3);
         prop_assume!(!pts.is_empty());
         let cells = cells_of(&pts, &dom);
         assert_partition(&cells, &pts, &dom);
