@@ -1,4 +1,5 @@
-//! Region files: the JSON schema of `domains/` (see domains/SOURCES.md).
+//! Region files: the JSON schema of the built-in regions in `regions/` (see
+//! `regions/SOURCES.md` in this crate).
 //!
 //! Only `loops` is required. Each loop is an object with `segments` (required, non-empty),
 //! `role` (`"outer"` | `"hole"`; default: the first loop is outer, the others holes) and
@@ -36,25 +37,19 @@ pub const BUILTIN_NAMES: &[&str] = &[
 
 /// The built-in region files, embedded at compile time.
 const BUILTIN_FILES: &[(&str, &str)] = &[
-    ("circle", include_str!("../../../domains/circle.json")),
-    ("annulus", include_str!("../../../domains/annulus.json")),
-    (
-        "square_hole",
-        include_str!("../../../domains/square_hole.json"),
-    ),
-    ("hex_hole", include_str!("../../../domains/hex_hole.json")),
-    ("horn", include_str!("../../../domains/horn.json")),
-    (
-        "superellipse",
-        include_str!("../../../domains/superellipse.json"),
-    ),
-    ("bike_seat", include_str!("../../../domains/bike_seat.json")),
-    ("pie_hole", include_str!("../../../domains/pie_hole.json")),
+    ("circle", include_str!("../regions/circle.json")),
+    ("annulus", include_str!("../regions/annulus.json")),
+    ("square_hole", include_str!("../regions/square_hole.json")),
+    ("hex_hole", include_str!("../regions/hex_hole.json")),
+    ("horn", include_str!("../regions/horn.json")),
+    ("superellipse", include_str!("../regions/superellipse.json")),
+    ("bike_seat", include_str!("../regions/bike_seat.json")),
+    ("pie_hole", include_str!("../regions/pie_hole.json")),
     (
         "square_two_hex",
-        include_str!("../../../domains/square_two_hex.json"),
+        include_str!("../regions/square_two_hex.json"),
     ),
-    ("lake", include_str!("../../../domains/lake.json")),
+    ("lake", include_str!("../regions/lake.json")),
 ];
 
 pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {

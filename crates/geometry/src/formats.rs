@@ -27,7 +27,7 @@ const GEOJSON_TYPES: &[&str] = &[
 ];
 
 /// Read a region file, choosing the format by extension:
-/// `.json` (the project schema of `domains/`, or GeoJSON when its top-level `"type"` is a
+/// `.json` (the project schema of the built-in regions, or GeoJSON when its top-level `"type"` is a
 /// GeoJSON polygon type), `.geojson`, `.poly` (Triangle), `.txt`/`.xy`/`.dat` (plain loops).
 pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
     let ext = path
@@ -1021,7 +1021,7 @@ mod tests {
 
     #[test]
     fn project_json_still_goes_to_the_project_reader() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/hex_hole.json");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("regions/hex_hole.json");
         let r = read_region(&dir).unwrap();
         assert_eq!(r.name(), "hex_hole");
         assert_eq!(r.loops().len(), 2);

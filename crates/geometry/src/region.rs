@@ -366,7 +366,7 @@ impl Region {
         }
         crate::build::assemble(self.name.clone(), lps, &flags, Some(degrees))
     }
-    /// Read a region file (the project's JSON schema, see `domains/`).
+    /// Read a region file (the project's JSON schema, see `regions/` in this crate).
     pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
         crate::file::from_file(path)
     }

@@ -1,7 +1,6 @@
 //! MESHGEN end to end on the paper's regions.
-mod common;
-use common::*;
 use cvtmesh_meshgen::Meshgen;
+use testkit::*;
 
 #[test]
 fn circle_medium_mesh() {

@@ -15,8 +15,7 @@
 //! The paper does not say how the original treats the boundary. Here, as in CCVT's
 //! constraint (so comparisons are fair), corners are fixed and boundary vertices slide on their
 //! own boundary side: they take the same weighted average, projected onto that side. The
-//! initial points, boundary rules and convergence test are shared with the `meshgen` crate
-//! (its file `src/relax.rs`, compiled into this crate too; see that module's documentation).
+//! initial points, boundary rules and convergence test are those of [`meshgen::relax`].
 //!
 //! On corner-free boundaries (circle, annulus, super-ellipse) the iteration can settle into a
 //! slow rigid rotation (the mesh keeps its shape while all vertices turn by a few 1e-4·h per step):
@@ -24,12 +23,10 @@
 //! the ODT energy. The move-based test then reports `converged = false`.
 #![forbid(unsafe_code)]
 
-#[path = "../../meshgen/src/relax.rs"]
-mod relax;
-
 use geometry::predicates::{circumcenter, triangle_signed_area};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
+use meshgen::relax;
 use std::collections::HashSet;
 
 /// The VTM method. It has no parameters beyond the [`MeshRequest`].
@@ -132,49 +129,7 @@ pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
 mod tests {
     use super::*;
     use mesh::VertexMarker;
-
-    /// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around
-    /// the origin (vertex 0).
-    fn hex_patch(rings: i32) -> Mesh {
-        let a = DVec2::new(1.0, 0.0);
-        let b = DVec2::new(0.5, 3f64.sqrt() / 2.0);
-        let mut coords: Vec<(i32, i32)> = vec![(0, 0)];
-        for i in -rings..=rings {
-            for j in -rings..=rings {
-                if (i, j) != (0, 0) && i.abs().max(j.abs()).max((i + j).abs()) <= rings {
-                    coords.push((i, j));
-                }
-            }
-        }
-        let idx: std::collections::HashMap<(i32, i32), u32> = coords
-            .iter()
-            .enumerate()
-            .map(|(k, &c)| (c, k as u32))
-            .collect();
-        let points = coords
-            .iter()
-            .map(|&(i, j)| a * i as f64 + b * j as f64)
-            .collect();
-        let mut triangles = Vec::new();
-        for &(i, j) in &coords {
-            for t in [
-                [(i, j), (i + 1, j), (i, j + 1)],
-                [(i, j), (i, j + 1), (i - 1, j + 1)],
-            ] {
-                if let (Some(&p), Some(&q), Some(&r)) =
-                    (idx.get(&t[0]), idx.get(&t[1]), idx.get(&t[2]))
-                {
-                    triangles.push([p, q, r]);
-                }
-            }
-        }
-        let markers = vec![VertexMarker::Interior; coords.len()];
-        Mesh {
-            points,
-            triangles,
-            markers,
-        }
-    }
+    use testkit::hex_patch;
 
     #[test]
     fn boundary_triangles_are_found() {

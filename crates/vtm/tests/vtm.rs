@@ -1,8 +1,6 @@
 //! VTM end to end on the paper's regions.
-#[path = "../../meshgen/tests/common/mod.rs"]
-mod common;
-use common::*;
 use cvtmesh_vtm::Vtm;
+use testkit::*;
 
 #[test]
 fn circle_medium_mesh() {

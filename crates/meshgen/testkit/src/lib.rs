@@ -1,6 +1,11 @@
-//! End-to-end checks shared by the `meshgen` and `vtm` tests (vtm includes this file by path).
-use geometry::Region;
-use mesh::{check_conforming, MeshRequest, MeshResult, Mesher, VertexMarker};
+//! Helpers shared by the tests and examples of the `meshgen` and `vtm` crates (the two
+//! relaxation methods built on `meshgen::relax`): end-to-end checks of a method's result, a
+//! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run.
+//! A dev-dependency only; not published.
+use geometry::{DVec2, Region};
+use mesh::{check_conforming, Mesh, MeshRequest, MeshResult, Mesher, VertexMarker};
+use std::collections::HashMap;
+use std::time::Instant;
 
 /// Mesh a built-in region with K points; assert everything a method's result must satisfy.
 pub fn mesh_and_check(method: &dyn Mesher, name: &str, k: usize) -> MeshResult {
@@ -147,4 +152,79 @@ pub fn bad_requests_are_errors(method: &dyn Mesher) {
             &mut |_| {}
         )
         .is_err());
+}
+
+/// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around the
+/// origin (vertex 0), CCW, every vertex marked interior.
+pub fn hex_patch(rings: i32) -> Mesh {
+    let a = DVec2::new(1.0, 0.0);
+    let b = DVec2::new(0.5, 3f64.sqrt() / 2.0);
+    let mut coords: Vec<(i32, i32)> = vec![(0, 0)];
+    for i in -rings..=rings {
+        for j in -rings..=rings {
+            if (i, j) != (0, 0) && i.abs().max(j.abs()).max((i + j).abs()) <= rings {
+                coords.push((i, j));
+            }
+        }
+    }
+    let idx: HashMap<(i32, i32), u32> = coords
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| (c, k as u32))
+        .collect();
+    let points = coords
+        .iter()
+        .map(|&(i, j)| a * i as f64 + b * j as f64)
+        .collect();
+    let mut triangles = Vec::new();
+    for &(i, j) in &coords {
+        for t in [
+            [(i, j), (i + 1, j), (i, j + 1)],
+            [(i, j), (i, j + 1), (i - 1, j + 1)],
+        ] {
+            if let (Some(&p), Some(&q), Some(&r)) = (idx.get(&t[0]), idx.get(&t[1]), idx.get(&t[2]))
+            {
+                triangles.push([p, q, r]);
+            }
+        }
+    }
+    let markers = vec![VertexMarker::Interior; coords.len()];
+    Mesh {
+        points,
+        triangles,
+        markers,
+    }
+}
+
+/// The examples' body: mesh the built-in region named by the first command-line argument
+/// (default `circle`) with K points (second, default 88) and at most `max_iter` iterations
+/// (third, default 1000), check the mesh and print its statistics and the wall time.
+pub fn timed_run(method: &dyn Mesher) -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().map(String::as_str).unwrap_or("circle");
+    let k: usize = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(88);
+    let max_iter: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1000);
+    let region = Region::builtin(name)?;
+    let start = Instant::now();
+    let r = method.mesh(
+        &region,
+        &MeshRequest::points(k).max_iter(max_iter),
+        &mut |_| {},
+    )?;
+    let secs = start.elapsed().as_secs_f64();
+    check_conforming(&r.mesh, &region)?;
+    println!(
+        "{} {name}: K {} K~ {} min angle {:.2} iterations {} converged {} last move {:.2e} seconds {secs:.3}",
+        method.name(),
+        r.mesh.num_vertices(),
+        r.mesh.num_triangles(),
+        r.mesh.min_angle_deg(),
+        r.iterations,
+        r.converged,
+        r.move_history.last().copied().unwrap_or(f64::NAN)
+    );
+    for n in &r.notes {
+        println!("  {n}");
+    }
+    Ok(())
 }
