@@ -17,7 +17,10 @@
 //! without the field corners are computed. `name` (optional) names the region; otherwise
 //! the file stem. Every other field (`area`, `bbox`, `length`, ...) is ignored: all derived
 //! quantities are recomputed.
-use crate::{GeometryError, LoopRole, Piece, Region};
+use crate::error::GeometryError;
+use crate::piece::Piece;
+use crate::region::Region;
+use crate::types::LoopRole;
 use glam::DVec2;
 use serde_json::{Map, Value};
 
@@ -52,7 +55,33 @@ const BUILTIN_FILES: &[(&str, &str)] = &[
     ("lake", include_str!("../regions/lake.json")),
 ];
 
-pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
+impl Region {
+    /// Read a region file (the project's JSON schema, see `regions/` in this crate).
+    pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
+        read_json_file(path)
+    }
+    /// Parse region JSON; `label` names the source in errors.
+    pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
+        parse(text, label, label)
+    }
+    /// One of the paper's ten regions by name (`circle`, `lake`, ...).
+    pub fn builtin(name: &str) -> Result<Region, GeometryError> {
+        match BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
+            Some((n, text)) => parse(text, &format!("built-in region '{n}'"), n),
+            None => Err(GeometryError::UnknownBuiltin(
+                name.to_string(),
+                BUILTIN_NAMES.join(", "),
+            )),
+        }
+    }
+    /// Names of the built-in regions, in the paper's table order.
+    pub fn builtin_names() -> &'static [&'static str] {
+        BUILTIN_NAMES
+    }
+}
+
+/// A file in the project's JSON schema; the region's name defaults to the file stem.
+pub(crate) fn read_json_file(path: &std::path::Path) -> Result<Region, GeometryError> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|source| GeometryError::Io {
         path: label.clone(),
@@ -63,20 +92,6 @@ pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| label.clone());
     parse(&text, &label, &stem)
-}
-
-pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
-    parse(text, label, label)
-}
-
-pub fn builtin(name: &str) -> Result<Region, GeometryError> {
-    match BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
-        Some((n, text)) => parse(text, &format!("built-in region '{n}'"), n),
-        None => Err(GeometryError::UnknownBuiltin(
-            name.to_string(),
-            BUILTIN_NAMES.join(", "),
-        )),
-    }
 }
 
 /// Parses region JSON; `label` names the source in errors, `default_name` is the region's

@@ -4,8 +4,11 @@
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
 //! of its vertices as corners, as Triangle users expect. Loops may come in either orientation
 //! (they are oriented here: outer CCW, holes CW); exact repeated points are dropped.
+use crate::error::GeometryError;
+use crate::piece::Piece;
 use crate::predicates::{point_in_ring, ring_signed_area};
-use crate::{GeometryError, LoopRole, Piece, Region};
+use crate::region::Region;
+use crate::types::LoopRole;
 use glam::DVec2;
 use serde_json::Value;
 use std::collections::HashMap;

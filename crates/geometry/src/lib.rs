@@ -21,11 +21,13 @@ pub mod predicates;
 mod region;
 mod rng;
 mod se;
+mod types;
 
 pub use density::Density;
 pub use error::GeometryError;
 pub use glam::DVec2;
 pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
-pub use region::{BoundaryPoint, Corner, Loop, LoopRole, PieceId, Region};
+pub use region::Region;
 pub use rng::Rng;
+pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

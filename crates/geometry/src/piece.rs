@@ -747,7 +747,7 @@ mod tests {
 
     #[test]
     fn closest_point_is_the_nearest_dense_sample_and_has_the_right_arc_length() {
-        let mut rng = crate::Rng::new(9);
+        let mut rng = crate::rng::Rng::new(9);
         for p in samples() {
             let pts = dense(&p);
             let cum: Vec<f64> = std::iter::once(0.0)

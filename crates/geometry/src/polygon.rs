@@ -1,7 +1,7 @@
 //! A straight-edged approximation of a region whose edges remember which boundary piece
 //! they came from; this is what Voronoi cells are clipped against.
 use crate::predicates::{point_in_ring, ring_signed_area};
-use crate::region::PieceId;
+use crate::types::PieceId;
 use glam::DVec2;
 
 /// One closed ring (implicitly closed: the last point joins the first).

@@ -415,7 +415,7 @@ mod tests {
     fn closest_point_beats_dense_sampling() {
         let s = SuperEllipse::new(DVec2::new(0.1, 0.2), 1.0, 0.7, 4.0, false);
         let dense: Vec<DVec2> = (0..=80_000).map(|i| s.point(i as f64 / 10_000.0)).collect();
-        let mut rng = crate::Rng::new(3);
+        let mut rng = crate::rng::Rng::new(3);
         for _ in 0..200 {
             let p = DVec2::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
             let (q, d2, t) = s.closest(p);
