@@ -56,10 +56,6 @@ const BUILTIN_FILES: &[(&str, &str)] = &[
 ];
 
 impl Region {
-    /// Read a region file (the project's JSON schema, see `regions/` in this crate).
-    pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
-        read_json_file(path)
-    }
     /// Parse region JSON; `label` names the source in errors.
     pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
         parse(text, label, label)
@@ -80,23 +76,9 @@ impl Region {
     }
 }
 
-/// A file in the project's JSON schema; the region's name defaults to the file stem.
-pub(crate) fn read_json_file(path: &std::path::Path) -> Result<Region, GeometryError> {
-    let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| GeometryError::Io {
-        path: label.clone(),
-        source,
-    })?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| label.clone());
-    parse(&text, &label, &stem)
-}
-
 /// Parses region JSON; `label` names the source in errors, `default_name` is the region's
 /// name when the file has no `name`.
-fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, GeometryError> {
+pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, GeometryError> {
     let perr = |message: String| GeometryError::Parse {
         path: label.to_string(),
         message,

@@ -1,4 +1,5 @@
-//! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists.
+//! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists,
+//! and [`Region::from_file`], which reads any of them and the project JSON.
 //!
 //! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] and every
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
@@ -14,7 +15,8 @@ use serde_json::Value;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Extensions [`read_region`] understands.
+/// Extensions [`Region::from_file`] reads by their format (any other is read as JSON if
+/// the file holds a JSON object).
 pub const REGION_EXTENSIONS: &[&str] = &["json", "geojson", "poly", "txt", "xy", "dat"];
 
 /// Smallest turning angle (radians) that makes a polygon vertex a corner.
@@ -29,34 +31,81 @@ const GEOJSON_TYPES: &[&str] = &[
     "GeometryCollection",
 ];
 
-/// Read a region file, choosing the format by extension:
-/// `.json` (the project schema of the built-in regions, or GeoJSON when its top-level `"type"` is a
-/// GeoJSON polygon type), `.geojson`, `.poly` (Triangle), `.txt`/`.xy`/`.dat` (plain loops).
-pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("json") => {
-            let text = read_text(path)?;
-            if is_geojson(&text) {
-                geojson_from_str(&text, &label(path), &stem(path))
-            } else {
-                Region::from_file(path)
-            }
+impl Region {
+    /// Read a region file in any supported format, chosen by the extension (case-insensitive):
+    ///
+    /// | extension | format |
+    /// | --- | --- |
+    /// | `.json` | the project's JSON schema (that of the built-in regions, see `regions/SOURCES.md` in this crate), or GeoJSON when its top-level `"type"` is a GeoJSON polygon type |
+    /// | `.geojson` | GeoJSON ([`read_geojson`](crate::formats::read_geojson)) |
+    /// | `.poly` | Triangle's `.poly` ([`read_poly`](crate::formats::read_poly)) |
+    /// | `.txt`, `.xy`, `.dat` | a plain loop list ([`read_loops`](crate::formats::read_loops)) |
+    ///
+    /// A file with another extension (or none) is read as JSON if its content is a JSON
+    /// object, otherwise the error lists the supported extensions. The region is named after
+    /// the file stem unless the file names it. Only the project schema describes curved
+    /// pieces; the other formats give straight edges, every turning vertex a corner.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-from-file-{}", std::process::id()));
+    /// std::fs::create_dir_all(&dir)?;
+    /// // A Triangle .poly: a 4 × 2 rectangle (four vertices, four segments, no holes).
+    /// let poly = dir.join("rect.poly");
+    /// std::fs::write(&poly, "4 2 0 0\n1 0 0\n2 4 0\n3 4 2\n4 0 2\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")?;
+    /// let r = Region::from_file(&poly)?;
+    /// assert_eq!(r.name(), "rect");
+    /// assert_eq!(r.area(), 8.0);
+    /// assert_eq!(r.corners().len(), 4);
+    /// // The same rectangle with a 1 × 1 square hole as a plain loop list.
+    /// let loops = dir.join("rect.xy");
+    /// std::fs::write(&loops, "0 0\n4 0\n4 2\n0 2\n\n1 0.5\n2 0.5\n2 1.5\n1 1.5\n")?;
+    /// let r = Region::from_file(&loops)?;
+    /// assert_eq!((r.loops().len(), r.area()), (2, 7.0));
+    /// assert!(r.contains(cvtmesh_geometry::DVec2::new(3.0, 1.0)));
+    /// assert!(!r.contains(cvtmesh_geometry::DVec2::new(1.5, 1.0)));
+    /// std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn from_file(path: &Path) -> Result<Region, GeometryError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("json") => json_region(&read_text(path)?, path),
+            Some("geojson") => read_geojson(path),
+            Some("poly") => read_poly(path),
+            Some("txt") | Some("xy") | Some("dat") => read_loops(path),
+            _ => match read_text(path) {
+                Ok(text) if serde_json::from_str::<Value>(&text).is_ok_and(|v| v.is_object()) => {
+                    json_region(&text, path)
+                }
+                _ => Err(GeometryError::Parse {
+                    path: label(path),
+                    message: format!(
+                        "unknown region file extension {}; supported: .json (project schema or \
+                         GeoJSON), .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
+                        ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
+                    ),
+                }),
+            },
         }
-        Some("geojson") => read_geojson(path),
-        Some("poly") => read_poly(path),
-        Some("txt") | Some("xy") | Some("dat") => read_loops(path),
-        _ => Err(GeometryError::Parse {
-            path: label(path),
-            message: format!(
-                "unknown region file extension {}; supported: .json (project schema or GeoJSON), \
-                 .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
-                ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
-            ),
-        }),
+    }
+}
+
+/// Read a region file in any supported format: the same as [`Region::from_file`], which
+/// documents the formats.
+pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
+    Region::from_file(path)
+}
+
+/// JSON text of the file `path`: GeoJSON or the project schema.
+fn json_region(text: &str, path: &Path) -> Result<Region, GeometryError> {
+    if is_geojson(text) {
+        geojson_from_str(text, &label(path), &stem(path))
+    } else {
+        crate::file::parse(text, &label(path), &stem(path))
     }
 }
 
