@@ -56,7 +56,23 @@ const BUILTIN_FILES: &[(&str, &str)] = &[
 ];
 
 impl Region {
-    /// Parse region JSON; `label` names the source in errors.
+    /// Parse region JSON in the project's schema (see the module documentation of
+    /// `file.rs` and `regions/SOURCES.md`); `label` names the source in errors and is the
+    /// region's name unless the JSON has a `name`.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// // A half disc of radius 1: an arc from 0° to 180° closed by a straight diameter.
+    /// let json = r#"{"name": "half_disc", "loops": [{"segments": [
+    ///     {"kind": "arc", "center": [0, 0], "radius": 1, "from_deg": 0, "to_deg": 180},
+    ///     {"kind": "polyline", "points": [[-1, 0], [1, 0]]}
+    /// ]}]}"#;
+    /// let r = Region::from_json_str(json, "example")?;
+    /// assert_eq!(r.name(), "half_disc");
+    /// assert!((r.area() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    /// assert_eq!(r.corners().len(), 2); // where the arc meets the diameter
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
     pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
         parse(text, label, label)
     }

@@ -4,6 +4,8 @@
 //! Everything downstream (tessellation, methods, measures) sees a region only through
 //! [`Region`] and the straight-edged [`Polygon`] it polygonizes to.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod build;
 mod crossings;

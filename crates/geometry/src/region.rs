@@ -12,6 +12,46 @@ use std::sync::Arc;
 
 /// A planar region: one outer loop and any number of holes, validated and oriented
 /// (outer CCW, holes CW).
+///
+/// Make one with [`Region::builtin`] (the paper's ten regions), [`Region::from_file`] (every
+/// supported file format) or [`Region::new`] (loops of [`Piece`]s). Regions are immutable and
+/// cheap to clone (the search index is shared), and can be shared across threads.
+///
+/// ```
+/// use cvtmesh_geometry::{DVec2, Region};
+/// use std::f64::consts::PI;
+/// // The square [-1, 1]² with a circular hole of radius 0.4 around the origin.
+/// let r = Region::builtin("square_hole")?;
+/// assert!((r.area() - (4.0 - PI * 0.16)).abs() < 1e-12);
+/// assert_eq!(r.loops().len(), 2);
+/// // The square's four vertices are the corners; the circle has none.
+/// assert_eq!(r.corners().len(), 4);
+/// assert!(r.corners().iter().all(|c| c.pos.abs() == DVec2::ONE));
+///
+/// // Inside, in the hole, outside.
+/// assert!(r.contains(DVec2::new(0.7, 0.0)));
+/// assert!(!r.contains(DVec2::ZERO));
+/// assert!(!r.contains(DVec2::new(2.0, 0.0)));
+/// // Signed distance: negative inside (here 0.3 from the hole and from the right side).
+/// assert!((r.signed_distance(DVec2::new(0.7, 0.0)) + 0.3).abs() < 1e-12);
+/// assert!((r.signed_distance(DVec2::ZERO) - 0.4).abs() < 1e-12);
+///
+/// // The nearest boundary point, on the hole's loop (loop 1).
+/// let b = r.project(DVec2::new(0.0, 0.5));
+/// assert!((b.point - DVec2::new(0.0, 0.4)).length() < 1e-12);
+/// assert_eq!(b.loop_index, 1);
+/// assert!((b.distance - 0.1).abs() < 1e-12);
+///
+/// // A straight-edged approximation: chord error ≤ 1e-3, corners kept as vertices. The
+/// // hole's polygon is inscribed in the circle, so the polygon is a little larger.
+/// let p = r.polygonize(1e-3);
+/// assert_eq!(p.rings.len(), 2);
+/// assert!(p.area() > r.area() && p.area() - r.area() < 1e-2);
+/// for c in r.corners() {
+///     assert!(p.rings[0].points.contains(&c.pos));
+/// }
+/// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Region {
     pub(crate) name: String,

@@ -21,6 +21,8 @@
 //! because nothing pins the vertices along a closed loop and the approximate regions are not
 //! the gradient of an energy; the move-based test then reports `converged = false`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 pub mod relax;
 

@@ -28,6 +28,8 @@
 //!   meeting at a vertex, at equal distances from it, is not split), and except for triangles
 //!   given up on (reported in the notes; none occur on the paper's regions at 20°).
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod boundary;
 mod engine;
@@ -51,6 +53,25 @@ const BRACKET_TOL: f64 = 1e-7;
 
 /// Delaunay refinement (TRIANGLE). `Refine::default()` is Triangle's `-q` (20°) with
 /// off-centers and the area bound searched to reach the requested K.
+///
+/// Used through the [`Mesher`] trait like every method of the workspace:
+///
+/// ```
+/// use cvtmesh_refine::Refine;
+/// use geometry::Region;
+/// use mesh::{check_conforming, MeshRequest, Mesher};
+/// let region = Region::builtin("square_hole")?;
+/// let result = Refine::default().mesh(&region, &MeshRequest::points(194), &mut |_| {})?;
+/// let mesh = &result.mesh;
+/// // Triangle gives no direct control of K: the area bound is searched to come close.
+/// let k = mesh.num_vertices() as f64;
+/// assert!((k - 194.0).abs() <= 0.05 * 194.0, "K = {k}");
+/// // Every triangle meets the 20° bound (no small input angles here), and the mesh conforms
+/// // to the region: boundary vertices on their pieces, corners kept, triangles tiling Ω.
+/// assert!(mesh.min_angle_deg() >= 20.0 - 1e-9);
+/// check_conforming(mesh, &region)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Refine {
     /// Minimum angle bound in degrees (0 disables it; the algorithm may not terminate above

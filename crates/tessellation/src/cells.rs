@@ -86,6 +86,37 @@ impl Cells {
 ///   stored orientation; rings with fewer than 3 points are ignored;
 /// - a domain without rings gives empty cells; a generator outside Ω̄ gets the part of its
 ///   cell inside Ω (possibly empty).
+///
+/// ```
+/// use cvtmesh_tessellation::{clipped_cells, Delaunay};
+/// use geometry::{DVec2, Density, Region, Rng};
+/// let region = Region::builtin("square_hole")?;
+/// let domain = region.polygonize(1e-4);
+/// // 200 random generators in the domain.
+/// let mut rng = Rng::new(7);
+/// let mut points = Vec::new();
+/// while points.len() < 200 {
+///     let p = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+///     if domain.contains(p) {
+///         points.push(p);
+///     }
+/// }
+/// let delaunay = Delaunay::new(&points);
+/// let cells = clipped_cells(&points, &delaunay, &domain, &Density::Uniform);
+/// assert_eq!(cells.cells.len(), 200);
+/// // The cells partition the domain: their areas sum to its area.
+/// assert!((cells.total_area() - domain.area()).abs() < 1e-12 * domain.area());
+/// assert!((domain.area() - region.area()).abs() < 1e-3);
+/// for (cell, p) in cells.cells.iter().zip(&points) {
+///     assert!(cell.area > 0.0);
+///     // A cell's centroid lies in the domain and h bounds its distance from the generator.
+///     assert!(domain.contains(cell.centroid));
+///     assert!(cell.centroid.distance(*p) <= cell.h);
+/// }
+/// // Cells that reach the boundary name the boundary pieces they touch.
+/// assert!(cells.cells.iter().any(|c| c.on_boundary()));
+/// # Ok::<(), geometry::GeometryError>(())
+/// ```
 pub fn clipped_cells(
     points: &[DVec2],
     delaunay: &Delaunay,

@@ -47,6 +47,25 @@ pub struct Delaunay {
 
 impl Delaunay {
     /// Triangulate `points`.
+    ///
+    /// ```
+    /// use cvtmesh_tessellation::Delaunay;
+    /// use geometry::DVec2;
+    /// // A unit square's corners around a point off its centre, and a duplicate of corner 0.
+    /// let points = [
+    ///     DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y,
+    ///     DVec2::new(0.4, 0.55), DVec2::ZERO,
+    /// ];
+    /// let d = Delaunay::new(&points);
+    /// assert_eq!(d.num_vertices(), 5); // the duplicate is merged onto point 0
+    /// assert_eq!(d.vertex_of(5), Some(0));
+    /// // The inner point is joined to all four corners: four CCW triangles.
+    /// assert_eq!(d.triangles().len(), 4);
+    /// let mut around = d.neighbors(4);
+    /// around.sort();
+    /// assert_eq!(around, [0, 1, 2, 3]);
+    /// assert_eq!(d.nearest(DVec2::new(0.9, 0.8)), 2);
+    /// ```
     pub fn new(points: &[DVec2]) -> Delaunay {
         let mut d = Delaunay {
             rings: Rings::default(),

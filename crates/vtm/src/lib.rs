@@ -22,6 +22,8 @@
 //! nothing pins the vertices along a closed loop and the boundary rule is not the gradient of
 //! the ODT energy. The move-based test then reports `converged = false`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 use geometry::predicates::{circumcenter, triangle_signed_area};
 use geometry::{DVec2, Density, Region};
