@@ -1,6 +1,6 @@
 //! Cost per query of `signed_distance` and `project` on the paper regions (and a large
 //! synthetic coastline), in CPU time per call. Run with
-//! `cargo run --release -p geometry --example bench_queries`.
+//! `cargo run --release -p cvtmesh-geometry --example bench_queries`.
 use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region, Rng};
 use std::time::Instant;
 

@@ -1,4 +1,4 @@
-//! Measure the refinement on one region: `cargo run --release -p refine --example refine_probe -- NAME K [ANGLE]`.
+//! Measure the refinement on one region: `cargo run --release -p cvtmesh-refine --example refine_probe -- NAME K [ANGLE]`.
 use cvtmesh_refine::Refine;
 use geometry::Region;
 use mesh::{check_conforming, MeshRequest, Mesher};

@@ -135,8 +135,9 @@ pub struct CellsBuffer {
     per_vertex: Vec<Cell>,
 }
 
-/// [`clipped_cells`] written into `out`, reusing its memory and `buffer`'s (Lloyd iterations:
-/// no fresh ~100 MB vectors per iteration at 10⁶ generators).
+/// [`clipped_cells`] written into `out`, reusing its memory and `buffer`'s: an iteration that
+/// recomputes the cells of the same generators (Lloyd, Newton) reuses the previous iteration's
+/// vectors instead of allocating them afresh.
 pub fn clipped_cells_into(
     points: &[DVec2],
     delaunay: &Delaunay,

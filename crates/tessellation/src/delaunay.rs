@@ -1,5 +1,6 @@
-//! Delaunay triangulation of generators, built by inserting in Hilbert-curve order
-//! (see notes: plain `insert` on unsorted points is ~100× slower at 10⁶).
+//! Delaunay triangulation of generators, built by inserting in Hilbert-curve order: each
+//! point is then located by a short walk from the previously inserted one, where points in
+//! input order would make every walk cross much of the triangulation.
 use crate::topology::{Rings, Topology, NONE};
 use geometry::DVec2;
 use rayon::prelude::*;
@@ -124,7 +125,8 @@ impl Delaunay {
     /// without the large allocations. When `points` are the previous points moved (the same
     /// number, all distinct vertices, no triangle turned over, every ring winding once, the hull
     /// still strictly convex — directly or in 4 substeps), the previous triangulation is
-    /// repaired by Lawson flips, which at 10⁵ points costs about a tenth of building it afresh.
+    /// repaired by Lawson flips, whose cost grows with the number of flips needed (few for
+    /// small moves) instead of with a full insertion of every point.
     /// A framed triangulation also repairs moves that turn triangles over, by removing and
     /// reinserting the vertices that moved farthest. Otherwise it is built afresh.
     pub fn rebuild(&mut self, points: &[DVec2]) {
@@ -490,7 +492,7 @@ impl Delaunay {
     }
 
     /// Triangulate afresh with spade. Spade's triangulation lives only while its topology is
-    /// copied out: at 10⁶ points it is ~130 MB that flips never need.
+    /// copied out, so its memory is not held between rebuilds (the flips do not need it).
     fn build_spade(&mut self, points: &[DVec2]) {
         let mut dt: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::with_capacity(
             points.len() + FRAME,

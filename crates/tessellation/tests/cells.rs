@@ -663,7 +663,7 @@ fn generators_a_rounding_error_outside_the_boundary() {
 }
 
 /// Large CCVT-like sets in the lake: about 2√n generators on the boundary edges and at every
-/// corner, the rest random inside. `cargo test -p tessellation --release -- --ignored`.
+/// corner, the rest random inside. `cargo test -p cvtmesh-tessellation --release -- --ignored`.
 #[test]
 #[ignore = "large: 2·10⁵ generators"]
 fn large_lake_partition() {
