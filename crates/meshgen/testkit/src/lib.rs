@@ -2,8 +2,10 @@
 //! relaxation methods built on `meshgen::relax`): end-to-end checks of a method's result, a
 //! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run.
 //! A dev-dependency only; not published.
-use geometry::{DVec2, Region};
-use mesh::{check_conforming, Mesh, MeshRequest, MeshResult, Mesher, VertexMarker};
+use geometry::DVec2;
+pub use geometry::Region;
+pub use mesh::MeshRequest;
+use mesh::{check_conforming, Mesh, MeshResult, Mesher, VertexMarker};
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -227,4 +229,85 @@ pub fn timed_run(method: &dyn Mesher) -> Result<(), Box<dyn std::error::Error>> 
         println!("  {n}");
     }
     Ok(())
+}
+
+/// The end-to-end test suite of a relaxation method: `relaxation_tests!(Meshgen);` in a test
+/// file defines, for that [`Mesher`], a medium circle mesh that keeps its shape and lowers its
+/// energy, convergence on square_hole, a capped run, seed determinism, bad requests, every
+/// paper region after 40 iterations, and (ignored: slow) every paper region to convergence.
+#[macro_export]
+macro_rules! relaxation_tests {
+    ($method:expr) => {
+        use $crate::*;
+
+        #[test]
+        fn circle_medium_mesh() {
+            let r = mesh_and_check(&$method, "circle", 88);
+            // Converged or not (a closed loop lets the mesh turn slowly), the shape is good
+            // and the method's energy went down from the jittered lattice.
+            assert!(
+                r.mesh.min_angle_deg() > 30.0,
+                "min angle {}",
+                r.mesh.min_angle_deg()
+            );
+            assert!(r.energy_history.last() < r.energy_history.first());
+        }
+
+        #[test]
+        fn square_with_a_hole_converges() {
+            let r = mesh_and_check(&$method, "square_hole", 194);
+            assert!(
+                r.converged,
+                "last moves {:?}",
+                &r.move_history[r.move_history.len() - 3..]
+            );
+            assert!(r.iterations < 1000);
+        }
+
+        #[test]
+        fn capped_run_reports_not_converged() {
+            capped_run_is_not_converged(&$method);
+        }
+
+        #[test]
+        fn same_seed_same_mesh() {
+            seed_determines_the_mesh(&$method);
+        }
+
+        #[test]
+        fn impossible_requests() {
+            bad_requests_are_errors(&$method);
+        }
+
+        /// The paper's K of each region, in `Region::builtin_names()` order (largest where
+        /// several).
+        const PAPER_K: [usize; 10] = [362, 303, 194, 240, 138, 505, 136, 287, 203, 1109];
+
+        #[test]
+        fn every_paper_region_after_forty_iterations() {
+            // Conformity, exact K, corners and markers hold at every iterate, not only at
+            // convergence.
+            for (name, k) in $crate::Region::builtin_names().iter().zip(PAPER_K) {
+                let request = $crate::MeshRequest::points(k).max_iter(40);
+                let r = mesh_and_check_with(&$method, name, &request);
+                assert_eq!(
+                    r.iterations, 40,
+                    "{name} cannot converge to 1e-4 in 40 iterations"
+                );
+            }
+        }
+
+        #[test]
+        #[ignore = "slow: every paper region at its paper K to convergence \
+                    (run with --release -- --ignored)"]
+        fn all_paper_regions() {
+            for (name, k) in $crate::Region::builtin_names().iter().zip(PAPER_K) {
+                let r = mesh_and_check(&$method, name, k);
+                eprintln!(
+                    "{name} K={k}: {} iterations, converged {}",
+                    r.iterations, r.converged
+                );
+            }
+        }
+    };
 }
