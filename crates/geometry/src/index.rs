@@ -37,6 +37,17 @@ pub(crate) struct Hit {
     pub end: FootAt,
 }
 
+impl Hit {
+    /// Nothing found yet: infinitely far, so that any element's point is nearer.
+    const NONE: Hit = Hit {
+        elem: 0,
+        point: DVec2::NAN,
+        d2: f64::INFINITY,
+        aux: 0.0,
+        end: FootAt::Interior,
+    };
+}
+
 #[derive(Clone, Debug)]
 struct Node {
     lo: DVec2,
@@ -342,13 +353,7 @@ impl Index {
 
     /// Nearest boundary point over all elements.
     pub fn nearest(&self, pieces: &[Piece], p: DVec2) -> Hit {
-        let mut hit = Hit {
-            elem: 0,
-            point: DVec2::NAN,
-            d2: f64::INFINITY,
-            aux: 0.0,
-            end: FootAt::Interior,
-        };
+        let mut hit = Hit::NONE;
         self.bvh
             .nearest(p, |e, best| self.eval(pieces, e, p, best, &mut hit));
         hit
@@ -356,13 +361,7 @@ impl Index {
 
     /// Nearest point on one piece.
     pub fn nearest_on_piece(&self, pieces: &[Piece], p: DVec2, piece: usize) -> Hit {
-        let mut hit = Hit {
-            elem: 0,
-            point: DVec2::NAN,
-            d2: f64::INFINITY,
-            aux: 0.0,
-            end: FootAt::Interior,
-        };
+        let mut hit = Hit::NONE;
         let (a, b) = self.piece_elems[piece];
         match &self.piece_bvh[piece] {
             Some(bvh) => {
