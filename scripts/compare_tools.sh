@@ -14,4 +14,4 @@ if [ ! -x "$venv/bin/python" ]; then
   "$venv/bin/pip" install --quiet numpy triangle gmsh distmeshpy
 fi
 cargo build --release -p cvtmesh-cli --manifest-path "$top/Cargo.toml"
-exec "$venv/bin/python" "$here/compare_tools.py" --cvtmesh "$top/target/release/cvtmesh" --domains "$top/domains" --out "$top/results/compare" "$@"
+exec "$venv/bin/python" "$here/compare_tools.py" --cvtmesh "$top/target/release/cvtmesh" --domains "$top/crates/geometry/regions" --out "$top/results/compare" "$@"

@@ -11,12 +11,7 @@ pub const PICTURE_PX: u32 = 1200;
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.
 /// `corner_angle` keeps only corners turning more than that many degrees.
 pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
-    let path = Path::new(spec);
-    let region = if path.exists() || spec.contains('.') || spec.contains('/') {
-        cvtmesh::geometry::formats::read_region(path)?
-    } else {
-        Region::builtin(spec)?
-    };
+    let region = cvtmesh::load_region(spec)?;
     Ok(match corner_angle {
         Some(deg) if !(0.0..180.0).contains(&deg) => {
             bail!("--corner-angle must be in [0, 180) degrees, got {deg}")

@@ -86,7 +86,7 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 }
 
 /// A region by what a user types: the path of a region file in any format
-/// [`geometry::formats::read_region`] reads, or, when no such file exists and the text looks
+/// [`Region::from_file`] reads, or, when no such file exists and the text looks
 /// like no path (no `.` or `/`), the name of a built-in region.
 ///
 /// ```
@@ -99,7 +99,7 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
     let path = std::path::Path::new(spec);
     if path.exists() || spec.contains('.') || spec.contains('/') {
-        geometry::formats::read_region(path)
+        Region::from_file(path)
     } else {
         Region::builtin(spec)
     }

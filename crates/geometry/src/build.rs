@@ -1,10 +1,12 @@
 //! Validation and assembly of a `Region` from loops of pieces.
 use crate::crossings::candidate_pairs;
+use crate::error::GeometryError;
 use crate::index::Index;
 use crate::numeric::segment_segment_distance;
 use crate::piece::Piece;
-use crate::region::{Corner, Loop, LoopRole, Region};
-use crate::GeometryError;
+use crate::predicates::point_in_ring;
+use crate::region::Region;
+use crate::types::{Corner, Loop, LoopRole};
 use glam::DVec2;
 use std::sync::Arc;
 
@@ -24,8 +26,106 @@ fn role_name(r: LoopRole) -> &'static str {
     }
 }
 
+impl Region {
+    /// Build from loops of pieces (outer first). Validates (closed, no self-intersection, no
+    /// loops crossing, holes inside the outer loop, finite numbers), normalises orientation,
+    /// and takes `corners` as given (`None`: every junction whose turning angle exceeds 1e-6 rad).
+    ///
+    /// Details:
+    /// - exactly one loop must be `Outer`; it becomes loop 0 even if it is not listed first
+    ///   (the holes keep their relative order). Messages number loops as given;
+    /// - a gap of at most 1e-9·diameter between consecutive pieces is closed by moving the
+    ///   end of the straight piece (line or chain) onto its neighbour; a larger gap is an error;
+    /// - duplicate consecutive vertices (an edge of length ≤ 1e-9·diameter) are **rejected**,
+    ///   not removed, with their position in the message;
+    /// - crossings and touchings (closer than 1e-11·diameter) within a loop or between loops
+    ///   are found on a polygonization with chord error 1e-6·diameter (chains exactly) and
+    ///   reported with the crossing point; loops closer than that tolerance may go unnoticed;
+    /// - a loop with the wrong orientation is reversed (pieces reversed and in reverse order,
+    ///   so it keeps its start point);
+    /// - each listed corner must lie within 1e-8·diameter of a junction of two pieces (or the
+    ///   start of a single-piece loop); its position becomes that junction exactly.
+    pub fn new(
+        name: &str,
+        loops: Vec<(LoopRole, Vec<Piece>)>,
+        corners: Option<Vec<DVec2>>,
+    ) -> Result<Region, GeometryError> {
+        new_region(name, loops, corners)
+    }
+
+    /// The same region with only the corners whose turning angle exceeds `degrees`; pieces
+    /// joined at the dropped corners merge into `Piece::Chain`s.
+    ///
+    /// The turning angle of a corner is the angle between the incoming and outgoing
+    /// tangents (0° = straight on, 180° = turning back). Runs of pieces between kept corners
+    /// (and junctions that never were corners, such as tangent line–arc joins) become one
+    /// `Chain`: lines and chains contribute their points exactly; an arc in such a run is
+    /// sampled with chord error 1e-7·diameter. A loop left with no corner at all becomes a
+    /// single closed chain. The geometry is otherwise unchanged (no re-validation), `degrees`
+    /// is recorded in `corner_threshold`, and a NaN threshold counts as 0.
+    pub fn with_corner_angle(&self, degrees: f64) -> Region {
+        let degrees = if degrees.is_nan() { 0.0 } else { degrees };
+        let threshold = degrees.to_radians();
+        let arc_tol = 1e-7 * self.diameter();
+        let mut lps = Vec::with_capacity(self.loops.len());
+        let mut flags = Vec::with_capacity(self.loops.len());
+        for lp in &self.loops {
+            let n = lp.pieces.len();
+            // keep[k]: the junction at the start of piece k stays a corner; cut[k]: pieces
+            // are not merged across it.
+            let keep: Vec<bool> = lp
+                .pieces
+                .iter()
+                .map(|&p| {
+                    self.corner_at_start[p].is_some_and(|c| {
+                        let c = &self.corners[c];
+                        turning_angle(&self.pieces[c.piece_in], &self.pieces[c.piece_out])
+                            > threshold
+                    })
+                })
+                .collect();
+            let cut: Vec<bool> = (0..n)
+                .map(|k| keep[k] || self.corner_at_start[lp.pieces[k]].is_none())
+                .collect();
+            let first = (0..n).find(|&k| cut[k]).unwrap_or(0);
+            let (mut pieces, mut f) = (Vec::new(), Vec::new());
+            let mut k = 0;
+            while k < n {
+                // One run: from a cut up to (not including) the next cut.
+                let start = (first + k) % n;
+                let mut run = vec![start];
+                k += 1;
+                while k < n && !cut[(first + k) % n] {
+                    run.push((first + k) % n);
+                    k += 1;
+                }
+                f.push(keep[start]);
+                if run.len() == 1 {
+                    pieces.push(self.pieces[lp.pieces[start]].clone());
+                } else {
+                    let mut pts: Vec<DVec2> = Vec::new();
+                    for &r in &run {
+                        let piece = &self.pieces[lp.pieces[r]];
+                        let sample = match piece {
+                            Piece::Line { a, b } => vec![*a, *b],
+                            Piece::Chain(c) => c.clone(),
+                            other => other.polygonize(arc_tol),
+                        };
+                        let skip = usize::from(!pts.is_empty());
+                        pts.extend_from_slice(&sample[skip..]);
+                    }
+                    pieces.push(Piece::Chain(pts));
+                }
+            }
+            lps.push((lp.role, pieces));
+            flags.push(f);
+        }
+        assemble(self.name.clone(), lps, &flags, Some(degrees))
+    }
+}
+
 /// Implements `Region::new`.
-pub(crate) fn new_region(
+fn new_region(
     name: &str,
     loops: Vec<(LoopRole, Vec<Piece>)>,
     corners: Option<Vec<DVec2>>,
@@ -148,14 +248,14 @@ pub(crate) fn new_region(
     // Holes inside the outer loop and outside each other.
     for h in 1..rings.len() {
         let x = rings[h][0];
-        if !point_in_ring(&rings[0], x) {
+        if !point_in_ring(x, &rings[0]) {
             return Err(err(format!(
                 "{} is not inside the outer loop (its point ({}, {}) is outside)",
                 label[h], x.x, x.y
             )));
         }
         for g in 1..rings.len() {
-            if g != h && point_in_ring(&rings[g], x) {
+            if g != h && point_in_ring(x, &rings[g]) {
                 return Err(err(format!(
                     "{} lies inside {} (holes must be disjoint)",
                     label[h], label[g]
@@ -335,19 +435,6 @@ fn check_crossings(rings: &[Vec<DVec2>], touch: f64) -> Result<(), (usize, usize
         Some(f) => Err(f),
         None => Ok(()),
     }
-}
-
-/// Even-odd point-in-polygon for one ring.
-pub(crate) fn point_in_ring(r: &[DVec2], p: DVec2) -> bool {
-    let n = r.len();
-    let mut inside = false;
-    for i in 0..n {
-        let (a, b) = (r[i], r[(i + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 /// Builds the region's tables from validated, oriented loops (outer first) and per-junction

@@ -105,7 +105,7 @@ mod tests {
 
     #[test]
     fn finds_every_overlapping_pair_once() {
-        let mut rng = crate::Rng::new(11);
+        let mut rng = crate::rng::Rng::new(11);
         let segs: Vec<(DVec2, DVec2)> = (0..300)
             .map(|_| {
                 let a = DVec2::new(rng.range(0.0, 10.0), rng.range(0.0, 10.0));

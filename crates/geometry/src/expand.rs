@@ -19,9 +19,11 @@
 //! inradius; a bay of the outer boundary with a narrow mouth may become a new hole.
 use crate::crossings::candidate_pairs;
 use crate::index::Bvh;
-use crate::numeric::{closest_on_segment, segment_crossing};
-use crate::polygon::{ring_signed_area, Ring};
-use crate::{Polygon, Region};
+use crate::numeric::segment_crossing;
+use crate::polygon::{Polygon, Ring};
+use crate::predicates::closest_on_segment;
+use crate::predicates::ring_signed_area;
+use crate::region::Region;
 use glam::DVec2;
 
 /// What a raw segment was offset from.
@@ -50,7 +52,21 @@ fn find(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
-pub fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
+impl Region {
+    /// Ω_ε = {x : dist(x, Ω) ≤ ε} of Section 2.4, polygonized to `tol`; each edge's piece is
+    /// the piece of Ω it is nearest to. Holes shrink and vanish when ε exceeds their inradius.
+    ///
+    /// The result is a simple polygon (outer ring CCW first, holes CW) whose vertices lie
+    /// within `tol` of distance ε from Ω. A bay of the outer boundary whose mouth is narrower
+    /// than 2ε but which is wider inside becomes a new hole (its `loop_index` is the loop of
+    /// its first edge's piece). ε ≤ 0 or NaN gives `polygonize(tol)`; see `expand.rs` for
+    /// the method.
+    pub fn expand(&self, eps: f64, tol: f64) -> Polygon {
+        expand(self, eps, tol)
+    }
+}
+
+fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
     let diam = region.diameter();
     let tol = tol.max(1e-9 * diam);
     if !(eps > 0.0 && eps.is_finite()) {

@@ -12,7 +12,7 @@
 //! ```
 //!
 //! Functions: `exp log sqrt sin cos tan tanh abs` (one argument), `min max` (two).
-use crate::Density;
+use crate::density::Density;
 use glam::DVec2;
 use std::sync::Arc;
 use thiserror::Error;

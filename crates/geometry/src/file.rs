@@ -1,4 +1,5 @@
-//! Region files: the JSON schema of `domains/` (see domains/SOURCES.md).
+//! Region files: the JSON schema of the built-in regions in `regions/` (see
+//! `regions/SOURCES.md` in this crate).
 //!
 //! Only `loops` is required. Each loop is an object with `segments` (required, non-empty),
 //! `role` (`"outer"` | `"hole"`; default: the first loop is outer, the others holes) and
@@ -16,7 +17,10 @@
 //! without the field corners are computed. `name` (optional) names the region; otherwise
 //! the file stem. Every other field (`area`, `bbox`, `length`, ...) is ignored: all derived
 //! quantities are recomputed.
-use crate::{GeometryError, LoopRole, Piece, Region};
+use crate::error::GeometryError;
+use crate::piece::Piece;
+use crate::region::Region;
+use crate::types::LoopRole;
 use glam::DVec2;
 use serde_json::{Map, Value};
 
@@ -36,57 +40,61 @@ pub const BUILTIN_NAMES: &[&str] = &[
 
 /// The built-in region files, embedded at compile time.
 const BUILTIN_FILES: &[(&str, &str)] = &[
-    ("circle", include_str!("../../../domains/circle.json")),
-    ("annulus", include_str!("../../../domains/annulus.json")),
-    (
-        "square_hole",
-        include_str!("../../../domains/square_hole.json"),
-    ),
-    ("hex_hole", include_str!("../../../domains/hex_hole.json")),
-    ("horn", include_str!("../../../domains/horn.json")),
-    (
-        "superellipse",
-        include_str!("../../../domains/superellipse.json"),
-    ),
-    ("bike_seat", include_str!("../../../domains/bike_seat.json")),
-    ("pie_hole", include_str!("../../../domains/pie_hole.json")),
+    ("circle", include_str!("../regions/circle.json")),
+    ("annulus", include_str!("../regions/annulus.json")),
+    ("square_hole", include_str!("../regions/square_hole.json")),
+    ("hex_hole", include_str!("../regions/hex_hole.json")),
+    ("horn", include_str!("../regions/horn.json")),
+    ("superellipse", include_str!("../regions/superellipse.json")),
+    ("bike_seat", include_str!("../regions/bike_seat.json")),
+    ("pie_hole", include_str!("../regions/pie_hole.json")),
     (
         "square_two_hex",
-        include_str!("../../../domains/square_two_hex.json"),
+        include_str!("../regions/square_two_hex.json"),
     ),
-    ("lake", include_str!("../../../domains/lake.json")),
+    ("lake", include_str!("../regions/lake.json")),
 ];
 
-pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
-    let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| GeometryError::Io {
-        path: label.clone(),
-        source,
-    })?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| label.clone());
-    parse(&text, &label, &stem)
-}
-
-pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
-    parse(text, label, label)
-}
-
-pub fn builtin(name: &str) -> Result<Region, GeometryError> {
-    match BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
-        Some((n, text)) => parse(text, &format!("built-in region '{n}'"), n),
-        None => Err(GeometryError::UnknownBuiltin(
-            name.to_string(),
-            BUILTIN_NAMES.join(", "),
-        )),
+impl Region {
+    /// Parse region JSON in the project's schema (see the module documentation of
+    /// `file.rs` and `regions/SOURCES.md`); `label` names the source in errors and is the
+    /// region's name unless the JSON has a `name`.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// // A half disc of radius 1: an arc from 0° to 180° closed by a straight diameter.
+    /// let json = r#"{"name": "half_disc", "loops": [{"segments": [
+    ///     {"kind": "arc", "center": [0, 0], "radius": 1, "from_deg": 0, "to_deg": 180},
+    ///     {"kind": "polyline", "points": [[-1, 0], [1, 0]]}
+    /// ]}]}"#;
+    /// let r = Region::from_json_str(json, "example")?;
+    /// assert_eq!(r.name(), "half_disc");
+    /// assert!((r.area() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    /// assert_eq!(r.corners().len(), 2); // where the arc meets the diameter
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
+        parse(text, label, label)
+    }
+    /// One of the paper's ten regions by name (`circle`, `lake`, ...).
+    pub fn builtin(name: &str) -> Result<Region, GeometryError> {
+        match BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
+            Some((n, text)) => parse(text, &format!("built-in region '{n}'"), n),
+            None => Err(GeometryError::UnknownBuiltin(
+                name.to_string(),
+                BUILTIN_NAMES.join(", "),
+            )),
+        }
+    }
+    /// Names of the built-in regions, in the paper's table order.
+    pub fn builtin_names() -> &'static [&'static str] {
+        BUILTIN_NAMES
     }
 }
 
 /// Parses region JSON; `label` names the source in errors, `default_name` is the region's
 /// name when the file has no `name`.
-fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, GeometryError> {
+pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Region, GeometryError> {
     let perr = |message: String| GeometryError::Parse {
         path: label.to_string(),
         message,

@@ -1,16 +1,22 @@
-//! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists.
+//! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists,
+//! and [`Region::from_file`], which reads any of them and the project JSON.
 //!
 //! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] and every
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
 //! of its vertices as corners, as Triangle users expect. Loops may come in either orientation
 //! (they are oriented here: outer CCW, holes CW); exact repeated points are dropped.
-use crate::{GeometryError, LoopRole, Piece, Region};
+use crate::error::GeometryError;
+use crate::piece::Piece;
+use crate::predicates::{point_in_ring, ring_signed_area};
+use crate::region::Region;
+use crate::types::LoopRole;
 use glam::DVec2;
 use serde_json::Value;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Extensions [`read_region`] understands.
+/// Extensions [`Region::from_file`] reads by their format (any other is read as JSON if
+/// the file holds a JSON object).
 pub const REGION_EXTENSIONS: &[&str] = &["json", "geojson", "poly", "txt", "xy", "dat"];
 
 /// Smallest turning angle (radians) that makes a polygon vertex a corner.
@@ -25,34 +31,107 @@ const GEOJSON_TYPES: &[&str] = &[
     "GeometryCollection",
 ];
 
-/// Read a region file, choosing the format by extension:
-/// `.json` (the project schema of `domains/`, or GeoJSON when its top-level `"type"` is a
-/// GeoJSON polygon type), `.geojson`, `.poly` (Triangle), `.txt`/`.xy`/`.dat` (plain loops).
-pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("json") => {
-            let text = read_text(path)?;
-            if is_geojson(&text) {
-                geojson_from_str(&text, &label(path), &stem(path))
-            } else {
-                Region::from_file(path)
-            }
+impl Region {
+    /// A polygonal region from its loops' vertices: `(LoopRole::Outer, points)` and any
+    /// number of `(LoopRole::Hole, points)`, each loop listed once around (either direction;
+    /// a closing copy of the first point is dropped). Every vertex where the boundary turns
+    /// is a corner ([`Region::with_corner_angle`] keeps fewer). The checks of [`Region::new`]
+    /// apply: finite points, no repeated vertex, simple loops that do not cross, holes inside.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
+    /// let square = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+    /// let hole: Vec<DVec2> = square.iter().map(|&p| 0.4 + 0.2 * p).collect();
+    /// let r = Region::from_loops("frame", vec![(LoopRole::Outer, square), (LoopRole::Hole, hole)])?;
+    /// assert!((r.area() - 0.96).abs() < 1e-12);
+    /// assert_eq!(r.corners().len(), 8);
+    /// assert!(!r.contains(DVec2::new(0.5, 0.5)));
+    /// // A bow tie is refused, with the crossing named.
+    /// let bow = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)];
+    /// assert!(Region::from_loops("bow", vec![(LoopRole::Outer, bow)]).is_err());
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn from_loops(
+        name: &str,
+        loops: Vec<(LoopRole, Vec<DVec2>)>,
+    ) -> Result<Region, GeometryError> {
+        polygon_region(name, name, loops)
+    }
+
+    /// Read a region file in any supported format, chosen by the extension (case-insensitive):
+    ///
+    /// | extension | format |
+    /// | --- | --- |
+    /// | `.json` | the project's JSON schema (that of the built-in regions, see `regions/SOURCES.md` in this crate), or GeoJSON when its top-level `"type"` is a GeoJSON polygon type |
+    /// | `.geojson` | GeoJSON ([`read_geojson`](crate::formats::read_geojson)) |
+    /// | `.poly` | Triangle's `.poly` ([`read_poly`](crate::formats::read_poly)) |
+    /// | `.txt`, `.xy`, `.dat` | a plain loop list ([`read_loops`](crate::formats::read_loops)) |
+    ///
+    /// A file with another extension (or none) is read as JSON if its content is a JSON
+    /// object, otherwise the error lists the supported extensions. The region is named after
+    /// the file stem unless the file names it. Only the project schema describes curved
+    /// pieces; the other formats give straight edges, every turning vertex a corner.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-from-file-{}", std::process::id()));
+    /// std::fs::create_dir_all(&dir)?;
+    /// // A Triangle .poly: a 4 × 2 rectangle (four vertices, four segments, no holes).
+    /// let poly = dir.join("rect.poly");
+    /// std::fs::write(&poly, "4 2 0 0\n1 0 0\n2 4 0\n3 4 2\n4 0 2\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")?;
+    /// let r = Region::from_file(&poly)?;
+    /// assert_eq!(r.name(), "rect");
+    /// assert_eq!(r.area(), 8.0);
+    /// assert_eq!(r.corners().len(), 4);
+    /// // The same rectangle with a 1 × 1 square hole as a plain loop list.
+    /// let loops = dir.join("rect.xy");
+    /// std::fs::write(&loops, "0 0\n4 0\n4 2\n0 2\n\n1 0.5\n2 0.5\n2 1.5\n1 1.5\n")?;
+    /// let r = Region::from_file(&loops)?;
+    /// assert_eq!((r.loops().len(), r.area()), (2, 7.0));
+    /// assert!(r.contains(cvtmesh_geometry::DVec2::new(3.0, 1.0)));
+    /// assert!(!r.contains(cvtmesh_geometry::DVec2::new(1.5, 1.0)));
+    /// std::fs::remove_dir_all(&dir)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn from_file(path: &Path) -> Result<Region, GeometryError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("json") => json_region(&read_text(path)?, path),
+            Some("geojson") => read_geojson(path),
+            Some("poly") => read_poly(path),
+            Some("txt") | Some("xy") | Some("dat") => read_loops(path),
+            _ => match read_text(path) {
+                Ok(text) if serde_json::from_str::<Value>(&text).is_ok_and(|v| v.is_object()) => {
+                    json_region(&text, path)
+                }
+                _ => Err(GeometryError::Parse {
+                    path: label(path),
+                    message: format!(
+                        "unknown region file extension {}; supported: .json (project schema or \
+                         GeoJSON), .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
+                        ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
+                    ),
+                }),
+            },
         }
-        Some("geojson") => read_geojson(path),
-        Some("poly") => read_poly(path),
-        Some("txt") | Some("xy") | Some("dat") => read_loops(path),
-        _ => Err(GeometryError::Parse {
-            path: label(path),
-            message: format!(
-                "unknown region file extension {}; supported: .json (project schema or GeoJSON), \
-                 .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
-                ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
-            ),
-        }),
+    }
+}
+
+/// Read a region file in any supported format: the same as [`Region::from_file`], which
+/// documents the formats.
+pub fn read_region(path: &Path) -> Result<Region, GeometryError> {
+    Region::from_file(path)
+}
+
+/// JSON text of the file `path`: GeoJSON or the project schema.
+fn json_region(text: &str, path: &Path) -> Result<Region, GeometryError> {
+    if is_geojson(text) {
+        geojson_from_str(text, &label(path), &stem(path))
+    } else {
+        crate::file::parse(text, &label(path), &stem(path))
     }
 }
 
@@ -108,6 +187,24 @@ pub fn loops_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geo
 }
 
 type Loops = Vec<(LoopRole, Vec<DVec2>)>;
+
+/// The first ring as the outer loop, the others as holes.
+fn outer_then_holes(rings: Vec<Vec<DVec2>>) -> Loops {
+    rings
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            (
+                if i == 0 {
+                    LoopRole::Outer
+                } else {
+                    LoopRole::Hole
+                },
+                r,
+            )
+        })
+        .collect()
+}
 
 fn label(path: &Path) -> String {
     path.display().to_string()
@@ -171,25 +268,6 @@ fn dedup_closed(points: &mut Vec<DVec2>) -> Result<(), DVec2> {
     }
 }
 
-/// Twice the signed area (positive for CCW).
-fn signed_area2(p: &[DVec2]) -> f64 {
-    (0..p.len())
-        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
-        .sum()
-}
-
-/// Even-odd point-in-polygon test.
-fn inside(p: DVec2, ring: &[DVec2]) -> bool {
-    let mut c = false;
-    for i in 0..ring.len() {
-        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            c = !c;
-        }
-    }
-    c
-}
-
 /// Build the region from straight loops: check sizes, orient, make line pieces and corners.
 /// Geometric validity (simple, non-crossing, holes inside) is [`Region::new`]'s to check.
 fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, GeometryError> {
@@ -220,8 +298,8 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
                 ),
             ));
         }
-        let area2 = signed_area2(&pts);
-        if area2 == 0.0 || !area2.is_finite() {
+        let area = ring_signed_area(&pts);
+        if area == 0.0 || !area.is_finite() {
             // A symmetric figure-eight has zero area too: report its crossing if it has one.
             let pieces = (0..pts.len())
                 .map(|i| Piece::Line {
@@ -236,7 +314,7 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
             }
             return Err(invalid(label, format!("loop {k} encloses no area")));
         }
-        if (area2 > 0.0) != (role == LoopRole::Outer) {
+        if (area > 0.0) != (role == LoopRole::Outer) {
             pts.reverse();
         }
         let n = pts.len();
@@ -502,21 +580,21 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
     // The outer loop is the largest; every other loop must lie inside it and is a hole.
     let outer = (0..rings.len())
         .max_by(|&i, &j| {
-            signed_area2(&rings[i])
+            ring_signed_area(&rings[i])
                 .abs()
-                .total_cmp(&signed_area2(&rings[j]).abs())
+                .total_cmp(&ring_signed_area(&rings[j]).abs())
         })
         .unwrap_or(0);
     let outer_ring = rings.swap_remove(outer);
     rings.insert(0, outer_ring);
     for (k, r) in rings.iter().enumerate().skip(1) {
-        if !inside(r[0], &rings[0]) {
+        if !point_in_ring(r[0], &rings[0]) {
             return Err(invalid(
                 label,
                 format!("the loop through {} lies outside the outer loop; a region has one outer boundary", r[0]),
             ));
         }
-        if let Some(j) = (1..rings.len()).find(|&j| j != k && inside(r[0], &rings[j])) {
+        if let Some(j) = (1..rings.len()).find(|&j| j != k && point_in_ring(r[0], &rings[j])) {
             return Err(invalid(
                 label,
                 format!("the loop through {} lies inside the hole through {}; islands are not supported", r[0], rings[j][0]),
@@ -527,7 +605,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
     // boundary); a region here has only holes, so say so rather than drop that area.
     if let Some(r) = rings[1..]
         .iter()
-        .find(|r| !holes.iter().any(|(_, h)| inside(*h, r)))
+        .find(|r| !holes.iter().any(|(_, h)| point_in_ring(*h, r)))
     {
         return Err(invalid(
             label,
@@ -538,7 +616,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
         ));
     }
     for (line, h) in holes {
-        if inside(h, &rings[0]) && !rings[1..].iter().any(|r| inside(h, r)) {
+        if point_in_ring(h, &rings[0]) && !rings[1..].iter().any(|r| point_in_ring(h, r)) {
             return Err(parse_err(
                 label,
                 line,
@@ -546,20 +624,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
             ));
         }
     }
-    Ok(rings
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if i == 0 {
-                    LoopRole::Outer
-                } else {
-                    LoopRole::Hole
-                },
-                r,
-            )
-        })
-        .collect())
+    Ok(outer_then_holes(rings))
 }
 
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -689,20 +754,7 @@ fn parse_loops(text: &str, label: &str) -> Result<Loops, GeometryError> {
     if loops.is_empty() {
         return Err(invalid(label, "no points: expected loops of 'x y' lines"));
     }
-    Ok(loops
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if i == 0 {
-                    LoopRole::Outer
-                } else {
-                    LoopRole::Hole
-                },
-                r,
-            )
-        })
-        .collect())
+    Ok(outer_then_holes(loops))
 }
 
 #[cfg(test)]
@@ -727,7 +779,7 @@ mod tests {
     fn areas(loops: &Loops) -> Vec<(LoopRole, f64)> {
         loops
             .iter()
-            .map(|(r, p)| (*r, signed_area2(p).abs() / 2.0))
+            .map(|(r, p)| (*r, ring_signed_area(p).abs()))
             .collect()
     }
 
@@ -1047,7 +1099,7 @@ mod tests {
 
     #[test]
     fn project_json_still_goes_to_the_project_reader() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/hex_hole.json");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("regions/hex_hole.json");
         let r = read_region(&dir).unwrap();
         assert_eq!(r.name(), "hex_hole");
         assert_eq!(r.loops().len(), 2);

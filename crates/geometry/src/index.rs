@@ -2,8 +2,9 @@
 //! (one per straight segment of a line or chain, one per arc/circle/super-ellipse), kept in
 //! loop order with their neighbours and end tangents, and searched with a bounding-volume
 //! hierarchy (branch and bound on box distances).
-use crate::numeric::{box_dist2, closest_on_segment};
+use crate::numeric::box_dist2;
 use crate::piece::{FootAt, Piece};
+use crate::predicates::closest_on_segment;
 use glam::DVec2;
 
 /// One boundary element.
@@ -34,6 +35,17 @@ pub(crate) struct Hit {
     pub aux: f64,
     /// Whether the point is the start or end of the *element*.
     pub end: FootAt,
+}
+
+impl Hit {
+    /// Nothing found yet: infinitely far, so that any element's point is nearer.
+    const NONE: Hit = Hit {
+        elem: 0,
+        point: DVec2::NAN,
+        d2: f64::INFINITY,
+        aux: 0.0,
+        end: FootAt::Interior,
+    };
 }
 
 #[derive(Clone, Debug)]
@@ -163,20 +175,15 @@ fn split(nodes: &mut Vec<Node>, node: usize, entries: &mut [Entry], offset: usiz
     let mid = entries.len() / 2;
     entries.select_nth_unstable_by(mid, |x, y| key(x).total_cmp(&key(y)));
     let left = nodes.len();
-    nodes.push(Node {
+    // Two placeholders for the children, filled in by the recursive calls below.
+    let placeholder = Node {
         lo,
         hi,
         a: 0,
         b: 0,
         leaf: true,
-    });
-    nodes.push(Node {
-        lo,
-        hi,
-        a: 0,
-        b: 0,
-        leaf: true,
-    });
+    };
+    nodes.extend([placeholder.clone(), placeholder]);
     nodes[node].a = left as u32;
     nodes[node].b = left as u32 + 1;
     nodes[node].leaf = false;
@@ -346,13 +353,7 @@ impl Index {
 
     /// Nearest boundary point over all elements.
     pub fn nearest(&self, pieces: &[Piece], p: DVec2) -> Hit {
-        let mut hit = Hit {
-            elem: 0,
-            point: DVec2::NAN,
-            d2: f64::INFINITY,
-            aux: 0.0,
-            end: FootAt::Interior,
-        };
+        let mut hit = Hit::NONE;
         self.bvh
             .nearest(p, |e, best| self.eval(pieces, e, p, best, &mut hit));
         hit
@@ -360,13 +361,7 @@ impl Index {
 
     /// Nearest point on one piece.
     pub fn nearest_on_piece(&self, pieces: &[Piece], p: DVec2, piece: usize) -> Hit {
-        let mut hit = Hit {
-            elem: 0,
-            point: DVec2::NAN,
-            d2: f64::INFINITY,
-            aux: 0.0,
-            end: FootAt::Interior,
-        };
+        let mut hit = Hit::NONE;
         let (a, b) = self.piece_elems[piece];
         match &self.piece_bvh[piece] {
             Some(bvh) => {
@@ -406,7 +401,7 @@ impl Index {
         let (t_in, t_out) = match hit.end {
             FootAt::Interior => {
                 let side = match el.seg {
-                    Some((a, b)) => crate::numeric::orient(a, b, p),
+                    Some((a, b)) => crate::predicates::orient(a, b, p),
                     None => pieces[el.piece as usize].side(p),
                 };
                 return side > 0.0;

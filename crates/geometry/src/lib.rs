@@ -4,6 +4,8 @@
 //! Everything downstream (tessellation, methods, measures) sees a region only through
 //! [`Region`] and the straight-edged [`Polygon`] it polygonizes to.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod build;
 mod crossings;
@@ -17,16 +19,19 @@ mod index;
 mod numeric;
 mod piece;
 mod polygon;
+pub mod predicates;
 mod region;
 mod rng;
 mod se;
 mod size;
+mod types;
 
 pub use density::Density;
 pub use error::GeometryError;
 pub use glam::DVec2;
 pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
-pub use region::{BoundaryPoint, Corner, Loop, LoopRole, PieceId, Region};
+pub use region::Region;
 pub use rng::Rng;
 pub use size::{SizeField, SizeFieldError, SizeRange};
+pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

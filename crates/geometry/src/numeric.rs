@@ -1,4 +1,5 @@
 //! Small numerical tools: Γ, adaptive Gauss–Legendre quadrature, segment primitives.
+use crate::predicates::{closest_on_segment, orient};
 use glam::DVec2;
 use std::sync::OnceLock;
 
@@ -97,29 +98,6 @@ pub(crate) fn integrate(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, tol: f64)
     }
     let whole = gl(&mut f, a, b);
     rec(&mut f, a, b, whole, tol, 0)
-}
-
-/// Closest point of segment [a, b] to p: (point, parameter t ∈ [0, 1], squared distance).
-/// t is exactly 0 or 1 when the projection is clamped, and the point is then exactly a or b.
-#[inline]
-pub(crate) fn closest_on_segment(a: DVec2, b: DVec2, p: DVec2) -> (DVec2, f64, f64) {
-    let d = b - a;
-    let l2 = d.length_squared();
-    let t = if l2 > 0.0 { (p - a).dot(d) / l2 } else { 0.0 };
-    let (q, t) = if t <= 0.0 {
-        (a, 0.0)
-    } else if t >= 1.0 {
-        (b, 1.0)
-    } else {
-        (a + d * t, t)
-    };
-    (q, t, (p - q).length_squared())
-}
-
-/// Twice the signed area of triangle (a, b, c): positive when c is left of a→b.
-#[inline]
-pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    (b - a).perp_dot(c - a)
 }
 
 /// Squared distance from p to the axis-aligned box [lo, hi] (0 inside).

@@ -1,5 +1,5 @@
 //! One smooth boundary piece Γ_j of Section 2.2.2.
-use crate::numeric::closest_on_segment;
+use crate::predicates::closest_on_segment;
 use crate::se::SuperEllipse;
 use glam::DVec2;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
@@ -369,7 +369,7 @@ impl Piece {
     /// (inside the region near this piece), judged on the whole underlying curve.
     pub(crate) fn side(&self, p: DVec2) -> f64 {
         match self {
-            Piece::Line { a, b } => crate::numeric::orient(*a, *b, p),
+            Piece::Line { a, b } => crate::predicates::orient(*a, *b, p),
             Piece::Arc {
                 center,
                 radius,
@@ -747,7 +747,7 @@ mod tests {
 
     #[test]
     fn closest_point_is_the_nearest_dense_sample_and_has_the_right_arc_length() {
-        let mut rng = crate::Rng::new(9);
+        let mut rng = crate::rng::Rng::new(9);
         for p in samples() {
             let pts = dense(&p);
             let cum: Vec<f64> = std::iter::once(0.0)
@@ -806,7 +806,7 @@ mod tests {
                 for x in dense(&p).iter().step_by(7) {
                     let d = poly
                         .windows(2)
-                        .map(|w| crate::numeric::closest_on_segment(w[0], w[1], *x).2)
+                        .map(|w| crate::predicates::closest_on_segment(w[0], w[1], *x).2)
                         .fold(f64::INFINITY, f64::min);
                     assert!(
                         d.sqrt() <= tol * (1.0 + 1e-9) + 1e-14,

@@ -1,6 +1,7 @@
 //! A straight-edged approximation of a region whose edges remember which boundary piece
 //! they came from; this is what Voronoi cells are clipped against.
-use crate::region::PieceId;
+use crate::predicates::{point_in_ring, ring_signed_area};
+use crate::types::PieceId;
 use glam::DVec2;
 
 /// One closed ring (implicitly closed: the last point joins the first).
@@ -46,18 +47,9 @@ impl Polygon {
 
     /// Even-odd point-in-polygon over all rings.
     pub fn contains(&self, p: DVec2) -> bool {
-        let mut inside = false;
-        for r in &self.rings {
-            let n = r.points.len();
-            for i in 0..n {
-                let (a, b) = (r.points[i], r.points[(i + 1) % n]);
-                if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)
-                {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        self.rings
+            .iter()
+            .fold(false, |inside, r| inside != point_in_ring(p, &r.points))
     }
 
     /// Axis-aligned bounding box (min, max).
@@ -78,13 +70,4 @@ impl Polygon {
             (0..n).map(move |i| (r.points[i], r.points[(i + 1) % n], r.pieces[i]))
         })
     }
-}
-
-/// Shoelace signed area (positive for CCW).
-pub fn ring_signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    (0..n)
-        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
-        .sum::<f64>()
-        * 0.5
 }

@@ -1,69 +1,57 @@
 //! The region Ω: loops of pieces, corners, and the queries every method needs.
+//!
+//! Constructors live with their implementations: [`Region::new`] and
+//! [`Region::with_corner_angle`] in `build.rs`, [`Region::expand`] in `expand.rs`, the file
+//! readers in `file.rs` and `formats.rs`; this module depends on none of them.
 use crate::index::{Hit, Index};
-use crate::polygon::Ring;
-use crate::{piece::Piece, polygon::Polygon, GeometryError};
+use crate::piece::Piece;
+use crate::polygon::{Polygon, Ring};
+use crate::types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};
 use glam::DVec2;
 use std::sync::Arc;
 
-/// Index of a boundary piece in `Region::pieces()` (global over all loops).
-pub type PieceId = usize;
-
-/// Outer boundary or hole.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LoopRole {
-    /// The outer boundary (CCW).
-    Outer,
-    /// A hole (CW).
-    Hole,
-}
-
-/// One closed boundary loop: pieces in traversal order, each starting where the last ended.
-#[derive(Clone, Debug)]
-pub struct Loop {
-    /// Outer or hole.
-    pub role: LoopRole,
-    /// Global ids of this loop's pieces in order.
-    pub pieces: Vec<PieceId>,
-    /// Arc length at the start of each piece, measured from the loop's start.
-    pub offsets: Vec<f64>,
-    /// Total length.
-    pub length: f64,
-}
-
-/// A corner Γ_c of Section 2.2.3: a junction of two pieces where the tangent jumps.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Corner {
-    /// Position.
-    pub pos: DVec2,
-    /// Loop it lies on.
-    pub loop_index: usize,
-    /// Piece ending here.
-    pub piece_in: PieceId,
-    /// Piece starting here.
-    pub piece_out: PieceId,
-    /// Arc-length position along its loop.
-    pub loop_param: f64,
-}
-
-/// Result of projecting a point onto the boundary.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BoundaryPoint {
-    /// The nearest boundary point.
-    pub point: DVec2,
-    /// Its distance from the query point.
-    pub distance: f64,
-    /// Piece it lies on.
-    pub piece: PieceId,
-    /// Loop it lies on.
-    pub loop_index: usize,
-    /// Arc-length position along the loop (for ordering boundary vertices).
-    pub loop_param: f64,
-    /// The corner it coincides with (within 1e-12·diameter), if any.
-    pub corner: Option<usize>,
-}
-
 /// A planar region: one outer loop and any number of holes, validated and oriented
 /// (outer CCW, holes CW).
+///
+/// Make one with [`Region::builtin`] (the paper's ten regions), [`Region::from_file`] (every
+/// supported file format) or [`Region::new`] (loops of [`Piece`]s). Regions are immutable and
+/// cheap to clone (the search index is shared), and can be shared across threads.
+///
+/// ```
+/// use cvtmesh_geometry::{DVec2, Region};
+/// use std::f64::consts::PI;
+/// // The square [-1, 1]² with a circular hole of radius 0.4 around the origin.
+/// let r = Region::builtin("square_hole")?;
+/// assert!((r.area() - (4.0 - PI * 0.16)).abs() < 1e-12);
+/// assert_eq!(r.loops().len(), 2);
+/// // The square's four vertices are the corners; the circle has none.
+/// assert_eq!(r.corners().len(), 4);
+/// assert!(r.corners().iter().all(|c| c.pos.abs() == DVec2::ONE));
+///
+/// // Inside, in the hole, outside.
+/// assert!(r.contains(DVec2::new(0.7, 0.0)));
+/// assert!(!r.contains(DVec2::ZERO));
+/// assert!(!r.contains(DVec2::new(2.0, 0.0)));
+/// // Signed distance: negative inside (here 0.3 from the hole and from the right side).
+/// assert!((r.signed_distance(DVec2::new(0.7, 0.0)) + 0.3).abs() < 1e-12);
+/// assert!((r.signed_distance(DVec2::ZERO) - 0.4).abs() < 1e-12);
+///
+/// // The nearest boundary point, on the hole's loop (loop 1).
+/// let b = r.project(DVec2::new(0.0, 0.5));
+/// assert!((b.point - DVec2::new(0.0, 0.4)).length() < 1e-12);
+/// assert_eq!(b.loop_index, 1);
+/// assert!((b.distance - 0.1).abs() < 1e-12);
+///
+/// // A straight-edged approximation: chord error ≤ 1e-3, corners kept as vertices. The
+/// // hole's polygon is inscribed in the circle, so the polygon is a little larger.
+/// let p = r.polygonize(1e-3);
+/// assert_eq!(p.rings.len(), 2);
+/// assert!(p.area() > r.area() && p.area() - r.area() < 1e-2);
+/// for c in r.corners() {
+///     assert!(p.rings[0].points.contains(&c.pos));
+/// }
+/// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Region {
     pub(crate) name: String,
@@ -86,32 +74,6 @@ pub struct Region {
 }
 
 impl Region {
-    /// Build from loops of pieces (outer first). Validates (closed, no self-intersection, no
-    /// loops crossing, holes inside the outer loop, finite numbers), normalises orientation,
-    /// and takes `corners` as given (`None`: every junction whose turning angle exceeds 1e-6 rad).
-    ///
-    /// Details:
-    /// - exactly one loop must be `Outer`; it becomes loop 0 even if it is not listed first
-    ///   (the holes keep their relative order). Messages number loops as given;
-    /// - a gap of at most 1e-9·diameter between consecutive pieces is closed by moving the
-    ///   end of the straight piece (line or chain) onto its neighbour; a larger gap is an error;
-    /// - duplicate consecutive vertices (an edge of length ≤ 1e-9·diameter) are **rejected**,
-    ///   not removed, with their position in the message;
-    /// - crossings and touchings (closer than 1e-11·diameter) within a loop or between loops
-    ///   are found on a polygonization with chord error 1e-6·diameter (chains exactly) and
-    ///   reported with the crossing point; loops closer than that tolerance may go unnoticed;
-    /// - a loop with the wrong orientation is reversed (pieces reversed and in reverse order,
-    ///   so it keeps its start point);
-    /// - each listed corner must lie within 1e-8·diameter of a junction of two pieces (or the
-    ///   start of a single-piece loop); its position becomes that junction exactly.
-    pub fn new(
-        name: &str,
-        loops: Vec<(LoopRole, Vec<Piece>)>,
-        corners: Option<Vec<DVec2>>,
-    ) -> Result<Region, GeometryError> {
-        crate::build::new_region(name, loops, corners)
-    }
-
     /// Name (file stem or built-in name).
     pub fn name(&self) -> &str {
         &self.name
@@ -283,103 +245,5 @@ impl Region {
             loop_param: loop_param.clamp(0.0, length),
             corner,
         }
-    }
-    /// Ω_ε = {x : dist(x, Ω) ≤ ε} of Section 2.4, polygonized to `tol`; each edge's piece is
-    /// the piece of Ω it is nearest to. Holes shrink and vanish when ε exceeds their inradius.
-    ///
-    /// The result is a simple polygon (outer ring CCW first, holes CW) whose vertices lie
-    /// within `tol` of distance ε from Ω. A bay of the outer boundary whose mouth is narrower
-    /// than 2ε but which is wider inside becomes a new hole (its `loop_index` is the loop of
-    /// its first edge's piece). ε ≤ 0 or NaN gives `polygonize(tol)`; see `expand.rs` for
-    /// the method.
-    pub fn expand(&self, eps: f64, tol: f64) -> Polygon {
-        crate::expand::expand(self, eps, tol)
-    }
-    /// The same region with only the corners whose turning angle exceeds `degrees`; pieces
-    /// joined at the dropped corners merge into `Piece::Chain`s.
-    ///
-    /// The turning angle of a corner is the angle between the incoming and outgoing
-    /// tangents (0° = straight on, 180° = turning back). Runs of pieces between kept corners
-    /// (and junctions that never were corners, such as tangent line–arc joins) become one
-    /// `Chain`: lines and chains contribute their points exactly; an arc in such a run is
-    /// sampled with chord error 1e-7·diameter. A loop left with no corner at all becomes a
-    /// single closed chain. The geometry is otherwise unchanged (no re-validation), `degrees`
-    /// is recorded in `corner_threshold`, and a NaN threshold counts as 0.
-    pub fn with_corner_angle(&self, degrees: f64) -> Region {
-        let degrees = if degrees.is_nan() { 0.0 } else { degrees };
-        let threshold = degrees.to_radians();
-        let arc_tol = 1e-7 * self.diameter();
-        let mut lps = Vec::with_capacity(self.loops.len());
-        let mut flags = Vec::with_capacity(self.loops.len());
-        for lp in &self.loops {
-            let n = lp.pieces.len();
-            // keep[k]: the junction at the start of piece k stays a corner; cut[k]: pieces
-            // are not merged across it.
-            let keep: Vec<bool> = lp
-                .pieces
-                .iter()
-                .map(|&p| {
-                    self.corner_at_start[p].is_some_and(|c| {
-                        let c = &self.corners[c];
-                        crate::build::turning_angle(
-                            &self.pieces[c.piece_in],
-                            &self.pieces[c.piece_out],
-                        ) > threshold
-                    })
-                })
-                .collect();
-            let cut: Vec<bool> = (0..n)
-                .map(|k| keep[k] || self.corner_at_start[lp.pieces[k]].is_none())
-                .collect();
-            let first = (0..n).find(|&k| cut[k]).unwrap_or(0);
-            let (mut pieces, mut f) = (Vec::new(), Vec::new());
-            let mut k = 0;
-            while k < n {
-                // One run: from a cut up to (not including) the next cut.
-                let start = (first + k) % n;
-                let mut run = vec![start];
-                k += 1;
-                while k < n && !cut[(first + k) % n] {
-                    run.push((first + k) % n);
-                    k += 1;
-                }
-                f.push(keep[start]);
-                if run.len() == 1 {
-                    pieces.push(self.pieces[lp.pieces[start]].clone());
-                } else {
-                    let mut pts: Vec<DVec2> = Vec::new();
-                    for &r in &run {
-                        let piece = &self.pieces[lp.pieces[r]];
-                        let sample = match piece {
-                            Piece::Line { a, b } => vec![*a, *b],
-                            Piece::Chain(c) => c.clone(),
-                            other => other.polygonize(arc_tol),
-                        };
-                        let skip = usize::from(!pts.is_empty());
-                        pts.extend_from_slice(&sample[skip..]);
-                    }
-                    pieces.push(Piece::Chain(pts));
-                }
-            }
-            lps.push((lp.role, pieces));
-            flags.push(f);
-        }
-        crate::build::assemble(self.name.clone(), lps, &flags, Some(degrees))
-    }
-    /// Read a region file (the project's JSON schema, see `domains/`).
-    pub fn from_file(path: &std::path::Path) -> Result<Region, GeometryError> {
-        crate::file::from_file(path)
-    }
-    /// Parse region JSON; `label` names the source in errors.
-    pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
-        crate::file::from_json_str(text, label)
-    }
-    /// One of the paper's ten regions by name (`circle`, `lake`, ...).
-    pub fn builtin(name: &str) -> Result<Region, GeometryError> {
-        crate::file::builtin(name)
-    }
-    /// Names of the built-in regions, in the paper's table order.
-    pub fn builtin_names() -> &'static [&'static str] {
-        crate::file::BUILTIN_NAMES
     }
 }

@@ -344,7 +344,7 @@ impl SuperEllipse {
         let dev = (1..6)
             .map(|i| {
                 let p = self.canon(o, u0 + (u1 - u0) * i as f64 / 6.0);
-                crate::numeric::closest_on_segment(p0, p1, p).2.sqrt()
+                crate::predicates::closest_on_segment(p0, p1, p).2.sqrt()
             })
             .fold(0.0, f64::max);
         if (dev <= tol && depth >= 1) || depth >= 40 {
@@ -415,7 +415,7 @@ mod tests {
     fn closest_point_beats_dense_sampling() {
         let s = SuperEllipse::new(DVec2::new(0.1, 0.2), 1.0, 0.7, 4.0, false);
         let dense: Vec<DVec2> = (0..=80_000).map(|i| s.point(i as f64 / 10_000.0)).collect();
-        let mut rng = crate::Rng::new(3);
+        let mut rng = crate::rng::Rng::new(3);
         for _ in 0..200 {
             let p = DVec2::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
             let (q, d2, t) = s.closest(p);
@@ -479,7 +479,7 @@ mod tests {
                 let p = s.point(i as f64 * 8.0 / 4000.0);
                 let d = pts
                     .windows(2)
-                    .map(|w| crate::numeric::closest_on_segment(w[0], w[1], p).2)
+                    .map(|w| crate::predicates::closest_on_segment(w[0], w[1], p).2)
                     .fold(f64::INFINITY, f64::min)
                     .sqrt();
                 assert!(d <= tol * 1.0001, "tol {tol}: {d}");

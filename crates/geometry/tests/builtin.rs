@@ -4,7 +4,7 @@ use cvtmesh_geometry::{DVec2, Region, Rng};
 /// The file's stated values (read at test time from the embedded copy via the JSON text).
 fn stated(name: &str) -> serde_json::Value {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../domains")
+        .join("regions")
         .join(format!("{name}.json"));
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }

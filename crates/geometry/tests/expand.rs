@@ -1,4 +1,5 @@
 //! Ω_ε (Algorithm 2): exact areas of simple cases, simplicity, distance property.
+use cvtmesh_geometry::predicates::{ring_signed_area, segments_cross};
 use cvtmesh_geometry::{DVec2, LoopRole, Piece, Polygon, Region, Rng};
 use std::f64::consts::PI;
 
@@ -29,8 +30,7 @@ fn assert_simple(p: &Polygon, what: &str) {
             if ra == rb && (ib == ia + 1 || (ia == 0 && ib == na - 1)) {
                 continue;
             }
-            let o = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
-            let cross = o(b0, b1, a0) * o(b0, b1, a1) < 0.0 && o(a0, a1, b0) * o(a0, a1, b1) < 0.0;
+            let cross = segments_cross(a0, a1, b0, b1);
             assert!(
                 !cross,
                 "{what}: edges {ra}/{ia} and {rb}/{ib} cross near {a0}"
@@ -39,25 +39,18 @@ fn assert_simple(p: &Polygon, what: &str) {
     }
     assert!(!p.rings.is_empty());
     assert!(
-        !p.rings[0].hole && geometry_ring_area(&p.rings[0].points) > 0.0,
+        !p.rings[0].hole && ring_signed_area(&p.rings[0].points) > 0.0,
         "{what}: outer ring not CCW"
     );
     for r in &p.rings[1..] {
         assert!(
-            r.hole && geometry_ring_area(&r.points) < 0.0,
+            r.hole && ring_signed_area(&r.points) < 0.0,
             "{what}: hole ring not CW"
         );
     }
     for r in &p.rings {
         assert_eq!(r.points.len(), r.pieces.len());
     }
-}
-
-fn geometry_ring_area(p: &[DVec2]) -> f64 {
-    (0..p.len())
-        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
-        .sum::<f64>()
-        / 2.0
 }
 
 /// Every vertex of Ω_ε is at distance ε from Ω (to tol), Ω_ε contains what is within ε − tol
@@ -147,7 +140,7 @@ fn annulus_hole_shrinks_then_vanishes() {
     for eps in [0.1, 0.3, 0.39] {
         let p = r.expand(eps, tol);
         assert_eq!(p.rings.len(), 2, "ε {eps}");
-        let hole = -geometry_ring_area(&p.rings[1].points);
+        let hole = -ring_signed_area(&p.rings[1].points);
         let r_hole = 0.4 - eps;
         assert!(
             (hole - PI * r_hole * r_hole).abs() <= 2.0 * PI * r_hole * tol + 1e-12,
@@ -191,7 +184,7 @@ fn a_narrow_slot_closes_and_a_lagoon_becomes_a_hole() {
     let p = r.expand(eps, tol);
     assert_simple(&p, "lagoon");
     assert_eq!(p.rings.len(), 2, "the room becomes a hole");
-    let hole = -geometry_ring_area(&p.rings[1].points);
+    let hole = -ring_signed_area(&p.rings[1].points);
     let dent = dimple(0.2, eps);
     assert!((hole - (1.6 * 1.6 + dent)).abs() < 1e-4, "hole {hole}");
     let exact = 16.0 + 16.0 * eps + PI * eps * eps - 2.0 * dent - 1.6 * 1.6;

@@ -1,5 +1,6 @@
 //! Property tests on random star-shaped regions (with an optional circular hole and an
 //! optional arc edge): rigid-motion invariance, sign and projection consistency, Ω_ε.
+use cvtmesh_geometry::predicates::segments_cross;
 use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region};
 use proptest::prelude::*;
 use std::f64::consts::TAU;
@@ -159,14 +160,13 @@ proptest! {
             let n = ring.points.len();
             (0..n).map(move |i| (k, i, ring.points[i], ring.points[(i + 1) % n]))
         }).collect();
-        let o = |a: DVec2, b: DVec2, c: DVec2| (b - a).perp_dot(c - a);
         for (x, &(ka, ia, a0, a1)) in edges.iter().enumerate() {
             let na = p.rings[ka].points.len();
             for &(kb, ib, b0, b1) in &edges[x + 1..] {
                 if ka == kb && (ib == ia + 1 || (ia == 0 && ib == na - 1)) {
                     continue;
                 }
-                let cross = o(b0, b1, a0) * o(b0, b1, a1) < 0.0 && o(a0, a1, b0) * o(a0, a1, b1) < 0.0;
+                let cross = segments_cross(a0, a1, b0, b1);
                 prop_assert!(!cross, "edges cross near {}", a0);
             }
         }

@@ -14,16 +14,19 @@
 //! constraint (so comparisons are fair), corners are fixed and boundary vertices slide on their
 //! own boundary side: they move to their region's centroid projected onto that side. The
 //! initial points, boundary rules and convergence test are shared with the `vtm` crate and
-//! documented in the private module `relax` (`src/relax.rs`).
+//! documented in the module [`relax`].
 //!
 //! On corner-free boundaries (circle, annulus, super-ellipse) the iteration can settle into a
 //! slow rigid rotation (the mesh keeps its shape while all vertices turn by a few 1e-4·h per step),
 //! because nothing pins the vertices along a closed loop and the approximate regions are not
 //! the gradient of an energy; the move-based test then reports `converged = false`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
-mod relax;
+pub mod relax;
 
+use geometry::predicates::{circumcenter, orient};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
 
@@ -95,14 +98,6 @@ fn voronoi_point(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
     }
 }
 
-/// Circumcenter of triangle (a, b, c) (non-finite if the triangle is degenerate).
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (u, v) = (b - a, c - a);
-    let d = 2.0 * u.perp_dot(v);
-    let (uu, vv) = (u.length_squared(), v.length_squared());
-    a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d
-}
-
 /// Area, centroid and polar second moment about `origin` of a simple polygon.
 fn polygon_moments(poly: &[DVec2], origin: DVec2) -> (f64, DVec2, f64) {
     let (mut a2, mut c, mut j) = (0.0, DVec2::ZERO, 0.0);
@@ -127,7 +122,7 @@ fn mixed_regions(mesh: &Mesh, density: &Density) -> Vec<MixedRegion> {
     let mut out = vec![MixedRegion::default(); mesh.points.len()];
     for tri in &mesh.triangles {
         let x = tri.map(|v| mesh.points[v as usize]);
-        if (x[1] - x[0]).perp_dot(x[2] - x[0]) <= 0.0 {
+        if orient(x[0], x[1], x[2]) <= 0.0 {
             continue; // not a valid CCW triangle: it owns nothing
         }
         let p = voronoi_point(x[0], x[1], x[2]);
@@ -174,46 +169,7 @@ pub fn mixed_energy(mesh: &Mesh, density: &Density) -> f64 {
 mod tests {
     use super::*;
     use mesh::VertexMarker;
-
-    /// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around
-    /// the origin (vertex 0).
-    fn hex_patch(rings: i32) -> Mesh {
-        let a = DVec2::new(1.0, 0.0);
-        let b = DVec2::new(0.5, 3f64.sqrt() / 2.0);
-        let mut idx = std::collections::HashMap::new();
-        let mut points = Vec::new();
-        let mut coords: Vec<(i32, i32)> = vec![(0, 0)];
-        for i in -rings..=rings {
-            for j in -rings..=rings {
-                if (i, j) != (0, 0) && i.abs().max(j.abs()).max((i + j).abs()) <= rings {
-                    coords.push((i, j));
-                }
-            }
-        }
-        for &(i, j) in &coords {
-            idx.insert((i, j), points.len() as u32);
-            points.push(a * i as f64 + b * j as f64);
-        }
-        let mut triangles = Vec::new();
-        for &(i, j) in &coords {
-            for t in [
-                [(i, j), (i + 1, j), (i, j + 1)],
-                [(i, j), (i, j + 1), (i - 1, j + 1)],
-            ] {
-                if let (Some(&p), Some(&q), Some(&r)) =
-                    (idx.get(&t[0]), idx.get(&t[1]), idx.get(&t[2]))
-                {
-                    triangles.push([p, q, r]);
-                }
-            }
-        }
-        let markers = vec![VertexMarker::Interior; points.len()];
-        Mesh {
-            points,
-            triangles,
-            markers,
-        }
-    }
+    use testkit::hex_patch;
 
     #[test]
     fn patch_is_built_as_intended() {

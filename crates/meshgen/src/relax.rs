@@ -2,8 +2,9 @@
 //! triangulate–move–repeat iteration and its convergence test. Only the vertex targets differ
 //! between the two methods, so they are passed in as a function of the current mesh.
 //!
-//! `vtm` compiles this same file (`#[path]` include) instead of depending on `meshgen`, so the
-//! two methods stay independent crates but cannot drift apart in how they treat the boundary.
+//! The `vtm` crate calls [`relax`] with its own targets, so the two methods cannot drift apart
+//! in how they treat the boundary. Another relaxation method (any rule that moves each vertex
+//! to a target computed from the current mesh) can be built the same way.
 //!
 //! * **Initial points.** The corners; on every *side* (the stretch of a boundary loop between
 //!   two consecutive corners, or a whole loop without corners) `n = round(L/h₀)` equal
@@ -27,6 +28,7 @@
 //!   largest move is below `tol · h` (h = [`MeshRequest::spacing`]), converged = false if
 //!   `max_iter` is reached first. The final mesh is checked with [`mesh::check_conforming`];
 //!   a K too small to follow a thin or strongly curved part of the boundary is an error.
+use geometry::predicates::{edge_crosses_ray, segment_distance, segments_cross};
 use geometry::{DVec2, Density, Piece, PieceId, Region, Rng};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Progress, VertexMarker};
 
@@ -48,8 +50,9 @@ fn chord_ok(region: &Region, a: DVec2, b: DVec2) -> bool {
     (1..8).all(|k| region.signed_distance(a.lerp(b, k as f64 / 8.0)) <= allowed)
 }
 
-/// The targets of one iteration (one per vertex; corners' are ignored) and the method's
-/// objective at the current mesh (NaN if none).
+/// A method's rule for [`relax`]: from the current mesh and the density, the targets of one
+/// iteration (one per vertex; corners' are ignored) and the method's objective at the current
+/// mesh (NaN if none).
 pub type TargetFn<'a> = dyn Fn(&Mesh, &Density) -> (Vec<DVec2>, f64) + 'a;
 
 /// The stretch of a boundary loop between two consecutive corners (or a whole corner-free loop),
@@ -464,12 +467,6 @@ fn crossing_pairs(chords: &[Chord]) -> Vec<(usize, usize)> {
     out
 }
 
-/// True if segments ab and cd cross at a point interior to both.
-fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
-    let o = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
-    o(a, b, c) * o(a, b, d) < 0.0 && o(c, d, a) * o(c, d, b) < 0.0
-}
-
 /// The polygon through the boundary vertices (what the constrained triangulation meshes).
 struct Outline {
     segs: Vec<(DVec2, DVec2)>,
@@ -512,7 +509,7 @@ impl Outline {
         let mut inside = false;
         let mut dmin = f64::INFINITY;
         for &(a, b) in &self.segs {
-            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            if edge_crosses_ray(p, a, b) {
                 inside = !inside;
             }
             dmin = dmin.min(segment_distance(p, a, b));
@@ -538,17 +535,6 @@ impl Outline {
         }
         best.1 + best.2 * margin
     }
-}
-
-fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let f = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + ab * f)).length()
 }
 
 /// Vertices and what each is constrained to.
@@ -915,7 +901,42 @@ fn lattice(region: &Region, outline: &Outline, h0: f64, seed: u64) -> Vec<DVec2>
     out
 }
 
-/// Run a relaxation method: initial points, then triangulate / move to `targets` / repeat.
+/// Run a relaxation method: initial points, then triangulate / move to `targets` / repeat,
+/// as described in the [module documentation](self).
+///
+/// `method` names the method in errors. `targets` is called once per iteration with the
+/// current mesh and the request's density; it returns one target per vertex (corners' are
+/// ignored; boundary vertices' are projected onto their side) and the method's objective,
+/// recorded in [`MeshResult::energy_history`] (NaN if the method has none).
+///
+/// ```
+/// use cvtmesh_meshgen::relax::relax;
+/// use geometry::{DVec2, Density, Region};
+/// use mesh::{Mesh, MeshRequest};
+///
+/// // Laplacian smoothing: every vertex moves to the mean of its neighbours.
+/// let laplace = |mesh: &Mesh, _: &Density| {
+///     let mut sum = vec![(DVec2::ZERO, 0.0); mesh.points.len()];
+///     for t in &mesh.triangles {
+///         for k in 0..3 {
+///             let (v, w) = (t[k] as usize, t[(k + 1) % 3] as usize);
+///             sum[v].0 += mesh.points[w];
+///             sum[v].1 += 1.0;
+///             sum[w].0 += mesh.points[v];
+///             sum[w].1 += 1.0;
+///         }
+///     }
+///     let targets = sum.iter().map(|&(s, n)| s / n).collect();
+///     (targets, f64::NAN)
+/// };
+/// let region = Region::builtin("square_hole")?;
+/// let request = MeshRequest::points(150).max_iter(20);
+/// let result = relax("laplace", &region, &request, &mut |_| {}, &laplace)?;
+/// assert_eq!(result.mesh.num_vertices(), 150);
+/// assert!(result.iterations <= 20);
+/// mesh::check_conforming(&result.mesh, &region)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn relax(
     method: &'static str,
     region: &Region,

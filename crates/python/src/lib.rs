@@ -73,7 +73,7 @@ impl PyRegion {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<PyRegion> {
         Ok(PyRegion {
-            inner: Arc::new(cvtmesh::geometry::formats::read_region(&path).map_err(err)?),
+            inner: Arc::new(Region::from_file(&path).map_err(err)?),
         })
     }
 

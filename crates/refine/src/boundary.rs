@@ -1,6 +1,7 @@
 //! The input PSLG handed to the refinement: the region's boundary loops as vertices and
 //! directed segments (domain on the left), with every curved piece pre-split into chords whose
 //! end points lie on the exact curve.
+use geometry::predicates::segment_distance;
 use geometry::{DVec2, Density, Piece, PieceId, Region};
 use mesh::MeshError;
 
@@ -132,24 +133,13 @@ fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -
             } else {
                 seg[k + 1]
             };
-            (first..=last).all(|i| dist_to_segment(dense[i], a, b) <= 0.25 * len)
+            (first..=last).all(|i| segment_distance(dense[i], a, b) <= 0.25 * len)
         });
         if ok || n > 1 << 16 {
             return pts;
         }
         n *= 2;
     }
-}
-
-pub(crate) fn dist_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + t * ab)).length()
 }
 
 #[cfg(test)]

@@ -18,8 +18,9 @@
 //! The triangulation is spade's constrained Delaunay triangulation of the convex hull; faces
 //! outside Ω are told apart by the orientation of an adjacent subsegment or by an even-odd
 //! ray cast through the subsegment grid.
-use crate::boundary::{dist_to_segment, is_curved, Pslg, VKind};
+use crate::boundary::{is_curved, Pslg, VKind};
 use crate::grid::{SegGrid, SegKey};
+use geometry::predicates::{circumcenter, segment_distance, triangle_signed_area};
 use geometry::{DVec2, Density, PieceId, Region};
 use mesh::MeshError;
 use robust::Coord;
@@ -118,14 +119,6 @@ fn failed(message: String) -> MeshError {
         method: "refine".into(),
         message,
     }
-}
-
-/// Circumcenter of a, b, c (computed relative to a for accuracy).
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (ba, ca) = (b - a, c - a);
-    let d = 2.0 * ba.perp_dot(ca);
-    let (lb, lc) = (ba.length_squared(), ca.length_squared());
-    a + DVec2::new(ca.y * lb - ba.y * lc, ba.x * lc - ca.x * lb) / d
 }
 
 struct Engine<'a> {
@@ -369,7 +362,7 @@ impl Engine<'_> {
     /// If the face is inside and bad, the sine of its smallest angle (its priority).
     fn badness(&self, f: [u32; 3]) -> Option<f64> {
         let p = f.map(|v| self.pos(v));
-        let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        let area = triangle_signed_area(p[0], p[1], p[2]);
         // Edge i is opposite vertex i.
         let l2 = [
             (p[2] - p[1]).length_squared(),
@@ -576,8 +569,8 @@ impl Engine<'_> {
                     .iter()
                     .filter(|k| self.segs.get(k).is_some_and(|s| !s.frozen))
                     .min_by(|x, y| {
-                        let dx = dist_to_segment(c, self.pos(x.0), self.pos(x.1));
-                        let dy = dist_to_segment(c, self.pos(y.0), self.pos(y.1));
+                        let dx = segment_distance(c, self.pos(x.0), self.pos(x.1));
+                        let dy = segment_distance(c, self.pos(y.0), self.pos(y.1));
                         dx.total_cmp(&dy)
                     })
                     .copied()

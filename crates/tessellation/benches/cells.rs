@@ -1,5 +1,5 @@
 //! Delaunay alone vs Delaunay + all clipped cells with moments, 10⁴–10⁶ generators in the unit
-//! circle and in the lake. Run: `cargo bench -p tessellation --bench cells [-- quick]`
+//! circle and in the lake. Run: `cargo bench -p cvtmesh-tessellation --bench cells [-- quick]`
 //! (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds.
 use cvtmesh_tessellation::{clipped_cells, Delaunay};
 use geometry::{DVec2, Density, Polygon, Region, Rng};

@@ -1,14 +1,7 @@
 //! A uniform grid over the domain's boundary edges: which edges are near a box, whether a
 //! boundary-free square lies inside the domain, and the winding number of a point.
+use geometry::predicates::ring_signed_area;
 use geometry::{DVec2, PieceId, Polygon};
-
-fn ring_signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    (0..n)
-        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
-        .sum::<f64>()
-        * 0.5
-}
 
 /// The domain's edges and a uniform grid indexing them.
 pub(crate) struct Boundary {

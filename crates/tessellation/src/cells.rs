@@ -12,10 +12,10 @@
 //! parts, or clipped by holes, is integrated exactly.
 use crate::boundary::Boundary;
 use crate::clip::{
-    angle, clip_closed, clip_open, clip_segment, edge_fn, segment_distance, segment_meets_box, Fan,
-    Mom,
+    angle, clip_closed, clip_open, clip_segment, edge_fn, segment_meets_box, Fan, Mom,
 };
 use crate::delaunay::Delaunay;
+use geometry::predicates::{circumcenter, segment_distance};
 use geometry::{DVec2, Density, PieceId, Polygon};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
@@ -86,6 +86,37 @@ impl Cells {
 ///   stored orientation; rings with fewer than 3 points are ignored;
 /// - a domain without rings gives empty cells; a generator outside Ω̄ gets the part of its
 ///   cell inside Ω (possibly empty).
+///
+/// ```
+/// use cvtmesh_tessellation::{clipped_cells, Delaunay};
+/// use geometry::{DVec2, Density, Region, Rng};
+/// let region = Region::builtin("square_hole")?;
+/// let domain = region.polygonize(1e-4);
+/// // 200 random generators in the domain.
+/// let mut rng = Rng::new(7);
+/// let mut points = Vec::new();
+/// while points.len() < 200 {
+///     let p = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+///     if domain.contains(p) {
+///         points.push(p);
+///     }
+/// }
+/// let delaunay = Delaunay::new(&points);
+/// let cells = clipped_cells(&points, &delaunay, &domain, &Density::Uniform);
+/// assert_eq!(cells.cells.len(), 200);
+/// // The cells partition the domain: their areas sum to its area.
+/// assert!((cells.total_area() - domain.area()).abs() < 1e-12 * domain.area());
+/// assert!((domain.area() - region.area()).abs() < 1e-3);
+/// for (cell, p) in cells.cells.iter().zip(&points) {
+///     assert!(cell.area > 0.0);
+///     // A cell's centroid lies in the domain and h bounds its distance from the generator.
+///     assert!(domain.contains(cell.centroid));
+///     assert!(cell.centroid.distance(*p) <= cell.h);
+/// }
+/// // Cells that reach the boundary name the boundary pieces they touch.
+/// assert!(cells.cells.iter().any(|c| c.on_boundary()));
+/// # Ok::<(), geometry::GeometryError>(())
+/// ```
 pub fn clipped_cells(
     points: &[DVec2],
     delaunay: &Delaunay,
@@ -104,8 +135,9 @@ pub struct CellsBuffer {
     per_vertex: Vec<Cell>,
 }
 
-/// [`clipped_cells`] written into `out`, reusing its memory and `buffer`'s (Lloyd iterations:
-/// no fresh ~100 MB vectors per iteration at 10⁶ generators).
+/// [`clipped_cells`] written into `out`, reusing its memory and `buffer`'s: an iteration that
+/// recomputes the cells of the same generators (Lloyd, Newton) reuses the previous iteration's
+/// vectors instead of allocating them afresh.
 pub fn clipped_cells_into(
     points: &[DVec2],
     delaunay: &Delaunay,
@@ -310,14 +342,6 @@ pub(crate) fn canonical_circumcenter(a: (u32, DVec2), b: (u32, DVec2), c: (u32, 
     let (b, c) = if b.0 < c.0 { (b, c) } else { (c, b) };
     let (a, b) = if a.0 < b.0 { (a, b) } else { (b, a) };
     circumcenter(a.1, b.1, c.1)
-}
-
-/// Circumcentre of a triangle, computed relative to its first vertex.
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (b, c) = (b - a, c - a);
-    let d = 2.0 * b.perp_dot(c);
-    let (bb, cc) = (b.length_squared(), c.length_squared());
-    a + DVec2::new(c.y * bb - b.y * cc, b.x * cc - c.x * bb) / d
 }
 
 /// Drop vertices closer than `eps` to their predecessor (short edges have unreliable

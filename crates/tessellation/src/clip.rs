@@ -156,14 +156,7 @@ pub(crate) fn clip_closed(input: &[DVec2], out: &mut Vec<DVec2>, f: impl Fn(DVec
     let (mut p, mut fp) = (last, f(last));
     for &q in input {
         let fq = f(q);
-        if fq >= 0.0 {
-            if fp < 0.0 {
-                out.push(cut(p, q, fp, fq));
-            }
-            out.push(q);
-        } else if fp >= 0.0 {
-            out.push(cut(p, q, fp, fq));
-        }
+        clip_edge(out, p, q, fp, fq);
         (p, fp) = (q, fq);
     }
 }
@@ -179,15 +172,22 @@ pub(crate) fn clip_open(input: &[DVec2], out: &mut Vec<DVec2>, f: impl Fn(DVec2)
     }
     for &q in &input[1..] {
         let fq = f(q);
-        if fq >= 0.0 {
-            if fp < 0.0 {
-                out.push(cut(p, q, fp, fq));
-            }
-            out.push(q);
-        } else if fp >= 0.0 {
+        clip_edge(out, p, q, fp, fq);
+        (p, fp) = (q, fq);
+    }
+}
+
+/// The Sutherland–Hodgman step for the edge p → q (f values `fp`, `fq`), p already handled:
+/// push the crossing with f = 0 if the edge crosses it, then q if it is kept.
+#[inline]
+fn clip_edge(out: &mut Vec<DVec2>, p: DVec2, q: DVec2, fp: f64, fq: f64) {
+    if fq >= 0.0 {
+        if fp < 0.0 {
             out.push(cut(p, q, fp, fq));
         }
-        (p, fp) = (q, fq);
+        out.push(q);
+    } else if fp >= 0.0 {
+        out.push(cut(p, q, fp, fq));
     }
 }
 
@@ -219,18 +219,6 @@ pub(crate) fn clip_segment(a: DVec2, b: DVec2, k: &[DVec2], tol: f64) -> Option<
         }
     }
     (t0 <= t1).then_some((t0, t1))
-}
-
-/// Distance from p to the segment a–b.
-pub(crate) fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let l2 = d.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t).distance(p)
 }
 
 /// Signed angle from u to w, in (−π, π].

@@ -1,5 +1,6 @@
 //! From generators to a conforming mesh (CCVT "From generators to a mesh").
 use crate::delaunay::hilbert_order;
+use geometry::predicates::triangle_signed_area;
 use geometry::{DVec2, Region};
 use mesh::{Mesh, MeshError, VertexMarker};
 use rayon::prelude::*;
@@ -248,7 +249,7 @@ fn attempt(
         let face = cdt.face(f);
         let vs = face.vertices().map(|v| v.fix().index());
         let p = vs.map(|v| pos[owner[v]]);
-        let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        let area = triangle_signed_area(p[0], p[1], p[2]);
         if area > DEGENERATE * mean_area {
             continue;
         }

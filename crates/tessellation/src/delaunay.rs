@@ -1,5 +1,6 @@
-//! Delaunay triangulation of generators, built by inserting in Hilbert-curve order
-//! (see notes: plain `insert` on unsorted points is ~100× slower at 10⁶).
+//! Delaunay triangulation of generators, built by inserting in Hilbert-curve order: each
+//! point is then located by a short walk from the previously inserted one, where points in
+//! input order would make every walk cross much of the triangulation.
 use crate::topology::{Rings, Topology, NONE};
 use geometry::DVec2;
 use rayon::prelude::*;
@@ -47,6 +48,25 @@ pub struct Delaunay {
 
 impl Delaunay {
     /// Triangulate `points`.
+    ///
+    /// ```
+    /// use cvtmesh_tessellation::Delaunay;
+    /// use geometry::DVec2;
+    /// // A unit square's corners around a point off its centre, and a duplicate of corner 0.
+    /// let points = [
+    ///     DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y,
+    ///     DVec2::new(0.4, 0.55), DVec2::ZERO,
+    /// ];
+    /// let d = Delaunay::new(&points);
+    /// assert_eq!(d.num_vertices(), 5); // the duplicate is merged onto point 0
+    /// assert_eq!(d.vertex_of(5), Some(0));
+    /// // The inner point is joined to all four corners: four CCW triangles.
+    /// assert_eq!(d.triangles().len(), 4);
+    /// let mut around = d.neighbors(4);
+    /// around.sort();
+    /// assert_eq!(around, [0, 1, 2, 3]);
+    /// assert_eq!(d.nearest(DVec2::new(0.9, 0.8)), 2);
+    /// ```
     pub fn new(points: &[DVec2]) -> Delaunay {
         let mut d = Delaunay {
             rings: Rings::default(),
@@ -105,7 +125,8 @@ impl Delaunay {
     /// without the large allocations. When `points` are the previous points moved (the same
     /// number, all distinct vertices, no triangle turned over, every ring winding once, the hull
     /// still strictly convex — directly or in 4 substeps), the previous triangulation is
-    /// repaired by Lawson flips, which at 10⁵ points costs about a tenth of building it afresh.
+    /// repaired by Lawson flips, whose cost grows with the number of flips needed (few for
+    /// small moves) instead of with a full insertion of every point.
     /// A framed triangulation also repairs moves that turn triangles over, by removing and
     /// reinserting the vertices that moved farthest. Otherwise it is built afresh.
     pub fn rebuild(&mut self, points: &[DVec2]) {
@@ -471,7 +492,7 @@ impl Delaunay {
     }
 
     /// Triangulate afresh with spade. Spade's triangulation lives only while its topology is
-    /// copied out: at 10⁶ points it is ~130 MB that flips never need.
+    /// copied out, so its memory is not held between rebuilds (the flips do not need it).
     fn build_spade(&mut self, points: &[DVec2]) {
         let mut dt: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::with_capacity(
             points.len() + FRAME,
@@ -856,7 +877,10 @@ mod tests {
         assert_eq!(tris.len(), 2 * pts.len() - 2 - hull);
         for t in &tris {
             let [a, b, c] = t.map(|i| pts[i as usize]);
-            assert!((b - a).perp_dot(c - a) > 0.0, "triangle {t:?} not CCW");
+            assert!(
+                geometry::predicates::orient(a, b, c) > 0.0,
+                "triangle {t:?} not CCW"
+            );
         }
     }
 

@@ -53,8 +53,7 @@ pub fn energy_hessian(
     };
     let density = (!density.is_uniform()).then_some(density);
     // The masses in vertex order through a compact copy: the cells are in input order, and
-    // reading them row by row missed the cache at nearly every row (circle 10⁶: ~25 ms per
-    // Hessian).
+    // reading whole cells row by row would miss the cache at nearly every row.
     let by_point: Vec<f64> = cells.cells.par_iter().map(|c| c.mass).collect();
     let mass: Vec<f64> = del
         .point_of_vertex

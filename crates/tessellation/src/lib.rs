@@ -14,6 +14,7 @@
 //!   `mesh::check_conforming`.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod boundary;
 mod cells;

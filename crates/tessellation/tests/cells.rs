@@ -1,5 +1,6 @@
 //! Clipped Voronoi cells against an independent brute-force reference and exact cases.
 use cvtmesh_tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
+use geometry::predicates::segment_distance;
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
 use std::sync::Arc;
@@ -120,12 +121,6 @@ fn reference(points: &[DVec2], domain: &Polygon) -> Vec<(f64, DVec2)> {
             (a, if a > 0.0 { z + s / a } else { z })
         })
         .collect()
-}
-
-fn point_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-    (a + d * t).distance(p)
 }
 
 fn sh_closed(input: &[DVec2], f: impl Fn(DVec2) -> f64) -> Vec<DVec2> {
@@ -521,7 +516,7 @@ fn star(rng: &mut Rng, n: usize, hole: bool) -> Polygon {
         })
         .collect();
     let inradius = (0..n)
-        .map(|i| point_segment(DVec2::ZERO, outer[i], outer[(i + 1) % n]))
+        .map(|i| segment_distance(DVec2::ZERO, outer[i], outer[(i + 1) % n]))
         .fold(f64::INFINITY, f64::min);
     let mut poly = Polygon {
         rings: vec![ring(outer, (0..n).map(|i| i % 3).collect(), 0, false)],
@@ -542,6 +537,27 @@ fn star(rng: &mut Rng, n: usize, hole: bool) -> Polygon {
     poly
 }
 
+/// On each ring of `dom`: fewer than `on_edges` generators at random points of random edges,
+/// then fewer than `at_vertices` at random vertices (exactly on the boundary, the hard case).
+fn add_boundary_generators(
+    rng: &mut Rng,
+    dom: &Polygon,
+    pts: &mut Vec<DVec2>,
+    on_edges: usize,
+    at_vertices: usize,
+) {
+    for r in &dom.rings {
+        let m = r.points.len();
+        for _ in 0..rng.below(on_edges) {
+            let i = rng.below(m);
+            pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
+        }
+        for _ in 0..rng.below(at_vertices) {
+            pts.push(r.points[rng.below(m)]);
+        }
+    }
+}
+
 #[test]
 fn random_polygons_with_boundary_generators_match_reference() {
     for seed in 0..300u64 {
@@ -556,16 +572,7 @@ fn random_polygons_with_boundary_generators_match_reference() {
                 pts.push(p);
             }
         }
-        for r in &dom.rings {
-            let m = r.points.len();
-            for _ in 0..rng.below(3) {
-                let i = rng.below(m);
-                pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
-            }
-            for _ in 0..rng.below(2) {
-                pts.push(r.points[rng.below(m)]);
-            }
-        }
+        add_boundary_generators(&mut rng, &dom, &mut pts, 3, 2);
         let cells = cells_of(&pts, &dom);
         let r = reference(&pts, &dom);
         for (i, c) in cells.cells.iter().enumerate() {
@@ -596,16 +603,7 @@ proptest! {
                 pts.push(p);
             }
         }
-        for r in &dom.rings {
-            let m = r.points.len();
-            for _ in 0..rng.below(5) {
-                let i = rng.below(m);
-                pts.push(r.points[i].lerp(r.points[(i + 1) % m], rng.uniform()));
-            }
-            for _ in 0..rng.below(3) {
-                pts.push(r.points[rng.below(m)]);
-            }
-        }
+        add_boundary_generators(&mut rng, &dom, &mut pts, 5, 3);
         prop_assume!(!pts.is_empty());
         let cells = cells_of(&pts, &dom);
         assert_partition(&cells, &pts, &dom);
@@ -665,7 +663,7 @@ fn generators_a_rounding_error_outside_the_boundary() {
 }
 
 /// Large CCVT-like sets in the lake: about 2√n generators on the boundary edges and at every
-/// corner, the rest random inside. `cargo test -p tessellation --release -- --ignored`.
+/// corner, the rest random inside. `cargo test -p cvtmesh-tessellation --release -- --ignored`.
 #[test]
 #[ignore = "large: 2·10⁵ generators"]
 fn large_lake_partition() {
@@ -774,7 +772,7 @@ fn framed_triangulations_rebuilt_by_flips_give_the_frameless_cells() {
 /// moved by up to `size` in x and y (a move that would leave the domain is not made).
 fn random_moves(seed: u64, n: usize, size: f64) -> (Polygon, Vec<DVec2>, Vec<DVec2>) {
     let mut rng = Rng::new(seed);
-    let dom = star(&mut rng, 12, seed.is_multiple_of(2));
+    let dom = star(&mut rng, 12, seed % 2 == 0);
     let pts = random_inside(&mut rng, &dom, n);
     let moved = jitter(&mut rng, &dom, &pts, size);
     (dom, pts, moved)
@@ -929,9 +927,9 @@ proptest! {
     #[test]
     fn moving_random_subsets_matches_fresh_triangulations(seed in 0u64..1_000_000, n in 4usize..300, size in 1e-4f64..0.3, every in 1usize..6) {
         let (dom, pts, all_moved) = random_moves(seed, n, size);
-        let moved: Vec<u32> = (0..n as u32).filter(|i| (*i as usize).is_multiple_of(every)).collect();
+        let moved: Vec<u32> = (0..n as u32).filter(|i| (*i as usize) % every == 0).collect();
         let after: Vec<DVec2> = (0..n)
-            .map(|i| if i.is_multiple_of(every) { all_moved[i] } else { pts[i] })
+            .map(|i| if i % every == 0 { all_moved[i] } else { pts[i] })
             .collect();
         assert_moved_points_match_fresh(&dom, &pts, &after, &moved);
     }

@@ -15,20 +15,20 @@
 //! The paper does not say how the original treats the boundary. Here, as in CCVT's
 //! constraint (so comparisons are fair), corners are fixed and boundary vertices slide on their
 //! own boundary side: they take the same weighted average, projected onto that side. The
-//! initial points, boundary rules and convergence test are shared with the `meshgen` crate
-//! (its file `src/relax.rs`, compiled into this crate too; see that module's documentation).
+//! initial points, boundary rules and convergence test are those of [`meshgen::relax`].
 //!
 //! On corner-free boundaries (circle, annulus, super-ellipse) the iteration can settle into a
 //! slow rigid rotation (the mesh keeps its shape while all vertices turn by a few 1e-4·h per step):
 //! nothing pins the vertices along a closed loop and the boundary rule is not the gradient of
 //! the ODT energy. The move-based test then reports `converged = false`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
-#[path = "../../meshgen/src/relax.rs"]
-mod relax;
-
+use geometry::predicates::{circumcenter, triangle_signed_area};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
+use meshgen::relax;
 use std::collections::HashSet;
 
 /// The VTM method. It has no parameters beyond the [`MeshRequest`].
@@ -60,14 +60,6 @@ impl Mesher for Vtm {
     }
 }
 
-/// Circumcenter of triangle (a, b, c) (non-finite if the triangle is degenerate).
-fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
-    let (u, v) = (b - a, c - a);
-    let d = 2.0 * u.perp_dot(v);
-    let (uu, vv) = (u.length_squared(), v.length_squared());
-    a + DVec2::new(v.y * uu - u.y * vv, u.x * vv - v.x * uu) / d
-}
-
 /// For each triangle: does one of its edges lie on the mesh boundary (no neighbour across it)?
 fn touches_boundary(mesh: &Mesh) -> Vec<bool> {
     let edges: HashSet<(u32, u32)> = mesh
@@ -94,7 +86,7 @@ pub fn odt_targets(mesh: &Mesh, density: &Density) -> Vec<DVec2> {
     let mut den = vec![0.0; n];
     for (tri, on_boundary) in mesh.triangles.iter().zip(touches_boundary(mesh)) {
         let [a, b, c] = tri.map(|v| mesh.points[v as usize]);
-        let area = 0.5 * (b - a).perp_dot(c - a);
+        let area = triangle_signed_area(a, b, c);
         if area <= 0.0 {
             continue; // not a valid CCW triangle: no weight
         }
@@ -128,7 +120,7 @@ pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
     (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.triangle(t);
-            let area = 0.5 * (b - a).perp_dot(c - a);
+            let area = triangle_signed_area(a, b, c);
             let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
             density.at((a + b + c) / 3.0) * area * l2 / 12.0
         })
@@ -139,49 +131,7 @@ pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
 mod tests {
     use super::*;
     use mesh::VertexMarker;
-
-    /// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around
-    /// the origin (vertex 0).
-    fn hex_patch(rings: i32) -> Mesh {
-        let a = DVec2::new(1.0, 0.0);
-        let b = DVec2::new(0.5, 3f64.sqrt() / 2.0);
-        let mut coords: Vec<(i32, i32)> = vec![(0, 0)];
-        for i in -rings..=rings {
-            for j in -rings..=rings {
-                if (i, j) != (0, 0) && i.abs().max(j.abs()).max((i + j).abs()) <= rings {
-                    coords.push((i, j));
-                }
-            }
-        }
-        let idx: std::collections::HashMap<(i32, i32), u32> = coords
-            .iter()
-            .enumerate()
-            .map(|(k, &c)| (c, k as u32))
-            .collect();
-        let points = coords
-            .iter()
-            .map(|&(i, j)| a * i as f64 + b * j as f64)
-            .collect();
-        let mut triangles = Vec::new();
-        for &(i, j) in &coords {
-            for t in [
-                [(i, j), (i + 1, j), (i, j + 1)],
-                [(i, j), (i, j + 1), (i - 1, j + 1)],
-            ] {
-                if let (Some(&p), Some(&q), Some(&r)) =
-                    (idx.get(&t[0]), idx.get(&t[1]), idx.get(&t[2]))
-                {
-                    triangles.push([p, q, r]);
-                }
-            }
-        }
-        let markers = vec![VertexMarker::Interior; coords.len()];
-        Mesh {
-            points,
-            triangles,
-            markers,
-        }
-    }
+    use testkit::hex_patch;
 
     #[test]
     fn boundary_triangles_are_found() {

@@ -113,25 +113,21 @@ fn main() {
     );
     bench(&merged, 200_000);
     // Expansions are short: wall time over repeated runs.
+    bench_expand(&coast, 2.0, 0.05);
+    bench_expand(&Region::builtin("lake").unwrap(), 5.0, 0.05);
+}
+
+/// Mean wall time of `region.expand(eps, tol)` over 20 runs.
+fn bench_expand(region: &Region, eps: f64, tol: f64) {
     let reps = 20;
     let t = Instant::now();
-    let mut e = coast.expand(2.0, 0.05);
+    let mut e = region.expand(eps, tol);
     for _ in 1..reps {
-        e = coast.expand(2.0, 0.05);
+        e = region.expand(eps, tol);
     }
     println!(
-        "coast10k: expand(2, 0.05) {:.2} ms wall -> {} vertices",
-        t.elapsed().as_secs_f64() * 1e3 / reps as f64,
-        e.rings.iter().map(|r| r.points.len()).sum::<usize>()
-    );
-    let lake = Region::builtin("lake").unwrap();
-    let t = Instant::now();
-    let mut e = lake.expand(5.0, 0.05);
-    for _ in 1..reps {
-        e = lake.expand(5.0, 0.05);
-    }
-    println!(
-        "lake: expand(5, 0.05) {:.2} ms wall -> {} vertices",
+        "{}: expand({eps}, {tol}) {:.2} ms wall -> {} vertices",
+        region.name(),
         t.elapsed().as_secs_f64() * 1e3 / reps as f64,
         e.rings.iter().map(|r| r.points.len()).sum::<usize>()
     );

@@ -1,0 +1,129 @@
+//! `Region::from_file` reads every supported format: the project JSON, GeoJSON (as `.geojson`
+//! and as `.json`), Triangle `.poly` and plain loop lists (`.txt`, `.xy`, `.dat`), and gives the
+//! same region for the same shape.
+use cvtmesh_geometry::{DVec2, GeometryError, LoopRole, Region};
+use std::path::{Path, PathBuf};
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> TempDir {
+        let dir =
+            std::env::temp_dir().join(format!("geometry-from-file-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The 4 × 4 square with the square hole [1, 2]² in every format.
+const PROJECT_JSON: &str = r#"{"loops": [
+  {"role": "outer", "segments": [{"kind": "polyline", "points": [[0,0],[4,0],[4,4],[0,4],[0,0]]}]},
+  {"role": "hole", "segments": [{"kind": "polyline", "points": [[1,1],[1,2],[2,2],[2,1],[1,1]]}]}
+]}"#;
+const GEOJSON: &str = r#"{"type": "Polygon", "coordinates": [
+  [[0,0],[4,0],[4,4],[0,4],[0,0]], [[1,1],[1,2],[2,2],[2,1],[1,1]]
+]}"#;
+const POLY: &str = "# square with a square hole\n\
+    8 2 0 0\n\
+    1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 2 1\n7 2 2\n8 1 2\n\
+    8 0\n\
+    1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n8 8 5\n\
+    1\n1 1.5 1.5\n";
+const LOOPS: &str = "# outer\n0 0\n4 0\n4 4\n0 4\n\n# hole\n1 1\n2 1\n2 2\n1 2\n";
+
+fn assert_square_with_hole(r: &Region, what: &str) {
+    assert_eq!(r.area(), 15.0, "{what}");
+    assert_eq!(r.loops().len(), 2, "{what}");
+    assert_eq!(r.loops()[0].role, LoopRole::Outer, "{what}");
+    assert_eq!(r.loops()[1].role, LoopRole::Hole, "{what}");
+    assert_eq!(r.corners().len(), 8, "{what}");
+    assert_eq!(r.perimeter(), 20.0, "{what}");
+    assert!(r.contains(DVec2::new(3.0, 3.0)), "{what}");
+    assert!(!r.contains(DVec2::new(1.5, 1.5)), "{what}");
+    assert!(
+        (r.signed_distance(DVec2::new(3.0, 0.5)) + 0.5).abs() < 1e-15,
+        "{what}"
+    );
+}
+
+#[test]
+fn every_format_gives_the_same_region() {
+    let dir = TempDir::new("formats");
+    let files = [
+        dir.write("project.json", PROJECT_JSON),
+        dir.write("geo.geojson", GEOJSON),
+        dir.write("geo_as.json", GEOJSON),
+        dir.write("triangle.poly", POLY),
+        dir.write("loops.txt", LOOPS),
+        dir.write("loops.XY", LOOPS),
+        dir.write("loops.dat", &LOOPS.replace(' ', ", ")),
+    ];
+    for f in &files {
+        let r = Region::from_file(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let stem = f.file_stem().unwrap().to_str().unwrap();
+        assert_eq!(r.name(), stem);
+        assert_square_with_hole(&r, stem);
+    }
+}
+
+#[test]
+fn the_project_schema_keeps_curved_pieces_and_the_file_name() {
+    let dir = TempDir::new("curved");
+    let p = dir.write(
+        "disc.json",
+        r#"{"loops": [{"segments": [{"kind": "circle", "center": [1, 2], "radius": 3}]}]}"#,
+    );
+    let r = Region::from_file(&p).unwrap();
+    assert_eq!(r.name(), "disc");
+    assert!((r.area() - 9.0 * std::f64::consts::PI).abs() < 1e-12);
+    assert!(r.corners().is_empty());
+    let named = dir.write(
+        "x.json",
+        &PROJECT_JSON.replacen('{', r#"{"name": "holey","#, 1),
+    );
+    assert_eq!(Region::from_file(&named).unwrap().name(), "holey");
+    // The built-in files themselves.
+    let hex = Path::new(env!("CARGO_MANIFEST_DIR")).join("regions/hex_hole.json");
+    let r = Region::from_file(&hex).unwrap();
+    let b = Region::builtin("hex_hole").unwrap();
+    assert_eq!(
+        (r.name(), r.area(), r.corners()),
+        (b.name(), b.area(), b.corners())
+    );
+}
+
+#[test]
+fn other_extensions_are_read_as_json_or_rejected() {
+    let dir = TempDir::new("other");
+    let p = dir.write("region.cfg", PROJECT_JSON);
+    assert_square_with_hole(&Region::from_file(&p).unwrap(), "region.cfg");
+    let p = dir.write("noext", GEOJSON);
+    assert_square_with_hole(&Region::from_file(&p).unwrap(), "noext");
+    let p = dir.write("shape.stl", "solid x\nendsolid x\n");
+    let e = Region::from_file(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("'.stl'") && e.contains(".poly") && e.contains(".geojson"),
+        "{e}"
+    );
+    let e = Region::from_file(&dir.0.join("missing.poly")).unwrap_err();
+    assert!(matches!(e, GeometryError::Io { .. }), "{e}");
+    // Each reader's errors name the file.
+    let p = dir.write("bad.poly", "4 2 0 0\n1 0 0\n");
+    let e = Region::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("bad.poly"), "{e}");
+    let p = dir.write("bad.txt", "0 0\n1\n");
+    let e = Region::from_file(&p).unwrap_err().to_string();
+    assert!(e.contains("bad.txt") && e.contains("line 2"), "{e}");
+}
