@@ -401,7 +401,15 @@ impl Mesher for DistMesh {
         };
         if !converged {
             // Mid-run point sets may not resolve ∂Ω yet (a hole with too few points on it).
-            mesh::check_conforming(&mesh, region).map_err(|e| capped(e.to_string()))?;
+            mesh::check_conforming(&mesh, region).map_err(|source| MeshError::NotConforming {
+                method: "distmesh".into(),
+                source,
+                hint: format!(
+                    "the run stopped at max_iter = {} before the boundary was resolved; allow \
+                     more iterations",
+                    request.max_iter
+                ),
+            })?;
         }
         if mesh.num_vertices() < n {
             notes.push(format!(

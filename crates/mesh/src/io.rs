@@ -220,8 +220,17 @@ pub(crate) fn edges_by_loop(mesh: &Mesh) -> (Vec<Vec<(u32, u32)>>, usize) {
 /// The mesh-file error for `path`.
 pub(crate) fn file_err(path: &Path, message: impl Into<String>) -> MeshError {
     MeshError::File {
-        path: path.display().to_string(),
+        path: path.to_path_buf(),
         message: message.into(),
+    }
+}
+
+/// The error for an operating-system failure to `action` (e.g. "read") the file `path`.
+pub(crate) fn io_err(path: &Path, action: impl Into<String>, source: std::io::Error) -> MeshError {
+    MeshError::Io {
+        path: path.to_path_buf(),
+        action: action.into(),
+        source,
     }
 }
 
@@ -347,7 +356,7 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
         if let Err(e) = result {
             let _ = fs::remove_file(&tmp);
             cleanup(&written);
-            return Err(file_err(&target, format!("cannot write: {e}")));
+            return Err(io_err(&target, "write", e));
         }
         written.push((tmp, target));
     }
@@ -365,10 +374,7 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
         let (tmp, target) = &written[i];
         if let Err(e) = fs::rename(tmp, target) {
             cleanup(&written[i..]);
-            return Err(file_err(
-                target,
-                format!("cannot move the finished file into place: {e}"),
-            ));
+            return Err(io_err(target, "move the finished file into place", e));
         }
     }
     Ok(())
@@ -376,7 +382,7 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
 
 /// Read a whole text file, with the error naming it.
 pub(crate) fn read_text(path: &Path) -> Result<String, MeshError> {
-    let bytes = fs::read(path).map_err(|e| file_err(path, format!("cannot read: {e}")))?;
+    let bytes = fs::read(path).map_err(|e| io_err(path, "read", e))?;
     String::from_utf8(bytes).map_err(|e| {
         file_err(
             path,
@@ -789,7 +795,8 @@ mod tests {
         for name in ["x.node", "x.msh", "x.vtu", "x.obj"] {
             let target = dir.path("no-such-dir").join(name);
             let e = write_mesh(&m, &target).unwrap_err();
-            assert!(matches!(e, MeshError::File { .. }), "{e}");
+            assert!(matches!(e, MeshError::Io { .. }), "{e}");
+            assert_eq!(e.path(), Some(target.as_path()));
             assert!(e.to_string().contains("no-such-dir"), "{e}");
             assert!(!target.exists());
         }

@@ -1009,9 +1009,10 @@ pub fn relax(
         .map_err(|e| fail(e, "final mesh"))?;
     // Too few points cannot follow a thin or strongly curved part of the boundary: say so
     // rather than hand back a mesh that leaves the region.
-    mesh::check_conforming(&result.mesh, region).map_err(|e| MeshError::Failed {
+    mesh::check_conforming(&result.mesh, region).map_err(|source| MeshError::NotConforming {
         method: method.into(),
-        message: format!("the mesh with K = {k} does not conform ({e}); try a larger K"),
+        source,
+        hint: format!("K = {k} is too few points to follow the boundary; try a larger K"),
     })?;
     Ok(result)
 }
