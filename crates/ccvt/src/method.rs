@@ -140,16 +140,31 @@ impl Ccvt {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {
-        let k = request.size.points(region);
-        check_size(region, k)?;
+        let k = request.validate(region)?;
         let z = initial_points(region, k, self.init, request.seed);
-        self.generators_from(region, request, z, progress)
+        self.solve_on_pool(region, request, z, progress)
     }
 
     /// Run the algorithm from the given initial generators (step 0 done by the caller, e.g. a
     /// restart or a refined coarser solution): K is their number and `request.size` is ignored.
     /// They should lie in Ω.
     pub fn generators_from(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        z: Vec<geometry::DVec2>,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Generators, MeshError> {
+        MeshRequest {
+            size: mesh::Size::Points(z.len()),
+            ..request.clone()
+        }
+        .validate(region)?;
+        self.solve_on_pool(region, request, z, progress)
+    }
+
+    /// [`Ccvt::generators_from`] for a validated request, on rayon's pool.
+    fn solve_on_pool(
         &self,
         region: &Region,
         request: &MeshRequest,
@@ -180,7 +195,7 @@ impl Ccvt {
         out.expect("the scope waits for the solve")
     }
 
-    /// [`Ccvt::generators_from`] on the current thread.
+    /// [`Ccvt::generators_from`] on the current thread, for a validated request.
     fn solve(
         &self,
         region: &Region,
@@ -192,7 +207,6 @@ impl Ccvt {
             size: mesh::Size::Points(z.len()),
             ..request.clone()
         };
-        check_size(region, z.len())?;
         let spacing = request.spacing(region);
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
@@ -370,20 +384,6 @@ impl Mesher for Ccvt {
             notes,
         })
     }
-}
-
-/// K must cover the corners and give every loop a few generators.
-fn check_size(region: &Region, k: usize) -> Result<(), MeshError> {
-    let corners = region.corners().len();
-    if k < corners.max(3) || k < 3 * region.loops().len() + corners {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} is too small for region '{}': it has {corners} corners and {} boundary loops (need at least {})",
-            region.name(),
-            region.loops().len(),
-            (3 * region.loops().len() + corners).max(3)
-        )));
-    }
-    Ok(())
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be

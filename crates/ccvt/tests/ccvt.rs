@@ -1,7 +1,7 @@
 //! End-to-end properties of CCVT meshes (Algorithms 1 and 2; Lloyd, Anderson and Newton).
 use cvtmesh_ccvt::Ccvt;
 use geometry::Region;
-use mesh::{check_conforming, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
 
 fn run(m: &Ccvt, region: &Region, k: usize, seed: u64) -> MeshResult {
     run_capped(m, region, k, seed, 3000)
@@ -127,6 +127,10 @@ fn too_few_points_for_the_corners_is_an_error() {
         .mesh(&region, &MeshRequest::points(8), &mut |_| {})
         .unwrap_err();
     assert!(err.to_string().contains("corners"), "{err}");
+    assert!(
+        matches!(err, MeshError::TooFewPoints { requested: 8, .. }),
+        "{err:?}"
+    );
 }
 
 #[test]

@@ -213,13 +213,8 @@ impl Mesher for DistMesh {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
-        let k = request.size.points(region);
+        let k = request.validate(region)?;
         let nfix = region.corners().len();
-        if k < nfix.max(3) {
-            return Err(MeshError::BadRequest(format!(
-                "K = {k} is smaller than the number of corners ({nfix})"
-            )));
-        }
         let density = &request.density;
         let fd = |q: DVec2| region.signed_distance(q);
         let (h0, mut p, evals) = choose_h0(

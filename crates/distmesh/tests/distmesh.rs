@@ -184,7 +184,10 @@ fn too_few_points_is_an_error() {
     let e = DistMesh::default()
         .mesh(&region, &MeshRequest::points(4), &mut |_| {})
         .unwrap_err();
-    assert!(matches!(e, MeshError::BadRequest(_)));
+    assert!(
+        matches!(e, MeshError::TooFewPoints { requested: 4, .. }),
+        "{e:?}"
+    );
 }
 
 /// All ten paper regions at the paper's K.

@@ -7,6 +7,19 @@ use thiserror::Error;
 /// The failures a caller can foresee and act on have their own variants (too few points, an
 /// invalid request, a mesh that does not conform, a file problem); [`MeshError::BadRequest`] and
 /// [`MeshError::Failed`] carry the rest as text. Every message names what to change.
+///
+/// ```
+/// use cvtmesh_mesh::{MeshError, MeshRequest};
+/// # use geometry::Region;
+/// let region = Region::builtin("hex_hole")?; // 12 corners on 2 loops
+/// match MeshRequest::points(8).validate(&region) {
+///     Err(MeshError::TooFewPoints { needed, corners, .. }) => {
+///         assert_eq!((needed, corners), (18, 12));
+///     }
+///     other => panic!("expected TooFewPoints, got {other:?}"),
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum MeshError {

@@ -1,5 +1,5 @@
 use crate::{Mesh, MeshError};
-use geometry::{Density, Region};
+use geometry::{DVec2, Density, Region};
 
 /// How fine the mesh should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,10 +67,85 @@ impl MeshRequest {
         self.density = d;
         self
     }
+    /// Check the request against `region` before any work is done, and return K.
+    ///
+    /// Refused, in this order: an edge length that is not a positive finite number
+    /// ([`MeshError::InvalidEdgeLength`]); K below `corners + 3 · loops`, a vertex on every
+    /// corner and three on every boundary loop ([`MeshError::TooFewPoints`]); a tolerance that
+    /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
+    /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
+    /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
+    /// 201 × 201 grid over the region's bounding box that lies in the region. Every method
+    /// calls this first.
+    pub fn validate(&self, region: &Region) -> Result<usize, MeshError> {
+        let edge_length = match self.size {
+            Size::EdgeLength(h) if !(h.is_finite() && h > 0.0) => {
+                return Err(MeshError::InvalidEdgeLength(h))
+            }
+            Size::EdgeLength(h) => Some(h),
+            Size::Points(_) => None,
+        };
+        let k = self.size.points(region);
+        let (corners, loops) = (region.corners().len(), region.loops().len());
+        let needed = corners + 3 * loops;
+        if k < needed {
+            return Err(MeshError::TooFewPoints {
+                region: region.name().to_string(),
+                requested: k,
+                needed,
+                corners,
+                loops,
+                edge_length,
+            });
+        }
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(MeshError::InvalidTolerance(self.tol));
+        }
+        if self.max_iter == 0 {
+            return Err(MeshError::ZeroMaxIter);
+        }
+        check_density(&self.density, region)?;
+        Ok(k)
+    }
+
     /// Mean spacing of K generators on |Ω|: the hexagonal-lattice edge √(2|Ω| / (√3 K)).
     pub fn spacing(&self, region: &Region) -> f64 {
         let k = self.size.points(region).max(1) as f64;
         (2.0 * region.area() / (3f64.sqrt() * k)).sqrt()
+    }
+}
+
+/// A density must be finite and non-negative on the region and positive somewhere. It is only
+/// sampled (a function can hide a negative value between grid points); the grid is fine enough
+/// to catch a sign error or a pole of a user formula.
+fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
+    if density.is_uniform() {
+        return Ok(());
+    }
+    const N: usize = 200;
+    let (lo, hi) = region.bbox();
+    let mut positive = false;
+    for i in 0..=N {
+        for j in 0..=N {
+            let p = lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64);
+            if !region.contains(p) {
+                continue;
+            }
+            let value = density.at(p);
+            if !value.is_finite() || value < 0.0 {
+                return Err(MeshError::InvalidDensity {
+                    x: p.x,
+                    y: p.y,
+                    value,
+                });
+            }
+            positive |= value > 0.0;
+        }
+    }
+    if positive {
+        Ok(())
+    } else {
+        Err(MeshError::ZeroDensity)
     }
 }
 
@@ -116,4 +191,130 @@ pub trait Mesher: Sync {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    fn region(name: &str) -> Region {
+        Region::builtin(name).unwrap()
+    }
+
+    #[test]
+    fn a_valid_request_gives_its_k() {
+        let circle = region("circle");
+        assert_eq!(MeshRequest::points(88).validate(&circle).unwrap(), 88);
+        let by_size = MeshRequest {
+            size: Size::EdgeLength(0.1),
+            ..MeshRequest::points(0)
+        };
+        let k = by_size.validate(&circle).unwrap();
+        assert_eq!(k, by_size.size.points(&circle));
+        assert!(k > 300, "{k}");
+    }
+
+    #[test]
+    fn too_few_points_names_the_corners_and_the_flag() {
+        let r = region("hex_hole");
+        let (corners, loops) = (r.corners().len(), r.loops().len());
+        let needed = corners + 3 * loops;
+        let e = MeshRequest::points(needed - 1).validate(&r).unwrap_err();
+        match &e {
+            MeshError::TooFewPoints {
+                requested,
+                needed: n,
+                corners: c,
+                loops: l,
+                edge_length: None,
+                ..
+            } => assert_eq!(
+                (*requested, *n, *c, *l),
+                (needed - 1, needed, corners, loops)
+            ),
+            other => panic!("{other:?}"),
+        }
+        let text = e.to_string();
+        assert!(text.contains("too small") && text.contains(&format!("{corners} corners")));
+        assert!(text.contains("--corner-angle"), "{text}");
+        assert!(e.is_invalid_request());
+        assert_eq!(MeshRequest::points(needed).validate(&r).unwrap(), needed);
+    }
+
+    #[test]
+    fn an_edge_length_too_large_for_the_region_is_too_few_points() {
+        let circle = region("circle");
+        let e = MeshRequest {
+            size: Size::EdgeLength(5.0),
+            ..MeshRequest::points(0)
+        }
+        .validate(&circle)
+        .unwrap_err();
+        assert!(
+            matches!(e, MeshError::TooFewPoints { requested: 0, needed: 3, edge_length: Some(h), .. } if h == 5.0),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("--size"), "{e}");
+    }
+
+    #[test]
+    fn an_edge_length_must_be_positive_and_finite() {
+        let circle = region("circle");
+        for h in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+            let e = MeshRequest {
+                size: Size::EdgeLength(h),
+                ..MeshRequest::points(0)
+            }
+            .validate(&circle)
+            .unwrap_err();
+            assert!(
+                matches!(e, MeshError::InvalidEdgeLength(x) if x.to_bits() == h.to_bits()),
+                "{h}: {e:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_tolerance_must_be_positive_and_finite() {
+        let circle = region("circle");
+        for tol in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
+            let e = MeshRequest::points(50)
+                .tol(tol)
+                .validate(&circle)
+                .unwrap_err();
+            assert!(matches!(e, MeshError::InvalidTolerance(_)), "{tol}: {e:?}");
+            assert!(e.to_string().contains("--tol"), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_iteration_cap_must_be_at_least_one() {
+        let e = MeshRequest::points(50)
+            .max_iter(0)
+            .validate(&region("circle"))
+            .unwrap_err();
+        assert!(matches!(e, MeshError::ZeroMaxIter), "{e:?}");
+        assert!(MeshRequest::points(50)
+            .max_iter(1)
+            .validate(&region("circle"))
+            .is_ok());
+    }
+
+    #[test]
+    fn the_density_must_be_non_negative_finite_and_not_zero() {
+        let square = region("square_hole");
+        let density =
+            |f: fn(DVec2) -> f64| MeshRequest::points(100).density(Density::Function(Arc::new(f)));
+        let e = density(|p| p.x - 0.5).validate(&square).unwrap_err();
+        match e {
+            MeshError::InvalidDensity { x, value, .. } => assert!(value < 0.0 && x < 0.5),
+            other => panic!("{other:?}"),
+        }
+        let e = density(|_| f64::NAN).validate(&square).unwrap_err();
+        assert!(matches!(e, MeshError::InvalidDensity { value, .. } if value.is_nan()));
+        let e = density(|_| 0.0).validate(&square).unwrap_err();
+        assert!(matches!(e, MeshError::ZeroDensity), "{e:?}");
+        assert_eq!(density(|p| 1.0 + p.x * p.x).validate(&square).unwrap(), 100);
+    }
 }

@@ -923,27 +923,8 @@ pub fn relax(
     progress: &mut dyn FnMut(Progress),
     targets: &TargetFn,
 ) -> Result<MeshResult, MeshError> {
-    let k = request.size.points(region);
+    let k = request.validate(region)?;
     let h = request.spacing(region);
-    if !(request.tol.is_finite() && request.tol >= 0.0) {
-        return Err(MeshError::BadRequest(format!(
-            "tolerance must be finite and ≥ 0, got {}",
-            request.tol
-        )));
-    }
-    if !(h.is_finite() && h > 0.0) {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} gives no usable spacing for region '{}'",
-            region.name()
-        )));
-    }
-    if k < 3 || k < region.corners().len() {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} is below the {} corners (and at least 3) of region '{}'",
-            region.corners().len().max(3),
-            region.name()
-        )));
-    }
     let fail = |e: MeshError, when: &str| match e {
         MeshError::Failed { message, .. } => MeshError::Failed {
             method: method.into(),

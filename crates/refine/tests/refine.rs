@@ -164,7 +164,7 @@ fn bad_requests_are_errors() {
     let e = Refine::default()
         .mesh(&region, &MeshRequest::points(5), &mut |_| {})
         .unwrap_err();
-    assert!(matches!(e, MeshError::BadRequest(_)));
+    assert!(matches!(e, MeshError::TooFewPoints { .. }), "{e:?}");
     let m = Refine {
         min_angle_deg: 75.0,
         ..Refine::default()
