@@ -290,7 +290,7 @@ fn table_anderson(args: &Args) {
             for algorithm in [Algorithm::One, Algorithm::Two] {
                 let base = Ccvt {
                     algorithm,
-                    ..Ccvt::default()
+                    ..Ccvt::algorithm2()
                 };
                 let lloyd = solve(&base, &region, k, args.seed);
                 let fast = solve(

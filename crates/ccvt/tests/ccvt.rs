@@ -120,6 +120,37 @@ fn capped_run_is_reported_as_not_converged() {
     check_conforming(&r.mesh, &region).unwrap();
 }
 
+/// The default is what the command line runs (Algorithm 2 with Newton); the paper's
+/// algorithms keep Lloyd iteration; the constructors differ only in algorithm and solver.
+#[test]
+fn constructors_have_their_documented_settings() {
+    use cvtmesh_ccvt::{Algorithm, Solver};
+    let d = Ccvt::default();
+    assert_eq!((d.algorithm, d.solver), (Algorithm::Two, Solver::Newton));
+    assert_eq!(d.name(), "ccvt");
+    assert_eq!(Ccvt::fast(), d);
+    for (m, algorithm, solver, name) in [
+        (Ccvt::algorithm1(), Algorithm::One, Solver::Lloyd, "ccvt1"),
+        (Ccvt::algorithm2(), Algorithm::Two, Solver::Lloyd, "ccvt2"),
+        (
+            Ccvt::anderson(),
+            Algorithm::Two,
+            Solver::Anderson { depth: 5 },
+            "ccvt-anderson",
+        ),
+    ] {
+        assert_eq!(m.name(), name);
+        assert_eq!(
+            m,
+            Ccvt {
+                algorithm,
+                solver,
+                ..Ccvt::default()
+            }
+        );
+    }
+}
+
 #[test]
 fn too_few_points_for_the_corners_is_an_error() {
     let region = Region::builtin("hex_hole").unwrap();
