@@ -8,7 +8,7 @@
 //!
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.
-use crate::iterate::{assign_corners, lap, map_cell, step, Phase, Profile, Role, Step, Work};
+use crate::map::{assign_corners, lap, map_cell, step, Phase, Profile, Role, Step, Work};
 use geometry::DVec2;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -200,7 +200,7 @@ pub(crate) fn lloyd_moves(z: &[DVec2], s: &Step, work: &Work, active: &[u32]) ->
 mod tests {
     use super::*;
     use crate::init::{initial_points, Init};
-    use crate::method::Solver;
+    use crate::params::Solver;
     use crate::sublevel::Sublevel;
     use geometry::{Density, Region, Rng};
     use mesh::MeshRequest;

@@ -21,10 +21,13 @@ mod active;
 mod anderson;
 mod init;
 mod iterate;
+mod map;
 mod method;
 mod newton;
+mod params;
 mod sublevel;
 
 pub use init::{initial_points, Init};
-pub use iterate::Profile;
-pub use method::{Algorithm, Ccvt, Generators, Solver};
+pub use map::Profile;
+pub use method::{Ccvt, Generators};
+pub use params::{Algorithm, Solver};

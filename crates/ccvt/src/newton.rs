@@ -13,7 +13,7 @@
 //! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
 //! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
-use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
+use crate::map::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
