@@ -1,4 +1,5 @@
-//! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
+//! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd, Anderson-accelerated or Newton
+//! iteration.
 use crate::init::{initial_points, Init};
 use crate::iterate::run;
 use crate::map::{Phase, Profile, Role, Trace, Work};
@@ -42,11 +43,8 @@ pub struct Ccvt {
     /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
     pub active_from: usize,
     /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
-    /// near the settled ε (0.68–0.75 of the spacing in all ten regions at 10³–10⁵ generators)
-    /// skips the CVT of Ω itself: Newton at circle 10⁵ took ~15 % less time (seeds 1–6) with
-    /// ~0.01 % less energy, but its meshes' worst cells were worse (γ, χ, β 1.2–1.3×), so it is
-    /// not the default (at the study's K it is the other way round: CCVT-fast's best values
-    /// 37 → 50 of 142).
+    /// near the settled ε (about 0.7 of the spacing) skips the CVT of Ω itself, which saves
+    /// time at large K, but the meshes' worst cells come out worse, so it is not the default.
     pub eps_start: f64,
 }
 
@@ -170,9 +168,8 @@ impl Ccvt {
             return self.solve(region, request, z, progress);
         }
         // The solve runs on rayon's pool, not on the calling thread: from outside the pool each
-        // of its many parallel passes hands its work over and puts the caller to sleep until it
-        // is done (circle 10⁵ seeds 1–6, the same iterates: 2.74 → 2.41 s). `progress` stays on the
-        // caller's thread, fed through a channel.
+        // of its many parallel passes would hand its work over and put the caller to sleep until
+        // it is done. `progress` stays on the caller's thread, fed through a channel.
         let (tx, rx) = std::sync::mpsc::channel();
         let mut out = None;
         rayon::in_place_scope(|s| {

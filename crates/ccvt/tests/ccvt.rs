@@ -300,9 +300,9 @@ fn loose_epsilon_phases_leave_the_final_tolerance_alone() {
         .any(|&(_, mv)| mv >= 1e-4));
 }
 
-/// Regression: at the reflex corners of square_two_hex's hexagonal holes, a boundary cell's
-/// centroid projected onto the corner itself, on top of the corner's generator; two generators
-/// were then dropped from the mesh.
+/// At the reflex corners of square_two_hex's hexagonal holes, a boundary cell's centroid can
+/// project onto the corner itself, on top of the corner's generator; it must be kept off the
+/// corner so that no generator is dropped from the mesh.
 #[test]
 fn reflex_corner_projection_keeps_every_generator() {
     let region = Region::builtin("square_two_hex").unwrap();
@@ -479,10 +479,9 @@ fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
     assert!(en1 < en0 * 1.002, "energy over Ω {en1} vs {en0}");
 }
 
-/// Regression: bike_seat's curves are sampled chains. Where a boundary generator's Lloyd
-/// target lay across a chain vertex, Newton's tangent step swung it across and back (the energy
-/// along the piece has a kink there): the constrained phase took 510 / 53 / 229 evaluations
-/// for these runs, now 56 / 38 / 42.
+/// bike_seat's curves are sampled chains. Where a boundary generator's Lloyd target lies across
+/// a chain vertex, the energy along the piece has a kink that a Newton tangent step would swing
+/// across and back; with Lloyd's projection there, the constrained phase stays short.
 #[test]
 fn bends_of_sampled_pieces_do_not_stall_newton() {
     let region = Region::builtin("bike_seat").unwrap();

@@ -154,7 +154,7 @@ pub fn markers_from_topology(points: &[DVec2], triangles: &[[u32; 3]]) -> Vec<Ve
 
 /// Directed edges of the triangles whose reverse is in no triangle (the mesh boundary, with the
 /// mesh on the left), in triangle order. Uses a per-vertex list of outgoing edges (a few
-/// entries each) rather than hashing every edge: ~10x faster on million-vertex meshes.
+/// entries each) rather than hashing every edge, which dominates on million-vertex meshes.
 pub(crate) fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
     let directed = || {
         triangles
@@ -405,8 +405,8 @@ pub(crate) fn orient_ccw(points: &[DVec2], triangles: &mut [[u32; 3]]) {
 }
 
 /// Whitespace-separated tokens of a text, with 1-based line numbers, skipping `comment`-started
-/// line tails. Parse errors name the line. Scans bytes (token boundaries are ASCII), which
-/// keeps reading a 100 MB mesh file to a couple of seconds.
+/// line tails. Parse errors name the line. Scans bytes (token boundaries are ASCII), so large
+/// mesh files are read without decoding characters.
 pub(crate) struct Tokens<'a> {
     text: &'a str,
     pos: usize,
