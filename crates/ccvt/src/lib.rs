@@ -22,7 +22,30 @@
 //! projections, the convergence test, Anderson's mixing, Newton's linear algebra) runs in
 //! parallel, and the result does not depend on the thread count. [`Generators::profile`] says
 //! where the time went.
+//!
+//! ```
+//! use cvtmesh_ccvt::Ccvt;
+//! use geometry::Region;
+//! use mesh::{MeshRequest, Mesher};
+//!
+//! // The paper's Algorithm 2 with Lloyd iteration, watched through the progress reports.
+//! let region = Region::builtin("circle")?;
+//! let request = MeshRequest::points(88).tol(1e-4);
+//! let mut reports = Vec::new();
+//! let result = Ccvt::algorithm2().mesh(&region, &request, &mut |p| reports.push(p))?;
+//! assert!(result.converged);
+//! // Lloyd reports every iteration; the count restarts with each phase of Algorithm 2.
+//! assert_eq!(reports.len(), result.iterations);
+//! assert!(reports.iter().filter(|p| p.iteration == 1).count() >= 2);
+//! // The last report is the final phase meeting the tolerance; the histories hold every report.
+//! assert!(reports.last().unwrap().max_move < request.tol);
+//! let energies: Vec<f64> = reports.iter().map(|p| p.energy).collect();
+//! assert_eq!(energies, result.energy_history);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod active;
 mod anderson;

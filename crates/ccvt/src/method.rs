@@ -18,6 +18,26 @@ use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
 /// generators on and ε starting at 0. [`Ccvt::algorithm1`] and [`Ccvt::algorithm2`] are the
 /// paper's algorithms with Lloyd iteration, [`Ccvt::anderson`] Algorithm 2 with Anderson
 /// acceleration; they differ from the default only in `algorithm` and `solver`.
+///
+/// ```
+/// use cvtmesh_ccvt::Ccvt;
+/// use geometry::Region;
+/// use mesh::{check_conforming, MeshRequest, Mesher, VertexMarker};
+///
+/// let region = Region::builtin("square_hole")?; // a square with a square hole: 8 corners
+/// let result = Ccvt::default().mesh(&region, &MeshRequest::points(200), &mut |_| {})?;
+/// assert!(result.converged);
+/// assert_eq!(result.mesh.num_vertices(), 200);
+/// check_conforming(&result.mesh, &region)?;
+/// // Every corner carries a vertex, exactly.
+/// for (i, corner) in region.corners().iter().enumerate() {
+///     let on_it = |(p, m): (&geometry::DVec2, &VertexMarker)| {
+///         *p == corner.pos && matches!(m, VertexMarker::Corner { corner, .. } if *corner == i)
+///     };
+///     assert!(result.mesh.points.iter().zip(&result.mesh.markers).any(on_it));
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ccvt {
     /// Algorithm 1 or 2.

@@ -45,6 +45,31 @@ pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "obj"];
 /// Write `mesh` in the format named by the extension of `path`: `.node` or `.ele` (Triangle:
 /// writes `.node`, `.ele` and `.poly` beside each other), `.msh` (Gmsh 4.1), `.vtu` (VTK) or
 /// `.obj` (Wavefront). Pictures (`.svg`, `.png`) are the render crate's.
+///
+/// ```
+/// use cvtmesh_mesh::io::{read_mesh, write_mesh};
+/// use cvtmesh_mesh::{Mesh, MeshError, VertexMarker};
+/// use geometry::DVec2;
+///
+/// let corner = |i: usize| VertexMarker::Corner { loop_index: 0, corner: i, loop_param: i as f64 };
+/// let mesh = Mesh {
+///     points: [(0.0, 0.0), (1.0, 0.0), (0.1, 0.7), (0.4, 0.3)]
+///         .map(|(x, y)| DVec2::new(x, y))
+///         .to_vec(),
+///     triangles: vec![[0, 1, 3], [1, 2, 3], [2, 0, 3]],
+///     markers: vec![corner(0), corner(1), corner(2), VertexMarker::Interior],
+/// };
+/// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-io-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// // Triangle files keep every coordinate and marker exactly.
+/// write_mesh(&mesh, &dir.join("m.node"))?;
+/// assert_eq!(read_mesh(&dir.join("m.node"))?, mesh);
+/// // An unknown extension is a file error naming the file.
+/// let e = write_mesh(&mesh, &dir.join("m.xyz")).unwrap_err();
+/// assert!(matches!(&e, MeshError::File { path, .. } if path.ends_with("m.xyz")));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     match extension(path).as_deref() {
         Some("node") | Some("ele") => write_triangle(mesh, &path.with_extension("")),
@@ -57,6 +82,7 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 
 /// Read a mesh, choosing the format by extension: `.node`/`.ele` (Triangle, reading both
 /// files), `.msh` (Gmsh 4.1 or 2.2 ASCII) or `.obj`. Triangles come back counter-clockwise.
+/// See [`write_mesh`] for a round trip.
 pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
     match extension(path).as_deref() {
         Some("node") | Some("ele") => read_triangle(&path.with_extension("node")),

@@ -22,6 +22,32 @@ impl Size {
 
 /// What every method is asked for. Defaults: seed 1, tolerance 1e-4, at most 10 000
 /// iterations (Lloyd-type methods converge linearly; CCVT applies the cap per phase), ρ ≡ 1.
+///
+/// Build one with [`MeshRequest::points`] or [`MeshRequest::edge_length`] and the builder
+/// methods; [`MeshRequest::validate`] refuses what no method can do, before any work is done:
+///
+/// ```
+/// use cvtmesh_mesh::{MeshError, MeshRequest};
+/// use geometry::Region;
+///
+/// let circle = Region::builtin("circle")?; // radius 1
+/// let request = MeshRequest::points(500).seed(7).tol(1e-5).max_iter(200);
+/// assert_eq!((request.seed, request.tol, request.max_iter), (7, 1e-5, 200));
+/// assert_eq!(request.validate(&circle)?, 500);
+///
+/// // An edge length gives K from the region's area; the mean spacing comes back close to it.
+/// let by_size = MeshRequest::edge_length(0.1);
+/// let k = by_size.validate(&circle)?;
+/// assert!((350..380).contains(&k));
+/// assert!((by_size.spacing(&circle) - 0.1).abs() < 1e-3);
+///
+/// // Refused: a tolerance of 0 (never met), and a size too coarse for the region.
+/// let e = request.clone().tol(0.0).validate(&circle).unwrap_err();
+/// assert!(matches!(e, MeshError::InvalidTolerance(_)));
+/// let e = MeshRequest::edge_length(5.0).validate(&circle).unwrap_err();
+/// assert!(matches!(e, MeshError::TooFewPoints { needed: 3, .. }));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct MeshRequest {
     /// Target size.
@@ -45,6 +71,14 @@ impl MeshRequest {
             tol: 1e-4,
             max_iter: 10_000,
             density: Density::Uniform,
+        }
+    }
+    /// A request for a target edge length `h` (K from the region's area, see
+    /// [`Size::EdgeLength`]) with the documented defaults.
+    pub fn edge_length(h: f64) -> Self {
+        MeshRequest {
+            size: Size::EdgeLength(h),
+            ..MeshRequest::points(0)
         }
     }
     /// Builder: seed.
@@ -181,10 +215,93 @@ pub struct MeshResult {
 }
 
 /// A mesh generator: a region and a request in, a conforming mesh out.
+///
+/// Every method of the workspace implements it (`Ccvt`, `DistMesh`, `Refine`, `Meshgen`,
+/// `Vtm`), so a caller can hold any of them as a `Box<dyn Mesher>`. An implementation
+/// validates the request first and reports progress as it goes; this one splits a triangular
+/// region into four by its edge midpoints:
+///
+/// ```
+/// use cvtmesh_mesh::{
+///     check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker,
+/// };
+/// use geometry::{DVec2, LoopRole, Piece, Region};
+///
+/// struct Midpoints;
+///
+/// impl Mesher for Midpoints {
+///     fn name(&self) -> &'static str {
+///         "midpoints"
+///     }
+///     fn mesh(
+///         &self,
+///         region: &Region,
+///         request: &MeshRequest,
+///         progress: &mut dyn FnMut(Progress),
+///     ) -> Result<MeshResult, MeshError> {
+///         let k = request.validate(region)?;
+///         let c: Vec<DVec2> = region.corners().iter().map(|c| c.pos).collect();
+///         if k != 6 || c.len() != 3 {
+///             let why = "midpoints meshes a triangle with K = 6";
+///             return Err(MeshError::BadRequest(why.into()));
+///         }
+///         let points = vec![
+///             c[0], c[1], c[2],
+///             (c[0] + c[1]) / 2.0, (c[1] + c[2]) / 2.0, (c[2] + c[0]) / 2.0,
+///         ];
+///         let markers = points
+///             .iter()
+///             .map(|&p| {
+///                 let b = region.project(p);
+///                 match b.corner {
+///                     Some(i) => VertexMarker::at_corner(region, i),
+///                     None => VertexMarker::on_piece(region, p, b.piece),
+///                 }
+///             })
+///             .collect();
+///         let triangles = vec![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+///         progress(Progress {
+///             iteration: 1,
+///             max_iter: request.max_iter,
+///             energy: f64::NAN,
+///             max_move: 0.0,
+///         });
+///         Ok(MeshResult {
+///             mesh: Mesh { points, triangles, markers },
+///             iterations: 1,
+///             converged: true,
+///             energy_history: Vec::new(),
+///             move_history: vec![0.0],
+///             notes: Vec::new(),
+///         })
+///     }
+/// }
+///
+/// let [a, b, c] = [(0.0, 0.0), (1.0, 0.0), (0.5, 0.75f64.sqrt())].map(|(x, y)| DVec2::new(x, y));
+/// let line = |a, b| Piece::Line { a, b };
+/// let sides = vec![line(a, b), line(b, c), line(c, a)];
+/// let triangle = Region::new("triangle", vec![(LoopRole::Outer, sides)], None)?;
+///
+/// let mesher: Box<dyn Mesher> = Box::new(Midpoints);
+/// let mut reports = 0;
+/// let result = mesher.mesh(&triangle, &MeshRequest::points(6), &mut |p| {
+///     assert!(p.iteration <= p.max_iter);
+///     reports += 1;
+/// })?;
+/// assert_eq!(reports, result.iterations);
+/// check_conforming(&result.mesh, &triangle)?;
+/// assert!((result.mesh.min_angle_deg() - 60.0).abs() < 1e-9);
+/// // 3 corners on 1 loop need K ≥ 6: refused by `validate` before any work.
+/// let e = mesher.mesh(&triangle, &MeshRequest::points(5), &mut |_| {}).unwrap_err();
+/// assert!(matches!(e, MeshError::TooFewPoints { needed: 6, .. }));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub trait Mesher: Sync {
     /// Short name used on the command line and in tables (`ccvt2`, `distmesh`, ...).
     fn name(&self) -> &'static str;
-    /// Mesh `region`. `progress` is called once per iteration.
+    /// Mesh `region`, after [`MeshRequest::validate`] accepted `request`. `progress` is called
+    /// as iterations complete; for CCVT the iteration number restarts with each phase, and
+    /// evaluations a safeguard rejects count in [`MeshResult::iterations`] without a report.
     fn mesh(
         &self,
         region: &Region,
@@ -244,17 +361,18 @@ mod tests {
 
     #[test]
     fn an_edge_length_too_large_for_the_region_is_too_few_points() {
-        let circle = region("circle");
-        let e = MeshRequest {
-            size: Size::EdgeLength(5.0),
-            ..MeshRequest::points(0)
+        let e = MeshRequest::edge_length(5.0)
+            .validate(&region("circle"))
+            .unwrap_err();
+        match &e {
+            MeshError::TooFewPoints {
+                requested,
+                needed,
+                edge_length,
+                ..
+            } => assert_eq!((*requested, *needed, *edge_length), (0, 3, Some(5.0))),
+            other => panic!("{other:?}"),
         }
-        .validate(&circle)
-        .unwrap_err();
-        assert!(
-            matches!(e, MeshError::TooFewPoints { requested: 0, needed: 3, edge_length: Some(h), .. } if h == 5.0),
-            "{e:?}"
-        );
         assert!(e.to_string().contains("--size"), "{e}");
     }
 
