@@ -86,6 +86,53 @@ impl Default for Ccvt {
 }
 
 impl Ccvt {
+    /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol` and
+    /// `eps_start` finite and non-negative ([`MeshError::InvalidSetting`] otherwise). The
+    /// meshing calls check them first.
+    ///
+    /// ```
+    /// use cvtmesh_ccvt::Ccvt;
+    /// use mesh::MeshError;
+    ///
+    /// assert!(Ccvt::default().validate().is_ok());
+    /// let bad = Ccvt { polygon_tol: 0.0, ..Ccvt::default() };
+    /// assert!(matches!(
+    ///     bad.validate(),
+    ///     Err(MeshError::InvalidSetting { setting: "polygon_tol", .. })
+    /// ));
+    /// ```
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let name = self.name();
+        let positive = |setting, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(MeshError::invalid_setting(
+                    name,
+                    setting,
+                    value,
+                    "positive and finite",
+                ))
+            }
+        };
+        let non_negative = |setting, value: f64| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(MeshError::invalid_setting(
+                    name,
+                    setting,
+                    value,
+                    "non-negative and finite",
+                ))
+            }
+        };
+        positive("polygon_tol", self.polygon_tol)?;
+        positive("eps_tol", self.eps_tol)?;
+        non_negative("eps_phase_tol", self.eps_phase_tol)?;
+        non_negative("eps_start", self.eps_start)
+    }
+
     /// The paper's Algorithm 1: constrained Lloyd iteration on Ω (`Algorithm::One`,
     /// `Solver::Lloyd`); every other setting as in [`Ccvt::default`]. Mesher name `ccvt1`.
     pub fn algorithm1() -> Self {
@@ -146,13 +193,15 @@ pub struct Generators {
 }
 
 impl Ccvt {
-    /// Run the algorithm and return the generators (no triangulation).
+    /// Run the algorithm and return the generators (no triangulation). The settings
+    /// ([`Ccvt::validate`]) and the request ([`MeshRequest::validate`]) are checked first.
     pub fn generators(
         &self,
         region: &Region,
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {
+        self.validate()?;
         let k = request.validate(region)?;
         let z = initial_points(region, k, self.init, request.seed);
         self.solve_on_pool(region, request, z, progress)
@@ -160,7 +209,8 @@ impl Ccvt {
 
     /// Run the algorithm from the given initial generators (step 0 done by the caller, e.g. a
     /// restart or a refined coarser solution): K is their number and `request.size` is ignored.
-    /// They should lie in Ω.
+    /// They should lie in Ω. The settings and the request (with K = `z.len()`) are checked
+    /// first, as in [`Ccvt::generators`].
     pub fn generators_from(
         &self,
         region: &Region,
@@ -168,6 +218,7 @@ impl Ccvt {
         z: Vec<geometry::DVec2>,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {
+        self.validate()?;
         MeshRequest {
             size: mesh::Size::Points(z.len()),
             ..request.clone()

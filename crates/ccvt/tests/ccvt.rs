@@ -151,6 +151,73 @@ fn constructors_have_their_documented_settings() {
     }
 }
 
+/// Settings out of range are refused, by name, before any work (by `mesh`, `generators` and
+/// `generators_from` alike).
+#[test]
+fn settings_out_of_range_are_refused() {
+    let region = Region::builtin("circle").unwrap();
+    let req = MeshRequest::points(88);
+    let base = Ccvt::default();
+    let cases = [
+        (
+            "polygon_tol",
+            Ccvt {
+                polygon_tol: 0.0,
+                ..base.clone()
+            },
+        ),
+        (
+            "polygon_tol",
+            Ccvt {
+                polygon_tol: f64::NAN,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_tol",
+            Ccvt {
+                eps_tol: -1e-2,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_phase_tol",
+            Ccvt {
+                eps_phase_tol: f64::INFINITY,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_start",
+            Ccvt {
+                eps_start: -0.5,
+                ..base.clone()
+            },
+        ),
+    ];
+    for (name, m) in cases {
+        let e = m.mesh(&region, &req, &mut |_| {}).unwrap_err();
+        assert!(
+            matches!(e, MeshError::InvalidSetting { setting, .. } if setting == name),
+            "{name}: {e:?}"
+        );
+        assert!(e.to_string().contains(name), "{e}");
+        let z = cvtmesh_ccvt::initial_points(&region, 88, cvtmesh_ccvt::Init::Lattice, 1);
+        let e = m
+            .generators_from(&region, &req, z, &mut |_| {})
+            .unwrap_err();
+        assert!(matches!(e, MeshError::InvalidSetting { .. }), "{e:?}");
+    }
+    // Zero is a valid ε-phase tolerance (the request's applies) and ε start (the paper's).
+    assert!(Ccvt {
+        eps_phase_tol: 0.0,
+        eps_start: 0.0,
+        ..base
+    }
+    .validate()
+    .is_ok());
+}
+
 #[test]
 fn too_few_points_for_the_corners_is_an_error() {
     let region = Region::builtin("hex_hole").unwrap();

@@ -66,6 +66,30 @@ pub struct DistMesh {
     pub dptol: f64,
 }
 
+impl DistMesh {
+    /// Check the constants: every one positive and finite ([`MeshError::InvalidSetting`]
+    /// otherwise). [`Mesher::mesh`] checks them first.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        for (setting, value) in [
+            ("fscale", self.fscale),
+            ("deltat", self.deltat),
+            ("geps", self.geps),
+            ("ttol", self.ttol),
+            ("dptol", self.dptol),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(MeshError::invalid_setting(
+                    "distmesh",
+                    setting,
+                    value,
+                    "positive and finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for DistMesh {
     fn default() -> Self {
         DistMesh {
@@ -233,6 +257,7 @@ impl Mesher for DistMesh {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
+        self.validate()?;
         let k = request.validate(region)?;
         let nfix = region.corners().len();
         let density = &request.density;

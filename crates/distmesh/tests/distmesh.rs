@@ -179,6 +179,58 @@ fn initial_grid_is_equilateral_and_inside() {
 }
 
 #[test]
+fn constants_out_of_range_are_refused() {
+    let region = Region::builtin("circle").unwrap();
+    let base = DistMesh::default();
+    for (name, m) in [
+        (
+            "fscale",
+            DistMesh {
+                fscale: 0.0,
+                ..base.clone()
+            },
+        ),
+        (
+            "deltat",
+            DistMesh {
+                deltat: -0.2,
+                ..base.clone()
+            },
+        ),
+        (
+            "geps",
+            DistMesh {
+                geps: f64::NAN,
+                ..base.clone()
+            },
+        ),
+        (
+            "ttol",
+            DistMesh {
+                ttol: f64::INFINITY,
+                ..base.clone()
+            },
+        ),
+        (
+            "dptol",
+            DistMesh {
+                dptol: 0.0,
+                ..base.clone()
+            },
+        ),
+    ] {
+        let e = m
+            .mesh(&region, &MeshRequest::points(88), &mut |_| {})
+            .unwrap_err();
+        assert!(
+            matches!(e, MeshError::InvalidSetting { setting, .. } if setting == name),
+            "{name}: {e:?}"
+        );
+    }
+    assert!(base.validate().is_ok());
+}
+
+#[test]
 fn too_few_points_is_an_error() {
     let region = Region::builtin("square_two_hex").unwrap();
     let e = DistMesh::default()

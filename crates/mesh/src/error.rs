@@ -64,6 +64,18 @@ pub enum MeshError {
     /// The density is zero at every sampled point of the region.
     #[error("the density is zero everywhere on the region")]
     ZeroDensity,
+    /// A method's own setting is out of its range.
+    #[error("{method}: {setting} must be {expected}, got {value}")]
+    InvalidSetting {
+        /// Method name.
+        method: String,
+        /// The setting (field) name.
+        setting: &'static str,
+        /// Its value.
+        value: f64,
+        /// The range it must be in.
+        expected: &'static str,
+    },
     /// A method's mesh does not conform to the region.
     #[error("{method}: the mesh does not conform to the region ({source}); {hint}")]
     NotConforming {
@@ -115,6 +127,22 @@ impl MeshError {
         match self {
             MeshError::File { path, .. } | MeshError::Io { path, .. } => Some(path),
             _ => None,
+        }
+    }
+
+    /// The error for a method setting `setting` of `method` whose `value` is not `expected`
+    /// (e.g. "positive and finite").
+    pub fn invalid_setting(
+        method: &str,
+        setting: &'static str,
+        value: f64,
+        expected: &'static str,
+    ) -> MeshError {
+        MeshError::InvalidSetting {
+            method: method.to_string(),
+            setting,
+            value,
+            expected,
         }
     }
 

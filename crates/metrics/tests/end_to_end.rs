@@ -319,8 +319,14 @@ fn sampled_estimate_is_deterministic_and_consistent() {
             "{name}"
         );
     }
-    assert!(sampled_measures(&mesh, &region, &SampleParams { samples: 0, ..p }).is_err());
-    assert!(sampled_measures(&mesh, &region, &SampleParams { scale: -1.0, ..p }).is_err());
+    assert_eq!(
+        sampled_measures(&mesh, &region, &SampleParams { samples: 0, ..p }),
+        Err(cvtmesh_metrics::MetricsError::NoSamples)
+    );
+    assert_eq!(
+        sampled_measures(&mesh, &region, &SampleParams { scale: -1.0, ..p }),
+        Err(cvtmesh_metrics::MetricsError::BadScale(-1.0))
+    );
 }
 
 /// Sampled vs exact measures of a jittered lattice in the L (no tiny cell: the sampling

@@ -138,10 +138,12 @@ impl Refine {
 
     fn check(&self) -> Result<(), MeshError> {
         if !(self.min_angle_deg.is_finite() && (0.0..60.0).contains(&self.min_angle_deg)) {
-            return Err(MeshError::BadRequest(format!(
-                "minimum angle must be in [0, 60) degrees, got {}",
-                self.min_angle_deg
-            )));
+            return Err(MeshError::invalid_setting(
+                "refine",
+                "min_angle_deg",
+                self.min_angle_deg,
+                "in [0, 60) degrees",
+            ));
         }
         Ok(())
     }

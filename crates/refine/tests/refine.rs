@@ -172,7 +172,7 @@ fn bad_requests_are_errors() {
     let e = m
         .mesh(&region, &MeshRequest::points(200), &mut |_| {})
         .unwrap_err();
-    assert!(matches!(e, MeshError::BadRequest(_)));
+    assert!(matches!(e, MeshError::InvalidSetting { .. }), "{e:?}");
     let e = Refine::default()
         .refine_with_area(&region, -1.0, &Density::Uniform, 100)
         .unwrap_err();
