@@ -441,9 +441,9 @@ impl Mesher for DistMesh {
         };
         if !converged {
             // Mid-run point sets may not resolve ∂Ω yet (a hole with too few points on it).
-            mesh::check_conforming(&mesh, region).map_err(|source| MeshError::NotConforming {
+            mesh::check_conforming(&mesh, region).map_err(|cause| MeshError::NotConforming {
                 method: "distmesh".into(),
-                source,
+                cause,
                 hint: format!(
                     "the run stopped at max_iter = {} before the boundary was resolved; allow \
                      more iterations",

@@ -77,12 +77,13 @@ pub enum MeshError {
         expected: &'static str,
     },
     /// A method's mesh does not conform to the region.
-    #[error("{method}: the mesh does not conform to the region ({source}); {hint}")]
+    #[error("{method}: the mesh does not conform to the region ({cause}); {hint}")]
     NotConforming {
         /// Method name.
         method: String,
-        /// The first conformity failure found.
-        source: ConformityError,
+        /// The first conformity failure found (its text is part of this error's message, so it
+        /// is not also returned by `Error::source`).
+        cause: ConformityError,
         /// What to change (e.g. "try a larger K").
         hint: String,
     },
@@ -110,14 +111,15 @@ pub enum MeshError {
         message: String,
     },
     /// The operating system refused to read or write a mesh file.
-    #[error("{}: cannot {action}: {source}", .path.display())]
+    #[error("{}: cannot {action}: {cause}", .path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What was being done ("read", "write", ...).
         action: String,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// The operating system's error (its text is part of this error's message, so it is not
+        /// also returned by `Error::source`).
+        cause: std::io::Error,
     },
 }
 
@@ -169,10 +171,12 @@ fn too_few_points(
     loops: usize,
     edge_length: Option<f64>,
 ) -> String {
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     let mut s = format!(
-        "K = {requested} is too small for region '{region}': it has {corners} corners and \
-         {loops} boundary loops, so at least {needed} vertices are needed (one on every corner, \
-         three on every loop)"
+        "K = {requested} is too small for region '{region}': it has {} and {}, so at least \
+         {needed} vertices are needed (one on every corner, three on every loop)",
+        plural(corners, "corner"),
+        plural(loops, "boundary loop"),
     );
     match edge_length {
         Some(h) => s += &format!("; the edge length {h} (--size) is too large for the region"),

@@ -252,11 +252,11 @@ pub(crate) fn file_err(path: &Path, message: impl Into<String>) -> MeshError {
 }
 
 /// The error for an operating-system failure to `action` (e.g. "read") the file `path`.
-pub(crate) fn io_err(path: &Path, action: impl Into<String>, source: std::io::Error) -> MeshError {
+pub(crate) fn io_err(path: &Path, action: impl Into<String>, cause: std::io::Error) -> MeshError {
     MeshError::Io {
         path: path.to_path_buf(),
         action: action.into(),
-        source,
+        cause,
     }
 }
 
@@ -824,6 +824,9 @@ mod tests {
             assert!(matches!(e, MeshError::Io { .. }), "{e}");
             assert_eq!(e.path(), Some(target.as_path()));
             assert!(e.to_string().contains("no-such-dir"), "{e}");
+            // The OS reason is in the message once, and not repeated by a source chain.
+            assert!(e.to_string().contains("cannot write: "), "{e}");
+            assert!(std::error::Error::source(&e).is_none());
             assert!(!target.exists());
         }
         assert!(dir.files().is_empty());

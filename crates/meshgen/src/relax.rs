@@ -990,9 +990,9 @@ pub fn relax(
         .map_err(|e| fail(e, "final mesh"))?;
     // Too few points cannot follow a thin or strongly curved part of the boundary: say so
     // rather than hand back a mesh that leaves the region.
-    mesh::check_conforming(&result.mesh, region).map_err(|source| MeshError::NotConforming {
+    mesh::check_conforming(&result.mesh, region).map_err(|cause| MeshError::NotConforming {
         method: method.into(),
-        source,
+        cause,
         hint: format!("K = {k} is too few points to follow the boundary; try a larger K"),
     })?;
     Ok(result)

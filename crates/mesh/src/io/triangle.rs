@@ -177,10 +177,10 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
             path,
             message: format!("{message} (the triangles of {})", node_path.display()),
         },
-        MeshError::Io { path, source, .. } => MeshError::Io {
+        MeshError::Io { path, cause, .. } => MeshError::Io {
             path,
             action: format!("read the triangles of {}", node_path.display()),
-            source,
+            cause,
         },
         e => e,
     })?;
