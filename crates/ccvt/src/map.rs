@@ -76,7 +76,8 @@ pub enum Role {
 }
 
 /// The triangulation and cells of the current iterate, in memory kept from one iteration to
-/// the next (at 10⁶ generators fresh ones would fault in ~300 MB of new pages per iteration).
+/// the next (at 10⁶ generators, fresh ones would fault in hundreds of MB of new pages per
+/// iteration).
 pub struct Work {
     pub(crate) del: Delaunay,
     pub(crate) cells: Cells,

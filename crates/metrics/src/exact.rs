@@ -8,9 +8,10 @@ use tessellation::{clipped_cells, Cells, Delaunay};
 /// Relative chord tolerance used to polygonize the region for the exact Voronoi measures:
 /// the boundary is approximated to within `POLYGON_TOL · (|Ω|/K)^{1/2}`, i.e. relative to the
 /// mesh spacing, so that a boundary cell's area, moments and h_k carry a relative error of
-/// order 1e-6 at any K (a tolerance relative to the region's diameter would not: at
-/// K = 10⁵ in the unit circle, 1e-6·diameter moves h and ν by ~1e-3). Dividing it by 100
-/// changes the measures by less than 1e-4 relative (the `converged_in_polygon_tolerance` test).
+/// order 1e-6 at any K (a tolerance relative to the region's diameter would not: its error
+/// relative to the cells grows with K). Dividing it by 100 changes the measures by less than
+/// 1e-4 relative (checked by the `converged_in_polygon_tolerance` test).
+// At K = 10⁵ in the unit circle, a tolerance of 1e-6·diameter moves h and ν by ~1e-3.
 pub const POLYGON_TOL: f64 = 1e-6;
 
 /// The 12 measures of a mesh, computed exactly as Section 3 defines them.
