@@ -1,6 +1,6 @@
-//! CCVT at scale (issue 7): per-phase cost of one iteration against spade alone, scaling of
-//! converged runs with K, Lloyd against Anderson (issue 3), and a coarse-to-fine start, on the
-//! unit circle and the lake.
+//! CCVT at scale: per-phase cost of one iteration against spade alone, scaling of converged
+//! runs with K, Lloyd against Anderson, and a coarse-to-fine start, on the unit circle and the
+//! lake.
 //!
 //! `cargo bench -p ccvt --bench scale -- [SIZES...] [TABLES...] [regions=a,b] [seed=N]`
 //! - SIZES: generator counts such as `1e3 1e4 1e5 1e6` (default `1e3 1e4 1e5`);
@@ -290,7 +290,7 @@ fn table_anderson(args: &Args) {
             for algorithm in [Algorithm::One, Algorithm::Two] {
                 let base = Ccvt {
                     algorithm,
-                    ..Ccvt::default()
+                    ..Ccvt::algorithm2()
                 };
                 let lloyd = solve(&base, &region, k, args.seed);
                 let fast = solve(

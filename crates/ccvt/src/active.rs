@@ -8,7 +8,7 @@
 //!
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.
-use crate::iterate::{assign_corners, lap, map_cell, step, Phase, Profile, Role, Step, Work};
+use crate::map::{assign_corners, lap, map_cell, step, Phase, Profile, Role, Step, Work};
 use geometry::DVec2;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -19,19 +19,21 @@ use tessellation::update_cells;
 const DEFECT_SHARE: f64 = 0.1;
 /// Below this many tolerances of largest move, what is left is mostly a smooth elastic residual
 /// that only a global Newton step removes at once: active-set steps alone spread it like
-/// Gauss–Seidel (200 steps at 1.5–3 tolerances at circle 10⁵). There they are only a cleanup
-/// after a global step, taken while they lower the count above the tolerance.
+/// Gauss–Seidel. There they are only a cleanup after a global step, taken while they lower the
+/// count above the tolerance.
+// Circle 10⁵: active-set steps alone took 200 steps at 1.5–3 tolerances.
 const DEFECT_ABOVE: f64 = 4.0;
 /// Rings of Delaunay neighbours around the active generators that move with them (room for the
 /// Newton step to spread a rearrangement).
 const MARGIN_RINGS: usize = 2;
 /// Active-set steps only while the generators above the tolerance are at most this share of
-/// all: before that, a global relaxation is still under way (at 1.6 % of them active-set steps
-/// stalled at circle 10⁵). Gating on the defects alone (a smooth residual left to the next
-/// global step) took circle 10⁵ from 2.6–3.4 to 2.4–2.8 s and circle 10⁶ from 26.8–32.5 to
-/// 21–23 s, but its meshes' worst triangles were worse on the lake at 10⁵ (12 seeds: q 0.32
-/// against 0.27, β 0.56 against 0.53, γ 0.44 against 0.41); a 3 % or 10 % share, or defects alone
-/// in the ε-phases only, did the same (q 0.30–0.33).
+/// all: before that, a global relaxation is still under way and active-set steps stall. A gate
+/// on the defects alone (leaving a smooth residual to the next global step) is faster but
+/// leaves worse worst triangles.
+// At 1.6 % active, active-set steps stalled at circle 10⁵. Gating on the defects alone took
+// circle 10⁵ 2.4–2.8 s against 2.6–3.4 s and circle 10⁶ 21–23 s against 26.8–32.5 s, but on the
+// lake at 10⁵ (12 seeds) gave q 0.32 against 0.27, β 0.56 against 0.53, γ 0.44 against 0.41; a
+// 3 % or 10 % share, or defects alone in the ε-phases only, gave q 0.30–0.33.
 const ACTIVE_FRACTION: f64 = 0.01;
 
 /// An active-set step on offer.
@@ -149,7 +151,7 @@ pub(crate) fn apply(
     prof.triangulation += lap(&mut t);
     let (del, cells, grid) = work.parts(phase.domain);
     // The energy changes by the changed cells' terms (summing all K terms again would read
-    // every cell: ~10 ms at 10⁶).
+    // every cell).
     let energy_of = |cells: &tessellation::Cells| -> f64 {
         changed
             .iter()
@@ -200,7 +202,7 @@ pub(crate) fn lloyd_moves(z: &[DVec2], s: &Step, work: &Work, active: &[u32]) ->
 mod tests {
     use super::*;
     use crate::init::{initial_points, Init};
-    use crate::method::Solver;
+    use crate::params::Solver;
     use crate::sublevel::Sublevel;
     use geometry::{Density, Region, Rng};
     use mesh::MeshRequest;

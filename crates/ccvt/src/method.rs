@@ -1,43 +1,48 @@
-//! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd or Anderson-accelerated iteration.
+//! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd, Anderson-accelerated or Newton
+//! iteration.
 use crate::init::{initial_points, Init};
-use crate::iterate::{run, Phase, Profile, Role, Trace, Work};
+use crate::iterate::run;
+use crate::map::{Phase, Profile, Role, Trace, Work};
+use crate::params::{Algorithm, Solver};
 use crate::sublevel::Sublevel;
 use geometry::Region;
 use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
 
-/// Which algorithm of Section 2.4.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Algorithm {
-    /// Algorithm 1: CCVT by constrained Lloyd iteration on Ω.
-    One,
-    /// Algorithm 2: adaptive ε-expansion, then Algorithm 1 on Ω_ε projecting onto ∂Ω.
-    Two,
-}
-
-/// The fixed-point iteration used inside each phase.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Solver {
-    /// Plain Lloyd: every generator to its (constrained) centroid.
-    Lloyd,
-    /// Anderson mixing of the last `depth` Lloyd maps, rejected when it raises the energy.
-    Anderson {
-        /// History depth (5 is a good default).
-        depth: usize,
-    },
-    /// Newton's method on the energy with the Hessian restricted to the allowed moves, a
-    /// Levenberg–Marquardt shift and an energy safeguard (falls back to the Lloyd step).
-    Newton,
-}
-
-/// CCVT mesher. Defaults: Algorithm 2, Lloyd, the centred equilateral lattice start
-/// ([`Init::Lattice`], one of step 0's options),
-/// polygonization tolerance 1e-4 of the mean spacing, ε tolerance 1e-2 of the spacing with at
-/// most 30 ε-updates, intermediate CVTs of Ω_ε stopped at moves below 1e-3 of the spacing.
-#[derive(Clone, Debug)]
+/// CCVT mesher.
+///
+/// [`Ccvt::default`] (the same as [`Ccvt::fast`]) is what `cvtmesh mesh` and
+/// `cvtmesh::Method::Ccvt` run: Algorithm 2 with Newton's method, from the centred equilateral
+/// lattice ([`Init::Lattice`], one of step 0's options), polygonization tolerance 1e-4 of the
+/// mean spacing, ε tolerance 1e-2 of the spacing with at most 30 ε-updates, intermediate CVTs of
+/// Ω_ε stopped at moves below 1e-3 of the spacing, active-set Newton steps from 10 000
+/// generators on and ε starting at 0. [`Ccvt::algorithm1`] and [`Ccvt::algorithm2`] are the
+/// paper's algorithms with Lloyd iteration, [`Ccvt::anderson`] Algorithm 2 with Anderson
+/// acceleration; they differ from the default only in `algorithm` and `solver`.
+///
+/// ```
+/// use cvtmesh_ccvt::Ccvt;
+/// use geometry::Region;
+/// use mesh::{check_conforming, MeshRequest, Mesher, VertexMarker};
+///
+/// let region = Region::builtin("square_hole")?; // a square with a square hole: 8 corners
+/// let result = Ccvt::default().mesh(&region, &MeshRequest::points(200), &mut |_| {})?;
+/// assert!(result.converged);
+/// assert_eq!(result.mesh.num_vertices(), 200);
+/// check_conforming(&result.mesh, &region)?;
+/// // Every corner carries a vertex, exactly.
+/// for (i, corner) in region.corners().iter().enumerate() {
+///     let on_it = |(p, m): (&geometry::DVec2, &VertexMarker)| {
+///         *p == corner.pos && matches!(m, VertexMarker::Corner { corner, .. } if *corner == i)
+///     };
+///     assert!(result.mesh.points.iter().zip(&result.mesh.markers).any(on_it));
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, PartialEq)]
 pub struct Ccvt {
     /// Algorithm 1 or 2.
     pub algorithm: Algorithm,
-    /// Lloyd or Anderson.
+    /// Lloyd, Anderson or Newton.
     pub solver: Solver,
     /// Initial generators.
     pub init: Init,
@@ -58,19 +63,17 @@ pub struct Ccvt {
     /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
     pub active_from: usize,
     /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
-    /// near the settled ε (0.68–0.75 of the spacing in all ten regions at 10³–10⁵ generators)
-    /// skips the CVT of Ω itself: Newton at circle 10⁵ took ~15 % less time (seeds 1–6) with
-    /// ~0.01 % less energy, but its meshes' worst cells were worse (γ, χ, β 1.2–1.3×), so it is
-    /// not the default (at the study's K it is the other way round: CCVT-fast's best values
-    /// 37 → 50 of 142).
+    /// near the settled ε (about 0.7 of the spacing) skips the CVT of Ω itself, which saves
+    /// time at large K, but the meshes' worst cells come out worse, so it is not the default.
     pub eps_start: f64,
 }
 
 impl Default for Ccvt {
+    /// Algorithm 2 with Newton's method and the settings listed on [`Ccvt`].
     fn default() -> Self {
         Ccvt {
             algorithm: Algorithm::Two,
-            solver: Solver::Lloyd,
+            solver: Solver::Newton,
             init: Init::Lattice,
             polygon_tol: 1e-4,
             eps_tol: 1e-2,
@@ -83,28 +86,85 @@ impl Default for Ccvt {
 }
 
 impl Ccvt {
-    /// Algorithm 1 with Lloyd iteration.
+    /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol` and
+    /// `eps_start` finite and non-negative ([`MeshError::InvalidSetting`] otherwise). The
+    /// meshing calls check them first.
+    ///
+    /// ```
+    /// use cvtmesh_ccvt::Ccvt;
+    /// use mesh::MeshError;
+    ///
+    /// assert!(Ccvt::default().validate().is_ok());
+    /// let bad = Ccvt { polygon_tol: 0.0, ..Ccvt::default() };
+    /// assert!(matches!(
+    ///     bad.validate(),
+    ///     Err(MeshError::InvalidSetting { setting: "polygon_tol", .. })
+    /// ));
+    /// ```
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let name = self.name();
+        let positive = |setting, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(MeshError::invalid_setting(
+                    name,
+                    setting,
+                    value,
+                    "positive and finite",
+                ))
+            }
+        };
+        let non_negative = |setting, value: f64| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(MeshError::invalid_setting(
+                    name,
+                    setting,
+                    value,
+                    "non-negative and finite",
+                ))
+            }
+        };
+        positive("polygon_tol", self.polygon_tol)?;
+        positive("eps_tol", self.eps_tol)?;
+        non_negative("eps_phase_tol", self.eps_phase_tol)?;
+        non_negative("eps_start", self.eps_start)
+    }
+
+    /// The paper's Algorithm 1: constrained Lloyd iteration on Ω (`Algorithm::One`,
+    /// `Solver::Lloyd`); every other setting as in [`Ccvt::default`]. Mesher name `ccvt1`.
     pub fn algorithm1() -> Self {
         Ccvt {
             algorithm: Algorithm::One,
+            solver: Solver::Lloyd,
             ..Ccvt::default()
         }
     }
-    /// Algorithm 2 with Lloyd iteration.
+    /// The paper's Algorithm 2: adaptive ε-expansion, then constrained Lloyd iteration
+    /// (`Algorithm::Two`, `Solver::Lloyd`); every other setting as in [`Ccvt::default`].
+    /// Mesher name `ccvt2`.
     pub fn algorithm2() -> Self {
+        Ccvt {
+            algorithm: Algorithm::Two,
+            solver: Solver::Lloyd,
+            ..Ccvt::default()
+        }
+    }
+    /// Algorithm 2 with Newton's method on the energy (`Algorithm::Two`, `Solver::Newton`):
+    /// the same as [`Ccvt::default`]. It reaches the energy Lloyd iteration reaches with far
+    /// fewer evaluations of the Voronoi cells, since Lloyd's slow tail is an elastic mode that
+    /// a Newton step removes at once. Mesher name `ccvt`.
+    pub fn fast() -> Self {
         Ccvt::default()
     }
-    /// Algorithm 2 with Newton's method: the fast solver (6–19× fewer energy evaluations
-    /// than Lloyd on the circle and the lake from 10³ to 10⁵ generators, see the README).
-    pub fn fast() -> Self {
-        Ccvt {
-            solver: Solver::Newton,
-            ..Ccvt::default()
-        }
-    }
-    /// Algorithm 2 with Anderson acceleration (depth 5).
+    /// Algorithm 2 with Anderson acceleration of depth 5 (`Algorithm::Two`,
+    /// `Solver::Anderson { depth: 5 }`); every other setting as in [`Ccvt::default`]. Mesher
+    /// name `ccvt-anderson`.
     pub fn anderson() -> Self {
         Ccvt {
+            algorithm: Algorithm::Two,
             solver: Solver::Anderson { depth: 5 },
             ..Ccvt::default()
         }
@@ -133,23 +193,42 @@ pub struct Generators {
 }
 
 impl Ccvt {
-    /// Run the algorithm and return the generators (no triangulation).
+    /// Run the algorithm and return the generators (no triangulation). The settings
+    /// ([`Ccvt::validate`]) and the request ([`MeshRequest::validate`]) are checked first.
     pub fn generators(
         &self,
         region: &Region,
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<Generators, MeshError> {
-        let k = request.size.points(region);
-        check_size(region, k)?;
+        self.validate()?;
+        let k = request.validate(region)?;
         let z = initial_points(region, k, self.init, request.seed);
-        self.generators_from(region, request, z, progress)
+        self.solve_on_pool(region, request, z, progress)
     }
 
     /// Run the algorithm from the given initial generators (step 0 done by the caller, e.g. a
     /// restart or a refined coarser solution): K is their number and `request.size` is ignored.
-    /// They should lie in Ω.
+    /// They should lie in Ω. The settings and the request (with K = `z.len()`) are checked
+    /// first, as in [`Ccvt::generators`].
     pub fn generators_from(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        z: Vec<geometry::DVec2>,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<Generators, MeshError> {
+        self.validate()?;
+        MeshRequest {
+            size: mesh::Size::Points(z.len()),
+            ..request.clone()
+        }
+        .validate(region)?;
+        self.solve_on_pool(region, request, z, progress)
+    }
+
+    /// [`Ccvt::generators_from`] for a validated request, on rayon's pool.
+    fn solve_on_pool(
         &self,
         region: &Region,
         request: &MeshRequest,
@@ -160,9 +239,8 @@ impl Ccvt {
             return self.solve(region, request, z, progress);
         }
         // The solve runs on rayon's pool, not on the calling thread: from outside the pool each
-        // of its many parallel passes hands its work over and puts the caller to sleep until it
-        // is done (circle 10⁵ seeds 1–6, the same iterates: 2.74 → 2.41 s). `progress` stays on the
-        // caller's thread, fed through a channel.
+        // of its many parallel passes would hand its work over and put the caller to sleep until
+        // it is done. `progress` stays on the caller's thread, fed through a channel.
         let (tx, rx) = std::sync::mpsc::channel();
         let mut out = None;
         rayon::in_place_scope(|s| {
@@ -180,7 +258,7 @@ impl Ccvt {
         out.expect("the scope waits for the solve")
     }
 
-    /// [`Ccvt::generators_from`] on the current thread.
+    /// [`Ccvt::generators_from`] on the current thread, for a validated request.
     fn solve(
         &self,
         region: &Region,
@@ -192,7 +270,6 @@ impl Ccvt {
             size: mesh::Size::Points(z.len()),
             ..request.clone()
         };
-        check_size(region, z.len())?;
         let spacing = request.spacing(region);
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
@@ -370,20 +447,6 @@ impl Mesher for Ccvt {
             notes,
         })
     }
-}
-
-/// K must cover the corners and give every loop a few generators.
-fn check_size(region: &Region, k: usize) -> Result<(), MeshError> {
-    let corners = region.corners().len();
-    if k < corners.max(3) || k < 3 * region.loops().len() + corners {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} is too small for region '{}': it has {corners} corners and {} boundary loops (need at least {})",
-            region.name(),
-            region.loops().len(),
-            (3 * region.loops().len() + corners).max(3)
-        )));
-    }
-    Ok(())
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be

@@ -13,7 +13,7 @@
 //! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
 //! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
-use crate::iterate::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
+use crate::map::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
@@ -27,38 +27,43 @@ const SIGMA_MAX: f64 = 1e6;
 /// Least eigenvalue of a diagonal block on its allowed moves, relative to 2m.
 const BLOCK_FLOOR: f64 = 0.1;
 /// Relative residual at which the linear solve stops, and its iteration cap: an inexact Newton
-/// step. Over six runs (circle and lake, 10⁴–10⁵) a cap of 20 took 1643 evaluations in all and
-/// a cap of 400 took 1808: tighter solves buy nothing once boundary cells change their
-/// neighbours from one step to the next.
+/// step, since tighter solves buy nothing once boundary cells change their neighbours from one
+/// step to the next.
+// Six runs (circle and lake, 10⁴–10⁵ generators): 1643 evaluations in all with a cap of 20,
+// 1808 with a cap of 400.
 const CG_TOL: f64 = 1e-2;
 const CG_MAX: usize = 20;
-/// From this shift on, plain Lloyd steps (σ halves after each). Over 12 runs (6 region/size
-/// pairs, seeds 1 and 2): 7733 evaluations without it, 2747 with it; pie_hole at K = 287 (a
-/// thin wedge where negative curvature persists) 4538 → 565 (seed 1).
+/// From this shift on, plain Lloyd steps (σ halves after each): where negative curvature
+/// persists (a thin wedge), a strongly shifted Newton step is a poor Lloyd step.
+// 12 runs (6 region/size pairs, seeds 1 and 2): 2747 evaluations in all with it, 7733 without;
+// pie_hole at K = 287, seed 1: 565 against 4538.
 const SIGMA_LLOYD: f64 = 1.0;
 /// Largest Newton move of one generator, relative to the spacing: the quadratic model holds
-/// only while the Voronoi neighbours stay the same. Over 12 runs (6 regions, seeds 2 and 3)
-/// caps of ∞ / 0.15 / 0.1 / 0.05 took 5462 / 4982 / 3881 / 3951 evaluations in all.
+/// only while the Voronoi neighbours stay the same.
+// 12 runs (6 regions, seeds 2 and 3): caps of ∞ / 0.15 / 0.1 / 0.05 took 5462 / 4982 / 3881 /
+// 3951 evaluations in all.
 const STEP_CAP: f64 = 0.1;
 /// Linear solves per step: after negative curvature, raise the local shifts and solve again.
-/// Over circle and lake at 10⁴ and 10⁵, 1 or 6 instead of 3 took 587 or 499 evaluations
-/// against 513: path changes, no trend.
+// Circle and lake at 10⁴ and 10⁵: 1 or 6 solves took 587 or 499 evaluations against 513 for 3
+// (the path changes, with no trend).
 const CURVATURE_RETRIES: usize = 3;
-/// Negative curvature is met at a few defects of the boundary layer; raising σ for every
-/// generator there (as first done) throttles the whole elastic relaxation. Instead the
-/// generators whose share of the offending CG direction is at least `LOCAL_SHARE` of its
-/// largest get a shift of their own: `LOCAL_START`·2m, ×4 at each new encounter, halved
-/// (`LOCAL_DECAY`) after every step. Circle 10⁵: 138 → 107 evaluations; lake 10⁵: 242 → 160;
-/// annulus 10⁵: 243 → 134; the energy over Ω 0.02–0.25 % lower and ~3 % fewer boundary
-/// generators (circle 10⁵: 1008 against 1038) in every run tried; a decay of 0.25, 0.8 or 0.95
-/// was no better or worse.
+/// Negative curvature is met at a few defects of the boundary layer, and raising σ for every
+/// generator there would throttle the whole elastic relaxation. Instead the generators whose
+/// share of the offending CG direction is at least `LOCAL_SHARE` of its largest get a shift of
+/// their own: `LOCAL_START`·2m, ×4 at each new encounter, halved (`LOCAL_DECAY`) after every
+/// step.
+// Against a global σ at 10⁵ generators: circle 107 evaluations against 138, lake 160 against
+// 242, annulus 134 against 243, with 0.02–0.25 % lower energy over Ω and ~3 % fewer boundary
+// generators in every run tried; a decay of 0.25, 0.8 or 0.95 was no better.
 const LOCAL_SHARE: f64 = 0.1;
 const LOCAL_START: f64 = 0.1;
 const LOCAL_DECAY: f64 = 0.5;
 /// In the cleanup after a global step (module `active`), active-set steps continue while the
 /// count above the tolerance falls, and for this many steps more without a new low before a
-/// global step. Circle 10⁶, seeds 1–3: 37.6 / 42.0 / 38.2 s with none, 31.4 / 36.7 / 31.0 s
-/// with 3 (10 took 43 s on seed 1: active-set steps alone spread a smooth residual).
+/// global step; more patience lets active-set steps alone spread a smooth residual that one
+/// global step removes.
+// Circle 10⁶, seeds 1–3: 31.4 / 36.7 / 31.0 s with 3, 37.6 / 42.0 / 38.2 s with 0; 10 took
+// 43 s on seed 1.
 const CLEANUP_PATIENCE: usize = 3;
 
 /// What a generator may do in the Newton step (8 bytes: at 10⁶ generators a copy of the
@@ -418,9 +423,9 @@ fn newton_move(
             let dof = match s.roles[i] {
                 Role::Corner(_) => Dof::Fixed,
                 // At a bend of a sampled piece, or with one between it and its Lloyd target,
-                // the energy along the piece has a kink that a Newton step oversteps (bike_seat
-                // at K = 1000, seed 1: a generator swung across a chain vertex for ~450 steps):
-                // Lloyd's projection instead.
+                // the energy along the piece has a kink that a Newton step oversteps (the
+                // generator swings across the chain vertex and back): Lloyd's projection
+                // instead.
                 Role::Boundary(j) => {
                     let bp = region.project_onto_piece(p, j);
                     if bp.distance <= 1e-9 * phase.spacing

@@ -1,7 +1,7 @@
 //! End-to-end properties of CCVT meshes (Algorithms 1 and 2; Lloyd, Anderson and Newton).
 use cvtmesh_ccvt::Ccvt;
 use geometry::Region;
-use mesh::{check_conforming, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
 
 fn run(m: &Ccvt, region: &Region, k: usize, seed: u64) -> MeshResult {
     run_capped(m, region, k, seed, 3000)
@@ -120,6 +120,104 @@ fn capped_run_is_reported_as_not_converged() {
     check_conforming(&r.mesh, &region).unwrap();
 }
 
+/// The default is what the command line runs (Algorithm 2 with Newton); the paper's
+/// algorithms keep Lloyd iteration; the constructors differ only in algorithm and solver.
+#[test]
+fn constructors_have_their_documented_settings() {
+    use cvtmesh_ccvt::{Algorithm, Solver};
+    let d = Ccvt::default();
+    assert_eq!((d.algorithm, d.solver), (Algorithm::Two, Solver::Newton));
+    assert_eq!(d.name(), "ccvt");
+    assert_eq!(Ccvt::fast(), d);
+    for (m, algorithm, solver, name) in [
+        (Ccvt::algorithm1(), Algorithm::One, Solver::Lloyd, "ccvt1"),
+        (Ccvt::algorithm2(), Algorithm::Two, Solver::Lloyd, "ccvt2"),
+        (
+            Ccvt::anderson(),
+            Algorithm::Two,
+            Solver::Anderson { depth: 5 },
+            "ccvt-anderson",
+        ),
+    ] {
+        assert_eq!(m.name(), name);
+        assert_eq!(
+            m,
+            Ccvt {
+                algorithm,
+                solver,
+                ..Ccvt::default()
+            }
+        );
+    }
+}
+
+/// Settings out of range are refused, by name, before any work (by `mesh`, `generators` and
+/// `generators_from` alike).
+#[test]
+fn settings_out_of_range_are_refused() {
+    let region = Region::builtin("circle").unwrap();
+    let req = MeshRequest::points(88);
+    let base = Ccvt::default();
+    let cases = [
+        (
+            "polygon_tol",
+            Ccvt {
+                polygon_tol: 0.0,
+                ..base.clone()
+            },
+        ),
+        (
+            "polygon_tol",
+            Ccvt {
+                polygon_tol: f64::NAN,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_tol",
+            Ccvt {
+                eps_tol: -1e-2,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_phase_tol",
+            Ccvt {
+                eps_phase_tol: f64::INFINITY,
+                ..base.clone()
+            },
+        ),
+        (
+            "eps_start",
+            Ccvt {
+                eps_start: -0.5,
+                ..base.clone()
+            },
+        ),
+    ];
+    for (name, m) in cases {
+        let e = m.mesh(&region, &req, &mut |_| {}).unwrap_err();
+        assert!(
+            matches!(e, MeshError::InvalidSetting { setting, .. } if setting == name),
+            "{name}: {e:?}"
+        );
+        assert!(e.to_string().contains(name), "{e}");
+        let z = cvtmesh_ccvt::initial_points(&region, 88, cvtmesh_ccvt::Init::Lattice, 1);
+        let e = m
+            .generators_from(&region, &req, z, &mut |_| {})
+            .unwrap_err();
+        assert!(matches!(e, MeshError::InvalidSetting { .. }), "{e:?}");
+    }
+    // Zero is a valid ε-phase tolerance (the request's applies) and ε start (the paper's).
+    assert!(Ccvt {
+        eps_phase_tol: 0.0,
+        eps_start: 0.0,
+        ..base
+    }
+    .validate()
+    .is_ok());
+}
+
 #[test]
 fn too_few_points_for_the_corners_is_an_error() {
     let region = Region::builtin("hex_hole").unwrap();
@@ -127,6 +225,10 @@ fn too_few_points_for_the_corners_is_an_error() {
         .mesh(&region, &MeshRequest::points(8), &mut |_| {})
         .unwrap_err();
     assert!(err.to_string().contains("corners"), "{err}");
+    assert!(
+        matches!(err, MeshError::TooFewPoints { requested: 8, .. }),
+        "{err:?}"
+    );
 }
 
 #[test]
@@ -265,9 +367,9 @@ fn loose_epsilon_phases_leave_the_final_tolerance_alone() {
         .any(|&(_, mv)| mv >= 1e-4));
 }
 
-/// Regression: at the reflex corners of square_two_hex's hexagonal holes, a boundary cell's
-/// centroid projected onto the corner itself, on top of the corner's generator; two generators
-/// were then dropped from the mesh.
+/// At the reflex corners of square_two_hex's hexagonal holes, a boundary cell's centroid can
+/// project onto the corner itself, on top of the corner's generator; it must be kept off the
+/// corner so that no generator is dropped from the mesh.
 #[test]
 fn reflex_corner_projection_keeps_every_generator() {
     let region = Region::builtin("square_two_hex").unwrap();
@@ -444,10 +546,9 @@ fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
     assert!(en1 < en0 * 1.002, "energy over Ω {en1} vs {en0}");
 }
 
-/// Regression: bike_seat's curves are sampled chains. Where a boundary generator's Lloyd
-/// target lay across a chain vertex, Newton's tangent step swung it across and back (the energy
-/// along the piece has a kink there): the constrained phase took 510 / 53 / 229 evaluations
-/// for these runs, now 56 / 38 / 42.
+/// bike_seat's curves are sampled chains. Where a boundary generator's Lloyd target lies across
+/// a chain vertex, the energy along the piece has a kink that a Newton tangent step would swing
+/// across and back; with Lloyd's projection there, the constrained phase stays short.
 #[test]
 fn bends_of_sampled_pieces_do_not_stall_newton() {
     let region = Region::builtin("bike_seat").unwrap();

@@ -94,34 +94,10 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     }
     let size = match (a.points, a.size) {
         (Some(k), _) => Size::Points(k),
-        (None, Some(h)) if h.is_finite() && h > 0.0 => Size::EdgeLength(h),
-        (None, Some(h)) => bail!("--size must be a positive number, got {h}"),
+        (None, Some(h)) => Size::EdgeLength(h),
         (None, None) => bail!("give --points K or --size H"),
     };
-    let k = size.points(&region);
-    if k > MAX_POINTS {
-        bail!("K = {k} is more than this tool meshes ({MAX_POINTS}); use a larger --size or fewer --points");
-    }
-    let needed = region.corners().len() + 3 * region.loops().len();
-    if k < needed {
-        bail!(
-            "K = {k} is too small for region '{}': it has {} corners and {} boundary loops, so at least {needed} vertices are needed{}",
-            region.name(),
-            region.corners().len(),
-            region.loops().len(),
-            if a.size.is_some() { " (the --size is too large for the region)" } else { "" }
-        );
-    }
-    if !(a.tol.is_finite() && a.tol > 0.0) {
-        bail!("--tol must be a positive number, got {}", a.tol);
-    }
-    if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
-        eprintln!(
-            "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
-            method.name()
-        );
-    }
-    let density = inputs::density(a.density.as_deref(), &region)?;
+    let density = inputs::density(a.density.as_deref())?;
     let request = MeshRequest {
         size,
         seed: a.seed,
@@ -129,6 +105,16 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         max_iter: a.max_iter,
         density,
     };
+    let k = request.validate(&region)?;
+    if k > MAX_POINTS {
+        bail!("K = {k} is more than this tool meshes ({MAX_POINTS}); use a larger --size or fewer --points");
+    }
+    if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
+        eprintln!(
+            "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
+            method.name()
+        );
+    }
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else {

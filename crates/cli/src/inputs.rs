@@ -31,36 +31,13 @@ pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
     Ok(name.parse::<Method>()?.mesher())
 }
 
-/// Parse `--density` and check it is finite and non-negative over the region (sampled on a
-/// 200×200 grid of the bounding box, points inside the region).
-pub fn density(expr: Option<&str>, region: &Region) -> Result<Density> {
+/// Parse `--density` (whether it is finite and non-negative on the region is
+/// `MeshRequest::validate`'s to check).
+pub fn density(expr: Option<&str>) -> Result<Density> {
     let Some(text) = expr else {
         return Ok(Density::Uniform);
     };
-    let d = cvtmesh::geometry::expr::density_from_expr(text)
-        .map_err(|e| anyhow!("--density '{text}': {e}"))?;
-    let (lo, hi) = region.bbox();
-    let n = 200;
-    let mut positive = false;
-    for i in 0..=n {
-        for j in 0..=n {
-            let p = lo
-                + (hi - lo)
-                    * cvtmesh::geometry::DVec2::new(i as f64 / n as f64, j as f64 / n as f64);
-            if !region.contains(p) {
-                continue;
-            }
-            let v = d.at(p);
-            if !v.is_finite() || v < 0.0 {
-                bail!("--density '{text}' is {v} at ({}, {}): it must be finite and non-negative on the region", p.x, p.y);
-            }
-            positive |= v > 0.0;
-        }
-    }
-    if !positive {
-        bail!("--density '{text}' is zero everywhere on the region");
-    }
-    Ok(d)
+    cvtmesh::geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))
 }
 
 /// Output kind from the extension.

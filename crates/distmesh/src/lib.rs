@@ -22,16 +22,36 @@
 //!
 //! `request.max_iter` caps the loop (the run then reports `converged = false`); the original has
 //! no cap. A capped run's mesh is built from the points as they are; if they do not resolve ∂Ω
-//! yet (too few points on a hole), the result is an error rather than a non-conforming mesh, and
-//! if the conforming triangulation has to drop points the notes say how many. `move_history` (and `Progress::max_move`) is the termination quantity: the largest
-//! interior move divided by h0; `energy_history` is empty (DistMesh minimises no energy).
+//! yet (too few points on a hole), the result is an error
+//! ([`MeshError::NotConforming`]) rather than a non-conforming
+//! mesh, and if the conforming triangulation has to drop points the notes say how many.
+//! `move_history` (and `Progress::max_move`) is the termination quantity: the largest interior
+//! move divided by h0; `energy_history` is empty (DistMesh minimises no energy).
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 use geometry::{DVec2, Density, Region, Rng};
 use mesh::{MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 
 /// DistMesh with its constants (defaults: the 2004 paper's).
+///
+/// ```
+/// use cvtmesh_distmesh::DistMesh;
+/// use geometry::Region;
+/// use mesh::{check_conforming, MeshRequest, Mesher};
+///
+/// let region = Region::builtin("hex_hole")?; // a hexagon with a hexagonal hole
+/// let result = DistMesh::default().mesh(&region, &MeshRequest::points(200), &mut |_| {})?;
+/// assert!(result.converged);
+/// check_conforming(&result.mesh, &region)?;
+/// // K vertices (surplus grid points are removed); a truss equilibrium has no energy.
+/// assert_eq!(result.mesh.num_vertices(), 200);
+/// assert!(result.energy_history.is_empty());
+/// assert!(*result.move_history.last().unwrap() < DistMesh::default().dptol);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct DistMesh {
     /// Internal pressure: desired bar length over actual mean (1.2).
@@ -44,6 +64,30 @@ pub struct DistMesh {
     pub ttol: f64,
     /// Termination tolerance dptol (0.001).
     pub dptol: f64,
+}
+
+impl DistMesh {
+    /// Check the constants: every one positive and finite ([`MeshError::InvalidSetting`]
+    /// otherwise). [`Mesher::mesh`] checks them first.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        for (setting, value) in [
+            ("fscale", self.fscale),
+            ("deltat", self.deltat),
+            ("geps", self.geps),
+            ("ttol", self.ttol),
+            ("dptol", self.dptol),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(MeshError::invalid_setting(
+                    "distmesh",
+                    setting,
+                    value,
+                    "positive and finite",
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for DistMesh {
@@ -213,13 +257,9 @@ impl Mesher for DistMesh {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
-        let k = request.size.points(region);
+        self.validate()?;
+        let k = request.validate(region)?;
         let nfix = region.corners().len();
-        if k < nfix.max(3) {
-            return Err(MeshError::BadRequest(format!(
-                "K = {k} is smaller than the number of corners ({nfix})"
-            )));
-        }
         let density = &request.density;
         let fd = |q: DVec2| region.signed_distance(q);
         let (h0, mut p, evals) = choose_h0(
@@ -401,7 +441,15 @@ impl Mesher for DistMesh {
         };
         if !converged {
             // Mid-run point sets may not resolve ∂Ω yet (a hole with too few points on it).
-            mesh::check_conforming(&mesh, region).map_err(|e| capped(e.to_string()))?;
+            mesh::check_conforming(&mesh, region).map_err(|cause| MeshError::NotConforming {
+                method: "distmesh".into(),
+                cause,
+                hint: format!(
+                    "the run stopped at max_iter = {} before the boundary was resolved; allow \
+                     more iterations",
+                    request.max_iter
+                ),
+            })?;
         }
         if mesh.num_vertices() < n {
             notes.push(format!(

@@ -87,7 +87,13 @@ fn iteration_cap_is_not_convergence() {
                 assert!(!r.converged);
                 check_conforming(&r.mesh, &region).unwrap();
             }
-            Err(e) => assert!(matches!(e, MeshError::Failed { .. }), "{e}"),
+            Err(e) => assert!(
+                matches!(
+                    e,
+                    MeshError::Failed { .. } | MeshError::NotConforming { .. }
+                ),
+                "{e}"
+            ),
         }
     }
 }
@@ -173,12 +179,67 @@ fn initial_grid_is_equilateral_and_inside() {
 }
 
 #[test]
+fn constants_out_of_range_are_refused() {
+    let region = Region::builtin("circle").unwrap();
+    let base = DistMesh::default();
+    for (name, m) in [
+        (
+            "fscale",
+            DistMesh {
+                fscale: 0.0,
+                ..base.clone()
+            },
+        ),
+        (
+            "deltat",
+            DistMesh {
+                deltat: -0.2,
+                ..base.clone()
+            },
+        ),
+        (
+            "geps",
+            DistMesh {
+                geps: f64::NAN,
+                ..base.clone()
+            },
+        ),
+        (
+            "ttol",
+            DistMesh {
+                ttol: f64::INFINITY,
+                ..base.clone()
+            },
+        ),
+        (
+            "dptol",
+            DistMesh {
+                dptol: 0.0,
+                ..base.clone()
+            },
+        ),
+    ] {
+        let e = m
+            .mesh(&region, &MeshRequest::points(88), &mut |_| {})
+            .unwrap_err();
+        assert!(
+            matches!(e, MeshError::InvalidSetting { setting, .. } if setting == name),
+            "{name}: {e:?}"
+        );
+    }
+    assert!(base.validate().is_ok());
+}
+
+#[test]
 fn too_few_points_is_an_error() {
     let region = Region::builtin("square_two_hex").unwrap();
     let e = DistMesh::default()
         .mesh(&region, &MeshRequest::points(4), &mut |_| {})
         .unwrap_err();
-    assert!(matches!(e, MeshError::BadRequest(_)));
+    assert!(
+        matches!(e, MeshError::TooFewPoints { requested: 4, .. }),
+        "{e:?}"
+    );
 }
 
 /// All ten paper regions at the paper's K.

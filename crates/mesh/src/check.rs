@@ -51,6 +51,31 @@ pub enum ConformityError {
 /// non-degenerate triangles whose interiors stay in Ω (sampled along edges with the allowance a
 /// straight chord of a curved piece needs), a manifold with no orphan vertices whose boundary
 /// edges join boundary vertices of one loop, and the region's topology (V − E + F = 1 − holes).
+///
+/// ```
+/// use cvtmesh_mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
+/// use geometry::{DVec2, LoopRole, Piece, Region};
+///
+/// // The unit square, cut into four triangles at its centre.
+/// let c = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
+/// let sides = (0..4).map(|i| Piece::Line { a: c[i], b: c[(i + 1) % 4] }).collect();
+/// let square = Region::new("square", vec![(LoopRole::Outer, sides)], None)?;
+/// let mut points = c.to_vec();
+/// points.push(DVec2::new(0.5, 0.5));
+/// let mut markers: Vec<VertexMarker> =
+///     (0..4).map(|i| VertexMarker::at_corner(&square, i)).collect();
+/// markers.push(VertexMarker::Interior);
+/// let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+/// let mut mesh = Mesh { points, triangles, markers };
+/// check_conforming(&mesh, &square)?;
+///
+/// // A clockwise triangle is refused, and so is a hole in the mesh.
+/// mesh.triangles[1] = [2, 1, 4];
+/// assert!(matches!(check_conforming(&mesh, &square), Err(ConformityError::Degenerate(1, _))));
+/// mesh.triangles.remove(1);
+/// assert!(matches!(check_conforming(&mesh, &square), Err(ConformityError::OpenBoundary(..))));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityError> {
     let eps = 1e-9 * region.diameter();
     if mesh.markers.len() != mesh.points.len() {

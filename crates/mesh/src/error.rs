@@ -1,9 +1,93 @@
+use crate::ConformityError;
+use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 /// Why a method could not produce a mesh, or a mesh file could not be read or written.
+///
+/// The failures a caller can foresee and act on have their own variants (too few points, an
+/// invalid request, a mesh that does not conform, a file problem); [`MeshError::BadRequest`] and
+/// [`MeshError::Failed`] carry the rest as text. Every message names what to change.
+///
+/// ```
+/// use cvtmesh_mesh::{MeshError, MeshRequest};
+/// # use geometry::Region;
+/// let region = Region::builtin("hex_hole")?; // 12 corners on 2 loops
+/// match MeshRequest::points(8).validate(&region) {
+///     Err(MeshError::TooFewPoints { needed, corners, .. }) => {
+///         assert_eq!((needed, corners), (18, 12));
+///     }
+///     other => panic!("expected TooFewPoints, got {other:?}"),
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum MeshError {
-    /// The request cannot be met (e.g. K smaller than the number of corners).
+    /// K is below what the region's boundary needs: a vertex on every corner and at least three
+    /// on every boundary loop.
+    #[error("{}", too_few_points(.region, *.requested, *.needed, *.corners, *.loops, *.edge_length))]
+    TooFewPoints {
+        /// The region's name.
+        region: String,
+        /// The K asked for (derived from the edge length if one was given).
+        requested: usize,
+        /// The smallest K accepted: `corners + 3 · loops`.
+        needed: usize,
+        /// Number of corners of the region.
+        corners: usize,
+        /// Number of boundary loops (1 + holes).
+        loops: usize,
+        /// The edge length K was derived from, if the size was given as one.
+        edge_length: Option<f64>,
+    },
+    /// The convergence tolerance is not a positive finite number.
+    #[error("the tolerance (--tol) must be a positive finite number, got {0}")]
+    InvalidTolerance(f64),
+    /// The iteration cap is zero.
+    #[error("the iteration cap (--max-iter) must be at least 1")]
+    ZeroMaxIter,
+    /// The target edge length is not a positive finite number.
+    #[error("the edge length (--size) must be a positive finite number, got {0}")]
+    InvalidEdgeLength(f64),
+    /// The density is negative or not finite somewhere in the region.
+    #[error(
+        "the density is {value} at ({x}, {y}): it must be finite and non-negative on the region"
+    )]
+    InvalidDensity {
+        /// x of the offending point.
+        x: f64,
+        /// y of the offending point.
+        y: f64,
+        /// The density there.
+        value: f64,
+    },
+    /// The density is zero at every sampled point of the region.
+    #[error("the density is zero everywhere on the region")]
+    ZeroDensity,
+    /// A method's own setting is out of its range.
+    #[error("{method}: {setting} must be {expected}, got {value}")]
+    InvalidSetting {
+        /// Method name.
+        method: String,
+        /// The setting (field) name.
+        setting: &'static str,
+        /// Its value.
+        value: f64,
+        /// The range it must be in.
+        expected: &'static str,
+    },
+    /// A method's mesh does not conform to the region.
+    #[error("{method}: the mesh does not conform to the region ({cause}); {hint}")]
+    NotConforming {
+        /// Method name.
+        method: String,
+        /// The first conformity failure found (its text is part of this error's message, so it
+        /// is not also returned by `Error::source`).
+        cause: ConformityError,
+        /// What to change (e.g. "try a larger K").
+        hint: String,
+    },
+    /// Another request a method cannot meet (message says which and why).
     #[error("{0}")]
     BadRequest(String),
     /// The method failed (message says where and why).
@@ -17,12 +101,89 @@ pub enum MeshError {
     /// A region problem.
     #[error(transparent)]
     Geometry(#[from] geometry::GeometryError),
-    /// File input/output.
-    #[error("{path}: {message}")]
+    /// A mesh file's content or name is not acceptable (unknown extension, a malformed line, a
+    /// mesh that cannot be written).
+    #[error("{}: {message}", .path.display())]
     File {
         /// The file.
-        path: String,
+        path: PathBuf,
         /// What is wrong.
         message: String,
     },
+    /// The operating system refused to read or write a mesh file.
+    #[error("{}: cannot {action}: {cause}", .path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What was being done ("read", "write", ...).
+        action: String,
+        /// The operating system's error (its text is part of this error's message, so it is not
+        /// also returned by `Error::source`).
+        cause: std::io::Error,
+    },
+}
+
+impl MeshError {
+    /// The file a [`MeshError::File`] or [`MeshError::Io`] error is about.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            MeshError::File { path, .. } | MeshError::Io { path, .. } => Some(path),
+            _ => None,
+        }
+    }
+
+    /// The error for a method setting `setting` of `method` whose `value` is not `expected`
+    /// (e.g. "positive and finite").
+    pub fn invalid_setting(
+        method: &str,
+        setting: &'static str,
+        value: f64,
+        expected: &'static str,
+    ) -> MeshError {
+        MeshError::InvalidSetting {
+            method: method.to_string(),
+            setting,
+            value,
+            expected,
+        }
+    }
+
+    /// True for errors that the request alone causes (checked by
+    /// [`MeshRequest::validate`](crate::MeshRequest::validate) before any work is done).
+    pub fn is_invalid_request(&self) -> bool {
+        matches!(
+            self,
+            MeshError::TooFewPoints { .. }
+                | MeshError::InvalidTolerance(_)
+                | MeshError::ZeroMaxIter
+                | MeshError::InvalidEdgeLength(_)
+                | MeshError::InvalidDensity { .. }
+                | MeshError::ZeroDensity
+        )
+    }
+}
+
+fn too_few_points(
+    region: &str,
+    requested: usize,
+    needed: usize,
+    corners: usize,
+    loops: usize,
+    edge_length: Option<f64>,
+) -> String {
+    let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let mut s = format!(
+        "K = {requested} is too small for region '{region}': it has {} and {}, so at least \
+         {needed} vertices are needed (one on every corner, three on every loop)",
+        plural(corners, "corner"),
+        plural(loops, "boundary loop"),
+    );
+    match edge_length {
+        Some(h) => s += &format!("; the edge length {h} (--size) is too large for the region"),
+        None => s += "; ask for more points",
+    }
+    if corners > 0 {
+        s += ", or keep only the sharper corners with --corner-angle";
+    }
+    s
 }

@@ -1,6 +1,8 @@
 //! The one triangle mesh type every method produces, the [`Mesher`] interface they share,
 //! the conformity check every mesh must pass, and mesh file formats.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod check;
 mod error;

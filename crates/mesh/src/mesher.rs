@@ -1,5 +1,5 @@
 use crate::{Mesh, MeshError};
-use geometry::{Density, Region};
+use geometry::{DVec2, Density, Region};
 
 /// How fine the mesh should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,6 +22,32 @@ impl Size {
 
 /// What every method is asked for. Defaults: seed 1, tolerance 1e-4, at most 10 000
 /// iterations (Lloyd-type methods converge linearly; CCVT applies the cap per phase), ρ ≡ 1.
+///
+/// Build one with [`MeshRequest::points`] or [`MeshRequest::edge_length`] and the builder
+/// methods; [`MeshRequest::validate`] refuses what no method can do, before any work is done:
+///
+/// ```
+/// use cvtmesh_mesh::{MeshError, MeshRequest};
+/// use geometry::Region;
+///
+/// let circle = Region::builtin("circle")?; // radius 1
+/// let request = MeshRequest::points(500).seed(7).tol(1e-5).max_iter(200);
+/// assert_eq!((request.seed, request.tol, request.max_iter), (7, 1e-5, 200));
+/// assert_eq!(request.validate(&circle)?, 500);
+///
+/// // An edge length gives K from the region's area; the mean spacing comes back close to it.
+/// let by_size = MeshRequest::edge_length(0.1);
+/// let k = by_size.validate(&circle)?;
+/// assert!((350..380).contains(&k));
+/// assert!((by_size.spacing(&circle) - 0.1).abs() < 1e-3);
+///
+/// // Refused: a tolerance of 0 (never met), and a size too coarse for the region.
+/// let e = request.clone().tol(0.0).validate(&circle).unwrap_err();
+/// assert!(matches!(e, MeshError::InvalidTolerance(_)));
+/// let e = MeshRequest::edge_length(5.0).validate(&circle).unwrap_err();
+/// assert!(matches!(e, MeshError::TooFewPoints { needed: 3, .. }));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct MeshRequest {
     /// Target size.
@@ -47,6 +73,14 @@ impl MeshRequest {
             density: Density::Uniform,
         }
     }
+    /// A request for a target edge length `h` (K from the region's area, see
+    /// [`Size::EdgeLength`]) with the documented defaults.
+    pub fn edge_length(h: f64) -> Self {
+        MeshRequest {
+            size: Size::EdgeLength(h),
+            ..MeshRequest::points(0)
+        }
+    }
     /// Builder: seed.
     pub fn seed(mut self, seed: u64) -> Self {
         self.seed = seed;
@@ -67,10 +101,85 @@ impl MeshRequest {
         self.density = d;
         self
     }
+    /// Check the request against `region` before any work is done, and return K.
+    ///
+    /// Refused, in this order: an edge length that is not a positive finite number
+    /// ([`MeshError::InvalidEdgeLength`]); K below `corners + 3 · loops`, a vertex on every
+    /// corner and three on every boundary loop ([`MeshError::TooFewPoints`]); a tolerance that
+    /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
+    /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
+    /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
+    /// 201 × 201 grid over the region's bounding box that lies in the region. Every method
+    /// calls this first.
+    pub fn validate(&self, region: &Region) -> Result<usize, MeshError> {
+        let edge_length = match self.size {
+            Size::EdgeLength(h) if !(h.is_finite() && h > 0.0) => {
+                return Err(MeshError::InvalidEdgeLength(h))
+            }
+            Size::EdgeLength(h) => Some(h),
+            Size::Points(_) => None,
+        };
+        let k = self.size.points(region);
+        let (corners, loops) = (region.corners().len(), region.loops().len());
+        let needed = corners + 3 * loops;
+        if k < needed {
+            return Err(MeshError::TooFewPoints {
+                region: region.name().to_string(),
+                requested: k,
+                needed,
+                corners,
+                loops,
+                edge_length,
+            });
+        }
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(MeshError::InvalidTolerance(self.tol));
+        }
+        if self.max_iter == 0 {
+            return Err(MeshError::ZeroMaxIter);
+        }
+        check_density(&self.density, region)?;
+        Ok(k)
+    }
+
     /// Mean spacing of K generators on |Ω|: the hexagonal-lattice edge √(2|Ω| / (√3 K)).
     pub fn spacing(&self, region: &Region) -> f64 {
         let k = self.size.points(region).max(1) as f64;
         (2.0 * region.area() / (3f64.sqrt() * k)).sqrt()
+    }
+}
+
+/// A density must be finite and non-negative on the region and positive somewhere. It is only
+/// sampled (a function can hide a negative value between grid points); the grid is fine enough
+/// to catch a sign error or a pole of a user formula.
+fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
+    if density.is_uniform() {
+        return Ok(());
+    }
+    const N: usize = 200;
+    let (lo, hi) = region.bbox();
+    let mut positive = false;
+    for i in 0..=N {
+        for j in 0..=N {
+            let p = lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64);
+            if !region.contains(p) {
+                continue;
+            }
+            let value = density.at(p);
+            if !value.is_finite() || value < 0.0 {
+                return Err(MeshError::InvalidDensity {
+                    x: p.x,
+                    y: p.y,
+                    value,
+                });
+            }
+            positive |= value > 0.0;
+        }
+    }
+    if positive {
+        Ok(())
+    } else {
+        Err(MeshError::ZeroDensity)
     }
 }
 
@@ -106,14 +215,224 @@ pub struct MeshResult {
 }
 
 /// A mesh generator: a region and a request in, a conforming mesh out.
+///
+/// Every method of the workspace implements it (`Ccvt`, `DistMesh`, `Refine`, `Meshgen`,
+/// `Vtm`), so a caller can hold any of them as a `Box<dyn Mesher>`. An implementation
+/// validates the request first and reports progress as it goes; this one splits a triangular
+/// region into four by its edge midpoints:
+///
+/// ```
+/// use cvtmesh_mesh::{
+///     check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker,
+/// };
+/// use geometry::{DVec2, LoopRole, Piece, Region};
+///
+/// struct Midpoints;
+///
+/// impl Mesher for Midpoints {
+///     fn name(&self) -> &'static str {
+///         "midpoints"
+///     }
+///     fn mesh(
+///         &self,
+///         region: &Region,
+///         request: &MeshRequest,
+///         progress: &mut dyn FnMut(Progress),
+///     ) -> Result<MeshResult, MeshError> {
+///         let k = request.validate(region)?;
+///         let c: Vec<DVec2> = region.corners().iter().map(|c| c.pos).collect();
+///         if k != 6 || c.len() != 3 {
+///             let why = "midpoints meshes a triangle with K = 6";
+///             return Err(MeshError::BadRequest(why.into()));
+///         }
+///         let points = vec![
+///             c[0], c[1], c[2],
+///             (c[0] + c[1]) / 2.0, (c[1] + c[2]) / 2.0, (c[2] + c[0]) / 2.0,
+///         ];
+///         let markers = points
+///             .iter()
+///             .map(|&p| {
+///                 let b = region.project(p);
+///                 match b.corner {
+///                     Some(i) => VertexMarker::at_corner(region, i),
+///                     None => VertexMarker::on_piece(region, p, b.piece),
+///                 }
+///             })
+///             .collect();
+///         let triangles = vec![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+///         progress(Progress {
+///             iteration: 1,
+///             max_iter: request.max_iter,
+///             energy: f64::NAN,
+///             max_move: 0.0,
+///         });
+///         Ok(MeshResult {
+///             mesh: Mesh { points, triangles, markers },
+///             iterations: 1,
+///             converged: true,
+///             energy_history: Vec::new(),
+///             move_history: vec![0.0],
+///             notes: Vec::new(),
+///         })
+///     }
+/// }
+///
+/// let [a, b, c] = [(0.0, 0.0), (1.0, 0.0), (0.5, 0.75f64.sqrt())].map(|(x, y)| DVec2::new(x, y));
+/// let line = |a, b| Piece::Line { a, b };
+/// let sides = vec![line(a, b), line(b, c), line(c, a)];
+/// let triangle = Region::new("triangle", vec![(LoopRole::Outer, sides)], None)?;
+///
+/// let mesher: Box<dyn Mesher> = Box::new(Midpoints);
+/// let mut reports = 0;
+/// let result = mesher.mesh(&triangle, &MeshRequest::points(6), &mut |p| {
+///     assert!(p.iteration <= p.max_iter);
+///     reports += 1;
+/// })?;
+/// assert_eq!(reports, result.iterations);
+/// check_conforming(&result.mesh, &triangle)?;
+/// assert!((result.mesh.min_angle_deg() - 60.0).abs() < 1e-9);
+/// // 3 corners on 1 loop need K ≥ 6: refused by `validate` before any work.
+/// let e = mesher.mesh(&triangle, &MeshRequest::points(5), &mut |_| {}).unwrap_err();
+/// assert!(matches!(e, MeshError::TooFewPoints { needed: 6, .. }));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub trait Mesher: Sync {
     /// Short name used on the command line and in tables (`ccvt2`, `distmesh`, ...).
     fn name(&self) -> &'static str;
-    /// Mesh `region`. `progress` is called once per iteration.
+    /// Mesh `region`, after [`MeshRequest::validate`] accepted `request`. `progress` is called
+    /// as iterations complete; for CCVT the iteration number restarts with each phase, and
+    /// evaluations a safeguard rejects count in [`MeshResult::iterations`] without a report.
     fn mesh(
         &self,
         region: &Region,
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    fn region(name: &str) -> Region {
+        Region::builtin(name).unwrap()
+    }
+
+    #[test]
+    fn a_valid_request_gives_its_k() {
+        let circle = region("circle");
+        assert_eq!(MeshRequest::points(88).validate(&circle).unwrap(), 88);
+        let by_size = MeshRequest {
+            size: Size::EdgeLength(0.1),
+            ..MeshRequest::points(0)
+        };
+        let k = by_size.validate(&circle).unwrap();
+        assert_eq!(k, by_size.size.points(&circle));
+        assert!(k > 300, "{k}");
+    }
+
+    #[test]
+    fn too_few_points_names_the_corners_and_the_flag() {
+        let r = region("hex_hole");
+        let (corners, loops) = (r.corners().len(), r.loops().len());
+        let needed = corners + 3 * loops;
+        let e = MeshRequest::points(needed - 1).validate(&r).unwrap_err();
+        match &e {
+            MeshError::TooFewPoints {
+                requested,
+                needed: n,
+                corners: c,
+                loops: l,
+                edge_length: None,
+                ..
+            } => assert_eq!(
+                (*requested, *n, *c, *l),
+                (needed - 1, needed, corners, loops)
+            ),
+            other => panic!("{other:?}"),
+        }
+        let text = e.to_string();
+        assert!(text.contains("too small") && text.contains(&format!("{corners} corners")));
+        assert!(text.contains("--corner-angle"), "{text}");
+        assert!(e.is_invalid_request());
+        assert_eq!(MeshRequest::points(needed).validate(&r).unwrap(), needed);
+    }
+
+    #[test]
+    fn an_edge_length_too_large_for_the_region_is_too_few_points() {
+        let e = MeshRequest::edge_length(5.0)
+            .validate(&region("circle"))
+            .unwrap_err();
+        match &e {
+            MeshError::TooFewPoints {
+                requested,
+                needed,
+                edge_length,
+                ..
+            } => assert_eq!((*requested, *needed, *edge_length), (0, 3, Some(5.0))),
+            other => panic!("{other:?}"),
+        }
+        assert!(e.to_string().contains("--size"), "{e}");
+    }
+
+    #[test]
+    fn an_edge_length_must_be_positive_and_finite() {
+        let circle = region("circle");
+        for h in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+            let e = MeshRequest {
+                size: Size::EdgeLength(h),
+                ..MeshRequest::points(0)
+            }
+            .validate(&circle)
+            .unwrap_err();
+            assert!(
+                matches!(e, MeshError::InvalidEdgeLength(x) if x.to_bits() == h.to_bits()),
+                "{h}: {e:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_tolerance_must_be_positive_and_finite() {
+        let circle = region("circle");
+        for tol in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
+            let e = MeshRequest::points(50)
+                .tol(tol)
+                .validate(&circle)
+                .unwrap_err();
+            assert!(matches!(e, MeshError::InvalidTolerance(_)), "{tol}: {e:?}");
+            assert!(e.to_string().contains("--tol"), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_iteration_cap_must_be_at_least_one() {
+        let e = MeshRequest::points(50)
+            .max_iter(0)
+            .validate(&region("circle"))
+            .unwrap_err();
+        assert!(matches!(e, MeshError::ZeroMaxIter), "{e:?}");
+        assert!(MeshRequest::points(50)
+            .max_iter(1)
+            .validate(&region("circle"))
+            .is_ok());
+    }
+
+    #[test]
+    fn the_density_must_be_non_negative_finite_and_not_zero() {
+        let square = region("square_hole");
+        let density =
+            |f: fn(DVec2) -> f64| MeshRequest::points(100).density(Density::Function(Arc::new(f)));
+        let e = density(|p| p.x - 0.5).validate(&square).unwrap_err();
+        match e {
+            MeshError::InvalidDensity { x, value, .. } => assert!(value < 0.0 && x < 0.5),
+            other => panic!("{other:?}"),
+        }
+        let e = density(|_| f64::NAN).validate(&square).unwrap_err();
+        assert!(matches!(e, MeshError::InvalidDensity { value, .. } if value.is_nan()));
+        let e = density(|_| 0.0).validate(&square).unwrap_err();
+        assert!(matches!(e, MeshError::ZeroDensity), "{e:?}");
+        assert_eq!(density(|p| 1.0 + p.x * p.x).validate(&square).unwrap(), 100);
+    }
 }

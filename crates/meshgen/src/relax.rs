@@ -944,27 +944,8 @@ pub fn relax(
     progress: &mut dyn FnMut(Progress),
     targets: &TargetFn,
 ) -> Result<MeshResult, MeshError> {
-    let k = request.size.points(region);
+    let k = request.validate(region)?;
     let h = request.spacing(region);
-    if !(request.tol.is_finite() && request.tol >= 0.0) {
-        return Err(MeshError::BadRequest(format!(
-            "tolerance must be finite and ≥ 0, got {}",
-            request.tol
-        )));
-    }
-    if !(h.is_finite() && h > 0.0) {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} gives no usable spacing for region '{}'",
-            region.name()
-        )));
-    }
-    if k < 3 || k < region.corners().len() {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} is below the {} corners (and at least 3) of region '{}'",
-            region.corners().len().max(3),
-            region.name()
-        )));
-    }
     let fail = |e: MeshError, when: &str| match e {
         MeshError::Failed { message, .. } => MeshError::Failed {
             method: method.into(),
@@ -1030,9 +1011,10 @@ pub fn relax(
         .map_err(|e| fail(e, "final mesh"))?;
     // Too few points cannot follow a thin or strongly curved part of the boundary: say so
     // rather than hand back a mesh that leaves the region.
-    mesh::check_conforming(&result.mesh, region).map_err(|e| MeshError::Failed {
+    mesh::check_conforming(&result.mesh, region).map_err(|cause| MeshError::NotConforming {
         method: method.into(),
-        message: format!("the mesh with K = {k} does not conform ({e}); try a larger K"),
+        cause,
+        hint: format!("K = {k} is too few points to follow the boundary; try a larger K"),
     })?;
     Ok(result)
 }

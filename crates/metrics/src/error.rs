@@ -4,6 +4,7 @@ use thiserror::Error;
 /// well-formed input (duplicate points, zero-area triangles, empty sampled cells) is not an
 /// error: the affected measures are then `inf` (or `NaN` where a ratio is 0/0).
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum MetricsError {
     /// γ_k needs at least two points.
     #[error("the quality measures need at least 2 points, got {0}")]
@@ -42,9 +43,12 @@ pub enum MetricsError {
     /// |Ω| must be positive and finite.
     #[error("region area must be positive and finite, got {0}")]
     BadArea(f64),
-    /// Invalid Monte-Carlo parameters.
-    #[error("bad sampling parameters: {0}")]
-    BadSampleParams(String),
+    /// The Monte-Carlo estimate was asked for zero samples.
+    #[error("bad sampling parameters: samples must be positive")]
+    NoSamples,
+    /// The Monte-Carlo coordinate scale is not a positive finite number.
+    #[error("bad sampling parameters: scale must be positive and finite, got {0}")]
+    BadScale(f64),
     /// Rejection sampling found (almost) no points of the region in its bounding box.
     #[error("rejection sampling accepted only {accepted} of {tried} points; is the region empty?")]
     SamplingFailed {

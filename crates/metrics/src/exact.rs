@@ -8,9 +8,10 @@ use tessellation::{clipped_cells, Cells, Delaunay};
 /// Relative chord tolerance used to polygonize the region for the exact Voronoi measures:
 /// the boundary is approximated to within `POLYGON_TOL · (|Ω|/K)^{1/2}`, i.e. relative to the
 /// mesh spacing, so that a boundary cell's area, moments and h_k carry a relative error of
-/// order 1e-6 at any K (a tolerance relative to the region's diameter would not: at
-/// K = 10⁵ in the unit circle, 1e-6·diameter moves h and ν by ~1e-3). Dividing it by 100
-/// changes the measures by less than 1e-4 relative (the `converged_in_polygon_tolerance` test).
+/// order 1e-6 at any K (a tolerance relative to the region's diameter would not: its error
+/// relative to the cells grows with K). Dividing it by 100 changes the measures by less than
+/// 1e-4 relative (checked by the `converged_in_polygon_tolerance` test).
+// At K = 10⁵ in the unit circle, a tolerance of 1e-6·diameter moves h and ν by ~1e-3.
 pub const POLYGON_TOL: f64 = 1e-6;
 
 /// The 12 measures of a mesh, computed exactly as Section 3 defines them.
@@ -21,6 +22,38 @@ pub const POLYGON_TOL: f64 = 1e-6;
 ///   included, as the paper states for ν;
 /// - α, β, q, p from the mesh's own triangles (K̃ = `mesh.triangles.len()`);
 /// - |Ω| = `region.area()` (exact, not the polygon's area).
+///
+/// A mesh of equal equilateral triangles is ideal for the triangle measures: an equilateral
+/// triangle cut into four by its edge midpoints has α = β = q = p = 0 and λ = γ = 0.
+///
+/// ```
+/// use geometry::{DVec2, LoopRole, Piece, Region};
+/// use mesh::{Mesh, VertexMarker};
+///
+/// let c = [(0.0, 0.0), (1.0, 0.0), (0.5, 0.75f64.sqrt())].map(|(x, y)| DVec2::new(x, y));
+/// let sides = (0..3).map(|i| Piece::Line { a: c[i], b: c[(i + 1) % 3] }).collect();
+/// let triangle = Region::new("triangle", vec![(LoopRole::Outer, sides)], None)?;
+/// let mut points = c.to_vec();
+/// points.extend((0..3).map(|i| (c[i] + c[(i + 1) % 3]) / 2.0));
+/// let markers = points
+///     .iter()
+///     .map(|&p| match triangle.project(p).corner {
+///         Some(i) => VertexMarker::at_corner(&triangle, i),
+///         None => VertexMarker::on_piece(&triangle, p, triangle.project(p).piece),
+///     })
+///     .collect();
+/// let triangles = vec![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+/// let mesh = Mesh { points, triangles, markers };
+///
+/// let m = cvtmesh_metrics::measures(&mesh, &triangle)?;
+/// assert_eq!((m.k, m.k_tilde), (6, 4));
+/// for value in [m.alpha, m.beta, m.q, m.p, m.lambda, m.gamma] {
+///     assert!(value.abs() < 1e-12, "{m:?}");
+/// }
+/// // The Voronoi cells of corner and midpoint vertices differ in area.
+/// assert!(m.nu > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn measures(mesh: &Mesh, region: &Region) -> Result<Measures, MetricsError> {
     check_points(&mesh.points)?;
     check_triangles(mesh.points.len(), &mesh.triangles)?;

@@ -21,6 +21,8 @@
 //! cells including boundary ones); [`sampled_measures`] estimates the cell-based ones by
 //! Monte-Carlo sampling, which is how the paper's tables appear to have been computed.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
 
 mod error;
 mod exact;

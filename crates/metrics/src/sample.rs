@@ -52,15 +52,10 @@ pub fn sampled_measures(
     params: &SampleParams,
 ) -> Result<Measures, MetricsError> {
     if params.samples == 0 {
-        return Err(MetricsError::BadSampleParams(
-            "samples must be positive".into(),
-        ));
+        return Err(MetricsError::NoSamples);
     }
     if !(params.scale > 0.0 && params.scale.is_finite()) {
-        return Err(MetricsError::BadSampleParams(format!(
-            "scale must be positive and finite, got {}",
-            params.scale
-        )));
+        return Err(MetricsError::BadScale(params.scale));
     }
     check_points(&mesh.points)?;
     check_triangles(mesh.points.len(), &mesh.triangles)?;

@@ -161,18 +161,14 @@ impl Refine {
         })
     }
 
-    fn check(&self, region: &Region, k: usize) -> Result<(), MeshError> {
+    fn check(&self) -> Result<(), MeshError> {
         if !(self.min_angle_deg.is_finite() && (0.0..60.0).contains(&self.min_angle_deg)) {
-            return Err(MeshError::BadRequest(format!(
-                "minimum angle must be in [0, 60) degrees, got {}",
-                self.min_angle_deg
-            )));
-        }
-        if k < region.corners().len().max(3) {
-            return Err(MeshError::BadRequest(format!(
-                "K = {k} is smaller than the number of corners ({})",
-                region.corners().len()
-            )));
+            return Err(MeshError::invalid_setting(
+                "refine",
+                "min_angle_deg",
+                self.min_angle_deg,
+                "in [0, 60) degrees",
+            ));
         }
         Ok(())
     }
@@ -191,8 +187,8 @@ impl Mesher for Refine {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
-        let k = request.size.points(region);
-        self.check(region, k)?;
+        let k = request.validate(region)?;
+        self.check()?;
         let budget = 10 * k + 1000;
         let angle_note = format!(
             "minimum angle bound {}°, off-centers {}",

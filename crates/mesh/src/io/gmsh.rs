@@ -1,7 +1,7 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
-    edges_by_loop, file_err, markers_from_topology, orient_ccw, validate_for_writing, write_files,
-    Producer, Tokens, F,
+    edges_by_loop, file_err, io_err, markers_from_topology, orient_ccw, validate_for_writing,
+    write_files, Producer, Tokens, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -126,7 +126,7 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 /// a vertex on a line element whose physical group is named `"loop<i>"` (as [`write_gmsh`]
 /// names them) is taken from that name.
 pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
-    let bytes = std::fs::read(path).map_err(|e| file_err(path, format!("cannot read: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     parse(&String::from_utf8_lossy(&bytes), path)
 }
 

@@ -177,6 +177,11 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
             path,
             message: format!("{message} (the triangles of {})", node_path.display()),
         },
+        MeshError::Io { path, cause, .. } => MeshError::Io {
+            path,
+            action: format!("read the triangles of {}", node_path.display()),
+            cause,
+        },
         e => e,
     })?;
     let (points, base, exact) = parse_node(&node_text, node_path)?;

@@ -1,0 +1,336 @@
+//! The fixed-point map of one phase and what the solvers share: the phase's inputs, the
+//! triangulation and cells kept from one evaluation to the next, the labels of Section 2.2.3,
+//! the progress trace and the time profile.
+use crate::params::Solver;
+use crate::sublevel::Sublevel;
+use geometry::{DVec2, Density, PieceId, Polygon, Region};
+use mesh::Progress;
+use rayon::prelude::*;
+use std::time::Instant;
+use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay, DomainGrid};
+
+/// Wall-clock seconds spent in each part of the iteration, summed over all iterations.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Profile {
+    /// Delaunay triangulation of the generators.
+    pub triangulation: f64,
+    /// Clipped Voronoi cells with their moments and the energy.
+    pub cells: f64,
+    /// Labels, projections onto pieces and corners (Algorithm 1, steps 3–6).
+    pub projection: f64,
+    /// Largest move and the convergence test.
+    pub convergence: f64,
+    /// Anderson mixing and re-constraining (zero for Lloyd and Newton).
+    pub acceleration: f64,
+    /// Newton: the Hessian, its restriction to the allowed moves and the candidate.
+    pub hessian: f64,
+    /// Newton: the conjugate-gradient solves.
+    pub linear_solve: f64,
+    /// Evaluations of the map (iterations, including rejected accelerated steps).
+    pub evaluations: usize,
+    /// Accelerated steps rejected because they raised the energy.
+    pub rejected: usize,
+    /// Anderson histories dropped because a label (interior/piece/corner) changed.
+    pub label_resets: usize,
+    /// Conjugate-gradient iterations of Newton's linear solves (zero for Lloyd and Anderson).
+    pub linear_iterations: usize,
+    /// Evaluations whose triangulation was the previous one repaired by flips (the rest were
+    /// built afresh).
+    pub flipped: usize,
+    /// Evaluations of active-set steps (included in `evaluations`): only a few generators
+    /// moved, and only the cells around them were recomputed.
+    pub local_evaluations: usize,
+    /// Generators moved by active-set steps, summed over those steps.
+    pub local_moved: usize,
+}
+
+impl Profile {
+    /// Seconds of all timed parts.
+    pub fn total(&self) -> f64 {
+        self.triangulation
+            + self.cells
+            + self.projection
+            + self.convergence
+            + self.acceleration
+            + self.hessian
+            + self.linear_solve
+    }
+}
+
+pub(crate) fn lap(t: &mut Instant) -> f64 {
+    let now = Instant::now();
+    let s = now.duration_since(*t).as_secs_f64();
+    *t = now;
+    s
+}
+
+/// What a generator is constrained to in the current iteration (Section 2.2.3 labels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Role {
+    /// Interior region: moves to its centroid.
+    Interior,
+    /// Boundary region: moves to the projection of its centroid onto this piece.
+    Boundary(PieceId),
+    /// Corner region: sits on this corner.
+    Corner(usize),
+}
+
+/// The triangulation and cells of the current iterate, in memory kept from one iteration to
+/// the next (at 10⁶ generators, fresh ones would fault in hundreds of MB of new pages per
+/// iteration).
+pub struct Work {
+    pub(crate) del: Delaunay,
+    pub(crate) cells: Cells,
+    buffer: CellsBuffer,
+    /// The domain's boundary grid for partial updates, and the vertex count it was built for.
+    grid: Option<(DomainGrid, usize)>,
+}
+
+impl Work {
+    /// For a phase on `domain`: the triangulation is framed around it, so that rebuilds after
+    /// small moves repair it by flips.
+    pub(crate) fn new(domain: &Polygon) -> Work {
+        let (lo, hi) = domain.bbox();
+        Work {
+            del: Delaunay::framed(lo, hi),
+            cells: Cells { cells: Vec::new() },
+            buffer: CellsBuffer::default(),
+            grid: None,
+        }
+    }
+
+    /// Keep the triangulation (and the memory) for the next phase, on `domain`: its first
+    /// evaluation then repairs the triangulation of the previous phase's last iterate instead of
+    /// building one afresh.
+    pub(crate) fn retarget(&mut self, domain: &Polygon) {
+        let (lo, hi) = domain.bbox();
+        self.del.set_frame_box(lo, hi);
+        self.grid = None;
+    }
+
+    /// The triangulation, the cells and the domain's grid for partial cell and Hessian updates
+    /// (built as a full cells pass builds it, so updated cells are bit-identical).
+    pub(crate) fn parts(&mut self, domain: &Polygon) -> (&Delaunay, &mut Cells, &DomainGrid) {
+        let nv = self.del.num_vertices();
+        if self.grid.as_ref().is_none_or(|g| g.1 != nv) {
+            self.grid = Some((DomainGrid::new(domain, nv), nv));
+        }
+        let grid = &self.grid.as_ref().expect("just built").0;
+        (&self.del, &mut self.cells, grid)
+    }
+}
+
+/// The fixed-point map at one iterate (its cells are in the `Work`): energy, labels and the
+/// next positions.
+pub struct Step {
+    pub energy: f64,
+    pub roles: Vec<Role>,
+    pub targets: Vec<DVec2>,
+}
+
+/// Inputs shared by every iteration of a phase.
+pub struct Phase<'a> {
+    pub region: &'a Region,
+    /// The tessellated domain: Ω (Algorithm 1) or Ω_ε (Algorithm 2), polygonized.
+    pub domain: &'a Polygon,
+    /// Where an interior generator may sit: Ω itself when constrained (signed distance < 0,
+    /// exact), else a part of the domain polygon (signed distance < ε − 2·chord tolerance).
+    pub inside: &'a Sublevel<'a>,
+    pub density: &'a Density,
+    /// Algorithm 1's labels and projections (false: ordinary CVT of the domain).
+    pub constrained: bool,
+    pub solver: Solver,
+    pub tol: f64,
+    pub max_iter: usize,
+    pub spacing: f64,
+    /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
+    pub active_from: usize,
+}
+
+/// Result of a phase.
+pub struct PhaseResult {
+    pub z: Vec<DVec2>,
+    pub roles: Vec<Role>,
+    pub iterations: usize,
+    pub converged: bool,
+}
+
+/// Evaluate the map at `z`: Voronoi cells clipped to the domain → centroids → labels →
+/// projection of boundary centroids onto their own piece, corners to corners.
+pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> Step {
+    let mut t = Instant::now();
+    prof.evaluations += 1;
+    work.del.rebuild(z);
+    let del = &work.del;
+    prof.flipped += usize::from(del.flipped());
+    prof.triangulation += lap(&mut t);
+    clipped_cells_into(
+        z,
+        del,
+        phase.domain,
+        phase.density,
+        &mut work.cells,
+        &mut work.buffer,
+    );
+    let cells = &work.cells;
+    let energy = cells.energy();
+    prof.cells += lap(&mut t);
+    let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) =
+        cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip();
+    if phase.constrained {
+        assign_corners(phase.region, z, del, &mut roles, &mut targets);
+    }
+    prof.projection += lap(&mut t);
+    Step {
+        energy,
+        roles,
+        targets,
+    }
+}
+
+/// The map at one cell: its label and where its generator goes (the centroid; for a boundary
+/// cell of a constrained phase its projection onto the nearest piece the cell touches).
+pub(crate) fn map_cell(phase: &Phase, cell: &tessellation::Cell) -> (Role, DVec2) {
+    let c = cell.mass_centroid;
+    if !phase.constrained {
+        return (Role::Interior, c);
+    }
+    let region = phase.region;
+    if cell.on_boundary() {
+        // Section 2.3: of the projections onto the pieces the cell touches, the nearest.
+        let (j, best) = cell
+            .pieces
+            .iter()
+            .map(|&j| (j, region.project_onto_piece(c, j)))
+            .min_by(|a, b| a.1.distance.total_cmp(&b.1.distance))
+            .expect("boundary cell has a piece");
+        match best.corner {
+            Some(corner) => (
+                Role::Boundary(j),
+                off_corner(region, corner, j, c, phase.spacing),
+            ),
+            None => (Role::Boundary(j), best.point),
+        }
+    } else if phase.inside.contains(c) || !c.is_finite() {
+        (Role::Interior, c)
+    } else {
+        // Interior centroids of Ω_ε may fall outside Ω (or on ∂Ω); such a cell behaves as a
+        // boundary cell (its generator must stay in Ω̄ for the mesh).
+        let sd = region.signed_distance(c);
+        if sd > 0.0 {
+            let bp = region.project(c);
+            (Role::Boundary(bp.piece), bp.point)
+        } else {
+            (Role::Interior, c)
+        }
+    }
+}
+
+/// A centroid beyond the end of its piece (in the normal cone of a reflex corner) projects onto
+/// the corner itself, where the corner's own generator sits: the two would coincide and one cell
+/// would vanish. Section 2.3 allows any constrained centroid in that case; keep the generator on
+/// its piece at the centroid's distance from the corner, clamped to [0.1, 0.5] of the spacing
+/// (and to half the piece).
+fn off_corner(
+    region: &Region,
+    corner: usize,
+    piece: PieceId,
+    centroid: DVec2,
+    spacing: f64,
+) -> DVec2 {
+    let c = &region.corners()[corner];
+    let p = &region.pieces()[piece];
+    let (t_start, t_end) = p.end_tangents();
+    let into_piece = if c.piece_out == piece {
+        t_start
+    } else {
+        -t_end
+    };
+    let d = (centroid - c.pos)
+        .length()
+        .clamp(0.1 * spacing, 0.5 * spacing)
+        .min(0.5 * p.length());
+    region
+        .project_onto_piece(c.pos + into_piece * d, piece)
+        .point
+}
+
+/// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
+/// corners share a nearest generator (too coarse), the next-nearest free neighbour takes it.
+pub(crate) fn assign_corners(
+    region: &Region,
+    z: &[DVec2],
+    del: &Delaunay,
+    roles: &mut [Role],
+    targets: &mut [DVec2],
+) {
+    for (ci, c) in region.corners().iter().enumerate() {
+        let mut k = del.nearest(c.pos);
+        if matches!(roles[k], Role::Corner(_)) {
+            let free = del
+                .neighbors(k)
+                .into_iter()
+                .filter(|&j| !matches!(roles[j], Role::Corner(_)))
+                .min_by(|&a, &b| (z[a] - c.pos).length().total_cmp(&(z[b] - c.pos).length()));
+            match free {
+                Some(j) => k = j,
+                None => continue,
+            }
+        }
+        roles[k] = Role::Corner(ci);
+        targets[k] = c.pos;
+    }
+}
+
+/// Largest |a_k − b_k| (a parallel max: exact and independent of the thread count); infinite
+/// if any move is NaN, so that a non-finite centroid never passes the convergence test.
+fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
+    a.par_iter()
+        .zip(b)
+        .map(|(p, q)| {
+            let d = (*p - *q).length_squared();
+            if d.is_nan() {
+                f64::INFINITY
+            } else {
+                d
+            }
+        })
+        .reduce(|| 0.0, f64::max)
+        .sqrt()
+}
+
+/// What every phase reports: energy and relative largest move per iteration, progress, and
+/// where the time went.
+pub struct Trace<'a> {
+    /// CVT energy per iteration.
+    pub energies: Vec<f64>,
+    /// Largest move / spacing per iteration.
+    pub moves: Vec<f64>,
+    /// Called after every iteration.
+    pub progress: &'a mut dyn FnMut(Progress),
+    /// Where the time went.
+    pub prof: Profile,
+}
+
+/// The largest move of the map at `z` (relative to the spacing), appended with the energy to
+/// the histories and reported as progress.
+pub(crate) fn record(
+    phase: &Phase,
+    s: &Step,
+    z: &[DVec2],
+    iterations: usize,
+    trace: &mut Trace,
+) -> f64 {
+    let mut t = Instant::now();
+    let mv = max_move(&s.targets, z) / phase.spacing;
+    trace.energies.push(s.energy);
+    trace.moves.push(mv);
+    trace.prof.convergence += lap(&mut t);
+    (trace.progress)(Progress {
+        iteration: iterations,
+        max_iter: phase.max_iter,
+        energy: s.energy,
+        max_move: mv,
+    });
+    mv
+}
