@@ -47,7 +47,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
         }
         let mv = record(phase, &s, &z, iterations, trace);
         let mut t = Instant::now();
-        if mv < phase.tol || iterations >= phase.max_iter {
+        if mv < phase.tol || iterations >= phase.max_iter || phase.cancelled() {
             let converged = mv < phase.tol;
             let Step { roles, targets, .. } = s;
             return PhaseResult {

@@ -6,6 +6,7 @@ use crate::sublevel::Sublevel;
 use geometry::{DVec2, Density, PieceId, Polygon, Region};
 use mesh::Progress;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay, DomainGrid};
 
@@ -145,6 +146,15 @@ pub struct Phase<'a> {
     pub spacing: f64,
     /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
     pub active_from: usize,
+    /// The request's cancel flag: a phase stops at its next evaluation once it is set.
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+impl Phase<'_> {
+    /// True once the request's cancel flag is set.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
 }
 
 /// Result of a phase.

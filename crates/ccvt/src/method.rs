@@ -314,6 +314,7 @@ impl Ccvt {
                 max_iter: request.max_iter,
                 spacing,
                 active_from,
+                cancel: request.cancel.as_deref(),
             }
         }
         let final_domain = match self.algorithm {
@@ -326,6 +327,7 @@ impl Ccvt {
                         &mut trace,
                     );
                     iterations += r.iterations;
+                    request.check_cancel(self.name(), iterations)?;
                     converged &= r.converged;
                     z = r.z;
                 }
@@ -353,6 +355,7 @@ impl Ccvt {
                         &mut trace,
                     );
                     iterations += r.iterations;
+                    request.check_cancel(self.name(), iterations)?;
                     converged &= r.converged;
                     z = r.z;
                     let boundary: Vec<f64> = work
@@ -388,6 +391,7 @@ impl Ccvt {
             &mut trace,
         );
         iterations += r.iterations;
+        request.check_cancel(self.name(), iterations)?;
         converged &= r.converged;
         let markers: Vec<VertexMarker> =
             r.z.iter()

@@ -104,6 +104,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         tol: a.tol,
         max_iter: a.max_iter,
         density,
+        cancel: None,
     };
     let k = request.validate(&region)?;
     if k > MAX_POINTS {

@@ -371,6 +371,7 @@ impl Mesher for DistMesh {
                 energy: f64::NAN,
                 max_move,
             });
+            request.check_cancel(self.name(), iterations)?;
             if max_move < self.dptol {
                 converged = true;
                 break;

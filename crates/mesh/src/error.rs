@@ -87,6 +87,14 @@ pub enum MeshError {
         /// What to change (e.g. "try a larger K").
         hint: String,
     },
+    /// The request's cancel flag was set ([`MeshRequest::cancel_flag`](crate::MeshRequest::cancel_flag)).
+    #[error("{method}: cancelled after {iterations} iterations")]
+    Cancelled {
+        /// Method name.
+        method: String,
+        /// Iterations run before the flag was seen.
+        iterations: usize,
+    },
     /// Another request a method cannot meet (message says which and why).
     #[error("{0}")]
     BadRequest(String),

@@ -123,7 +123,7 @@ pub fn restore_markers(mesh: &mut Mesh, region: &Region) {
 /// Pieces are [`UNKNOWN_PIECE`] and `loop_param` is NaN.
 pub fn markers_from_topology(points: &[DVec2], triangles: &[[u32; 3]]) -> Vec<VertexMarker> {
     let n = points.len();
-    let edges = boundary_edges(triangles);
+    let edges = crate::types::single_edges(triangles);
     // Union-find over the boundary edges groups vertices into loops.
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(parent: &mut [usize], mut v: usize) -> usize {
@@ -178,67 +178,21 @@ pub fn markers_from_topology(points: &[DVec2], triangles: &[[u32; 3]]) -> Vec<Ve
         .collect()
 }
 
-/// Directed edges of the triangles whose reverse is in no triangle (the mesh boundary, with the
-/// mesh on the left), in triangle order. Uses a per-vertex list of outgoing edges (a few
-/// entries each) rather than hashing every edge, which dominates on million-vertex meshes.
-pub(crate) fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let directed = || {
-        triangles
-            .iter()
-            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-    };
-    let n = triangles
-        .iter()
-        .flatten()
-        .map(|&v| v as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut start = vec![0usize; n + 1];
-    for (a, _) in directed() {
-        start[a as usize + 1] += 1;
-    }
-    for v in 0..n {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut targets = vec![0u32; start[n]];
-    for (a, b) in directed() {
-        targets[fill[a as usize]] = b;
-        fill[a as usize] += 1;
-    }
-    let has_edge = |a: u32, b: u32| targets[start[a as usize]..start[a as usize + 1]].contains(&b);
-    directed().filter(|&(a, b)| !has_edge(b, a)).collect()
-}
-
 /// Boundary edges grouped by loop, each group ordered along the loop parameter of its start
 /// vertex (so that files list edges in boundary order), and the number of loops.
 pub(crate) fn edges_by_loop(mesh: &Mesh) -> (Vec<Vec<(u32, u32)>>, usize) {
-    let loop_of = |v: u32| mesh.markers[v as usize].loop_index();
-    let mut nloops = mesh
+    let edges = mesh.boundary_edges();
+    let nloops = mesh
         .markers
         .iter()
         .filter_map(|m| m.loop_index())
         .map(|l| l + 1)
+        .chain(edges.iter().map(|e| e.loop_index + 1))
         .max()
         .unwrap_or(0);
-    let mut tagged: Vec<(usize, (u32, u32))> = boundary_edges(&mesh.triangles)
-        .into_iter()
-        // An edge joins two vertices of one loop in a conforming mesh; otherwise take any loop
-        // an end point knows, so that no boundary edge is dropped.
-        .map(|(a, b)| (loop_of(a).or(loop_of(b)).unwrap_or(0), (a, b)))
-        .collect();
-    if !tagged.is_empty() {
-        nloops = nloops.max(1);
-    }
-    let param = |v: u32| mesh.markers[v as usize].loop_param().unwrap_or(f64::NAN);
-    tagged.sort_by(|x, y| {
-        x.0.cmp(&y.0)
-            .then(param(x.1 .0).total_cmp(&param(y.1 .0)))
-            .then(x.1.cmp(&y.1))
-    });
     let mut groups = vec![Vec::new(); nloops];
-    for (l, e) in tagged {
-        groups[l].push(e);
+    for e in edges {
+        groups[e.loop_index].push((e.a, e.b));
     }
     (groups, nloops)
 }
@@ -749,7 +703,7 @@ mod tests {
             assert!((b - a).perp_dot(c - a) > 0.0);
         }
         // Every boundary edge joins marked vertices of one loop.
-        for (a, b) in boundary_edges(&m.triangles) {
+        for (a, b) in crate::types::single_edges(&m.triangles) {
             let (la, lb) = (
                 m.markers[a as usize].loop_index(),
                 m.markers[b as usize].loop_index(),

@@ -1,5 +1,7 @@
 use crate::{Mesh, MeshError};
 use geometry::{DVec2, Density, Region};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// How fine the mesh should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,6 +62,10 @@ pub struct MeshRequest {
     pub max_iter: usize,
     /// Density ρ.
     pub density: Density,
+    /// Set from another thread (a Ctrl-C handler, a progress callback, a user interface) to
+    /// stop a run: every method checks it once per iteration and then returns
+    /// [`MeshError::Cancelled`].
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl MeshRequest {
@@ -71,6 +77,7 @@ impl MeshRequest {
             tol: 1e-4,
             max_iter: 10_000,
             density: Density::Uniform,
+            cancel: None,
         }
     }
     /// A request for a target edge length `h` (K from the region's area, see
@@ -100,6 +107,54 @@ impl MeshRequest {
     pub fn density(mut self, d: Density) -> Self {
         self.density = d;
         self
+    }
+    /// Builder: a flag that stops the run when set (see [`MeshRequest::cancel`]).
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{MeshError, MeshRequest, Mesher};
+    /// use std::sync::{atomic::{AtomicBool, Ordering}, Arc};
+    /// # struct Count;
+    /// # impl Mesher for Count {
+    /// #     fn name(&self) -> &'static str { "count" }
+    /// #     fn mesh(&self, _: &cvtmesh_geometry::Region, r: &MeshRequest, p: &mut dyn FnMut(cvtmesh_mesh::Progress))
+    /// #         -> Result<cvtmesh_mesh::MeshResult, MeshError> {
+    /// #         for iteration in 1.. {
+    /// #             p(cvtmesh_mesh::Progress { iteration, max_iter: r.max_iter, energy: f64::NAN, max_move: 1.0 });
+    /// #             r.check_cancel(self.name(), iteration)?;
+    /// #         }
+    /// #         unreachable!()
+    /// #     }
+    /// # }
+    /// let stop = Arc::new(AtomicBool::new(false));
+    /// let request = MeshRequest::points(100).cancel_flag(stop.clone());
+    /// let region = cvtmesh_geometry::Region::builtin("circle")?;
+    /// // Stop at the third progress report.
+    /// let e = Count
+    ///     .mesh(&region, &request, &mut |p| stop.store(p.iteration == 3, Ordering::Relaxed))
+    ///     .unwrap_err();
+    /// assert!(matches!(e, MeshError::Cancelled { iterations: 3, .. }));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn cancel_flag(mut self, flag: Arc<AtomicBool>) -> Self {
+        self.cancel = Some(flag);
+        self
+    }
+    /// True once the cancel flag is set.
+    pub fn cancelled(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+    /// `Err(MeshError::Cancelled)` once the cancel flag is set: what a method calls after
+    /// each iteration.
+    pub fn check_cancel(&self, method: &str, iterations: usize) -> Result<(), MeshError> {
+        if self.cancelled() {
+            return Err(MeshError::Cancelled {
+                method: method.to_string(),
+                iterations,
+            });
+        }
+        Ok(())
     }
     /// Check the request against `region` before any work is done, and return K.
     ///

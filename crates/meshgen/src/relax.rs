@@ -995,6 +995,7 @@ pub fn relax(
             energy,
             max_move,
         });
+        request.check_cancel(method, it)?;
         if max_move < request.tol {
             result.converged = true;
             break;

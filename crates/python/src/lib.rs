@@ -41,7 +41,11 @@ fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> 
         )));
     }
     let v = a.as_array();
-    let pts: Vec<DVec2> = v.rows().into_iter().map(|r| DVec2::new(r[0], r[1])).collect();
+    let pts: Vec<DVec2> = v
+        .rows()
+        .into_iter()
+        .map(|r| DVec2::new(r[0], r[1]))
+        .collect();
     if let Some((i, p)) = pts.iter().enumerate().find(|(_, p)| !p.is_finite()) {
         return Err(err(format!(
             "{what} has a non-finite point ({}, {}) at row {i}",
@@ -57,12 +61,12 @@ fn xy_array<'py>(py: Python<'py>, pts: &[DVec2]) -> PyResult<Bound<'py, PyArray2
 }
 
 fn read_only<T>(a: &Bound<'_, T>) -> PyResult<()> {
-    a.getattr("flags")?.setattr("writeable", false)
+    a.as_any().getattr("flags")?.setattr("writeable", false)
 }
 
 /// A planar region: an outer boundary loop and holes, each made of boundary pieces joined at
 /// corners.
-#[pyclass(name = "Region", module = "cvtmesh", frozen, skip_from_py_object)]
+#[pyclass(name = "Region", module = "cvtmesh", frozen)]
 struct PyRegion {
     inner: Arc<Region>,
 }
@@ -152,7 +156,11 @@ impl PyRegion {
 
     /// The boundary as polygons with chord error at most `tol`: a list of (k, 2) arrays,
     /// the outer loop (counter-clockwise) first, then the holes (clockwise).
-    fn polygonize<'py>(&self, py: Python<'py>, tol: f64) -> PyResult<Vec<Bound<'py, PyArray2<f64>>>> {
+    fn polygonize<'py>(
+        &self,
+        py: Python<'py>,
+        tol: f64,
+    ) -> PyResult<Vec<Bound<'py, PyArray2<f64>>>> {
         if !(tol.is_finite() && tol > 0.0) {
             return Err(err(format!("tol must be positive and finite, got {tol}")));
         }
@@ -195,7 +203,7 @@ impl PyRegion {
 }
 
 /// A triangle mesh and how it was made. Arrays are read-only views of the result.
-#[pyclass(name = "Mesh", module = "cvtmesh", frozen, skip_from_py_object)]
+#[pyclass(name = "Mesh", module = "cvtmesh", frozen)]
 struct PyMesh {
     mesh: Mesh,
     region: Option<Arc<Region>>,
@@ -329,9 +337,9 @@ fn scalar_field(
     spec: &Bound<'_, PyAny>,
     what: &str,
 ) -> PyResult<SizeField> {
-    if let Ok(text) = spec.cast::<PyString>() {
-        let text = text.to_str()?;
-        return SizeField::from_expr(text).map_err(|e| err(format!("{what}: {e}")));
+    if spec.is_instance_of::<PyString>() {
+        let text: String = spec.extract()?;
+        return SizeField::from_expr(&text).map_err(|e| err(format!("{what}: {e}")));
     }
     if spec.is_callable() {
         let np = py.import("numpy")?;
@@ -415,7 +423,6 @@ fn mesh(
         .cancel_flag(cancel.clone());
     let mut stopped: Option<PyErr> = None;
     let result = {
-        let mesher = method.mesher();
         let region = region.clone();
         let stopped = &mut stopped;
         py.detach(move || {
@@ -434,7 +441,7 @@ fn mesh(
                     cancel.store(true, Ordering::Relaxed);
                 }
             };
-            mesher.mesh(&region, &request, &mut report)
+            method.mesher().mesh(&region, &request, &mut report)
         })
     };
     if let Some(e) = stopped {

@@ -201,7 +201,7 @@ def test_region_api():
     assert r.corners.shape == (8, 2)
     rings = r.polygonize(1e-3)
     assert len(rings) == 2 and rings[0].shape[1] == 2
-    d = r.signed_distance(np.array([[0.5, 0.2], [0.5, 0.5], [2.0, 0.5]]))
+    d = r.signed_distance(np.array([[0.5, 0.1], [0.5, 0.5], [2.0, 0.5]]))
     assert d[0] == pytest.approx(-0.1) and d[1] > 0 and d[2] == pytest.approx(1.0)
     lake = Region.builtin("lake")
     assert len(lake.with_corner_angle(60).corners) <= len(lake.corners)

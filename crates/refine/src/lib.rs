@@ -245,6 +245,7 @@ impl Mesher for Refine {
                 energy: f64::NAN,
                 max_move: got.abs_diff(k) as f64 / k as f64,
             });
+            request.check_cancel(self.name(), steps)?;
             let better = match &best {
                 None => true,
                 Some(b) => dist(&r) < dist(b),

@@ -191,23 +191,13 @@ pub(crate) fn unique_edges(m: &Mesh) -> Vec<(u32, u32)> {
 /// The edges of exactly one triangle, each once as (smaller, larger) vertex index, sorted. For
 /// a conforming mesh these are the edges of its boundary loops, outer and holes alike.
 pub(crate) fn boundary_edges(m: &Mesh) -> Vec<(u32, u32)> {
-    let mut keys: Vec<(u32, u32)> = m
-        .triangles
+    let mut edges: Vec<(u32, u32)> = m
+        .boundary_edges()
         .iter()
-        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
+        .map(|e| (e.a.min(e.b), e.a.max(e.b)))
         .collect();
-    keys.sort_unstable();
-    // After sorting, an edge shared by two (or more) triangles is a run longer than one.
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < keys.len() {
-        let run = keys[i..].iter().take_while(|&&k| k == keys[i]).count();
-        if run == 1 {
-            out.push(keys[i]);
-        }
-        i += run;
-    }
-    out
+    edges.sort_unstable();
+    edges
 }
 
 /// Mesh edge width in pixels: the layout's width, thinned when edges are short on screen
