@@ -231,6 +231,7 @@ mod tests {
             max_iter: 100,
             spacing,
             active_from: 0,
+            cancel: None,
         };
         let mut z = initial_points(&region, k, Init::Lattice, 1);
         let mut prof = Profile::default();

@@ -9,7 +9,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 /// Largest K accepted: far beyond what fits in memory is refused up front, not by an allocator.
-const MAX_POINTS: usize = 50_000_000;
 /// Meshes up to this size are checked for conformity before they are written.
 const CHECK_LIMIT: usize = 2_000_000;
 const DEFAULT_TOL: f64 = 1e-4;
@@ -107,9 +106,6 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         cancel: None,
     };
     let k = request.validate(&region)?;
-    if k > MAX_POINTS {
-        bail!("K = {k} is more than this tool meshes ({MAX_POINTS}); use a larger --size or fewer --points");
-    }
     if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
         eprintln!(
             "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",

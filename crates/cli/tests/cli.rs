@@ -605,7 +605,7 @@ fn absurd_sizes_are_refused_up_front() {
             s(&out),
         ],
         &out,
-        "more than this tool meshes",
+        "more than cvtmesh meshes",
     );
     let o = cvtmesh(&["mesh", "circle", "--points", "50", "--quiet", "-o", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));

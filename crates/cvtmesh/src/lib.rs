@@ -59,8 +59,8 @@ pub use vtm;
 pub use ::mesh::io;
 
 pub use ::mesh::{
-    check_conforming, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress,
-    Size, VertexMarker,
+    check_conforming, BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest, MeshResult,
+    Mesher, Progress, Size, VertexMarker, MAX_POINTS,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

@@ -87,6 +87,14 @@ pub enum MeshError {
         /// What to change (e.g. "try a larger K").
         hint: String,
     },
+    /// K is more than [`MAX_POINTS`](crate::MAX_POINTS).
+    #[error("K = {requested} is more than cvtmesh meshes ({max} vertices would need about 45 GiB); use a larger size or fewer points")]
+    TooManyPoints {
+        /// K asked for.
+        requested: usize,
+        /// The limit.
+        max: usize,
+    },
     /// The request's cancel flag was set ([`MeshRequest::cancel_flag`](crate::MeshRequest::cancel_flag)).
     #[error("{method}: cancelled after {iterations} iterations")]
     Cancelled {

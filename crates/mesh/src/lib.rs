@@ -12,5 +12,5 @@ mod types;
 
 pub use check::{check_conforming, ConformityError};
 pub use error::MeshError;
-pub use mesher::{MeshRequest, MeshResult, Mesher, Progress, Size};
+pub use mesher::{MeshRequest, MeshResult, Mesher, Progress, Size, MAX_POINTS};
 pub use types::{BoundaryEdge, Mesh, VertexMarker};

@@ -3,6 +3,11 @@ use geometry::{DVec2, Density, Region};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+/// The most vertices a request may ask for. A CCVT mesh of 10⁶ vertices peaks below 1 GiB, so
+/// this many would need about 45 GiB: a request above it is a mistake in the size (a unit, an
+/// exponent), refused by [`MeshRequest::validate`] before any work.
+pub const MAX_POINTS: usize = 50_000_000;
+
 /// How fine the mesh should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Size {
@@ -160,7 +165,8 @@ impl MeshRequest {
     ///
     /// Refused, in this order: an edge length that is not a positive finite number
     /// ([`MeshError::InvalidEdgeLength`]); K below `corners + 3 · loops`, a vertex on every
-    /// corner and three on every boundary loop ([`MeshError::TooFewPoints`]); a tolerance that
+    /// corner and three on every boundary loop ([`MeshError::TooFewPoints`]); K above
+    /// [`MAX_POINTS`] ([`MeshError::TooManyPoints`]); a tolerance that
     /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
     /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
     /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
@@ -185,6 +191,12 @@ impl MeshRequest {
                 corners,
                 loops,
                 edge_length,
+            });
+        }
+        if k > MAX_POINTS {
+            return Err(MeshError::TooManyPoints {
+                requested: k,
+                max: MAX_POINTS,
             });
         }
         if !(self.tol.is_finite() && self.tol > 0.0) {

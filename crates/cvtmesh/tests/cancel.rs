@@ -1,0 +1,42 @@
+//! Every method stops at the iteration after its request's cancel flag is set.
+use cvtmesh::{MeshError, MeshRequest, Method, Region};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+#[test]
+fn every_method_stops_when_its_cancel_flag_is_set() {
+    let region = Region::builtin("lake").unwrap();
+    for method in Method::ALL {
+        let stop = Arc::new(AtomicBool::new(false));
+        let request = MeshRequest::points(2000).cancel_flag(stop.clone());
+        let mut reports = 0;
+        let result = method.mesher().mesh(&region, &request, &mut |_| {
+            reports += 1;
+            if reports == 2 {
+                stop.store(true, Ordering::Relaxed);
+            }
+        });
+        match result {
+            Err(MeshError::Cancelled {
+                method: name,
+                iterations,
+            }) => {
+                assert_eq!(name, method.name());
+                assert!(iterations <= 3, "{method}: {iterations} iterations");
+                assert_eq!(reports, 2, "{method}: reports after the flag was set");
+            }
+            other => panic!("{method}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn an_unset_flag_changes_nothing() {
+    let region = Region::builtin("square_hole").unwrap();
+    let plain = MeshRequest::points(194).seed(2);
+    let flagged = plain.clone().cancel_flag(Arc::new(AtomicBool::new(false)));
+    let a = Method::Ccvt.run(&region, &plain).unwrap();
+    let b = Method::Ccvt.run(&region, &flagged).unwrap();
+    assert_eq!(a.mesh, b.mesh);
+    assert_eq!(a.iterations, b.iterations);
+}
