@@ -121,7 +121,7 @@ impl MeshRequest {
     /// # struct Count;
     /// # impl Mesher for Count {
     /// #     fn name(&self) -> &'static str { "count" }
-    /// #     fn mesh(&self, _: &cvtmesh_geometry::Region, r: &MeshRequest, p: &mut dyn FnMut(cvtmesh_mesh::Progress))
+    /// #     fn mesh(&self, _: &geometry::Region, r: &MeshRequest, p: &mut dyn FnMut(cvtmesh_mesh::Progress))
     /// #         -> Result<cvtmesh_mesh::MeshResult, MeshError> {
     /// #         for iteration in 1.. {
     /// #             p(cvtmesh_mesh::Progress { iteration, max_iter: r.max_iter, energy: f64::NAN, max_move: 1.0 });
@@ -132,7 +132,7 @@ impl MeshRequest {
     /// # }
     /// let stop = Arc::new(AtomicBool::new(false));
     /// let request = MeshRequest::points(100).cancel_flag(stop.clone());
-    /// let region = cvtmesh_geometry::Region::builtin("circle")?;
+    /// let region = geometry::Region::builtin("circle")?;
     /// // Stop at the third progress report.
     /// let e = Count
     ///     .mesh(&region, &request, &mut |p| stop.store(p.iteration == 3, Ordering::Relaxed))

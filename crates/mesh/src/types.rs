@@ -142,7 +142,7 @@ impl Mesh {
     ///
     /// ```
     /// use cvtmesh_mesh::{Mesh, VertexMarker};
-    /// use cvtmesh_geometry::DVec2;
+    /// use geometry::DVec2;
     /// // Two triangles making the unit square: four boundary edges, the diagonal is inner.
     /// let mesh = Mesh {
     ///     points: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)],
