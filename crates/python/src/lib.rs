@@ -273,10 +273,32 @@ impl PyMesh {
 
 #[pymethods]
 impl PyMesh {
-    /// Write the mesh; the format follows the extension (.node/.ele, .msh, .vtu, .obj).
+    /// Write the mesh; the format follows the extension: .node/.ele (Triangle), .msh (Gmsh
+    /// 4.1), .vtu, .obj, or a .png/.svg picture (on the region's exact boundary when the mesh
+    /// was made here, else outlined by its own boundary edges).
     fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| cvtmesh::io::write_mesh(&self.mesh, &path))
-            .map_err(err)
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        py.detach(|| match ext.as_deref() {
+            Some(kind @ ("png" | "svg")) => {
+                let title = path
+                    .file_stem()
+                    .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+                let panel = match &self.region {
+                    Some(r) => render::Panel::new(&title, r).with_mesh(&self.mesh),
+                    None => render::Panel::for_mesh(&title, &self.mesh),
+                };
+                let layout = render::Layout::new(1).panel_px(1200);
+                if kind == "png" {
+                    render::render_png(&[panel], &layout, &path).map_err(err)
+                } else {
+                    render::render_svg(&[panel], &layout, &path).map_err(err)
+                }
+            }
+            _ => cvtmesh::io::write_mesh(&self.mesh, &path).map_err(err),
+        })
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the
@@ -322,11 +344,12 @@ impl PyMesh {
 
 fn measures_dict<'py>(py: Python<'py>, m: &cvtmesh::Measures) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    for (name, value) in cvtmesh::Measures::NAMES.iter().zip(m.values()) {
+    d.set_item("K", m.k)?;
+    d.set_item("Ktilde", m.k_tilde)?;
+    // The 12 measures follow K and K̃ in the paper's order.
+    for (name, value) in cvtmesh::Measures::NAMES.iter().zip(m.values()).skip(2) {
         d.set_item(*name, value)?;
     }
-    d.set_item("K", m.k)?;
-    d.set_item("K_tilde", m.k_tilde)?;
     Ok(d)
 }
 

@@ -1,6 +1,9 @@
 """End-to-end tests of the Python package: real meshes, checked for real properties."""
 
 import math
+import shutil
+import subprocess
+from pathlib import Path
 import threading
 
 import numpy as np
@@ -16,6 +19,11 @@ HOLE = np.array([[0.4, 0.4], [0.4, 0.6], [0.6, 0.6], [0.6, 0.4]])
 def triangle_areas(points, triangles):
     a, b, c = (points[triangles[:, k]] for k in range(3))
     return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+
+
+def triangle_set(points, triangles):
+    """Each triangle as the set of its corners' coordinates (rounded to 1e-12)."""
+    return {frozenset(map(tuple, np.round(points[t], 12))) for t in triangles}
 
 
 def edge_lengths(points, triangles):
@@ -163,7 +171,7 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", size="x"), "positive and finite"),
         (dict(region="circle", size="0.1 +"), "size"),
         (dict(region="circle", size=lambda xy: np.full(len(xy), np.nan)), "positive and finite"),
-        (dict(region="circle", size=1e-9), "too many"),
+        (dict(region="circle", size=1e-9), "more than cvtmesh meshes"),
         (dict(region="circle", n=100, density="-1"), "non-negative"),
         (dict(region="circle", n=100, size=0.1, density="1"), "not both"),
         (dict(region="square_hole", n=3), "corner"),
@@ -217,3 +225,87 @@ def test_to_meshio_names_each_boundary_loop():
     assert set(mm.cell_sets) >= {"boundary_0", "boundary_1", "domain"}
     hole_edges = mm.cell_sets["boundary_1"][1]
     assert (m.boundary_loop[hole_edges] == 1).all()
+
+
+def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
+    region = Region.builtin("annulus")
+    m = cvtmesh.mesh(region, n=303)
+    ends = m.points[m.boundary_edges.ravel()]
+    # Vertices on ∂Ω (to rounding); the chord between two lies within the chord error inside.
+    assert np.abs(region.signed_distance(ends)).max() < 1e-9
+    # Each edge is a chord of ∂Ω: its midpoint is off ∂Ω by the sagitta, a small fraction of
+    # the edge's length on the annulus's circles.
+    seg = m.points[m.boundary_edges]
+    length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
+    assert (np.abs(region.signed_distance(seg.mean(axis=1))) < 0.1 * length).all()
+    for k in np.unique(m.boundary_loop):
+        e = m.boundary_edges[m.boundary_loop == k]
+        # Every vertex of a loop starts exactly one edge and ends exactly one: a closed chain.
+        assert sorted(e[:, 0]) == sorted(e[:, 1])
+
+
+def _cli():
+    here = Path(__file__).resolve()
+    for parent in here.parents:
+        exe = parent / "target" / "release" / "cvtmesh"
+        if exe.exists():
+            return exe
+    return shutil.which("cvtmesh")
+
+
+def test_measures_equal_the_command_lines_on_the_same_mesh(tmp_path):
+    exe = _cli()
+    if exe is None:
+        pytest.skip("the cvtmesh command is not built (cargo build --release -p cvtmesh-cli)")
+    m = cvtmesh.mesh("lake", n=1109)
+    m.write(tmp_path / "lake.node")
+    out = subprocess.run(
+        [str(exe), "measure", str(tmp_path / "lake.node"), "--region", "lake", "--csv"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip().splitlines()
+    header, values = out[0].split(","), out[1].split(",")
+    cli = dict(zip(header, values))
+    own = m.measures()
+    compared = 0
+    for name, value in own.items():
+        if name in cli:
+            assert float(cli[name]) == pytest.approx(value, rel=1e-9, abs=1e-12), name
+            compared += 1
+    assert compared >= 12, (header, sorted(own))
+
+
+def test_meshio_reads_back_what_write_writes(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=300)
+    for ext in ["msh", "vtu"]:
+        path = tmp_path / f"m.{ext}"
+        m.write(path)
+        back = meshio.read(path)
+        # The same triangles, whatever order the file lists its nodes in.
+        assert triangle_set(back.points[:, :2], back.cells_dict["triangle"]) == triangle_set(
+            m.points, m.triangles
+        )
+    # The meshio object we build round-trips through meshio's own writer too.
+    mm = m.to_meshio()
+    mm.write(tmp_path / "via_meshio.vtu")
+    again = meshio.read(tmp_path / "via_meshio.vtu")
+    assert triangle_set(again.points[:, :2], again.cells_dict["triangle"]) == triangle_set(
+        m.points, m.triangles
+    )
+
+
+def test_pictures_are_written_with_and_without_the_region(tmp_path):
+    m = cvtmesh.mesh("horn", n=138)
+    m.write(tmp_path / "horn.png")
+    assert (tmp_path / "horn.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    m.write(tmp_path / "horn.svg")
+    assert (tmp_path / "horn.svg").read_text().lstrip().startswith("<")
+    m.write(tmp_path / "horn.node")
+    read = cvtmesh.Mesh.read(tmp_path / "horn.node")
+    read.write(tmp_path / "alone.png")
+    assert (tmp_path / "alone.png").stat().st_size > 1000
+    with pytest.raises(MeshError, match="region"):
+        read.measures()
+    assert read.measures(Region.builtin("horn"))["K"] == 138

@@ -128,7 +128,7 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     """The 12 quality measures of the paper's Section 3 for any triangle mesh of ``region``.
 
     ``points`` is ``(N, 2)``, ``triangles`` ``(M, 3)`` 0-based vertex indices; the result maps
-    ``lambda, gamma, h, mu, chi, nu, tau, d, alpha, beta, q, p`` (and ``K``, ``K_tilde``) to
+    ``lambda, gamma, h, mu, chi, nu, tau, d, alpha, beta, q, p`` (and the counts ``K``, ``Ktilde``) to
     floats (lower is better, 0 on an ideal hexagonal lattice).
     """
     r = _region(region, None, None)
