@@ -336,7 +336,7 @@ impl PyMesh {
             "Mesh(points={}, triangles={}, converged={}, iterations={})",
             self.mesh.num_vertices(),
             self.mesh.num_triangles(),
-            self.converged,
+            if self.converged { "True" } else { "False" },
             self.iterations
         )
     }
