@@ -1,7 +1,7 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
 use anyhow::{anyhow, bail, Result};
-use cvtmesh::geometry::{Density, Region};
+use cvtmesh::geometry::{Density, Region, SizeField};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
 
@@ -38,6 +38,11 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
         return Ok(Density::Uniform);
     };
     cvtmesh::geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))
+}
+
+/// Parse `--size-field`; its positivity on the region is checked with the request.
+pub fn size_field(text: &str) -> Result<SizeField> {
+    SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
 }
 
 /// Output kind from the extension.

@@ -623,3 +623,95 @@ fn absurd_sizes_are_refused_up_front() {
         text(&o)
     );
 }
+
+#[test]
+fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
+    let dir = scratch("size_field");
+    let out = dir.join("graded.msh");
+    let field = "0.03 + 0.12*sqrt(x^2+y^2)";
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--size-field",
+        field,
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("asked for by the field"), "{}", text(&o));
+    let o = cvtmesh(&[
+        "measure",
+        s(&out),
+        "--region",
+        "circle",
+        "--size-field",
+        field,
+        "--csv",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    let lines: Vec<&str> = stdout.lines().collect();
+    let header = lines
+        .iter()
+        .position(|l| l.starts_with("edges,unit_share"))
+        .expect("a size conformity header");
+    let row: Vec<f64> = lines[header + 1]
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let (unit_share, efficiency, min_angle) = (row[1], row[2], row[4]);
+    assert!(
+        unit_share >= 0.95 && efficiency >= 0.9 && min_angle >= 30.0,
+        "{row:?}"
+    );
+    // With --points, the field's shape is kept and K is as asked.
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--size-field",
+        field,
+        "--points",
+        "300",
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        o.status.success() && text(&o).contains("K=300"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
+fn bad_size_fields_are_refused_before_any_work() {
+    let dir = scratch("bad_size_field");
+    let out = dir.join("never.msh");
+    for (field, needle) in [
+        ("x", "positive and finite"),
+        ("1/0", "positive and finite"),
+        ("0.1 +", "--size-field"),
+        ("1e-9", "more than cvtmesh meshes"),
+    ] {
+        assert_refused(
+            &["mesh", "circle", "--size-field", field, "-o", s(&out)],
+            &out,
+            needle,
+        );
+    }
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size-field",
+            "0.1",
+            "--density",
+            "1",
+            "-o",
+            s(&out),
+        ],
+        &out,
+        "cannot be used with",
+    );
+}

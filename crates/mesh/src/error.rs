@@ -87,6 +87,9 @@ pub enum MeshError {
         /// What to change (e.g. "try a larger K").
         hint: String,
     },
+    /// A size field that cannot be used on the region.
+    #[error(transparent)]
+    SizeField(#[from] geometry::SizeFieldError),
     /// K is more than [`MAX_POINTS`](crate::MAX_POINTS).
     #[error("K = {requested} is more than cvtmesh meshes ({max} vertices would need about 45 GiB); use a larger size or fewer points")]
     TooManyPoints {

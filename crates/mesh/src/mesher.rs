@@ -1,5 +1,5 @@
 use crate::{Mesh, MeshError};
-use geometry::{DVec2, Density, Region};
+use geometry::{DVec2, Density, Region, SizeField};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -92,6 +92,53 @@ impl MeshRequest {
             size: Size::EdgeLength(h),
             ..MeshRequest::points(0)
         }
+    }
+    /// A request for a graded mesh whose edge lengths follow `field`: the CVT density
+    /// ρ = (h_min / h)⁴ (uniform for a constant field), and `points` vertices, or when `None`
+    /// the count the field asks for, (2/√3) ∫_Ω h⁻² dx. The field is checked first: positive
+    /// and finite on the region ([`MeshError::SizeField`]), and asking for no more than
+    /// [`MAX_POINTS`] vertices ([`MeshError::TooManyPoints`]).
+    ///
+    /// ```
+    /// use geometry::{Region, SizeField};
+    /// use cvtmesh_mesh::{MeshError, MeshRequest};
+    ///
+    /// let circle = Region::builtin("circle")?;
+    /// let h = SizeField::from_expr("0.05 * (1 + sqrt(x^2 + y^2))")?;
+    /// let request = MeshRequest::size_field(&h, &circle, None)?;
+    /// let k = request.validate(&circle)?;
+    /// assert!((k as f64 - h.predicted_points(&circle)).abs() <= 0.5);
+    /// // Finer at the centre: the density is 1 there and 1/16 on the rim (h doubles).
+    /// assert!((request.density.at(geometry::DVec2::ZERO) - 1.0).abs() < 1e-12);
+    /// // A field that is not positive on the region is refused before any work.
+    /// let bad = SizeField::from_expr("x")?;
+    /// assert!(matches!(MeshRequest::size_field(&bad, &circle, None), Err(MeshError::SizeField(_))));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn size_field(
+        field: &SizeField,
+        region: &Region,
+        points: Option<usize>,
+    ) -> Result<Self, MeshError> {
+        let range = field.check(region)?;
+        let k = match points {
+            Some(k) => k,
+            None => {
+                let predicted = field.predicted_points(region);
+                if !(predicted.is_finite() && predicted <= MAX_POINTS as f64) {
+                    return Err(MeshError::TooManyPoints {
+                        requested: if predicted.is_finite() {
+                            predicted as usize
+                        } else {
+                            usize::MAX
+                        },
+                        max: MAX_POINTS,
+                    });
+                }
+                predicted.round() as usize
+            }
+        };
+        Ok(MeshRequest::points(k).density(field.density(range.min)))
     }
     /// Builder: seed.
     pub fn seed(mut self, seed: u64) -> Self {

@@ -24,12 +24,14 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+mod conformity;
 mod error;
 mod exact;
 mod measures;
 mod nearest;
 mod sample;
 
+pub use conformity::{size_conformity, SizeConformity};
 pub use error::MetricsError;
 pub use exact::{measures, measures_from_parts, polygon_tolerance, POLYGON_TOL};
 pub use measures::Measures;

@@ -409,41 +409,25 @@ fn mesh(
             "give size (an edge length) or density (a CVT density), not both",
         ));
     }
-    let (k, rho) = match (size, density) {
+    let request = match (size, density) {
         (Some(s), _) => {
             let field = scalar_field(py, &region, s, "size")?;
-            let range = field.check(&region).map_err(|e| err(e.to_string()))?;
-            let k = match n {
-                Some(k) => k,
-                None => {
-                    let predicted = field.predicted_points(&region);
-                    if !predicted.is_finite() || predicted > cvtmesh::MAX_POINTS as f64 {
-                        return Err(err(format!(
-                            "size asks for about {predicted:.3e} vertices, more than cvtmesh meshes ({})",
-                            cvtmesh::MAX_POINTS
-                        )));
-                    }
-                    predicted.round() as usize
-                }
-            };
-            (k, field.density(range.min))
+            MeshRequest::size_field(&field, &region, n).map_err(err)?
         }
         (None, Some(d)) => {
             let field = scalar_field(py, &region, d, "density")?;
             let k = n.ok_or_else(|| err("density needs n, the number of vertices"))?;
-            (k, density_of(field))
+            MeshRequest::points(k).density(density_of(field))
         }
-        (None, None) => (
+        (None, None) => MeshRequest::points(
             n.ok_or_else(|| err("give n (the number of vertices) or size (an edge length)"))?,
-            Density::Uniform,
         ),
     };
     let cancel = Arc::new(AtomicBool::new(false));
-    let request = MeshRequest::points(k)
+    let request = request
         .seed(seed)
         .tol(tol)
         .max_iter(max_iter)
-        .density(rho)
         .cancel_flag(cancel.clone());
     let mut stopped: Option<PyErr> = None;
     let result = {
