@@ -201,6 +201,38 @@ impl SizeField {
         }))
     }
 
+    /// The field sampled once onto a background grid over `region` fine enough for its
+    /// smallest size `h_min` (at least 4 nodes per `h_min`, at most 2048 per side), for fields
+    /// that are costly to evaluate: an expression is a tree walked at every point, and a
+    /// method evaluates the density dozens of times per cell and iteration. Constant and
+    /// sampled fields are returned as they are.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// let circle = Region::builtin("circle")?;
+    /// let h = SizeField::from_expr("0.02 + 0.1 * (x + 1)")?;
+    /// let g = h.on_grid(&circle, 0.02);
+    /// // Bilinear interpolation reproduces a linear field.
+    /// let p = DVec2::new(0.3, -0.2);
+    /// assert!((g.at(p) - h.at(p)).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn on_grid(&self, region: &Region, h_min: f64) -> SizeField {
+        match &self.kind {
+            Kind::Constant(_) | Kind::Grid(_) => self.clone(),
+            Kind::Expr(e) => {
+                let (lo, hi) = region.bbox();
+                let extent = (hi - lo).max_element();
+                let n = ((4.0 * extent / h_min).ceil() as usize).clamp(64, 2048);
+                SizeField::from_samples(region, n, |nodes| {
+                    Ok::<_, std::convert::Infallible>(nodes.iter().map(|&p| e.eval(p)).collect())
+                })
+                .expect("n is at least 2 and one value is made per node")
+                .unwrap_or_else(|never| match never {})
+            }
+        }
+    }
+
     /// h at `p`.
     pub fn at(&self, p: DVec2) -> f64 {
         match &self.kind {

@@ -138,6 +138,8 @@ impl MeshRequest {
                 predicted.round() as usize
             }
         };
+        // The density is evaluated dozens of times per cell and iteration: sample the field once.
+        let field = field.on_grid(region, range.min);
         Ok(MeshRequest::points(k).density(field.density(range.min)))
     }
     /// Builder: seed.
