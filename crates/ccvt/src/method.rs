@@ -2,7 +2,7 @@
 //! iteration.
 use crate::init::{initial_points, Init};
 use crate::iterate::run;
-use crate::map::{Phase, Profile, Role, Trace, Work};
+use crate::map::{Phase, PhaseResult, Profile, Role, Trace, Work};
 use crate::params::{Algorithm, Solver};
 use crate::sublevel::Sublevel;
 use geometry::Region;
@@ -274,8 +274,12 @@ impl Ccvt {
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
         let mut notes = Vec::new();
-        let mut iterations = 0;
-        let mut converged = true;
+        let mut tally = Tally {
+            method: self.name(),
+            request,
+            iterations: 0,
+            converged: true,
+        };
         let mut trace = Trace {
             energies: Vec::new(),
             moves: Vec::new(),
@@ -320,15 +324,12 @@ impl Ccvt {
         let final_domain = match self.algorithm {
             Algorithm::One => {
                 if self.init == Init::Cvt {
-                    let r = run(
+                    let r = tally.run(
                         &phase(common, &omega, &in_domain(0.0), false, request.tol),
                         z,
                         &mut work,
                         &mut trace,
-                    );
-                    iterations += r.iterations;
-                    request.check_cancel(self.name(), iterations)?;
-                    converged &= r.converged;
+                    )?;
                     z = r.z;
                 }
                 omega
@@ -342,7 +343,7 @@ impl Ccvt {
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
-                    let r = run(
+                    let r = tally.run(
                         &phase(
                             common,
                             &domain,
@@ -353,10 +354,7 @@ impl Ccvt {
                         z,
                         &mut work,
                         &mut trace,
-                    );
-                    iterations += r.iterations;
-                    request.check_cancel(self.name(), iterations)?;
-                    converged &= r.converged;
+                    )?;
                     z = r.z;
                     let boundary: Vec<f64> = work
                         .cells
@@ -373,7 +371,7 @@ impl Ccvt {
                     eps = eps_new;
                     domain = expanded(region, &mut eps, tol_poly, &mut notes);
                 }
-                converged &= settled;
+                tally.converged &= settled;
                 notes.push(format!(
                     "epsilon = {eps:.6e} ({:.4} of the spacing){}",
                     eps / spacing,
@@ -384,15 +382,12 @@ impl Ccvt {
         };
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
         work.retarget(&final_domain);
-        let r = run(
+        let r = tally.run(
             &phase(common, &final_domain, &in_region, true, request.tol),
             z,
             &mut work,
             &mut trace,
-        );
-        iterations += r.iterations;
-        request.check_cancel(self.name(), iterations)?;
-        converged &= r.converged;
+        )?;
         let markers: Vec<VertexMarker> =
             r.z.iter()
                 .zip(&r.roles)
@@ -405,13 +400,39 @@ impl Ccvt {
         Ok(Generators {
             points: r.z,
             markers,
-            iterations,
-            converged,
+            iterations: tally.iterations,
+            converged: tally.converged,
             energy_history: trace.energies,
             move_history: trace.moves,
             notes,
             profile: trace.prof,
         })
+    }
+}
+
+/// Iterations and convergence summed over the phases of one solve.
+struct Tally<'a> {
+    method: &'static str,
+    request: &'a MeshRequest,
+    iterations: usize,
+    converged: bool,
+}
+
+impl Tally<'_> {
+    /// Run one phase from `z` and add it to the totals; a cancelled request stops the solve
+    /// here.
+    fn run(
+        &mut self,
+        phase: &Phase,
+        z: Vec<geometry::DVec2>,
+        work: &mut Work,
+        trace: &mut Trace,
+    ) -> Result<PhaseResult, MeshError> {
+        let r = run(phase, z, work, trace);
+        self.iterations += r.iterations;
+        self.request.check_cancel(self.method, self.iterations)?;
+        self.converged &= r.converged;
+        Ok(r)
     }
 }
 
