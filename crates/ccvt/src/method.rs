@@ -103,34 +103,10 @@ impl Ccvt {
     /// ```
     pub fn validate(&self) -> Result<(), MeshError> {
         let name = self.name();
-        let positive = |setting, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(MeshError::invalid_setting(
-                    name,
-                    setting,
-                    value,
-                    "positive and finite",
-                ))
-            }
-        };
-        let non_negative = |setting, value: f64| {
-            if value.is_finite() && value >= 0.0 {
-                Ok(())
-            } else {
-                Err(MeshError::invalid_setting(
-                    name,
-                    setting,
-                    value,
-                    "non-negative and finite",
-                ))
-            }
-        };
-        positive("polygon_tol", self.polygon_tol)?;
-        positive("eps_tol", self.eps_tol)?;
-        non_negative("eps_phase_tol", self.eps_phase_tol)?;
-        non_negative("eps_start", self.eps_start)
+        MeshError::check_positive(name, "polygon_tol", self.polygon_tol)?;
+        MeshError::check_positive(name, "eps_tol", self.eps_tol)?;
+        MeshError::check_non_negative(name, "eps_phase_tol", self.eps_phase_tol)?;
+        MeshError::check_non_negative(name, "eps_start", self.eps_start)
     }
 
     /// The paper's Algorithm 1: constrained Lloyd iteration on Ω (`Algorithm::One`,
