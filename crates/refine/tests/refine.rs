@@ -1,7 +1,10 @@
 //! End-to-end tests of the Delaunay refinement (TRIANGLE) method.
 use cvtmesh_refine::Refine;
 use geometry::{Density, Region};
-use mesh::{check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{
+    check_conforming, triangle_min_angle_deg, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
+    VertexMarker,
+};
 
 fn run(m: &Refine, name: &str, k: usize) -> (Region, MeshResult) {
     let region = Region::builtin(name).unwrap();
@@ -18,14 +21,7 @@ fn min_angle_unforced(mesh: &Mesh, region: &Region) -> f64 {
     let mut worst = f64::INFINITY;
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let p = mesh.triangle(t);
-        let a = (0..3)
-            .map(|i| {
-                (p[(i + 1) % 3] - p[i])
-                    .angle_to(p[(i + 2) % 3] - p[i])
-                    .abs()
-                    .to_degrees()
-            })
-            .fold(f64::INFINITY, f64::min);
+        let a = triangle_min_angle_deg(p);
         let s = (0..3).min_by(|&i, &j| {
             let li = (p[(i + 1) % 3] - p[i]).length_squared();
             let lj = (p[(j + 1) % 3] - p[j]).length_squared();

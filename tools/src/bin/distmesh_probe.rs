@@ -2,7 +2,7 @@
 use cvtmesh_tools::print_run;
 use distmesh::DistMesh;
 use geometry::Region;
-use mesh::{MeshRequest, Mesher};
+use mesh::{triangle_min_angle_deg, MeshRequest, Mesher};
 use std::time::Instant;
 
 fn main() {
@@ -23,14 +23,7 @@ fn main() {
     print_run(name, k, &region, &r, secs);
     for t in 0..r.mesh.num_triangles() {
         let p = r.mesh.triangle(t);
-        let m = (0..3)
-            .map(|i| {
-                (p[(i + 1) % 3] - p[i])
-                    .angle_to(p[(i + 2) % 3] - p[i])
-                    .abs()
-                    .to_degrees()
-            })
-            .fold(180.0, f64::min);
+        let m = triangle_min_angle_deg(p);
         if m < 15.0 {
             let tri = r.mesh.triangles[t];
             println!(
