@@ -1,7 +1,7 @@
 //! End-to-end tests of DistMesh.
 use cvtmesh_distmesh::{initial_points, DistMesh};
 use geometry::{Density, Region};
-use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher};
 
 fn run(name: &str, k: usize, req: MeshRequest) -> (Region, MeshResult) {
     let region = Region::builtin(name).unwrap();
@@ -22,23 +22,7 @@ fn assert_good(region: &Region, r: &MeshResult, k: usize) {
     let mesh = &r.mesh;
     check_conforming(mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
     assert_eq!(mesh.num_vertices(), k, "{}", region.name());
-    for (ci, c) in region.corners().iter().enumerate() {
-        let v = mesh
-            .points
-            .iter()
-            .position(|p| *p == c.pos)
-            .unwrap_or_else(|| panic!("corner {ci} missing"));
-        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
-    }
-    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
-    let rel = (mesh.area() - region.area()).abs() / region.area();
-    assert!(
-        rel < if k < 50 { 0.08 } else { 0.02 },
-        "{}: area {} vs {}",
-        region.name(),
-        mesh.area(),
-        region.area()
-    );
+    testkit::assert_corners_and_area(mesh, region, k);
     assert_eq!(r.move_history.len(), r.iterations);
     assert!(r.energy_history.is_empty());
     // DistMesh meshes are nearly equilateral; a sliver would mean a broken truss.

@@ -3,7 +3,6 @@ use cvtmesh_refine::Refine;
 use geometry::{Density, Region};
 use mesh::{
     check_conforming, triangle_min_angle_deg, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
-    VertexMarker,
 };
 
 fn run(m: &Refine, name: &str, k: usize) -> (Region, MeshResult) {
@@ -60,25 +59,7 @@ fn assert_good(region: &Region, r: &MeshResult, k: usize, angle: f64) {
         "{}: min angle {a} < {angle}",
         region.name()
     );
-    // Every corner is a vertex carrying its corner marker.
-    for (ci, c) in region.corners().iter().enumerate() {
-        let v = mesh
-            .points
-            .iter()
-            .position(|p| *p == c.pos)
-            .unwrap_or_else(|| panic!("corner {ci} missing"));
-        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
-    }
-    // Triangles tile Ω up to the chords of curved pieces.
-    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
-    let rel = (mesh.area() - region.area()).abs() / region.area();
-    assert!(
-        rel < if k < 50 { 0.08 } else { 0.02 },
-        "{}: area {} vs {}",
-        region.name(),
-        mesh.area(),
-        region.area()
-    );
+    testkit::assert_corners_and_area(mesh, region, k);
     assert!(r
         .notes
         .iter()

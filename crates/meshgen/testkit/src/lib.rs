@@ -1,7 +1,8 @@
 //! Helpers shared by the tests and examples of the `meshgen` and `vtm` crates (the two
 //! relaxation methods built on `meshgen::relax`): end-to-end checks of a method's result, a
-//! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run.
-//! A dev-dependency only; not published.
+//! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run;
+//! the `distmesh` and `refine` tests use its corner and area check. A dev-dependency only; not
+//! published.
 use geometry::DVec2;
 pub use geometry::Region;
 pub use mesh::MeshRequest;
@@ -96,6 +97,28 @@ pub fn mesh_and_check_with(method: &dyn Mesher, name: &str, request: &MeshReques
         mesh.min_angle_deg()
     );
     result
+}
+
+/// Every corner of `region` is a vertex of `mesh` carrying its corner marker, and the
+/// triangles tile Ω up to the chords of curved pieces (which cut off up to ~6% of the unit
+/// circle at K = 19).
+pub fn assert_corners_and_area(mesh: &Mesh, region: &Region, k: usize) {
+    for (ci, c) in region.corners().iter().enumerate() {
+        let v = mesh
+            .points
+            .iter()
+            .position(|p| *p == c.pos)
+            .unwrap_or_else(|| panic!("corner {ci} missing"));
+        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
+    }
+    let rel = (mesh.area() - region.area()).abs() / region.area();
+    assert!(
+        rel < if k < 50 { 0.08 } else { 0.02 },
+        "{}: area {} vs {}",
+        region.name(),
+        mesh.area(),
+        region.area()
+    );
 }
 
 /// `max_iter = 2` cannot reach tol = 1e-4 from the jittered lattice: reported as such.
