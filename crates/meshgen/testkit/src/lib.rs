@@ -1,8 +1,8 @@
 //! Helpers shared by the tests and examples of the `meshgen` and `vtm` crates (the two
 //! relaxation methods built on `meshgen::relax`): end-to-end checks of a method's result, a
 //! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run;
-//! the `distmesh` and `refine` tests use its corner and area check. A dev-dependency only; not
-//! published.
+//! the `distmesh` and `refine` tests use its corner and area and graded-density checks. A
+//! dev-dependency only; not published.
 use geometry::DVec2;
 pub use geometry::Region;
 pub use mesh::MeshRequest;
@@ -119,6 +119,33 @@ pub fn assert_corners_and_area(mesh: &Mesh, region: &Region, k: usize) {
         mesh.area(),
         region.area()
     );
+}
+
+/// Mesh the square with a hole at K = 300 under a density 16× larger where x > 0: the mesh
+/// conforms and, since the spacing goes as ρ^(-1/4), holds about 4× the points per area on
+/// the dense side (more than 2.5× asserted).
+pub fn graded_density_puts_more_points_where_dense(method: &dyn Mesher) -> MeshResult {
+    let region = Region::builtin("square_hole").unwrap();
+    let rho = geometry::Density::Function(std::sync::Arc::new(
+        |p: DVec2| {
+            if p.x > 0.0 {
+                16.0
+            } else {
+                1.0
+            }
+        },
+    ));
+    let r = method
+        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
+    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
+    assert!(
+        right as f64 > 2.5 * left as f64,
+        "right {right}, left {left}"
+    );
+    r
 }
 
 /// `max_iter = 2` cannot reach tol = 1e-4 from the jittered lattice: reported as such.
