@@ -1,4 +1,5 @@
 //! The fourteen table rows: K, K̃ and the twelve quality measures of Section 3.
+use cvtmesh::metrics::Measures;
 
 /// One row of the paper's tables, in table order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -53,44 +54,24 @@ impl Measure {
     ];
 
     /// The twelve quality measures (every row but K and K̃); for all of them lower is better.
-    pub const QUALITY: [Measure; 12] = [
-        Measure::Lambda,
-        Measure::Gamma,
-        Measure::H,
-        Measure::Mu,
-        Measure::Chi,
-        Measure::Nu,
-        Measure::Tau,
-        Measure::D,
-        Measure::Alpha,
-        Measure::Beta,
-        Measure::Q,
-        Measure::P,
-    ];
+    pub const QUALITY: [Measure; 12] = {
+        let mut q = [Measure::Lambda; 12];
+        let mut i = 0;
+        while i < q.len() {
+            q[i] = Measure::ALL[i + 2];
+            i += 1;
+        }
+        q
+    };
 
     /// Position in [`Measure::ALL`].
     pub fn index(self) -> usize {
         self as usize
     }
 
-    /// Column name in the CSV files (and in the paper-table data).
+    /// Column name in the CSV files (and in the paper-table data): the metrics crate's name.
     pub fn csv_name(self) -> &'static str {
-        match self {
-            Measure::K => "K",
-            Measure::Ktilde => "Ktilde",
-            Measure::Lambda => "lambda",
-            Measure::Gamma => "gamma",
-            Measure::H => "h",
-            Measure::Mu => "mu",
-            Measure::Chi => "chi",
-            Measure::Nu => "nu",
-            Measure::Tau => "tau",
-            Measure::D => "d",
-            Measure::Alpha => "alpha",
-            Measure::Beta => "beta",
-            Measure::Q => "q",
-            Measure::P => "p",
-        }
+        Measures::NAMES[self.index()]
     }
 
     /// The measure with this CSV name.
@@ -159,6 +140,13 @@ mod tests {
         assert_eq!(Measure::from_csv_name("bogus"), None);
         assert_eq!(Measure::QUALITY.len(), 12);
         assert!(Measure::QUALITY.iter().all(|m| !m.is_count()));
+        assert_eq!(
+            Measure::QUALITY.to_vec(),
+            Measure::ALL
+                .into_iter()
+                .filter(|m| !m.is_count())
+                .collect::<Vec<_>>()
+        );
     }
 
     #[test]

@@ -298,6 +298,7 @@ impl PaperTables {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cvtmesh::geometry::Region;
 
     #[test]
     fn embedded_tables_are_complete() {
@@ -353,21 +354,10 @@ mod tests {
 
     #[test]
     fn tables_cover_every_region_once_in_order() {
-        assert_eq!(
-            region_names(),
-            [
-                "circle",
-                "annulus",
-                "square_hole",
-                "hex_hole",
-                "horn",
-                "superellipse",
-                "bike_seat",
-                "pie_hole",
-                "square_two_hex",
-                "lake"
-            ]
-        );
+        assert_eq!(region_names(), Region::builtin_names());
+        // Each table is a (region, K) of the regions' files, in the same order.
+        let specs: Vec<(&str, usize)> = TABLES.iter().map(|t| (t.region, t.k)).collect();
+        assert_eq!(specs, Region::paper_cases().collect::<Vec<_>>());
         assert_eq!(table_for("circle", 88).unwrap().number, 2);
         assert!(table_for("circle", 90).is_none());
         assert_eq!(

@@ -1,6 +1,7 @@
 //! The CSV records: one row per (region, K, method, seed, kind), plus failed jobs.
 use crate::paper::TABLES;
 use crate::{Measure, MethodId, StudyError};
+use cvtmesh::metrics::Measures;
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 use std::collections::BTreeSet;
@@ -113,24 +114,29 @@ impl Row {
         }
     }
 
+    /// The measures of this row.
+    pub fn measures(&self) -> Measures {
+        Measures {
+            k: self.K,
+            k_tilde: self.Ktilde,
+            lambda: self.lambda,
+            gamma: self.gamma,
+            h: self.h,
+            mu: self.mu,
+            chi: self.chi,
+            nu: self.nu,
+            tau: self.tau,
+            d: self.d,
+            alpha: self.alpha,
+            beta: self.beta,
+            q: self.q,
+            p: self.p,
+        }
+    }
+
     /// The value of one table row.
     pub fn value(&self, m: Measure) -> f64 {
-        match m {
-            Measure::K => self.K as f64,
-            Measure::Ktilde => self.Ktilde as f64,
-            Measure::Lambda => self.lambda,
-            Measure::Gamma => self.gamma,
-            Measure::H => self.h,
-            Measure::Mu => self.mu,
-            Measure::Chi => self.chi,
-            Measure::Nu => self.nu,
-            Measure::Tau => self.tau,
-            Measure::D => self.d,
-            Measure::Alpha => self.alpha,
-            Measure::Beta => self.beta,
-            Measure::Q => self.q,
-            Measure::P => self.p,
-        }
+        self.measures().values()[m.index()]
     }
 
     /// The method, if the name is known.
@@ -299,6 +305,13 @@ mod tests {
         let text = String::from_utf8(bytes.clone()).unwrap();
         assert_eq!(text.lines().next().unwrap(), METRICS_HEADER);
         assert!(text.contains("ccvt,2,sampled,"));
+        // The measure columns are the metrics crate's, in its order.
+        let columns: Vec<&str> = METRICS_HEADER.split(',').skip(5).take(14).collect();
+        assert_eq!(columns, Measures::NAMES);
+        for m in Measure::ALL {
+            let want = rows[0].measures().get(m.csv_name());
+            assert_eq!(Some(rows[0].value(m)), want, "{m:?}");
+        }
         let back: Vec<Row> = from_csv(&bytes, "t").unwrap();
         assert_eq!(back, rows);
         assert_eq!(back[0].lambda.to_bits(), rows[0].lambda.to_bits());

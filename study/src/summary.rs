@@ -3,7 +3,7 @@
 use crate::paper::{untrustworthy, PaperTables, TableSpec};
 use crate::record::{Failure, Kind, Row};
 use crate::stats::Aggregate;
-use crate::tables::describe_seeds;
+use crate::tables::{describe_seeds, failed_runs};
 use crate::{Measure, MethodId};
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -254,20 +254,12 @@ pub fn render_summary(
             );
         }
     }
-    if !failures.is_empty() {
-        out.push_str("\n## Failed runs\n\n");
-        for f in failures {
-            let _ = writeln!(
-                out,
-                "- {} K={} {} seed {}: {}",
-                f.region,
-                f.K_requested,
-                f.method,
-                f.seed,
-                f.error.replace('\n', " ")
-            );
-        }
-    }
+    failed_runs(&mut out, failures, |f| {
+        format!(
+            "{} K={} {} seed {}",
+            f.region, f.K_requested, f.method, f.seed
+        )
+    });
     out
 }
 

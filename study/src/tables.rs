@@ -221,23 +221,31 @@ pub fn render_table(
     {
         out.push_str("† The paper's number in this row is a typesetting error (see above).\n");
     }
-    let mine: Vec<&Failure> = failures
-        .iter()
-        .filter(|f| f.region == region && f.K_requested == k)
-        .collect();
-    if !mine.is_empty() {
-        out.push_str("\n## Failed runs\n\n");
-        for f in mine {
-            let _ = writeln!(
-                out,
-                "- {} seed {}: {}",
-                f.method,
-                f.seed,
-                f.error.replace('\n', " ")
-            );
-        }
-    }
+    failed_runs(
+        &mut out,
+        failures
+            .iter()
+            .filter(|f| f.region == region && f.K_requested == k),
+        |f| format!("{} seed {}", f.method, f.seed),
+    );
     out
+}
+
+/// Append a "Failed runs" section, if there are any: a line per failure, `run` naming it and
+/// the error kept to one line.
+pub fn failed_runs<'a>(
+    out: &mut String,
+    failures: impl IntoIterator<Item = &'a Failure>,
+    run: impl Fn(&Failure) -> String,
+) {
+    let mut failures = failures.into_iter().peekable();
+    if failures.peek().is_none() {
+        return;
+    }
+    out.push_str("\n## Failed runs\n\n");
+    for f in failures {
+        let _ = writeln!(out, "- {}: {}", run(f), f.error.replace('\n', " "));
+    }
 }
 
 #[cfg(test)]

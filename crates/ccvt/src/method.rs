@@ -2,7 +2,7 @@
 //! iteration.
 use crate::init::{initial_points, Init};
 use crate::iterate::run;
-use crate::map::{Phase, Profile, Role, Trace, Work};
+use crate::map::{Phase, PhaseResult, Profile, Role, Trace, Work};
 use crate::params::{Algorithm, Solver};
 use crate::sublevel::Sublevel;
 use geometry::Region;
@@ -103,34 +103,10 @@ impl Ccvt {
     /// ```
     pub fn validate(&self) -> Result<(), MeshError> {
         let name = self.name();
-        let positive = |setting, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(MeshError::invalid_setting(
-                    name,
-                    setting,
-                    value,
-                    "positive and finite",
-                ))
-            }
-        };
-        let non_negative = |setting, value: f64| {
-            if value.is_finite() && value >= 0.0 {
-                Ok(())
-            } else {
-                Err(MeshError::invalid_setting(
-                    name,
-                    setting,
-                    value,
-                    "non-negative and finite",
-                ))
-            }
-        };
-        positive("polygon_tol", self.polygon_tol)?;
-        positive("eps_tol", self.eps_tol)?;
-        non_negative("eps_phase_tol", self.eps_phase_tol)?;
-        non_negative("eps_start", self.eps_start)
+        MeshError::check_positive(name, "polygon_tol", self.polygon_tol)?;
+        MeshError::check_positive(name, "eps_tol", self.eps_tol)?;
+        MeshError::check_non_negative(name, "eps_phase_tol", self.eps_phase_tol)?;
+        MeshError::check_non_negative(name, "eps_start", self.eps_start)
     }
 
     /// The paper's Algorithm 1: constrained Lloyd iteration on Ω (`Algorithm::One`,
@@ -274,8 +250,12 @@ impl Ccvt {
         let tol_poly = self.polygon_tol * spacing;
         let omega = region.polygonize(tol_poly);
         let mut notes = Vec::new();
-        let mut iterations = 0;
-        let mut converged = true;
+        let mut tally = Tally {
+            method: self.name(),
+            request,
+            iterations: 0,
+            converged: true,
+        };
         let mut trace = Trace {
             energies: Vec::new(),
             moves: Vec::new(),
@@ -320,15 +300,12 @@ impl Ccvt {
         let final_domain = match self.algorithm {
             Algorithm::One => {
                 if self.init == Init::Cvt {
-                    let r = run(
+                    let r = tally.run(
                         &phase(common, &omega, &in_domain(0.0), false, request.tol),
                         z,
                         &mut work,
                         &mut trace,
-                    );
-                    iterations += r.iterations;
-                    request.check_cancel(self.name(), iterations)?;
-                    converged &= r.converged;
+                    )?;
                     z = r.z;
                 }
                 omega
@@ -342,7 +319,7 @@ impl Ccvt {
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
-                    let r = run(
+                    let r = tally.run(
                         &phase(
                             common,
                             &domain,
@@ -353,10 +330,7 @@ impl Ccvt {
                         z,
                         &mut work,
                         &mut trace,
-                    );
-                    iterations += r.iterations;
-                    request.check_cancel(self.name(), iterations)?;
-                    converged &= r.converged;
+                    )?;
                     z = r.z;
                     let boundary: Vec<f64> = work
                         .cells
@@ -373,7 +347,7 @@ impl Ccvt {
                     eps = eps_new;
                     domain = expanded(region, &mut eps, tol_poly, &mut notes);
                 }
-                converged &= settled;
+                tally.converged &= settled;
                 notes.push(format!(
                     "epsilon = {eps:.6e} ({:.4} of the spacing){}",
                     eps / spacing,
@@ -384,15 +358,12 @@ impl Ccvt {
         };
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
         work.retarget(&final_domain);
-        let r = run(
+        let r = tally.run(
             &phase(common, &final_domain, &in_region, true, request.tol),
             z,
             &mut work,
             &mut trace,
-        );
-        iterations += r.iterations;
-        request.check_cancel(self.name(), iterations)?;
-        converged &= r.converged;
+        )?;
         let markers: Vec<VertexMarker> =
             r.z.iter()
                 .zip(&r.roles)
@@ -405,13 +376,39 @@ impl Ccvt {
         Ok(Generators {
             points: r.z,
             markers,
-            iterations,
-            converged,
+            iterations: tally.iterations,
+            converged: tally.converged,
             energy_history: trace.energies,
             move_history: trace.moves,
             notes,
             profile: trace.prof,
         })
+    }
+}
+
+/// Iterations and convergence summed over the phases of one solve.
+struct Tally<'a> {
+    method: &'static str,
+    request: &'a MeshRequest,
+    iterations: usize,
+    converged: bool,
+}
+
+impl Tally<'_> {
+    /// Run one phase from `z` and add it to the totals; a cancelled request stops the solve
+    /// here.
+    fn run(
+        &mut self,
+        phase: &Phase,
+        z: Vec<geometry::DVec2>,
+        work: &mut Work,
+        trace: &mut Trace,
+    ) -> Result<PhaseResult, MeshError> {
+        let r = run(phase, z, work, trace);
+        self.iterations += r.iterations;
+        self.request.check_cancel(self.method, self.iterations)?;
+        self.converged &= r.converged;
+        Ok(r)
     }
 }
 

@@ -271,7 +271,7 @@ fn fast_solver_reaches_lloyds_energy_in_fewer_iterations() {
 #[test]
 #[ignore]
 fn every_paper_region_converges_and_conforms() {
-    for (name, k) in PAPER_K {
+    for (name, k) in Region::paper_cases() {
         let region = Region::builtin(name).unwrap();
         for m in [Ccvt::algorithm1(), Ccvt::algorithm2(), Ccvt::fast()] {
             let r = run_capped(&m, &region, k, 1, 10_000);
@@ -283,27 +283,12 @@ fn every_paper_region_converges_and_conforms() {
 /// The same check with the fast solver only, which is quick enough for every CI run.
 #[test]
 fn every_paper_region_converges_and_conforms_fast_solver() {
-    for (name, k) in PAPER_K {
+    for (name, k) in Region::paper_cases() {
         let region = Region::builtin(name).unwrap();
         let r = run(&Ccvt::fast(), &region, k, 1);
         assert_ccvt_properties(&region, &r, k);
     }
 }
-
-const PAPER_K: [(&str, usize); 12] = [
-    ("circle", 19),
-    ("circle", 88),
-    ("circle", 362),
-    ("annulus", 303),
-    ("square_hole", 194),
-    ("hex_hole", 240),
-    ("horn", 138),
-    ("superellipse", 505),
-    ("bike_seat", 136),
-    ("pie_hole", 287),
-    ("square_two_hex", 203),
-    ("lake", 1109),
-];
 
 #[test]
 fn generators_from_the_lattice_equal_generators() {

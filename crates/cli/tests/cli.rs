@@ -49,18 +49,9 @@ fn regions_lists_the_ten_builtins() {
     let o = cvtmesh(&["regions"]);
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
-    for name in [
-        "circle",
-        "annulus",
-        "square_hole",
-        "hex_hole",
-        "horn",
-        "superellipse",
-        "bike_seat",
-        "pie_hole",
-        "square_two_hex",
-        "lake",
-    ] {
+    let names = cvtmesh::geometry::Region::builtin_names();
+    assert_eq!(names.len(), 10);
+    for name in names {
         assert!(t.contains(name), "missing {name} in\n{t}");
     }
 }
@@ -500,50 +491,27 @@ fn bad_input_is_refused_with_a_clear_message() {
         "unknown region",
     );
 
-    let write = |name: &str, body: &str| {
+    // Region files that cannot be meshed, and what the refusal must say.
+    for (name, body, want) in [
+        ("bowtie.txt", "0 0\n1 1\n1 0\n0 1\n", "crosses itself at"),
+        (
+            "outside.txt",
+            "0 0\n1 0\n1 1\n0 1\n\n5 5\n6 5\n6 6\n",
+            "outside",
+        ),
+        ("nan.txt", "0 0\n1 0\nnan 1\n0 1\n", "nan.txt"),
+        ("dup.txt", "0 0\n1 0\n1 0\n1 1\n0 1\n", "duplicate"),
+        (
+            "open.json",
+            r#"{"loops":[{"role":"outer","segments":[{"kind":"polyline","points":[[0,0],[1,0],[1,1],[0,1]]}]}]}"#,
+            "open.json",
+        ),
+        ("garbage.json", "{ this is not json", "garbage.json"),
+    ] {
         let p = d.join(name);
         std::fs::write(&p, body).unwrap();
-        p
-    };
-    let bowtie = write("bowtie.txt", "0 0\n1 1\n1 0\n0 1\n");
-    assert_refused(
-        &["mesh", s(&bowtie), "--points", "50", "-o", o],
-        &out,
-        "crosses itself at",
-    );
-    let outside = write("outside.txt", "0 0\n1 0\n1 1\n0 1\n\n5 5\n6 5\n6 6\n");
-    assert_refused(
-        &["mesh", s(&outside), "--points", "50", "-o", o],
-        &out,
-        "outside",
-    );
-    let nan = write("nan.txt", "0 0\n1 0\nnan 1\n0 1\n");
-    assert_refused(
-        &["mesh", s(&nan), "--points", "50", "-o", o],
-        &out,
-        "nan.txt",
-    );
-    let dup = write("dup.txt", "0 0\n1 0\n1 0\n1 1\n0 1\n");
-    assert_refused(
-        &["mesh", s(&dup), "--points", "50", "-o", o],
-        &out,
-        "duplicate",
-    );
-    let open = write(
-        "open.json",
-        r#"{"loops":[{"role":"outer","segments":[{"kind":"polyline","points":[[0,0],[1,0],[1,1],[0,1]]}]}]}"#,
-    );
-    assert_refused(
-        &["mesh", s(&open), "--points", "50", "-o", o],
-        &out,
-        "open.json",
-    );
-    let garbage = write("garbage.json", "{ this is not json");
-    assert_refused(
-        &["mesh", s(&garbage), "--points", "50", "-o", o],
-        &out,
-        "garbage.json",
-    );
+        assert_refused(&["mesh", s(&p), "--points", "50", "-o", o], &out, want);
+    }
     assert_refused(
         &["measure", s(&d.join("none.node")), "--region", "circle"],
         &d.join("none.node"),

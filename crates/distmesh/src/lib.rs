@@ -77,14 +77,7 @@ impl DistMesh {
             ("ttol", self.ttol),
             ("dptol", self.dptol),
         ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(MeshError::invalid_setting(
-                    "distmesh",
-                    setting,
-                    value,
-                    "positive and finite",
-                ));
-            }
+            MeshError::check_positive("distmesh", setting, value)?;
         }
         Ok(())
     }

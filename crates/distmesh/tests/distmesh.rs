@@ -1,7 +1,7 @@
 //! End-to-end tests of DistMesh.
 use cvtmesh_distmesh::{initial_points, DistMesh};
 use geometry::{Density, Region};
-use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher};
 
 fn run(name: &str, k: usize, req: MeshRequest) -> (Region, MeshResult) {
     let region = Region::builtin(name).unwrap();
@@ -22,23 +22,7 @@ fn assert_good(region: &Region, r: &MeshResult, k: usize) {
     let mesh = &r.mesh;
     check_conforming(mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
     assert_eq!(mesh.num_vertices(), k, "{}", region.name());
-    for (ci, c) in region.corners().iter().enumerate() {
-        let v = mesh
-            .points
-            .iter()
-            .position(|p| *p == c.pos)
-            .unwrap_or_else(|| panic!("corner {ci} missing"));
-        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
-    }
-    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
-    let rel = (mesh.area() - region.area()).abs() / region.area();
-    assert!(
-        rel < if k < 50 { 0.08 } else { 0.02 },
-        "{}: area {} vs {}",
-        region.name(),
-        mesh.area(),
-        region.area()
-    );
+    testkit::assert_corners_and_area(mesh, region, k);
     assert_eq!(r.move_history.len(), r.iterations);
     assert!(r.energy_history.is_empty());
     // DistMesh meshes are nearly equilateral; a sliver would mean a broken truss.
@@ -118,22 +102,8 @@ fn surplus_removal_follows_the_seed() {
 
 #[test]
 fn graded_density_puts_more_points_where_dense() {
-    let region = Region::builtin("square_hole").unwrap();
-    let rho = Density::Function(std::sync::Arc::new(
-        |p: geometry::DVec2| if p.x > 0.0 { 16.0 } else { 1.0 },
-    ));
-    let r = DistMesh::default()
-        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
-        .unwrap();
-    check_conforming(&r.mesh, &region).unwrap();
+    let r = testkit::graded_density_puts_more_points_where_dense(&DistMesh::default());
     assert_eq!(r.mesh.num_vertices(), 300);
-    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
-    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
-    // h ∝ ρ^(-1/4): about 4× the points per area where ρ is 16× larger.
-    assert!(
-        right as f64 > 2.5 * left as f64,
-        "right {right}, left {left}"
-    );
 }
 
 #[test]
@@ -245,29 +215,12 @@ fn too_few_points_is_an_error() {
 /// All ten paper regions at the paper's K.
 #[test]
 fn all_paper_regions() {
-    let cases = [
-        ("circle", 19),
-        ("circle", 88),
-        ("circle", 362),
-        ("annulus", 303),
-        ("square_hole", 194),
-        ("hex_hole", 240),
-        ("horn", 138),
-        ("superellipse", 505),
-        ("bike_seat", 136),
-        ("pie_hole", 287),
-        ("square_two_hex", 203),
-        ("lake", 1109),
-    ];
-    for (name, k) in cases {
+    for (name, k) in Region::paper_cases() {
         let (region, r) = run(name, k, MeshRequest::points(k));
         assert_good(&region, &r, k);
         eprintln!(
             "{name} K={k}: {} iterations, converged {}, notes {:?}",
             r.iterations, r.converged, r.notes
         );
-    }
-    for name in Region::builtin_names() {
-        assert!(cases.iter().any(|c| c.0 == *name), "{name} not covered");
     }
 }

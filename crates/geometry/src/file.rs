@@ -23,22 +23,20 @@ use crate::region::Region;
 use crate::types::LoopRole;
 use glam::DVec2;
 use serde_json::{Map, Value};
+use std::sync::OnceLock;
 
 /// Built-in regions in the paper's table order.
-pub const BUILTIN_NAMES: &[&str] = &[
-    "circle",
-    "annulus",
-    "square_hole",
-    "hex_hole",
-    "horn",
-    "superellipse",
-    "bike_seat",
-    "pie_hole",
-    "square_two_hex",
-    "lake",
-];
+pub const BUILTIN_NAMES: &[&str] = &{
+    let mut names = [""; BUILTIN_FILES.len()];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = BUILTIN_FILES[i].0;
+        i += 1;
+    }
+    names
+};
 
-/// The built-in region files, embedded at compile time.
+/// The built-in region files, embedded at compile time, in the paper's table order.
 const BUILTIN_FILES: &[(&str, &str)] = &[
     ("circle", include_str!("../regions/circle.json")),
     ("annulus", include_str!("../regions/annulus.json")),
@@ -90,6 +88,49 @@ impl Region {
     pub fn builtin_names() -> &'static [&'static str] {
         BUILTIN_NAMES
     }
+
+    /// The K values of the paper's tables for the built-in region `name` (the `paper.K` field
+    /// of its file), in table order; empty for any other name.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// assert_eq!(Region::paper_k("circle"), [19, 88, 362]);
+    /// assert!(Region::paper_k("nowhere").is_empty());
+    /// ```
+    pub fn paper_k(name: &str) -> &'static [usize] {
+        static PAPER_K: OnceLock<Vec<Vec<usize>>> = OnceLock::new();
+        let all = PAPER_K.get_or_init(|| {
+            BUILTIN_FILES
+                .iter()
+                .map(|(n, text)| {
+                    paper_k_of(text)
+                        .unwrap_or_else(|| panic!("built-in region '{n}' has no list paper.K"))
+                })
+                .collect()
+        });
+        match BUILTIN_FILES.iter().position(|(n, _)| *n == name) {
+            Some(i) => &all[i],
+            None => &[],
+        }
+    }
+
+    /// Every (built-in region, K) of the paper's Tables 1–12, in table order.
+    pub fn paper_cases() -> impl Iterator<Item = (&'static str, usize)> {
+        BUILTIN_NAMES
+            .iter()
+            .flat_map(|&name| Region::paper_k(name).iter().map(move |&k| (name, k)))
+    }
+}
+
+/// The `paper.K` list of a region file, if it has one of counts.
+fn paper_k_of(text: &str) -> Option<Vec<usize>> {
+    let v: Value = serde_json::from_str(text).ok()?;
+    v.get("paper")?
+        .get("K")?
+        .as_array()?
+        .iter()
+        .map(|k| k.as_u64().and_then(|k| usize::try_from(k).ok()))
+        .collect()
 }
 
 /// Parses region JSON; `label` names the source in errors, `default_name` is the region's

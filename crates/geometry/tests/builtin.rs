@@ -286,3 +286,17 @@ fn chain_vertex_between_finds_the_first_bend_on_the_way() {
     let q = |t: f64| DVec2::new(t.cos(), t.sin());
     assert_eq!(circle.chain_vertex_between(q(0.1), q(2.0), 0), None);
 }
+
+#[test]
+fn paper_k_lists_the_twelve_tables_in_order() {
+    for &name in Region::builtin_names() {
+        let k = Region::paper_k(name);
+        assert!(!k.is_empty(), "{name}");
+        assert!(k.windows(2).all(|w| w[0] < w[1]), "{name}: {k:?}");
+    }
+    let cases: Vec<(&str, usize)> = Region::paper_cases().collect();
+    assert_eq!(cases.len(), 12);
+    assert_eq!(cases[0], ("circle", 19));
+    assert_eq!(cases[11], ("lake", 1109));
+    assert!(Region::paper_k("triangle").is_empty());
+}

@@ -167,6 +167,46 @@ impl MeshError {
         }
     }
 
+    /// `Ok` if the setting's `value` is positive and finite, else
+    /// [`MeshError::invalid_setting`].
+    pub fn check_positive(
+        method: &str,
+        setting: &'static str,
+        value: f64,
+    ) -> Result<(), MeshError> {
+        Self::check_setting(method, setting, value, value > 0.0, "positive and finite")
+    }
+
+    /// `Ok` if the setting's `value` is non-negative and finite, else
+    /// [`MeshError::invalid_setting`].
+    pub fn check_non_negative(
+        method: &str,
+        setting: &'static str,
+        value: f64,
+    ) -> Result<(), MeshError> {
+        Self::check_setting(
+            method,
+            setting,
+            value,
+            value >= 0.0,
+            "non-negative and finite",
+        )
+    }
+
+    fn check_setting(
+        method: &str,
+        setting: &'static str,
+        value: f64,
+        in_range: bool,
+        expected: &'static str,
+    ) -> Result<(), MeshError> {
+        if value.is_finite() && in_range {
+            Ok(())
+        } else {
+            Err(Self::invalid_setting(method, setting, value, expected))
+        }
+    }
+
     /// True for errors that the request alone causes (checked by
     /// [`MeshRequest::validate`](crate::MeshRequest::validate) before any work is done).
     pub fn is_invalid_request(&self) -> bool {

@@ -374,13 +374,36 @@ pub(crate) fn read_text(path: &Path) -> Result<String, MeshError> {
     })
 }
 
-/// Make every triangle counter-clockwise (files from other tools may use either orientation).
-pub(crate) fn orient_ccw(points: &[DVec2], triangles: &mut [[u32; 3]]) {
-    for t in triangles {
+/// The mesh a reader found: every triangle made counter-clockwise (files from other tools may
+/// use either orientation), with the file's exact markers if it has them, else markers from
+/// the topology.
+pub(crate) fn read_mesh_parts(
+    points: Vec<DVec2>,
+    mut triangles: Vec<[u32; 3]>,
+    exact_markers: Option<Vec<VertexMarker>>,
+) -> Mesh {
+    for t in &mut triangles {
         let [a, b, c] = t.map(|v| points[v as usize]);
         if (b - a).perp_dot(c - a) < 0.0 {
             t.swap(1, 2);
         }
+    }
+    let markers = exact_markers.unwrap_or_else(|| markers_from_topology(&points, &triangles));
+    Mesh {
+        points,
+        triangles,
+        markers,
+    }
+}
+
+/// The z coordinate of a vertex read from a 3-D format: anything but 0 is an error message.
+pub(crate) fn planar_z(z: f64) -> Result<(), String> {
+    if z == 0.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "z = {z}: only planar meshes in the plane z = 0 are supported"
+        ))
     }
 }
 
@@ -565,6 +588,26 @@ pub(crate) mod test_util {
         fn drop(&mut self) {
             let _ = fs::remove_dir_all(&self.0);
         }
+    }
+
+    /// Write [`square_with_hole`] to `file` in a temp directory and read it back: points and
+    /// triangles come back unchanged and every vertex keeps its loop. Returns the mesh read.
+    pub fn assert_round_trip_keeps_loops(
+        file: &str,
+        write: fn(&Mesh, &Path) -> Result<(), MeshError>,
+        read: fn(&Path) -> Result<Mesh, MeshError>,
+    ) -> Mesh {
+        let dir = TempDir::new(file);
+        let m = square_with_hole();
+        let p = dir.path(file);
+        write(&m, &p).unwrap();
+        let r = read(&p).unwrap();
+        assert_eq!(r.points, m.points);
+        assert_eq!(r.triangles, m.triangles);
+        for (a, b) in r.markers.iter().zip(&m.markers) {
+            assert_eq!(a.loop_index(), b.loop_index());
+        }
+        r
     }
 
     /// A conforming mesh of the square [0, 3]² with the square hole [1, 2]², on a 7×7 grid of

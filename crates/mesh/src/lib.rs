@@ -13,4 +13,4 @@ mod types;
 pub use check::{check_conforming, ConformityError};
 pub use error::MeshError;
 pub use mesher::{MeshRequest, MeshResult, Mesher, Progress, Size, MAX_POINTS};
-pub use types::{BoundaryEdge, Mesh, VertexMarker};
+pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -124,15 +124,9 @@ impl Mesh {
     }
     /// Smallest interior angle over all triangles, in degrees.
     pub fn min_angle_deg(&self) -> f64 {
-        let mut m = f64::INFINITY;
-        for t in 0..self.triangles.len() {
-            let p = self.triangle(t);
-            for i in 0..3 {
-                let (u, v) = (p[(i + 1) % 3] - p[i], p[(i + 2) % 3] - p[i]);
-                m = m.min(u.angle_to(v).abs().to_degrees());
-            }
-        }
-        m
+        (0..self.triangles.len())
+            .map(|t| triangle_min_angle_deg(self.triangle(t)))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The edges of exactly one triangle, grouped by boundary loop and, within a loop, in
@@ -218,4 +212,17 @@ pub(crate) fn single_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
     directed()
         .filter(|&(a, b)| count(a, b) + count(b, a) == 1)
         .collect()
+}
+
+/// Smallest interior angle of the triangle with corners `p`, in degrees (infinite only if no
+/// angle is a number).
+pub fn triangle_min_angle_deg(p: [DVec2; 3]) -> f64 {
+    (0..3)
+        .map(|i| {
+            (p[(i + 1) % 3] - p[i])
+                .angle_to(p[(i + 2) % 3] - p[i])
+                .abs()
+                .to_degrees()
+        })
+        .fold(f64::INFINITY, f64::min)
 }

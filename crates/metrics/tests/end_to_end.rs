@@ -70,6 +70,16 @@ fn random_mesh(region: &Region, corners: &[DVec2], n: usize, seed: u64) -> Mesh 
     }
 }
 
+/// The Delaunay triangulation of `points`, every vertex marked interior.
+fn delaunay_mesh(points: Vec<DVec2>) -> Mesh {
+    let triangles = Delaunay::new(&points).triangles();
+    Mesh {
+        markers: vec![VertexMarker::Interior; points.len()],
+        points,
+        triangles,
+    }
+}
+
 /// The points of the triangular lattice with spacing `s` strictly inside the unit circle.
 fn hex_lattice_in_circle(s: f64) -> Vec<DVec2> {
     let n = (2.0 / s) as i64 + 2;
@@ -259,12 +269,7 @@ fn converged_in_polygon_tolerance() {
     let region = circle();
     for s in [0.21, 0.02] {
         let points = hex_lattice_in_circle(s);
-        let triangles = Delaunay::new(&points).triangles();
-        let mesh = Mesh {
-            markers: vec![VertexMarker::Interior; points.len()],
-            points,
-            triangles,
-        };
+        let mesh = delaunay_mesh(points);
         let a = measures(&mesh, &region).unwrap();
         let polygon = region.polygonize(polygon_tolerance(&region, mesh.points.len()) / 100.0);
         let cells = clipped_cells(
@@ -289,12 +294,7 @@ fn converged_in_polygon_tolerance() {
 fn sampled_estimate_is_deterministic_and_consistent() {
     let region = circle();
     let points = hex_lattice_in_circle(0.35);
-    let triangles = Delaunay::new(&points).triangles();
-    let mesh = Mesh {
-        markers: vec![VertexMarker::Interior; points.len()],
-        points,
-        triangles,
-    };
+    let mesh = delaunay_mesh(points);
     let exact = measures(&mesh, &region).unwrap();
     let p = SampleParams::default();
     let a = sampled_measures(&mesh, &region, &p).unwrap();
@@ -345,12 +345,7 @@ fn check_sampled_against_exact(samples: usize, tol: f64) {
             }
         }
     }
-    let triangles = Delaunay::new(&points).triangles();
-    let mesh = Mesh {
-        markers: vec![VertexMarker::Interior; points.len()],
-        points,
-        triangles,
-    };
+    let mesh = delaunay_mesh(points);
     let exact = measures(&mesh, &region).unwrap();
     let params = SampleParams {
         samples,

@@ -1,7 +1,9 @@
 //! End-to-end tests of the Delaunay refinement (TRIANGLE) method.
 use cvtmesh_refine::Refine;
 use geometry::{Density, Region};
-use mesh::{check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, VertexMarker};
+use mesh::{
+    check_conforming, triangle_min_angle_deg, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
+};
 
 fn run(m: &Refine, name: &str, k: usize) -> (Region, MeshResult) {
     let region = Region::builtin(name).unwrap();
@@ -18,14 +20,7 @@ fn min_angle_unforced(mesh: &Mesh, region: &Region) -> f64 {
     let mut worst = f64::INFINITY;
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let p = mesh.triangle(t);
-        let a = (0..3)
-            .map(|i| {
-                (p[(i + 1) % 3] - p[i])
-                    .angle_to(p[(i + 2) % 3] - p[i])
-                    .abs()
-                    .to_degrees()
-            })
-            .fold(f64::INFINITY, f64::min);
+        let a = triangle_min_angle_deg(p);
         let s = (0..3).min_by(|&i, &j| {
             let li = (p[(i + 1) % 3] - p[i]).length_squared();
             let lj = (p[(j + 1) % 3] - p[j]).length_squared();
@@ -64,25 +59,7 @@ fn assert_good(region: &Region, r: &MeshResult, k: usize, angle: f64) {
         "{}: min angle {a} < {angle}",
         region.name()
     );
-    // Every corner is a vertex carrying its corner marker.
-    for (ci, c) in region.corners().iter().enumerate() {
-        let v = mesh
-            .points
-            .iter()
-            .position(|p| *p == c.pos)
-            .unwrap_or_else(|| panic!("corner {ci} missing"));
-        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
-    }
-    // Triangles tile Ω up to the chords of curved pieces.
-    // (Chords of curved pieces cut off up to ~6% of the unit circle at K = 19.)
-    let rel = (mesh.area() - region.area()).abs() / region.area();
-    assert!(
-        rel < if k < 50 { 0.08 } else { 0.02 },
-        "{}: area {} vs {}",
-        region.name(),
-        mesh.area(),
-        region.area()
-    );
+    testkit::assert_corners_and_area(mesh, region, k);
     assert!(r
         .notes
         .iter()
@@ -192,42 +169,14 @@ fn progress_once_per_search_step() {
 
 #[test]
 fn graded_density_refines_where_dense() {
-    let region = Region::builtin("square_hole").unwrap();
-    let rho = Density::Function(std::sync::Arc::new(
-        |p: geometry::DVec2| if p.x > 0.0 { 16.0 } else { 1.0 },
-    ));
-    let r = Refine::default()
-        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
-        .unwrap();
-    check_conforming(&r.mesh, &region).unwrap();
-    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
-    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
-    // Spacing ∝ ρ^(-1/4): about 4× the points per area where ρ is 16× larger.
-    assert!(
-        right as f64 > 2.5 * left as f64,
-        "right {right}, left {left}"
-    );
+    testkit::graded_density_puts_more_points_where_dense(&Refine::default());
 }
 
 /// All ten paper regions at the paper's K, at Triangle's default 20° (no small input angles
 /// there, so no exemptions are needed).
 #[test]
 fn all_paper_regions() {
-    let cases = [
-        ("circle", 19),
-        ("circle", 88),
-        ("circle", 362),
-        ("annulus", 303),
-        ("square_hole", 194),
-        ("hex_hole", 240),
-        ("horn", 138),
-        ("superellipse", 505),
-        ("bike_seat", 136),
-        ("pie_hole", 287),
-        ("square_two_hex", 203),
-        ("lake", 1109),
-    ];
-    for (name, k) in cases {
+    for (name, k) in Region::paper_cases() {
         let (region, r) = run(&Refine::default(), name, k);
         assert_good(&region, &r, k, 20.0);
         assert!(
@@ -241,8 +190,5 @@ fn all_paper_regions() {
             r.iterations,
             r.converged
         );
-    }
-    for name in Region::builtin_names() {
-        assert!(cases.iter().any(|c| c.0 == *name), "{name} not covered");
     }
 }

@@ -70,16 +70,16 @@ fn rgb(p: &Pixmap, x: f64, y: f64) -> [u8; 3] {
     [c.red(), c.green(), c.blue()]
 }
 
-#[test]
-fn annulus_png_has_white_hole_and_dark_boundary() {
-    let region = annulus();
-    let m = polar::annulus_mesh(DVec2::new(3.0, -1.0), 0.4, 1.0, 0.08);
-    // Untitled, so all ink is the drawing: a disc whose bounding box gives the mapping.
-    let panels = [Panel::new("", &region).with_mesh(&m)];
-    let path = temp_path("annulus.png");
-    cvtmesh_render::render_png(&panels, &Layout::new(1).panel_px(300), &path).unwrap();
-    let pix = Pixmap::load_png(&path).unwrap();
-    let (x0, y0, x1, y1) = ink_bbox(&pix);
+/// 32 angles around a circle, none on an axis.
+fn test_angles() -> impl Iterator<Item = f64> {
+    (0..32).map(|k| std::f64::consts::TAU * (k as f64 + 0.25) / 32.0)
+}
+
+/// Check an untitled 300 px drawing of an annulus of radii 1 and 0.4 (all ink is the drawing,
+/// so its bounding box gives the mapping): a disc 302 px across, white at the centre, dark on
+/// both boundary circles. Returns the centre and the pixels per unit.
+fn assert_annulus_drawn(pix: &Pixmap) -> (f64, f64, f64) {
+    let (x0, y0, x1, y1) = ink_bbox(pix);
     let (w, h) = ((x1 - x0 + 1) as f64, (y1 - y0 + 1) as f64);
     assert!(
         (w - h).abs() <= 1.0 && (w - 302.0).abs() <= 2.0,
@@ -87,16 +87,29 @@ fn annulus_png_has_white_hole_and_dark_boundary() {
     );
     let (cx, cy) = (x0 as f64 + 0.5 * w, y0 as f64 + 0.5 * h);
     let s = 150.0; // pixels per unit: 300 px over the diameter 2
-    assert_eq!(rgb(&pix, cx, cy), [255, 255, 255], "hole centre");
-    for k in 0..32 {
-        let a = std::f64::consts::TAU * (k as f64 + 0.25) / 32.0;
+    assert_eq!(rgb(pix, cx, cy), [255, 255, 255], "hole centre");
+    for a in test_angles() {
         for r in [1.0, 0.4] {
-            let c = rgb(&pix, cx + r * s * a.cos(), cy - r * s * a.sin());
+            let c = rgb(pix, cx + r * s * a.cos(), cy - r * s * a.sin());
             assert!(
                 c.iter().all(|&v| v < 90),
                 "boundary r={r} at angle {a}: {c:?}"
             );
         }
+    }
+    (cx, cy, s)
+}
+
+#[test]
+fn annulus_png_has_white_hole_and_dark_boundary() {
+    let region = annulus();
+    let m = polar::annulus_mesh(DVec2::new(3.0, -1.0), 0.4, 1.0, 0.08);
+    let panels = [Panel::new("", &region).with_mesh(&m)];
+    let path = temp_path("annulus.png");
+    cvtmesh_render::render_png(&panels, &Layout::new(1).panel_px(300), &path).unwrap();
+    let pix = Pixmap::load_png(&path).unwrap();
+    let (cx, cy, s) = assert_annulus_drawn(&pix);
+    for a in test_angles() {
         // Inside the hole, away from its boundary: white.
         let c = rgb(&pix, cx + 0.3 * s * a.cos(), cy - 0.3 * s * a.sin());
         assert_eq!(c, [255, 255, 255]);
@@ -112,22 +125,7 @@ fn annulus_mesh_alone_is_outlined_by_its_own_boundary() {
     let layout = Layout::new(1).panel_px(300);
     let pix = Pixmap::decode_png(&cvtmesh_render::png_bytes(&panels, &layout).unwrap()).unwrap();
     // The mesh's bounding box is the disc's (its outer ring has vertices at 0°, 90°, …).
-    let (x0, y0, x1, y1) = ink_bbox(&pix);
-    let (w, h) = ((x1 - x0 + 1) as f64, (y1 - y0 + 1) as f64);
-    assert!(
-        (w - h).abs() <= 1.0 && (w - 302.0).abs() <= 2.0,
-        "disc drawn {w}x{h}"
-    );
-    let (cx, cy) = (x0 as f64 + 0.5 * w, y0 as f64 + 0.5 * h);
-    let s = 150.0;
-    assert_eq!(rgb(&pix, cx, cy), [255, 255, 255], "hole centre");
-    for k in 0..32 {
-        let a = std::f64::consts::TAU * (k as f64 + 0.25) / 32.0;
-        for r in [1.0, 0.4] {
-            let c = rgb(&pix, cx + r * s * a.cos(), cy - r * s * a.sin());
-            assert!(c.iter().all(|&v| v < 90), "boundary r={r} at {a}: {c:?}");
-        }
-    }
+    assert_annulus_drawn(&pix);
     // In SVG the boundary path has one segment per vertex of the two boundary rings.
     let on_ring = |r: f64| {
         m.points

@@ -1,7 +1,8 @@
 //! Measure DistMesh on one region: `cargo run --release -p cvtmesh-tools --bin distmesh_probe -- NAME K [MAX_ITER]`.
+use cvtmesh_tools::print_run;
 use distmesh::DistMesh;
 use geometry::Region;
-use mesh::{check_conforming, MeshRequest, Mesher};
+use mesh::{triangle_min_angle_deg, MeshRequest, Mesher};
 use std::time::Instant;
 
 fn main() {
@@ -19,26 +20,10 @@ fn main() {
         )
         .unwrap();
     let secs = t.elapsed().as_secs_f64();
-    println!(
-        "{name} K={k}: reached {} K~={} min angle {:.2} iterations {} converged {} {:.3} s conforming {:?}",
-        r.mesh.num_vertices(),
-        r.mesh.num_triangles(),
-        r.mesh.min_angle_deg(),
-        r.iterations,
-        r.converged,
-        secs,
-        check_conforming(&r.mesh, &region)
-    );
+    print_run(name, k, &region, &r, secs);
     for t in 0..r.mesh.num_triangles() {
         let p = r.mesh.triangle(t);
-        let m = (0..3)
-            .map(|i| {
-                (p[(i + 1) % 3] - p[i])
-                    .angle_to(p[(i + 2) % 3] - p[i])
-                    .abs()
-                    .to_degrees()
-            })
-            .fold(180.0, f64::min);
+        let m = triangle_min_angle_deg(p);
         if m < 15.0 {
             let tri = r.mesh.triangles[t];
             println!(

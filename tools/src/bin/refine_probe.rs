@@ -1,6 +1,7 @@
 //! Measure the refinement on one region: `cargo run --release -p cvtmesh-tools --bin refine_probe -- NAME K [ANGLE]`.
+use cvtmesh_tools::print_run;
 use geometry::Region;
-use mesh::{check_conforming, MeshRequest, Mesher};
+use mesh::{MeshRequest, Mesher};
 use refine::Refine;
 use std::time::Instant;
 
@@ -28,17 +29,7 @@ fn main() {
         })
         .unwrap();
     let secs = t.elapsed().as_secs_f64();
-    let ok = check_conforming(&r.mesh, &region);
-    println!(
-        "{name} K={k}: reached {} K~={} min angle {:.2} iterations {} converged {} {:.3} s conforming {:?}",
-        r.mesh.num_vertices(),
-        r.mesh.num_triangles(),
-        r.mesh.min_angle_deg(),
-        r.iterations,
-        r.converged,
-        secs,
-        ok
-    );
+    print_run(name, k, &region, &r, secs);
     let (mut bsum, mut bn, mut isum, mut inn) = (0.0, 0, 0.0, 0);
     let mut edges = std::collections::HashMap::new();
     for t in &r.mesh.triangles {

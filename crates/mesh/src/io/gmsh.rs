@@ -1,7 +1,7 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
-    edges_by_loop, file_err, io_err, markers_from_topology, orient_ccw, validate_for_writing,
-    write_files, Producer, Tokens, F,
+    edges_by_loop, file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files,
+    Producer, Tokens, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -319,12 +319,7 @@ fn read_xyz(t: &mut Tokens) -> Result<DVec2, MeshError> {
     let x = t.f64("x")?;
     let y = t.f64("y")?;
     let z = t.f64("z")?;
-    if z != 0.0 {
-        return Err(t.err_line(
-            line,
-            format!("z = {z}: only planar meshes in the plane z = 0 are supported"),
-        ));
-    }
+    planar_z(z).map_err(|m| t.err_line(line, m))?;
     Ok(DVec2::new(x, y))
 }
 
@@ -488,8 +483,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
     for tri in &raw.triangles {
         triangles.push([lookup(tri[0])?, lookup(tri[1])?, lookup(tri[2])?]);
     }
-    orient_ccw(&points, &mut triangles);
-    let mut markers = markers_from_topology(&points, &triangles);
+    let mut mesh = read_mesh_parts(points, triangles, None);
     for &(a, b, phys) in &raw.lines {
         let named = raw
             .names
@@ -498,7 +492,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
             .and_then(|s| s.parse::<usize>().ok());
         if let Some(loop_index) = named {
             for v in [lookup(a)?, lookup(b)?] {
-                let m = &mut markers[v as usize];
+                let m = &mut mesh.markers[v as usize];
                 *m = match *m {
                     VertexMarker::Boundary {
                         piece, loop_param, ..
@@ -516,11 +510,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
             }
         }
     }
-    Ok(Mesh {
-        points,
-        triangles,
-        markers,
-    })
+    Ok(mesh)
 }
 
 #[cfg(test)]
@@ -531,16 +521,7 @@ mod tests {
 
     #[test]
     fn round_trip_preserves_points_triangles_and_loops() {
-        let dir = TempDir::new("msh");
-        let m = square_with_hole();
-        let p = dir.path("sq.msh");
-        write_gmsh(&m, &p).unwrap();
-        let r = read_gmsh(&p).unwrap();
-        assert_eq!(r.points, m.points);
-        assert_eq!(r.triangles, m.triangles);
-        for (a, b) in r.markers.iter().zip(&m.markers) {
-            assert_eq!(a.loop_index(), b.loop_index());
-        }
+        assert_round_trip_keeps_loops("sq.msh", write_gmsh, read_gmsh);
     }
 
     #[test]

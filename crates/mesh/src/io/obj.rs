@@ -1,7 +1,6 @@
 //! Wavefront `.obj`: `v x y 0` and 1-based `f a b c`.
 use super::{
-    file_err, markers_from_topology, orient_ccw, read_text, validate_for_writing, write_files,
-    Producer, F,
+    file_err, planar_z, read_mesh_parts, read_text, validate_for_writing, write_files, Producer, F,
 };
 use crate::{Mesh, MeshError};
 use geometry::DVec2;
@@ -60,11 +59,8 @@ fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
                         c.len()
                     )));
                 }
-                if c.len() >= 3 && c[2] != 0.0 {
-                    return Err(err(format!(
-                        "z = {}: only planar meshes in the plane z = 0 are supported",
-                        c[2]
-                    )));
+                if c.len() >= 3 {
+                    planar_z(c[2]).map_err(err)?;
                 }
                 points.push(DVec2::new(c[0], c[1]));
             }
@@ -96,13 +92,7 @@ fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
             _ => {}
         }
     }
-    orient_ccw(&points, &mut triangles);
-    let markers = markers_from_topology(&points, &triangles);
-    Ok(Mesh {
-        points,
-        triangles,
-        markers,
-    })
+    Ok(read_mesh_parts(points, triangles, None))
 }
 
 #[cfg(test)]
@@ -112,16 +102,7 @@ mod tests {
 
     #[test]
     fn round_trip_preserves_points_triangles_and_loops() {
-        let dir = TempDir::new("obj");
-        let m = square_with_hole();
-        let p = dir.path("sq.obj");
-        write_obj(&m, &p).unwrap();
-        let r = read_obj(&p).unwrap();
-        assert_eq!(r.points, m.points);
-        assert_eq!(r.triangles, m.triangles);
-        for (a, b) in r.markers.iter().zip(&m.markers) {
-            assert_eq!(a.loop_index(), b.loop_index());
-        }
+        assert_round_trip_keeps_loops("sq.obj", write_obj, read_obj);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    edges_by_loop, markers_from_topology, orient_ccw, read_text, validate_for_writing, write_files,
-    Producer, Tokens, F, UNKNOWN_PIECE,
+    edges_by_loop, read_mesh_parts, read_text, validate_for_writing, write_files, Producer, Tokens,
+    F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -185,17 +185,8 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
         e => e,
     })?;
     let (points, base, exact) = parse_node(&node_text, node_path)?;
-    let mut triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
-    orient_ccw(&points, &mut triangles);
-    let markers = match exact {
-        Some(m) => m,
-        None => markers_from_topology(&points, &triangles),
-    };
-    Ok(Mesh {
-        points,
-        triangles,
-        markers,
-    })
+    let triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
+    Ok(read_mesh_parts(points, triangles, exact))
 }
 
 type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>);

@@ -17,11 +17,7 @@ pub fn triangle_quality(p: [DVec2; 3]) -> (f64, f64, f64) {
         (p[0] - p[1]).length(),
     ];
     let area = 0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]);
-    let mut min_angle = f64::INFINITY;
-    for i in 0..3 {
-        let (u, v) = (p[(i + 1) % 3] - p[i], p[(i + 2) % 3] - p[i]);
-        min_angle = min_angle.min(u.angle_to(v).abs().to_degrees());
-    }
+    let min_angle = crate::triangle_min_angle_deg(p);
     let denom = (b + c - a) * (c + a - b) * (a + b - c);
     let q = if denom > 0.0 && area != 0.0 {
         (a * b * c / denom).min(f64::MAX)

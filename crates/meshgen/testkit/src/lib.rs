@@ -1,7 +1,8 @@
 //! Helpers shared by the tests and examples of the `meshgen` and `vtm` crates (the two
 //! relaxation methods built on `meshgen::relax`): end-to-end checks of a method's result, a
-//! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run.
-//! A dev-dependency only; not published.
+//! regular hexagonal patch for unit tests of the vertex targets, and the examples' timed run;
+//! the `distmesh` and `refine` tests use its corner and area and graded-density checks. A
+//! dev-dependency only; not published.
 use geometry::DVec2;
 pub use geometry::Region;
 pub use mesh::MeshRequest;
@@ -96,6 +97,55 @@ pub fn mesh_and_check_with(method: &dyn Mesher, name: &str, request: &MeshReques
         mesh.min_angle_deg()
     );
     result
+}
+
+/// Every corner of `region` is a vertex of `mesh` carrying its corner marker, and the
+/// triangles tile Ω up to the chords of curved pieces (which cut off up to ~6% of the unit
+/// circle at K = 19).
+pub fn assert_corners_and_area(mesh: &Mesh, region: &Region, k: usize) {
+    for (ci, c) in region.corners().iter().enumerate() {
+        let v = mesh
+            .points
+            .iter()
+            .position(|p| *p == c.pos)
+            .unwrap_or_else(|| panic!("corner {ci} missing"));
+        assert!(matches!(mesh.markers[v], VertexMarker::Corner { corner, .. } if corner == ci));
+    }
+    let rel = (mesh.area() - region.area()).abs() / region.area();
+    assert!(
+        rel < if k < 50 { 0.08 } else { 0.02 },
+        "{}: area {} vs {}",
+        region.name(),
+        mesh.area(),
+        region.area()
+    );
+}
+
+/// Mesh the square with a hole at K = 300 under a density 16× larger where x > 0: the mesh
+/// conforms and, since the spacing goes as ρ^(-1/4), holds about 4× the points per area on
+/// the dense side (more than 2.5× asserted).
+pub fn graded_density_puts_more_points_where_dense(method: &dyn Mesher) -> MeshResult {
+    let region = Region::builtin("square_hole").unwrap();
+    let rho = geometry::Density::Function(std::sync::Arc::new(
+        |p: DVec2| {
+            if p.x > 0.0 {
+                16.0
+            } else {
+                1.0
+            }
+        },
+    ));
+    let r = method
+        .mesh(&region, &MeshRequest::points(300).density(rho), &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let right = r.mesh.points.iter().filter(|p| p.x > 0.05).count();
+    let left = r.mesh.points.iter().filter(|p| p.x < -0.05).count();
+    assert!(
+        right as f64 > 2.5 * left as f64,
+        "right {right}, left {left}"
+    );
+    r
 }
 
 /// `max_iter = 2` cannot reach tol = 1e-4 from the jittered lattice: reported as such.
@@ -279,15 +329,19 @@ macro_rules! relaxation_tests {
             bad_requests_are_errors(&$method);
         }
 
-        /// The paper's K of each region, in `Region::builtin_names()` order (largest where
-        /// several).
-        const PAPER_K: [usize; 10] = [362, 303, 194, 240, 138, 505, 136, 287, 203, 1109];
+        /// Each built-in region at the paper's K (the largest where it has several).
+        fn paper_regions() -> impl Iterator<Item = (&'static str, usize)> {
+            $crate::Region::builtin_names().iter().map(|&name| {
+                let k = $crate::Region::paper_k(name).iter().max();
+                (name, *k.expect("every built-in region has a paper K"))
+            })
+        }
 
         #[test]
         fn every_paper_region_after_forty_iterations() {
             // Conformity, exact K, corners and markers hold at every iterate, not only at
             // convergence.
-            for (name, k) in $crate::Region::builtin_names().iter().zip(PAPER_K) {
+            for (name, k) in paper_regions() {
                 let request = $crate::MeshRequest::points(k).max_iter(40);
                 let r = mesh_and_check_with(&$method, name, &request);
                 assert_eq!(
@@ -301,7 +355,7 @@ macro_rules! relaxation_tests {
         #[ignore = "slow: every paper region at its paper K to convergence \
                     (run with --release -- --ignored)"]
         fn all_paper_regions() {
-            for (name, k) in $crate::Region::builtin_names().iter().zip(PAPER_K) {
+            for (name, k) in paper_regions() {
                 let r = mesh_and_check(&$method, name, k);
                 eprintln!(
                     "{name} K={k}: {} iterations, converged {}",

@@ -13,17 +13,7 @@ use std::path::PathBuf;
 
 fn min_angles(m: &mesh::Mesh) -> Vec<f64> {
     (0..m.num_triangles())
-        .map(|t| {
-            let p = m.triangle(t);
-            (0..3)
-                .map(|i| {
-                    (p[(i + 1) % 3] - p[i])
-                        .angle_to(p[(i + 2) % 3] - p[i])
-                        .abs()
-                        .to_degrees()
-                })
-                .fold(180.0, f64::min)
-        })
+        .map(|t| mesh::triangle_min_angle_deg(m.triangle(t)))
         .collect()
 }
 
