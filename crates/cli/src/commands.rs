@@ -12,6 +12,9 @@ use std::time::Instant;
 /// Meshes up to this size are checked for conformity before they are written.
 const CHECK_LIMIT: usize = 2_000_000;
 const DEFAULT_TOL: f64 = 1e-4;
+/// The default gradation limit of size fields: mmg's default ratio of 1.3 between adjacent
+/// edges, as a slope.
+const GRADATION: f64 = 0.3;
 /// Largest `--sampled` count.
 const MAX_SAMPLES: usize = 100_000_000;
 
@@ -37,6 +40,16 @@ pub struct MeshArgs {
     /// given [default: none, a uniform mesh].
     #[arg(long, conflicts_with = "density")]
     size_field: Option<String>,
+    /// Smallest edge length --size-field may ask for [default: none].
+    #[arg(long, requires = "size_field")]
+    size_min: Option<f64>,
+    /// Largest edge length --size-field may ask for [default: none].
+    #[arg(long, requires = "size_field")]
+    size_max: Option<f64>,
+    /// Largest gradient of --size-field's edge length: sizes grow by at most this much per
+    /// unit of distance, h(x) = min_y h(y) + g|x − y| (`inf` leaves the field as given).
+    #[arg(long, default_value_t = GRADATION, requires = "size_field")]
+    gradation: f64,
     // The names come from `Method::ALL`, so the help cannot fall behind the list of methods.
     #[arg(long, short = 'm', help = method_help(), default_value_t = Method::default().to_string())]
     method: String,
@@ -99,7 +112,12 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     }
     let request = match &a.size_field {
         Some(text) => {
-            let field = inputs::size_field(text)?;
+            let field = inputs::size_field(text)?.bounded(
+                &region,
+                a.size_min,
+                a.size_max,
+                Some(a.gradation),
+            )?;
             let r = MeshRequest::size_field(&field, &region, a.points)?;
             eprintln!(
                 "size field: K = {} ({:.0} asked for by the field)",

@@ -682,4 +682,62 @@ fn bad_size_fields_are_refused_before_any_work() {
         &out,
         "cannot be used with",
     );
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size-field",
+            "0.1",
+            "--size-min",
+            "0.2",
+            "--size-max",
+            "0.1",
+            "-o",
+            s(&out),
+        ],
+        &out,
+        "size bounds",
+    );
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size-field",
+            "0.1",
+            "--gradation",
+            "0",
+            "-o",
+            s(&out),
+        ],
+        &out,
+        "gradation",
+    );
+}
+
+#[test]
+fn gradation_limiting_adds_vertices_where_a_field_grows_too_fast() {
+    let dir = scratch("gradation");
+    let out = dir.join("m.node");
+    // The size grows with slope 0.5 away from a disc of radius 0.3: above the default limit.
+    let field = "0.01 + 0.5*max(0, sqrt(x^2+y^2)-0.3)";
+    let count = |extra: &[&str]| -> usize {
+        let mut args = vec!["mesh", "circle", "--size-field", field, "--tol", "1e-2"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--quiet", "-o", s(&out)]);
+        let o = cvtmesh(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        let t = text(&o);
+        let k = t
+            .split("K=")
+            .nth(1)
+            .expect("K=")
+            .split_whitespace()
+            .next()
+            .unwrap();
+        k.parse().unwrap()
+    };
+    let limited = count(&[]);
+    let free = count(&["--gradation", "inf"]);
+    assert!(limited > free + free / 20, "{limited} vs {free}");
+    assert!(count(&["--size-max", "0.05"]) > limited);
 }

@@ -9,7 +9,9 @@ use std::time::Instant;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let region = cvtmesh::load_region(args.get(1).map_or("circle", String::as_str))?;
-    let text = args.get(2).map_or("0.03 + 0.12*sqrt(x^2+y^2)", String::as_str);
+    let text = args
+        .get(2)
+        .map_or("0.03 + 0.12*sqrt(x^2+y^2)", String::as_str);
     let field = SizeField::from_expr(text)?;
     let k: Option<usize> = args.get(3).map(|s| s.parse()).transpose()?;
     let request = MeshRequest::size_field(&field, &region, k)?;
@@ -32,21 +34,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let t = Instant::now();
     let start = Method::Refine.run(&region, &request)?;
-    report("refine (start)", t.elapsed().as_secs_f64(), &start.mesh, start.iterations, start.converged);
+    report(
+        "refine (start)",
+        t.elapsed().as_secs_f64(),
+        &start.mesh,
+        start.iterations,
+        start.converged,
+    );
     let mut z = start.mesh.points.clone();
     let mut rng = cvtmesh::geometry::Rng::new(request.seed);
     while z.len() > k {
         z.swap_remove(rng.below(z.len()));
     }
-    let one = Ccvt { algorithm: Algorithm::One, ..Ccvt::fast() };
-    let run = |label: &str, ccvt: &Ccvt, from: Option<Vec<cvtmesh::DVec2>>| -> Result<(), Box<dyn std::error::Error>> {
+    let one = Ccvt {
+        algorithm: Algorithm::One,
+        ..Ccvt::fast()
+    };
+    let run = |label: &str,
+               ccvt: &Ccvt,
+               from: Option<Vec<cvtmesh::DVec2>>|
+     -> Result<(), Box<dyn std::error::Error>> {
         let t = Instant::now();
         let g: Generators = match from {
             Some(z) => ccvt.generators_from(&region, &request, z, &mut |_| {})?,
             None => ccvt.generators(&region, &request, &mut |_| {})?,
         };
         let mesh = cvtmesh::tessellation::conforming_mesh(&g.points, &g.markers, &region)?;
-        report(label, t.elapsed().as_secs_f64(), &mesh, g.iterations, g.converged);
+        report(
+            label,
+            t.elapsed().as_secs_f64(),
+            &mesh,
+            g.iterations,
+            g.converged,
+        );
         Ok(())
     };
     run("algorithm 1, refine start", &one, Some(z.clone()))?;
