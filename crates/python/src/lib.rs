@@ -389,7 +389,8 @@ fn scalar_field(
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
 #[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
-    max_iter = 10_000, density = None, progress = None))]
+    max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
+    gradation = 0.3))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
@@ -401,6 +402,9 @@ fn mesh(
     max_iter: usize,
     density: Option<&Bound<'_, PyAny>>,
     progress: Option<Py<PyAny>>,
+    size_min: Option<f64>,
+    size_max: Option<f64>,
+    gradation: Option<f64>,
 ) -> PyResult<PyMesh> {
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
@@ -411,7 +415,9 @@ fn mesh(
     }
     let request = match (size, density) {
         (Some(s), _) => {
-            let field = scalar_field(py, &region, s, "size")?;
+            let field = scalar_field(py, &region, s, "size")?
+                .bounded(&region, size_min, size_max, gradation)
+                .map_err(err)?;
             MeshRequest::size_field(&field, &region, n).map_err(err)?
         }
         (None, Some(d)) => {

@@ -128,6 +128,17 @@ def test_size_expression_with_n_keeps_the_shape_and_hits_n():
     assert len(m.points) == 500
 
 
+def test_gradation_and_bounds_shape_the_size_field():
+    field = "0.01 + 0.5*max(0, sqrt(x^2+y^2)-0.3)"
+    limited = cvtmesh.mesh("circle", size=field, tol=1e-2)
+    free = cvtmesh.mesh("circle", size=field, tol=1e-2, gradation=None)
+    assert len(limited.points) > 1.05 * len(free.points)
+    capped = cvtmesh.mesh("circle", size=field, tol=1e-2, size_max=0.05)
+    assert len(capped.points) > len(limited.points)
+    with pytest.raises(MeshError, match="size bounds"):
+        cvtmesh.mesh("circle", size=0.1, size_min=0.2, size_max=0.1)
+
+
 def test_constant_size_gives_the_lattice_count():
     m = cvtmesh.mesh("square_hole", size=0.1, tol=1e-3)
     area = Region.builtin("square_hole").area

@@ -71,6 +71,9 @@ def mesh(
     density: Union[None, str, Callable[[np.ndarray], Any]] = None,
     corner_angle: Optional[float] = None,
     progress: Optional[Callable[[int, float, float], Any]] = None,
+    size_min: Optional[float] = None,
+    size_max: Optional[float] = None,
+    gradation: Optional[float] = 0.3,
 ) -> Mesh:
     """Mesh a planar region.
 
@@ -102,6 +105,12 @@ def mesh(
         Keep only corners where the boundary turns by more than this many degrees.
     progress
         Called as ``progress(iteration, energy, largest_move)`` during the run.
+    size_min, size_max
+        Bounds on the edge length ``size`` asks for.
+    gradation
+        The largest gradient of ``size``: sizes grow by at most this much per unit of
+        distance, h(x) = min_y h(y) + g|x - y| (default 0.3; ``None`` leaves the field as
+        given).
 
     Raises
     ------
@@ -121,6 +130,9 @@ def mesh(
         max_iter=max_iter,
         density=density,
         progress=progress,
+        size_min=size_min,
+        size_max=size_max,
+        gradation=gradation,
     )
 
 

@@ -26,5 +26,8 @@ def mesh(
     density: Union[None, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
     corner_angle: Optional[float] = None,
     progress: Optional[Callable[[int, float, float], Any]] = None,
+    size_min: Optional[float] = None,
+    size_max: Optional[float] = None,
+    gradation: Optional[float] = 0.3,
 ) -> Mesh: ...
 def measures(points: npt.ArrayLike, triangles: npt.ArrayLike, region: RegionLike) -> dict[str, float]: ...

@@ -65,6 +65,9 @@ def mesh(
     max_iter: int = 10000,
     density: Union[None, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
     progress: Optional[Callable[[int, float, float], Any]] = None,
+    size_min: Optional[float] = None,
+    size_max: Optional[float] = None,
+    gradation: Optional[float] = 0.3,
 ) -> Mesh: ...
 def measures(
     points: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], region: Region
