@@ -104,12 +104,13 @@ impl MeshRequest {
     /// use cvtmesh_mesh::{MeshError, MeshRequest};
     ///
     /// let circle = Region::builtin("circle")?;
-    /// let h = SizeField::from_expr("0.05 * (1 + sqrt(x^2 + y^2))")?;
+    /// let h = SizeField::from_expr("0.05 * (2 + x)")?;
     /// let request = MeshRequest::size_field(&h, &circle, None)?;
     /// let k = request.validate(&circle)?;
     /// assert!((k as f64 - h.predicted_points(&circle)).abs() <= 0.5);
-    /// // Finer at the centre: the density is 1 there and 1/16 on the rim (h doubles).
-    /// assert!((request.density.at(geometry::DVec2::ZERO) - 1.0).abs() < 1e-12);
+    /// // Spacing ∝ ρ^(-1/4): where h is 5/3 as large, ρ is (5/3)⁴ as small.
+    /// let rho = |x: f64| request.density.at(geometry::DVec2::new(x, 0.0));
+    /// assert!((rho(-0.5) / rho(0.5) - (5.0f64 / 3.0).powi(4)).abs() < 1e-9);
     /// // A field that is not positive on the region is refused before any work.
     /// let bad = SizeField::from_expr("x")?;
     /// assert!(matches!(MeshRequest::size_field(&bad, &circle, None), Err(MeshError::SizeField(_))));
