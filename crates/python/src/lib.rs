@@ -9,7 +9,9 @@
 
 use cvtmesh::geometry::{LoopRole, SizeField, SizeFieldError};
 use cvtmesh::{DVec2, Density, Mesh, MeshRequest, Method, Progress, Region};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -371,7 +373,8 @@ fn scalar_field(
             let out = spec.call1((xy,))?;
             let arr = np.call_method1("asarray", (out, "float64"))?;
             let arr = np.call_method1("ravel", (arr,))?;
-            arr.extract::<Vec<f64>>()
+            let values: PyReadonlyArray1<'_, f64> = arr.extract()?;
+            Ok(values.as_array().to_vec())
         })
         .map_err(|e: SizeFieldError| err(format!("{what}: {e}")))?;
         return sampled;
