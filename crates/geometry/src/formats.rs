@@ -160,9 +160,9 @@ pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geom
     polygon_region(name, label, loops)
 }
 
-/// Read a GeoJSON file: a Polygon, the first polygon of a MultiPolygon, or the first such
-/// geometry inside a Feature, FeatureCollection or GeometryCollection. The first ring is the
-/// outer boundary, the rest are holes.
+/// Read a GeoJSON file: a Polygon, or a MultiPolygon, Feature, FeatureCollection or
+/// GeometryCollection that holds exactly one polygon (several parts are refused with their
+/// count, never dropped). The first ring is the outer boundary, the rest are holes.
 pub fn read_geojson(path: &Path) -> Result<Region, GeometryError> {
     geojson_from_str(&read_text(path)?, &label(path), &stem(path))
 }
@@ -636,7 +636,7 @@ fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
         path: label.to_string(),
         message: m,
     };
-    let rings = find_polygon(&v, 0).map_err(bad)?;
+    let rings = find_polygon(&v).map_err(bad)?;
     let rings = rings
         .as_array()
         .ok_or_else(|| bad("polygon coordinates must be an array of rings".into()))?;
@@ -673,8 +673,29 @@ fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
     Ok(loops)
 }
 
-/// The coordinates (array of rings) of the first polygon in a GeoJSON object.
-fn find_polygon(v: &Value, depth: usize) -> Result<&Value, String> {
+/// The coordinates (array of rings) of the one polygon in a GeoJSON object. A region is one
+/// connected part: an object with several polygons (a MultiPolygon of two, a collection of
+/// several features) is refused with their count rather than meshed in part.
+fn find_polygon(v: &Value) -> Result<&Value, String> {
+    let mut found = Vec::new();
+    collect_polygons(v, 0, &mut found)?;
+    match found.as_slice() {
+        [] => Err("the GeoJSON object contains no Polygon or MultiPolygon".into()),
+        [one] => Ok(one),
+        many => Err(format!(
+            "the GeoJSON object holds {} polygons; a region is one connected part (its holes \
+             included): write each part to a file of its own and mesh them one by one",
+            many.len()
+        )),
+    }
+}
+
+/// Every polygon's coordinates in a GeoJSON object, in document order.
+fn collect_polygons<'v>(
+    v: &'v Value,
+    depth: usize,
+    found: &mut Vec<&'v Value>,
+) -> Result<(), String> {
     if depth > 8 {
         return Err("GeoJSON objects nested too deeply".into());
     }
@@ -684,17 +705,23 @@ fn find_polygon(v: &Value, depth: usize) -> Result<&Value, String> {
         .ok_or("expected a GeoJSON object with a \"type\"")?;
     let missing = |field: &str| format!("{ty} has no \"{field}\"");
     match ty {
-        "Polygon" => v.get("coordinates").ok_or_else(|| missing("coordinates")),
-        "MultiPolygon" => v
-            .get("coordinates")
-            .ok_or_else(|| missing("coordinates"))?
-            .as_array()
-            .and_then(|a| a.first())
-            .ok_or_else(|| "MultiPolygon has no polygons".to_string()),
-        "Feature" => find_polygon(
+        "Polygon" => found.push(v.get("coordinates").ok_or_else(|| missing("coordinates"))?),
+        "MultiPolygon" => {
+            let polygons = v
+                .get("coordinates")
+                .ok_or_else(|| missing("coordinates"))?
+                .as_array()
+                .ok_or_else(|| "MultiPolygon coordinates are not an array".to_string())?;
+            if polygons.is_empty() {
+                return Err("MultiPolygon has no polygons".into());
+            }
+            found.extend(polygons.iter());
+        }
+        "Feature" => collect_polygons(
             v.get("geometry").ok_or_else(|| missing("geometry"))?,
             depth + 1,
-        ),
+            found,
+        )?,
         "FeatureCollection" | "GeometryCollection" => {
             let field = if ty == "FeatureCollection" {
                 "features"
@@ -705,16 +732,36 @@ fn find_polygon(v: &Value, depth: usize) -> Result<&Value, String> {
                 .get(field)
                 .and_then(Value::as_array)
                 .ok_or_else(|| missing(field))?;
-            items
-                .iter()
-                .find_map(|item| find_polygon(item, depth + 1).ok())
-                .ok_or_else(|| format!("{ty} contains no Polygon or MultiPolygon"))
+            for item in items {
+                // Points, lines and null geometries carry no area: they are skipped, while a
+                // malformed polygon is still reported.
+                let kind = item
+                    .get("geometry")
+                    .unwrap_or(item)
+                    .get("type")
+                    .and_then(Value::as_str);
+                if matches!(
+                    kind,
+                    Some(
+                        "Polygon"
+                            | "MultiPolygon"
+                            | "Feature"
+                            | "FeatureCollection"
+                            | "GeometryCollection"
+                    )
+                ) {
+                    collect_polygons(item, depth + 1, found)?;
+                }
+            }
         }
-        other => Err(format!(
-            "GeoJSON type {other} is not a polygon (expected {})",
-            GEOJSON_TYPES.join(", ")
-        )),
+        other => {
+            return Err(format!(
+                "GeoJSON type {other} is not a polygon (expected {})",
+                GEOJSON_TYPES.join(", ")
+            ))
+        }
     }
+    Ok(())
 }
 
 fn parse_loops(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -901,15 +948,24 @@ mod tests {
         let poly = format!("{{\"type\":\"Polygon\",\"coordinates\":[{ring},{hole}]}}");
         let want = [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)];
         assert_eq!(areas(&parse_geojson(&poly, "g").unwrap()), want);
-        let multi =
-            format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}],[{ring}]]}}");
+        let multi = format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}]]}}");
         assert_eq!(areas(&parse_geojson(&multi, "g").unwrap()), want);
+        // Two parts are refused with their count, never meshed in part.
+        let two =
+            format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}],[{ring}]]}}");
+        let e = parse_geojson(&two, "g").unwrap_err().to_string();
+        assert!(e.contains("holds 2 polygons"), "{e}");
         let feature = format!("{{\"type\":\"Feature\",\"properties\":{{}},\"geometry\":{poly}}}");
         assert_eq!(areas(&parse_geojson(&feature, "g").unwrap()), want);
         let point =
             "{\"type\":\"Feature\",\"geometry\":{\"type\":\"Point\",\"coordinates\":[1,2]}}";
         let coll = format!("{{\"type\":\"FeatureCollection\",\"features\":[{point},{feature}]}}");
         assert_eq!(areas(&parse_geojson(&coll, "g").unwrap()), want);
+        let both = format!(
+            "{{\"type\":\"FeatureCollection\",\"features\":[{feature},{point},{feature}]}}"
+        );
+        let e = parse_geojson(&both, "g").unwrap_err().to_string();
+        assert!(e.contains("holds 2 polygons"), "{e}");
         assert!(
             is_geojson(&coll)
                 && is_geojson(&poly)
