@@ -2,7 +2,7 @@
 //! runs with K, Lloyd against Anderson, and a coarse-to-fine start, on the unit circle and the
 //! lake.
 //!
-//! `cargo bench -p ccvt --bench scale -- [SIZES...] [TABLES...] [regions=a,b] [seed=N]`
+//! `cargo bench -p cvtmesh-ccvt --bench scale -- [SIZES...] [TABLES...] [regions=a,b] [seed=N]`
 //! - SIZES: generator counts such as `1e3 1e4 1e5 1e6` (default `1e3 1e4 1e5`);
 //! - TABLES (default `iter converge anderson`):
 //!   - `iter`: one iteration split into its phases, against spade's `bulk_load` of the same

@@ -383,7 +383,7 @@ fn sampled_estimate_converges_to_exact_slow() {
 }
 
 /// Prints the exact and sampled measures of a hexagonal lattice in the unit circle, meshed
-/// conformingly, for comparison with Table 2 of the paper (K = 88). `cargo test -p metrics
+/// conformingly, for comparison with Table 2 of the paper (K = 88). `cargo test -p cvtmesh-metrics
 /// --release --test end_to_end -- --ignored --nocapture report`
 #[test]
 #[ignore]
