@@ -10,21 +10,12 @@
 use cvtmesh::{Measures, Mesh, Region};
 use std::path::Path;
 
-/// A region file (`.json`, `.geojson`, `.poly`, `.txt`) or a built-in region's name.
-pub fn region(spec: &str) -> Result<Region, cvtmesh::GeometryError> {
-    if Path::new(spec).extension().is_some() {
-        cvtmesh::geometry::formats::read_region(Path::new(spec))
-    } else {
-        Region::builtin(spec)
-    }
-}
-
 /// The mesh and region named on the command line, or a fresh mesh of `square_hole`.
 pub fn inputs(args: &[String]) -> Result<(Mesh, Region), Box<dyn std::error::Error>> {
     match args {
         [mesh, region_spec] => Ok((
             cvtmesh::io::read_mesh(Path::new(mesh))?,
-            region(region_spec)?,
+            cvtmesh::load_region(region_spec)?,
         )),
         [] => {
             let region = Region::builtin("square_hole")?;

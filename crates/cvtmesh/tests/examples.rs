@@ -8,6 +8,10 @@ mod mesh_polygon_with_hole;
 #[path = "../examples/measure_mesh.rs"]
 mod measure_mesh;
 
+#[allow(dead_code)] // its `main`
+#[path = "../examples/graded_mesh.rs"]
+mod graded_mesh;
+
 use cvtmesh::DVec2;
 use mesh_polygon_with_hole::{HOLE, OUTER, POINTS};
 use std::path::PathBuf;
@@ -122,5 +126,47 @@ fn measure_mesh_without_arguments_scores_a_fresh_mesh() {
     assert_eq!(measure_mesh::table(&m).len(), 12);
     let e = measure_mesh::inputs(&["only-one.msh".to_string()]).unwrap_err();
     assert!(e.to_string().contains("usage"), "{e}");
-    assert!(measure_mesh::region("nonesuch").is_err());
+    let e = measure_mesh::inputs(&["m.msh".to_string(), "nonesuch".to_string()]).unwrap_err();
+    assert!(
+        e.to_string().contains("nonesuch") || e.to_string().contains("m.msh"),
+        "{e}"
+    );
+}
+
+#[test]
+fn graded_mesh_follows_its_size_field() {
+    let d = Scratch::new("graded");
+    let out = d.0.join("graded.vtu");
+    let (result, c) = graded_mesh::run(&out).unwrap();
+    assert!(result.converged);
+    assert!(out.metadata().unwrap().len() > 0);
+    assert_eq!(result.mesh.num_vertices(), c.vertices);
+    assert!(
+        (c.vertices as f64 - c.predicted_vertices).abs() <= 0.5,
+        "{c:?}"
+    );
+    assert!(
+        c.unit_share >= 0.95 && c.efficiency >= 0.9 && c.min_angle_deg >= 30.0,
+        "{c:?}"
+    );
+    // Graded: edges near the centre are shorter than edges near the rim.
+    let m = &result.mesh;
+    let mut inner = (0.0, 0usize);
+    let mut outer = (0.0, 0usize);
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (m.points[t[k] as usize], m.points[t[(k + 1) % 3] as usize]);
+            let r = (0.5 * (a + b)).length();
+            let slot = if r < 0.2 {
+                &mut inner
+            } else if r > 0.8 {
+                &mut outer
+            } else {
+                continue;
+            };
+            slot.0 += (b - a).length();
+            slot.1 += 1;
+        }
+    }
+    assert!(outer.0 / outer.1 as f64 > 2.5 * inner.0 / inner.1 as f64);
 }
