@@ -697,11 +697,48 @@ impl State {
                 }
             };
         }
-        old.iter()
-            .zip(&self.points)
-            .map(|(a, b)| (*a - *b).length())
-            .fold(0.0, f64::max)
+        largest_move(frame.region, &old, &self.points)
     }
+}
+
+/// The centre about which `region` is rotationally symmetric: every piece a full circle about
+/// one centre (a disc, an annulus). None otherwise.
+fn rotation_centre(region: &Region) -> Option<DVec2> {
+    let mut centre = None;
+    for piece in region.pieces() {
+        let Piece::Circle { center, .. } = piece else {
+            return None;
+        };
+        match centre {
+            None => centre = Some(*center),
+            Some(c) if c == *center => {}
+            Some(_) => return None,
+        }
+    }
+    centre
+}
+
+/// The largest vertex move from `old` to `new`. On a rotationally symmetric region a rotation
+/// of the whole point set about the centre costs no energy, and the boundary rule (not an
+/// energy gradient) drives one that never dies out (about 1e-4 of the spacing per iteration):
+/// the best-fitting rotation, ω = Σ rᵢ × dᵢ / Σ |rᵢ|², is taken out of the moves first, so
+/// that the stopping rule measures the mesh's change of shape.
+fn largest_move(region: &Region, old: &[DVec2], new: &[DVec2]) -> f64 {
+    let moves = old.iter().zip(new).map(|(a, b)| *b - *a);
+    let Some(c) = rotation_centre(region) else {
+        return moves.map(DVec2::length).fold(0.0, f64::max);
+    };
+    let (mut torque, mut inertia) = (0.0, 0.0);
+    for (a, d) in old.iter().zip(moves.clone()) {
+        let r = *a - c;
+        torque += r.perp_dot(d);
+        inertia += r.length_squared();
+    }
+    let omega = if inertia > 0.0 { torque / inertia } else { 0.0 };
+    old.iter()
+        .zip(moves)
+        .map(|(a, d)| (d - omega * (*a - c).perp()).length())
+        .fold(0.0, f64::max)
 }
 
 /// Arc length along its side of a side vertex (0 for others).
@@ -1018,4 +1055,39 @@ pub fn relax(
         hint: format!("K = {k} is too few points to follow the boundary; try a larger K"),
     })?;
     Ok(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ring(n: usize, radius: f64, turn: f64) -> Vec<DVec2> {
+        (0..n)
+            .map(|i| DVec2::from_angle(turn + i as f64 * std::f64::consts::TAU / n as f64) * radius)
+            .collect()
+    }
+
+    #[test]
+    fn a_rotation_of_the_whole_set_is_no_move_on_a_disc_but_is_on_a_square() {
+        let (old, turned) = (ring(12, 0.5, 0.0), ring(12, 0.5, 1e-3));
+        let circle = Region::builtin("circle").unwrap();
+        // What is left is second order: the chord against the tangent, r θ² / 2.
+        assert!(
+            largest_move(&circle, &old, &turned) < 0.5 * 1e-6,
+            "{}",
+            largest_move(&circle, &old, &turned)
+        );
+        // The same rotation is a real move where the region is not symmetric about the centre.
+        let square = Region::builtin("square_hole").unwrap();
+        let moved = largest_move(&square, &old, &turned);
+        assert!((moved - 0.5 * 1e-3).abs() < 1e-6, "{moved}");
+        // A change of shape on top of the rotation is still seen on the disc.
+        let mut shaped = turned.clone();
+        shaped[3] += DVec2::new(2e-3, 0.0);
+        let seen = largest_move(&circle, &old, &shaped);
+        assert!(seen > 1.5e-3, "{seen}");
+        // An annulus is symmetric too; a region of arcs or lines is not.
+        assert!(rotation_centre(&Region::builtin("annulus").unwrap()).is_some());
+        assert!(rotation_centre(&Region::builtin("pie_hole").unwrap()).is_none());
+    }
 }

@@ -293,8 +293,14 @@ macro_rules! relaxation_tests {
         #[test]
         fn circle_medium_mesh() {
             let r = mesh_and_check(&$method, "circle", 88);
-            // Converged or not (a closed loop lets the mesh turn slowly), the shape is good
-            // and the method's energy went down from the jittered lattice.
+            // The mesh keeps turning slowly on the disc; the stopping rule does not count a
+            // rotation of the whole set, so the run converges all the same.
+            assert!(
+                r.converged && r.iterations < 2000,
+                "{} iterations",
+                r.iterations
+            );
+            // The shape is good and the method's energy went down from the jittered lattice.
             assert!(
                 r.mesh.min_angle_deg() > 30.0,
                 "min angle {}",
