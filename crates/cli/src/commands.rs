@@ -1,7 +1,7 @@
 //! The four subcommands.
 use crate::inputs;
 use anyhow::{bail, Result};
-use clap::Args;
+use clap::{ArgGroup, Args};
 use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -20,6 +20,7 @@ const MAX_SAMPLES: usize = 100_000_000;
 
 /// `cvtmesh mesh`.
 #[derive(Args)]
+#[command(group(ArgGroup::new("graded").multiple(true).args(["size_field", "size_toward"])))]
 pub struct MeshArgs {
     /// Region file (.json, .geojson, .poly, .txt loop list) or built-in name (see `cvtmesh regions`).
     region: String,
@@ -29,26 +30,41 @@ pub struct MeshArgs {
         long,
         short = 'n',
         conflicts_with = "size",
-        required_unless_present_any = ["size", "size_field"]
+        required_unless_present_any = ["size", "size_field", "size_toward"]
     )]
     points: Option<usize>,
     /// Target edge length h; K follows from the region's area (this or --points is required).
-    #[arg(long, conflicts_with = "size_field")]
+    #[arg(long, conflicts_with = "graded")]
     size: Option<f64>,
     /// Target edge length as a function of x and y, for graded meshes, e.g.
     /// '0.01 + 0.1*sqrt(x^2+y^2)'; K follows from the field, (2/√3)∫h⁻², unless --points is
     /// given [default: none, a uniform mesh].
     #[arg(long, conflicts_with = "density")]
     size_field: Option<String>,
+    /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...) or a
+    /// point (`point:X,Y`); repeat for several. The size grows with the distance as
+    /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
+    /// --size-field is used [default: none].
+    #[arg(
+        long,
+        value_name = "loop:I|point:X,Y",
+        conflicts_with = "density",
+        requires = "size_threshold"
+    )]
+    size_toward: Vec<String>,
+    /// For --size-toward: HMIN,HMAX,DMIN,DMAX: edge length HMIN up to distance DMIN, HMAX from
+    /// DMAX on, linear between.
+    #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
+    size_threshold: Option<String>,
     /// Smallest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "size_field")]
+    #[arg(long, requires = "graded")]
     size_min: Option<f64>,
     /// Largest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "size_field")]
+    #[arg(long, requires = "graded")]
     size_max: Option<f64>,
     /// Largest gradient of --size-field's edge length: sizes grow by at most this much per
     /// unit of distance, h(x) = min_y h(y) + g|x − y| (`inf` leaves the field as given).
-    #[arg(long, default_value_t = GRADATION, requires = "size_field")]
+    #[arg(long, default_value_t = GRADATION, requires = "graded")]
     gradation: f64,
     // The names come from `Method::ALL`, so the help cannot fall behind the list of methods.
     #[arg(long, short = 'm', help = method_help(), default_value_t = Method::default().to_string())]
@@ -110,14 +126,15 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             region.corners().len()
         );
     }
-    let request = match &a.size_field {
-        Some(text) => {
-            let field = inputs::size_field(text)?.bounded(
-                &region,
-                a.size_min,
-                a.size_max,
-                Some(a.gradation),
-            )?;
+    let graded = inputs::graded_field(
+        a.size_field.as_deref(),
+        &a.size_toward,
+        a.size_threshold.as_deref(),
+        &region,
+    )?;
+    let request = match graded {
+        Some(field) => {
+            let field = field.bounded(&region, a.size_min, a.size_max, Some(a.gradation))?;
             let r = MeshRequest::size_field(&field, &region, a.points)?;
             eprintln!(
                 "size field: K = {} ({:.0} asked for by the field)",

@@ -1,7 +1,7 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
 use anyhow::{anyhow, bail, Result};
-use cvtmesh::geometry::{Density, Region, SizeField};
+use cvtmesh::geometry::{DVec2, Density, Region, SizeField, Threshold, Toward};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
 
@@ -43,6 +43,70 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
 /// Parse `--size-field`; its positivity on the region is checked with the request.
 pub fn size_field(text: &str) -> Result<SizeField> {
     SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
+}
+
+/// The size field of `--size-field` and `--size-toward`/`--size-threshold` (the smaller of the
+/// two where both are given), or `None` for a uniform mesh.
+pub fn graded_field(
+    expr: Option<&str>,
+    toward: &[String],
+    threshold: Option<&str>,
+    region: &Region,
+) -> Result<Option<SizeField>> {
+    let by_expr = expr.map(size_field).transpose()?;
+    let by_distance = if toward.is_empty() {
+        None
+    } else {
+        let targets = toward
+            .iter()
+            .map(|t| parse_toward(t))
+            .collect::<Result<Vec<_>>>()?;
+        let t = threshold.ok_or_else(|| anyhow!("--size-toward needs --size-threshold"))?;
+        let v: Vec<f64> = t
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                anyhow!("--size-threshold '{t}': expected four numbers HMIN,HMAX,DMIN,DMAX")
+            })?;
+        let [size_min, size_max, dist_min, dist_max] = v[..] else {
+            bail!("--size-threshold '{t}': expected four numbers HMIN,HMAX,DMIN,DMAX");
+        };
+        let threshold = Threshold {
+            size_min,
+            size_max,
+            dist_min,
+            dist_max,
+        };
+        Some(SizeField::threshold(region, &targets, threshold)?)
+    };
+    Ok(match (by_expr, by_distance) {
+        (Some(a), Some(b)) => Some(a.min(&b, region)?),
+        (a, b) => a.or(b),
+    })
+}
+
+/// `loop:I` or `point:X,Y`.
+fn parse_toward(text: &str) -> Result<Toward> {
+    let bad = || {
+        anyhow!("--size-toward '{text}': expected loop:I (0 = outer, then the holes) or point:X,Y")
+    };
+    let (kind, rest) = text.split_once(':').ok_or_else(bad)?;
+    match kind.trim() {
+        "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
+        "point" => {
+            let (x, y) = rest.split_once(',').ok_or_else(bad)?;
+            let p = DVec2::new(
+                x.trim().parse().map_err(|_| bad())?,
+                y.trim().parse().map_err(|_| bad())?,
+            );
+            if !p.is_finite() {
+                return Err(bad());
+            }
+            Ok(Toward::Point(p))
+        }
+        _ => Err(bad()),
+    }
 }
 
 /// Output kind from the extension.

@@ -741,3 +741,78 @@ fn gradation_limiting_adds_vertices_where_a_field_grows_too_fast() {
     assert!(limited > free + free / 20, "{limited} vs {free}");
     assert!(count(&["--size-max", "0.05"]) > limited);
 }
+
+#[test]
+fn distance_fields_refine_toward_loops_and_points() {
+    let dir = scratch("size_toward");
+    let out = dir.join("m.msh");
+    // A point source: h = 0.02 at the centre growing to 0.1 at distance 0.5, the same as the
+    // expression below, against which the mesh is then measured.
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--size-toward",
+        "point:0,0",
+        "--size-threshold",
+        "0.02,0.1,0,0.5",
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = cvtmesh(&[
+        "measure",
+        s(&out),
+        "--region",
+        "circle",
+        "--size-field",
+        "min(0.1, 0.02 + 0.16*sqrt(x^2+y^2))",
+        "--csv",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    let row: Vec<f64> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("edges,unit_share"))
+        .nth(1)
+        .expect("a size conformity row")
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(row[1] >= 0.95 && row[2] >= 0.9, "{row:?}");
+    for (args, needle) in [
+        (
+            vec![
+                "--size-toward",
+                "loop:2",
+                "--size-threshold",
+                "0.01,0.1,0,1",
+            ],
+            "no loop 2",
+        ),
+        (
+            vec![
+                "--size-toward",
+                "edge:1",
+                "--size-threshold",
+                "0.01,0.1,0,1",
+            ],
+            "expected loop:I",
+        ),
+        (
+            vec!["--size-toward", "loop:0", "--size-threshold", "0.01,0.1,1"],
+            "four numbers",
+        ),
+        (
+            vec!["--size-toward", "loop:0", "--size-threshold", "0.2,0.1,0,1"],
+            "size threshold",
+        ),
+        (vec!["--size-toward", "loop:0"], "--size-threshold"),
+    ] {
+        let mut all = vec!["mesh", "annulus"];
+        all.extend(args);
+        all.extend(["-o", s(&out)]);
+        let _ = std::fs::remove_file(&out);
+        assert_refused(&all, &out, needle);
+    }
+}

@@ -33,5 +33,5 @@ pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
 pub use region::Region;
 pub use rng::Rng;
-pub use size::{SizeField, SizeFieldError, SizeRange};
+pub use size::{SizeField, SizeFieldError, SizeRange, Threshold, Toward};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

@@ -59,6 +59,29 @@ pub enum SizeFieldError {
     /// A gradation limit that is not a positive number.
     #[error("the gradation limit must be positive (or infinite to turn it off), got {0}")]
     Gradation(f64),
+    /// A distance field names a boundary loop the region does not have.
+    #[error("size field: the region has {loops} boundary loops (0 = outer, then the holes), so there is no loop {index}")]
+    UnknownLoop {
+        /// The loop asked for.
+        index: usize,
+        /// How many the region has.
+        loops: usize,
+    },
+    /// A threshold whose sizes or distances are not positive, finite and ordered.
+    #[error("size threshold: need 0 < size_min <= size_max and 0 <= dist_min < dist_max, all finite; got sizes {size_min}, {size_max} and distances {dist_min}, {dist_max}")]
+    Threshold {
+        /// Size within `dist_min`.
+        size_min: f64,
+        /// Size beyond `dist_max`.
+        size_max: f64,
+        /// Distance up to which the size is `size_min`.
+        dist_min: f64,
+        /// Distance from which the size is `size_max`.
+        dist_max: f64,
+    },
+    /// A distance field with nothing to measure the distance to.
+    #[error("size field: a distance field needs at least one loop or point to refine toward")]
+    NothingToward,
     /// A background grid needs at least 2 nodes per side.
     #[error("size field: a background grid needs at least 2 nodes per side, got {0}")]
     GridTooSmall(usize),
@@ -160,6 +183,59 @@ enum Kind {
     Grid(Arc<Grid>),
 }
 
+/// What a distance field measures the distance to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Toward {
+    /// A boundary loop: 0 the outer one, then the holes in order.
+    Loop(usize),
+    /// A point (a source, a re-entrant corner).
+    Point(DVec2),
+}
+
+/// Gmsh's Threshold: h = `size_min` within `dist_min` of the targets, `size_max` beyond
+/// `dist_max`, linear in the distance between.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Threshold {
+    /// Size within `dist_min`.
+    pub size_min: f64,
+    /// Size beyond `dist_max`.
+    pub size_max: f64,
+    /// Distance up to which the size is `size_min`.
+    pub dist_min: f64,
+    /// Distance from which the size is `size_max`.
+    pub dist_max: f64,
+}
+
+impl Threshold {
+    fn check(&self) -> Result<(), SizeFieldError> {
+        let t = *self;
+        let finite = [t.size_min, t.size_max, t.dist_min, t.dist_max]
+            .iter()
+            .all(|v| v.is_finite());
+        if finite
+            && t.size_min > 0.0
+            && t.size_min <= t.size_max
+            && t.dist_min >= 0.0
+            && t.dist_min < t.dist_max
+        {
+            Ok(())
+        } else {
+            Err(SizeFieldError::Threshold {
+                size_min: t.size_min,
+                size_max: t.size_max,
+                dist_min: t.dist_min,
+                dist_max: t.dist_max,
+            })
+        }
+    }
+
+    /// h at distance `d`.
+    pub fn at(&self, d: f64) -> f64 {
+        let t = ((d - self.dist_min) / (self.dist_max - self.dist_min)).clamp(0.0, 1.0);
+        self.size_min + t * (self.size_max - self.size_min)
+    }
+}
+
 /// A target edge length h(x) on a region.
 ///
 /// ```
@@ -199,6 +275,80 @@ impl SizeField {
         SizeField {
             kind: Kind::Constant(h),
         }
+    }
+
+    /// A distance field, as Gmsh's Distance + Threshold: h grows with the distance d to the
+    /// nearest of `toward` (boundary loops, points) as `threshold` says. Sampled once on a
+    /// background grid over the region (at least 4 nodes per `size_min`, at most 1024 per
+    /// side); distances to a loop are exact distances to its curved pieces.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region, SizeField, Threshold, Toward};
+    /// // Refine toward the hole of square_hole (loop 1, radius 0.4 about the origin).
+    /// let region = Region::builtin("square_hole")?;
+    /// let t = Threshold { size_min: 0.02, size_max: 0.2, dist_min: 0.05, dist_max: 0.5 };
+    /// let h = SizeField::threshold(&region, &[Toward::Loop(1)], t)?;
+    /// assert!((h.at(DVec2::new(0.42, 0.0)) - 0.02).abs() < 1e-3); // 0.02 from the hole
+    /// assert!((h.at(DVec2::new(0.95, 0.95)) - 0.2).abs() < 1e-3); // far from it
+    /// assert!(SizeField::threshold(&region, &[Toward::Loop(2)], t).is_err()); // no loop 2
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn threshold(
+        region: &Region,
+        toward: &[Toward],
+        threshold: Threshold,
+    ) -> Result<SizeField, SizeFieldError> {
+        threshold.check()?;
+        if toward.is_empty() {
+            return Err(SizeFieldError::NothingToward);
+        }
+        let loops = region.loops();
+        for t in toward {
+            if let Toward::Loop(index) = *t {
+                if index >= loops.len() {
+                    return Err(SizeFieldError::UnknownLoop {
+                        index,
+                        loops: loops.len(),
+                    });
+                }
+            }
+        }
+        let (lo, hi) = region.bbox();
+        let extent = (hi - lo).max_element();
+        let n = ((4.0 * extent / threshold.size_min).ceil() as usize).clamp(64, 1024);
+        let distance = |p: DVec2| {
+            toward
+                .iter()
+                .map(|t| match *t {
+                    Toward::Point(q) => (p - q).length(),
+                    Toward::Loop(i) => loops[i]
+                        .pieces
+                        .iter()
+                        .map(|&piece| region.project_onto_piece(p, piece).distance)
+                        .fold(f64::INFINITY, f64::min),
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let field = SizeField::from_samples(region, n, |nodes| {
+            Ok::<_, std::convert::Infallible>(
+                nodes.iter().map(|&p| threshold.at(distance(p))).collect(),
+            )
+        })?;
+        Ok(field.unwrap_or_else(|never| match never {}))
+    }
+
+    /// The smaller of two fields at every point (Gmsh's Min field), sampled on the finer of
+    /// their background grids over `region`.
+    pub fn min(&self, other: &SizeField, region: &Region) -> Result<SizeField, SizeFieldError> {
+        let smallest = self.check(region)?.min.min(other.check(region)?.min);
+        let (lo, hi) = region.bbox();
+        let n = ((4.0 * (hi - lo).max_element() / smallest).ceil() as usize).clamp(64, 2048);
+        let field = SizeField::from_samples(region, n, |nodes| {
+            Ok::<_, std::convert::Infallible>(
+                nodes.iter().map(|&p| self.at(p).min(other.at(p))).collect(),
+            )
+        })?;
+        Ok(field.unwrap_or_else(|never| match never {}))
     }
 
     /// h given by an expression in `x` and `y` (the syntax of [`crate::expr`]).
@@ -561,6 +711,61 @@ mod tests {
             .bounded(&r, None, Some(0.1), Some(0.3))
             .unwrap();
         assert!(k.is_constant() && k.at(DVec2::ZERO) == 0.1);
+    }
+
+    #[test]
+    fn distance_fields_follow_the_threshold_and_combine_by_min() {
+        let r = Region::builtin("annulus").unwrap();
+        let t = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 0.3,
+        };
+        // Toward the outer loop (a circle of radius 1 about the origin): h = 0.01 + 0.3 d.
+        let outer = SizeField::threshold(&r, &[Toward::Loop(0)], t).unwrap();
+        for radius in [0.95, 0.85, 0.75] {
+            let p = DVec2::new(radius, 0.0);
+            let want = t.at(1.0 - radius);
+            assert!(
+                (outer.at(p) - want).abs() < 2e-3,
+                "{radius}: {} vs {want}",
+                outer.at(p)
+            );
+        }
+        let point = SizeField::threshold(&r, &[Toward::Point(DVec2::new(0.0, 0.8))], t).unwrap();
+        let both = outer.min(&point, &r).unwrap();
+        for p in [
+            DVec2::new(0.7, 0.0),
+            DVec2::new(0.0, 0.75),
+            DVec2::new(-0.6, -0.3),
+        ] {
+            assert!(
+                (both.at(p) - outer.at(p).min(point.at(p))).abs() < 2e-3,
+                "{p}"
+            );
+        }
+        for bad in [
+            Threshold { size_min: 0.0, ..t },
+            Threshold {
+                size_max: 0.001,
+                ..t
+            },
+            Threshold { dist_max: 0.0, ..t },
+            Threshold {
+                dist_min: f64::NAN,
+                ..t
+            },
+        ] {
+            assert!(matches!(
+                SizeField::threshold(&r, &[Toward::Loop(0)], bad),
+                Err(SizeFieldError::Threshold { .. })
+            ));
+        }
+        assert!(matches!(
+            SizeField::threshold(&r, &[], t),
+            Err(SizeFieldError::NothingToward)
+        ));
     }
 
     #[test]
