@@ -53,7 +53,7 @@ pub struct MeshArgs {
     )]
     size_toward: Vec<String>,
     /// For --size-toward: HMIN,HMAX,DMIN,DMAX: edge length HMIN up to distance DMIN, HMAX from
-    /// DMAX on, linear between.
+    /// DMAX on, linear between [default: none].
     #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
     size_threshold: Option<String>,
     /// Smallest edge length --size-field may ask for [default: none].

@@ -76,7 +76,20 @@ fn help(args: &[&str]) -> String {
     all.push("--help");
     let o = cvtmesh(&all);
     assert!(o.status.success(), "{args:?}: {}", text(&o));
-    String::from_utf8_lossy(&o.stdout).into_owned()
+    // One line per option: clap puts descriptions beside the flags or, when they are long,
+    // on the lines below (indented further); either way they are joined to their flag.
+    let mut joined = String::new();
+    for line in String::from_utf8_lossy(&o.stdout).lines() {
+        if line.starts_with("          ") && !joined.is_empty() {
+            joined.pop();
+            joined.push(' ');
+            joined.push_str(line.trim_start());
+        } else {
+            joined.push_str(line);
+        }
+        joined.push('\n');
+    }
+    joined
 }
 
 /// The help line of option `--name`.
