@@ -605,6 +605,30 @@ fn absurd_sizes_are_refused_up_front() {
     );
 }
 
+/// `measure --size-field FIELD --csv`'s size conformity row: edges, unit share, efficiency,
+/// mean length, min angle, its 1st percentile, vertices, predicted vertices.
+fn size_conformity(mesh: &std::path::Path, region: &str, field: &str) -> Vec<f64> {
+    let o = cvtmesh(&[
+        "measure",
+        s(mesh),
+        "--region",
+        region,
+        "--size-field",
+        field,
+        "--csv",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("edges,unit_share"))
+        .nth(1)
+        .expect("a size conformity row")
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect()
+}
+
 #[test]
 fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
     let dir = scratch("size_field");
@@ -621,26 +645,7 @@ fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("asked for by the field"), "{}", text(&o));
-    let o = cvtmesh(&[
-        "measure",
-        s(&out),
-        "--region",
-        "circle",
-        "--size-field",
-        field,
-        "--csv",
-    ]);
-    assert!(o.status.success(), "{}", text(&o));
-    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
-    let lines: Vec<&str> = stdout.lines().collect();
-    let header = lines
-        .iter()
-        .position(|l| l.starts_with("edges,unit_share"))
-        .expect("a size conformity header");
-    let row: Vec<f64> = lines[header + 1]
-        .split(',')
-        .map(|v| v.parse().unwrap())
-        .collect();
+    let row = size_conformity(&out, "circle", field);
     let (unit_share, efficiency, min_angle) = (row[1], row[2], row[4]);
     assert!(
         unit_share >= 0.95 && efficiency >= 0.9 && min_angle >= 30.0,
@@ -773,25 +778,7 @@ fn distance_fields_refine_toward_loops_and_points() {
         s(&out),
     ]);
     assert!(o.status.success(), "{}", text(&o));
-    let o = cvtmesh(&[
-        "measure",
-        s(&out),
-        "--region",
-        "circle",
-        "--size-field",
-        "min(0.1, 0.02 + 0.16*sqrt(x^2+y^2))",
-        "--csv",
-    ]);
-    assert!(o.status.success(), "{}", text(&o));
-    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
-    let row: Vec<f64> = stdout
-        .lines()
-        .skip_while(|l| !l.starts_with("edges,unit_share"))
-        .nth(1)
-        .expect("a size conformity row")
-        .split(',')
-        .map(|v| v.parse().unwrap())
-        .collect();
+    let row = size_conformity(&out, "circle", "min(0.1, 0.02 + 0.16*sqrt(x^2+y^2))");
     assert!(row[1] >= 0.95 && row[2] >= 0.9, "{row:?}");
     for (args, needle) in [
         (
