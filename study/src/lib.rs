@@ -9,7 +9,9 @@
 #![forbid(unsafe_code)]
 
 mod error;
+pub mod fidelity;
 pub mod figures;
+pub mod inference;
 pub mod jobs;
 mod measure;
 pub mod methods;
@@ -17,6 +19,7 @@ pub mod output;
 pub mod paper;
 pub mod record;
 pub mod run;
+pub mod significance;
 pub mod stats;
 pub mod summary;
 pub mod tables;
@@ -316,6 +319,27 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
         summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
     )?;
     out.written.push(p);
+    let sampled = fidelity::compare(&rows, &paper, &tables, Kind::Sampled);
+    let exact = fidelity::compare(&rows, &paper, &tables, Kind::Exact);
+    let p = output::fidelity_md(dir);
+    let md = fidelity::render_fidelity(
+        &sampled,
+        &exact,
+        &tables,
+        &paper,
+        &tables::seed_list(&agg.all_seeds()),
+    );
+    output::write_atomic(&p, md.as_bytes())?;
+    out.written.push(p);
+    let p = output::fidelity_csv(dir);
+    let all: Vec<fidelity::Fidelity> = sampled.into_iter().chain(exact).collect();
+    output::write_atomic(&p, &fidelity::fidelity_csv(&all))?;
+    out.written.push(p);
+    if agg.all_seeds().len() >= 2 {
+        let p = output::significance_csv(dir);
+        output::write_atomic(&p, &summary::significance_csv(&rows, &tables, &methods))?;
+        out.written.push(p);
+    }
     let meshes = load_meshes(dir, &rows, &mut out.notes)?;
     let names: BTreeSet<&'static str> = tables.iter().map(|t| t.region).collect();
     let regions = run::load_regions(&names.into_iter().collect::<Vec<_>>())?;

@@ -24,7 +24,7 @@ struct Cli {
     /// Comma-separated methods: refine (= triangle), distmesh, meshgen, vtm, ccvt1, ccvt2, ccvt (= ccvt-fast) (default: all).
     #[arg(long, value_name = "X,Y")]
     methods: Option<String>,
-    /// Run seeds 1..=N; tables then show mean ± sample std over the seeds.
+    /// Run seeds 1..=N; tables then show means with 95 % confidence intervals, and summary.md tests which method is best (Friedman, Holm-corrected Wilcoxon).
     #[arg(long, value_name = "N", default_value_t = 1)]
     seeds: u64,
     /// Output directory.

@@ -10,6 +10,11 @@ pub const SAMPLES: usize = 10_000;
 /// Seed of the paper-style estimate's samples.
 pub const SAMPLE_SEED: u64 = 1;
 
+/// Half-width of the 95 % Student-t confidence interval of the mean.
+fn ci95(s: &Stat) -> f64 {
+    crate::inference::ci_half_width(s.std, s.n, 0.95)
+}
+
 fn finite_or(x: f64, f: impl Fn(f64) -> String) -> String {
     if x.is_nan() {
         "NaN".into()
@@ -25,7 +30,8 @@ fn finite_or(x: f64, f: impl Fn(f64) -> String) -> String {
 }
 
 /// One table cell: the statistic times 10^`exp` with 2 decimals (counts as integers),
-/// "mean ± std" when it came from several seeds, "—" when absent.
+/// "mean ± half-width of the 95 % confidence interval" when it came from several seeds, "—"
+/// when absent.
 pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
     let Some(s) = stat else { return "—".into() };
     if s.n == 0 {
@@ -38,7 +44,7 @@ pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
             format!(
                 "{} ± {}",
                 finite_or(s.mean, |x| format!("{x:.1}")),
-                finite_or(s.std, |x| format!("{x:.1}"))
+                finite_or(ci95(&s), |x| format!("{x:.1}"))
             )
         };
     }
@@ -49,7 +55,7 @@ pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
     } else {
         format!(
             "{mean} ± {}",
-            finite_or(s.std * scale, |x| format!("{x:.2}"))
+            finite_or(ci95(&s) * scale, |x| format!("{x:.2}"))
         )
     }
 }
@@ -63,24 +69,32 @@ pub fn format_printed(printed: f64, m: Measure) -> String {
     }
 }
 
-/// "seed 1" or "mean ± sample std over seeds 1–5" (or an explicit list if not contiguous).
-pub fn describe_seeds(seeds: &[u64]) -> String {
+/// "seed 1", "seeds 1–5", or an explicit list if the seeds are not contiguous.
+pub fn seed_list(seeds: &[u64]) -> String {
     match seeds {
         [] => "no seeds".into(),
         [s] => format!("seed {s}"),
         _ => {
             let contiguous = seeds.windows(2).all(|w| w[1] == w[0] + 1);
-            let list = if contiguous {
-                format!("{}–{}", seeds[0], seeds[seeds.len() - 1])
+            if contiguous {
+                format!("seeds {}–{}", seeds[0], seeds[seeds.len() - 1])
             } else {
-                seeds
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            format!("mean ± sample standard deviation over seeds {list}")
+                let list: Vec<String> = seeds.iter().map(|s| s.to_string()).collect();
+                format!("seeds {}", list.join(", "))
+            }
         }
+    }
+}
+
+/// "seed 1" or "mean ± half-width of its 95 % confidence interval (Student t) over seeds 1–5".
+pub fn describe_seeds(seeds: &[u64]) -> String {
+    if seeds.len() < 2 {
+        seed_list(seeds)
+    } else {
+        format!(
+            "mean ± half-width of its 95 % confidence interval (Student t) over {}",
+            seed_list(seeds)
+        )
     }
 }
 
@@ -277,13 +291,15 @@ mod tests {
             std: 0.00304,
             n: 5,
         });
-        assert_eq!(format_cell(many, Measure::Lambda, 1), "0.51 ± 0.03");
+        // Half-width t(0.975, 4) · 0.00304 / √5 = 2.776 · 0.00136 = 0.00377.
+        assert_eq!(format_cell(many, Measure::Lambda, 1), "0.51 ± 0.04");
         let ks = Some(Stat {
             mean: 143.4,
             std: 1.14,
             n: 5,
         });
-        assert_eq!(format_cell(ks, Measure::Ktilde, 0), "143.4 ± 1.1");
+        // 2.776 · 1.14 / √5 = 1.42.
+        assert_eq!(format_cell(ks, Measure::Ktilde, 0), "143.4 ± 1.4");
         assert_eq!(format_printed(11.5, Measure::P), "11.50");
         assert_eq!(format_printed(146.0, Measure::Ktilde), "146");
     }
@@ -293,12 +309,10 @@ mod tests {
         assert_eq!(describe_seeds(&[1]), "seed 1");
         assert_eq!(
             describe_seeds(&[1, 2, 3]),
-            "mean ± sample standard deviation over seeds 1–3"
+            "mean ± half-width of its 95 % confidence interval (Student t) over seeds 1–3"
         );
-        assert_eq!(
-            describe_seeds(&[1, 3]),
-            "mean ± sample standard deviation over seeds 1, 3"
-        );
+        assert_eq!(seed_list(&[1, 3]), "seeds 1, 3");
+        assert_eq!(seed_list(&[]), "no seeds");
     }
 
     #[test]
