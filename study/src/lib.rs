@@ -319,10 +319,15 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
         summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
     )?;
     out.written.push(p);
-    let sampled = fidelity::compare(&rows, &paper, &tables, Kind::Sampled);
-    let exact = fidelity::compare(&rows, &paper, &tables, Kind::Exact);
+    let fid = |b| fidelity::compare(&rows, &paper, &tables, b);
+    let (main, sampled, exact) = (
+        fid(fidelity::Basis::ExactPaperScale),
+        fid(fidelity::Basis::Sampled),
+        fid(fidelity::Basis::Exact),
+    );
     let p = output::fidelity_md(dir);
     let md = fidelity::render_fidelity(
+        &main,
         &sampled,
         &exact,
         &tables,
@@ -332,7 +337,7 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
     output::write_atomic(&p, md.as_bytes())?;
     out.written.push(p);
     let p = output::fidelity_csv(dir);
-    let all: Vec<fidelity::Fidelity> = sampled.into_iter().chain(exact).collect();
+    let all: Vec<fidelity::Fidelity> = main.into_iter().chain(sampled).chain(exact).collect();
     output::write_atomic(&p, &fidelity::fidelity_csv(&all))?;
     out.written.push(p);
     if agg.all_seeds().len() >= 2 {

@@ -188,23 +188,31 @@ pub fn render_table(
         .copied()
         .filter(|m| m.paper_key().is_some())
         .collect();
-    for (kind, name) in [(Kind::Exact, "exact"), (Kind::Sampled, "sampled")] {
+    for (kind, name) in [
+        (Kind::Exact, "exact, at the paper's length scale"),
+        (Kind::Sampled, "sampled"),
+    ] {
         let _ = writeln!(out, "## Ratio ours ({name}) / paper\n");
         match kind {
             Kind::Exact if scale != 1.0 => {
                 let _ = writeln!(
                     out,
-                    "The paper's τ and d for this region match coordinates scaled by {scale}, so exact \
-                     ratios near {:.0} (τ) and {:.0} (d) mean agreement.\n",
-                    1.0 / (scale * scale),
-                    1.0 / scale.powi(4)
+                    "The paper's τ and d for this region match coordinates scaled by {scale}: our exact \
+                     τ and d are multiplied by {} and {} here (the other measures are scale-free), so \
+                     ratios near 1 mean agreement.\n",
+                    scale * scale,
+                    scale.powi(4)
                 );
             }
-            Kind::Sampled => out.push_str(
-                "Like for like with the paper's apparent method for h, μ, χ, ν, τ, d (the other rows \
-                 repeat the exact ratios).\n\n",
+            Kind::Exact => out.push_str(
+                "The exact measures fit the paper's numbers best of our two estimates \
+                 (`fidelity.md`).\n\n",
             ),
-            _ => {}
+            Kind::Sampled => out.push_str(
+                "The paper-style estimate for h, μ, χ, ν, τ, d (the other rows repeat the exact \
+                 ratios). With 10⁴ samples the smallest cells get few samples, which inflates μ and \
+                 ν about twofold against the paper; the exact ratios above fit better.\n\n",
+            ),
         }
         header(&mut out, &ratio_methods);
         for m in Measure::ALL {
@@ -212,9 +220,15 @@ pub fn render_table(
             for &method in &ratio_methods {
                 let ours = agg.get(region, k, method, kind, m);
                 let theirs = paper.cell(t, m, method);
+                // The sampled estimate is already at the paper's scale; the exact one is not.
+                let at_paper_scale = match (kind, m) {
+                    (Kind::Exact, Measure::Tau) => scale * scale,
+                    (Kind::Exact, Measure::D) => scale.powi(4),
+                    _ => 1.0,
+                };
                 let cell = match (ours, theirs) {
                     (Some(o), Some(p)) if o.n > 0 && p.value != 0.0 => {
-                        let r = finite_or(o.mean / p.value, |x| format!("{x:.2}"));
+                        let r = finite_or(o.mean * at_paper_scale / p.value, |x| format!("{x:.2}"));
                         if untrustworthy(t, m) {
                             format!("{r} †")
                         } else {
@@ -324,9 +338,13 @@ mod tests {
         for m in Measure::ALL {
             v[m.index()] = paper.cell(2, m, MethodId::Ccvt2).unwrap().value;
         }
-        let rows: Vec<Row> = Kind::ALL
-            .iter()
-            .map(|&kind| Row::new("circle", 88, MethodId::Ccvt2, 1, kind, v, 10, true, 1.0))
+        // The exact row is at the region's own scale: τ and d four and sixteen times larger.
+        let mut exact = v;
+        exact[Measure::Tau.index()] *= 4.0;
+        exact[Measure::D.index()] *= 16.0;
+        let rows: Vec<Row> = [(Kind::Exact, exact), (Kind::Sampled, v)]
+            .into_iter()
+            .map(|(kind, v)| Row::new("circle", 88, MethodId::Ccvt2, 1, kind, v, 10, true, 1.0))
             .collect();
         let mut rows = rows;
         rows.push(fake_row(
@@ -375,7 +393,10 @@ mod tests {
         );
         assert!(md.contains("label is lost"));
         // Ratios: the CCVT(2) column is all 1.00; CCVT-fast has no paper column.
-        let ratio = md.split("## Ratio ours (exact) / paper").nth(1).unwrap();
+        let ratio = md
+            .split("## Ratio ours (exact, at the paper's length scale) / paper")
+            .nth(1)
+            .unwrap();
         assert!(ratio.contains("| | DISTMESH | VTM | CCVT(2) |\n"));
         for line in ratio
             .lines()
