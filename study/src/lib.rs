@@ -43,8 +43,11 @@ pub struct StudyOptions {
     pub regions: Vec<&'static str>,
     /// Methods (all seven by default).
     pub methods: Vec<MethodId>,
-    /// Seeds 1..=`seeds`.
+    /// The last seed: seeds `first_seed..=seeds` are run.
     pub seeds: u64,
+    /// The first seed (1 by default). Above 1, rows of lower seeds already in the output
+    /// CSV are kept, so a run can be extended to more seeds without redoing the ones it has.
+    pub first_seed: u64,
     /// Output directory.
     pub out: PathBuf,
     /// Worker threads (`None`: all cores).
@@ -61,6 +64,7 @@ impl Default for StudyOptions {
             regions: paper::region_names(),
             methods: MethodId::ALL.to_vec(),
             seeds: 1,
+            first_seed: 1,
             out: PathBuf::from("results"),
             threads: None,
             shard: None,
@@ -72,7 +76,8 @@ impl Default for StudyOptions {
 impl StudyOptions {
     /// The jobs these options select, in the deterministic list order.
     pub fn jobs(&self) -> Vec<Job> {
-        let all = job_list(&self.regions, &self.methods, self.seeds);
+        let mut all = job_list(&self.regions, &self.methods, self.seeds);
+        all.retain(|j| j.seed >= self.first_seed);
         match self.shard {
             Some(s) => s.select(&all),
             None => all,
@@ -138,6 +143,12 @@ pub fn run_study(
     if opts.seeds == 0 {
         return Err(StudyError::BadOption("--seeds must be at least 1".into()));
     }
+    if opts.first_seed == 0 || opts.first_seed > opts.seeds {
+        return Err(StudyError::BadOption(format!(
+            "--first-seed must be between 1 and --seeds ({})",
+            opts.seeds
+        )));
+    }
     let jobs = opts.jobs();
     let names: Vec<&'static str> = {
         let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
@@ -170,21 +181,25 @@ pub fn run_study(
     }
     out.failures = failures.clone();
     if opts.shard.is_none() && !opts.fresh {
-        // Keep the cells this run did not touch.
         let ran: BTreeSet<(String, usize, String)> = jobs
             .iter()
             .map(|j| (j.region().to_string(), j.k(), j.method.name().to_string()))
             .collect();
         let (old_rows, old_failures) = read_dir_csv(&opts.out)?;
+        // Keep the cells this run did not touch, and in the cells it did, the seeds below
+        // the first one it ran.
+        let keep = |region: &str, k: usize, method: &str, seed: u64| {
+            seed < opts.first_seed || !ran.contains(&(region.to_string(), k, method.to_string()))
+        };
         rows.extend(
             old_rows
                 .into_iter()
-                .filter(|r| !ran.contains(&(r.region.clone(), r.K_requested, r.method.clone()))),
+                .filter(|r| keep(&r.region, r.K_requested, &r.method, r.seed)),
         );
         failures.extend(
             old_failures
                 .into_iter()
-                .filter(|f| !ran.contains(&(f.region.clone(), f.K_requested, f.method.clone()))),
+                .filter(|f| keep(&f.region, f.K_requested, &f.method, f.seed)),
         );
     }
     write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
