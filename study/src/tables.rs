@@ -50,7 +50,8 @@ pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
     }
     let scale = 10f64.powi(exp);
     let mean = finite_or(s.mean * scale, |x| format!("{x:.2}"));
-    if s.n == 1 {
+    // An infinite mean (a cell of the sampled estimate without samples) has no interval.
+    if s.n == 1 || !s.mean.is_finite() {
         mean
     } else {
         format!(
@@ -314,6 +315,12 @@ mod tests {
         });
         // 2.776 · 1.14 / √5 = 1.42.
         assert_eq!(format_cell(ks, Measure::Ktilde, 0), "143.4 ± 1.4");
+        let inf = Some(Stat {
+            mean: f64::INFINITY,
+            std: f64::NAN,
+            n: 5,
+        });
+        assert_eq!(format_cell(inf, Measure::Mu, 1), "∞");
         assert_eq!(format_printed(11.5, Measure::P), "11.50");
         assert_eq!(format_printed(146.0, Measure::Ktilde), "146");
     }
