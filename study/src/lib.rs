@@ -9,7 +9,9 @@
 #![forbid(unsafe_code)]
 
 mod error;
+pub mod fidelity;
 pub mod figures;
+pub mod inference;
 pub mod jobs;
 mod measure;
 pub mod methods;
@@ -17,6 +19,7 @@ pub mod output;
 pub mod paper;
 pub mod record;
 pub mod run;
+pub mod significance;
 pub mod stats;
 pub mod summary;
 pub mod tables;
@@ -40,8 +43,11 @@ pub struct StudyOptions {
     pub regions: Vec<&'static str>,
     /// Methods (all seven by default).
     pub methods: Vec<MethodId>,
-    /// Seeds 1..=`seeds`.
+    /// The last seed: seeds `first_seed..=seeds` are run.
     pub seeds: u64,
+    /// The first seed (1 by default). Above 1, rows of lower seeds already in the output
+    /// CSV are kept, so a run can be extended to more seeds without redoing the ones it has.
+    pub first_seed: u64,
     /// Output directory.
     pub out: PathBuf,
     /// Worker threads (`None`: all cores).
@@ -58,6 +64,7 @@ impl Default for StudyOptions {
             regions: paper::region_names(),
             methods: MethodId::ALL.to_vec(),
             seeds: 1,
+            first_seed: 1,
             out: PathBuf::from("results"),
             threads: None,
             shard: None,
@@ -69,7 +76,8 @@ impl Default for StudyOptions {
 impl StudyOptions {
     /// The jobs these options select, in the deterministic list order.
     pub fn jobs(&self) -> Vec<Job> {
-        let all = job_list(&self.regions, &self.methods, self.seeds);
+        let mut all = job_list(&self.regions, &self.methods, self.seeds);
+        all.retain(|j| j.seed >= self.first_seed);
         match self.shard {
             Some(s) => s.select(&all),
             None => all,
@@ -135,6 +143,12 @@ pub fn run_study(
     if opts.seeds == 0 {
         return Err(StudyError::BadOption("--seeds must be at least 1".into()));
     }
+    if opts.first_seed == 0 || opts.first_seed > opts.seeds {
+        return Err(StudyError::BadOption(format!(
+            "--first-seed must be between 1 and --seeds ({})",
+            opts.seeds
+        )));
+    }
     let jobs = opts.jobs();
     let names: Vec<&'static str> = {
         let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
@@ -167,21 +181,25 @@ pub fn run_study(
     }
     out.failures = failures.clone();
     if opts.shard.is_none() && !opts.fresh {
-        // Keep the cells this run did not touch.
         let ran: BTreeSet<(String, usize, String)> = jobs
             .iter()
             .map(|j| (j.region().to_string(), j.k(), j.method.name().to_string()))
             .collect();
         let (old_rows, old_failures) = read_dir_csv(&opts.out)?;
+        // Keep the cells this run did not touch, and in the cells it did, the seeds below
+        // the first one it ran.
+        let keep = |region: &str, k: usize, method: &str, seed: u64| {
+            seed < opts.first_seed || !ran.contains(&(region.to_string(), k, method.to_string()))
+        };
         rows.extend(
             old_rows
                 .into_iter()
-                .filter(|r| !ran.contains(&(r.region.clone(), r.K_requested, r.method.clone()))),
+                .filter(|r| keep(&r.region, r.K_requested, &r.method, r.seed)),
         );
         failures.extend(
             old_failures
                 .into_iter()
-                .filter(|f| !ran.contains(&(f.region.clone(), f.K_requested, f.method.clone()))),
+                .filter(|f| keep(&f.region, f.K_requested, &f.method, f.seed)),
         );
     }
     write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
@@ -316,6 +334,32 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
         summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
     )?;
     out.written.push(p);
+    let fid = |b| fidelity::compare(&rows, &paper, &tables, b);
+    let (main, sampled, exact) = (
+        fid(fidelity::Basis::ExactPaperScale),
+        fid(fidelity::Basis::Sampled),
+        fid(fidelity::Basis::Exact),
+    );
+    let p = output::fidelity_md(dir);
+    let md = fidelity::render_fidelity(
+        &main,
+        &sampled,
+        &exact,
+        &tables,
+        &paper,
+        &tables::seed_list(&agg.all_seeds()),
+    );
+    output::write_atomic(&p, md.as_bytes())?;
+    out.written.push(p);
+    let p = output::fidelity_csv(dir);
+    let all: Vec<fidelity::Fidelity> = main.into_iter().chain(sampled).chain(exact).collect();
+    output::write_atomic(&p, &fidelity::fidelity_csv(&all))?;
+    out.written.push(p);
+    if agg.all_seeds().len() >= 2 {
+        let p = output::significance_csv(dir);
+        output::write_atomic(&p, &summary::significance_csv(&rows, &tables, &methods))?;
+        out.written.push(p);
+    }
     let meshes = load_meshes(dir, &rows, &mut out.notes)?;
     let names: BTreeSet<&'static str> = tables.iter().map(|t| t.region).collect();
     let regions = run::load_regions(&names.into_iter().collect::<Vec<_>>())?;

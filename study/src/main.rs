@@ -24,9 +24,12 @@ struct Cli {
     /// Comma-separated methods: refine (= triangle), distmesh, meshgen, vtm, ccvt1, ccvt2, ccvt (= ccvt-fast) (default: all).
     #[arg(long, value_name = "X,Y")]
     methods: Option<String>,
-    /// Run seeds 1..=N; tables then show mean ± sample std over the seeds.
+    /// Run seeds 1..=N; tables then show means with 95 % confidence intervals, and summary.md tests which method is best (Friedman, Holm-corrected Wilcoxon).
     #[arg(long, value_name = "N", default_value_t = 1)]
     seeds: u64,
+    /// Start at seed S instead of 1 (seeds S..=N), keeping the rows of lower seeds already in DIR: extends a run to more seeds.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    first_seed: u64,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "results")]
     out: PathBuf,
@@ -63,6 +66,7 @@ enum Command {
 fn options(cli: &Cli) -> anyhow::Result<StudyOptions> {
     let mut o = StudyOptions {
         seeds: cli.seeds,
+        first_seed: cli.first_seed,
         out: cli.out.clone(),
         threads: cli.jobs,
         fresh: cli.fresh,
@@ -79,6 +83,9 @@ fn options(cli: &Cli) -> anyhow::Result<StudyOptions> {
     }
     if o.seeds == 0 {
         anyhow::bail!("--seeds must be at least 1");
+    }
+    if o.first_seed == 0 || o.first_seed > o.seeds {
+        anyhow::bail!("--first-seed must be between 1 and --seeds ({})", o.seeds);
     }
     if o.threads == Some(0) {
         anyhow::bail!("--jobs must be at least 1");
@@ -164,7 +171,7 @@ fn real_main() -> anyhow::Result<ExitCode> {
                 jobs.len(),
                 n_tables,
                 opts.methods.len(),
-                opts.seeds,
+                opts.seeds + 1 - opts.first_seed,
                 opts.shard.map_or(String::new(), |s| format!(
                     ", shard {}/{}",
                     s.index, s.count

@@ -22,6 +22,21 @@ pub fn summary_md(dir: &Path) -> PathBuf {
     dir.join("summary.md")
 }
 
+/// `DIR/fidelity.md`.
+pub fn fidelity_md(dir: &Path) -> PathBuf {
+    dir.join("fidelity.md")
+}
+
+/// `DIR/csv/fidelity.csv`.
+pub fn fidelity_csv(dir: &Path) -> PathBuf {
+    dir.join("csv").join("fidelity.csv")
+}
+
+/// `DIR/csv/significance.csv`.
+pub fn significance_csv(dir: &Path) -> PathBuf {
+    dir.join("csv").join("significance.csv")
+}
+
 /// `DIR/figures/fig_N.png`.
 pub fn figure_png(dir: &Path, n: u8) -> PathBuf {
     dir.join("figures").join(format!("fig_{n}.png"))

@@ -2,6 +2,7 @@
 //! count (Section 4.1), for our numbers and the paper's side by side.
 use crate::paper::{untrustworthy, PaperTables, TableSpec};
 use crate::record::{Failure, Kind, Row};
+use crate::significance::{cell_samples, test_cell, CellTest, ALPHA};
 use crate::stats::Aggregate;
 use crate::tables::{describe_seeds, failed_runs};
 use crate::{Measure, MethodId};
@@ -96,12 +97,259 @@ fn score(
     s
 }
 
+/// Significant wins per method over the (table, quality measure) cells scored.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SignificantScore {
+    /// Cells each method wins significantly (every method of the family listed, 0 if none).
+    pub wins: BTreeMap<MethodId, usize>,
+    /// Cells without a significant winner.
+    pub ties: usize,
+    /// Cells scored (two or more methods with values).
+    pub cells: usize,
+    /// Cells where the Friedman test rejects "all methods alike" at α.
+    pub differ: usize,
+    /// The test of every cell scored, by (table, measure).
+    pub tests: BTreeMap<(u8, Measure), CellTest>,
+}
+
+/// Test every (table, quality measure) cell among `methods` on our `kind` of measures, at
+/// α = [`ALPHA`], skipping Table 6's γ and h as [`score`] does so that the counts compare.
+pub fn significant_score(
+    rows: &[Row],
+    tables: &[&TableSpec],
+    methods: &[MethodId],
+    kind: Kind,
+) -> SignificantScore {
+    let mut s = SignificantScore::default();
+    for m in methods {
+        s.wins.insert(*m, 0);
+    }
+    for t in tables {
+        for m in Measure::QUALITY {
+            if untrustworthy(t.number, m) {
+                continue;
+            }
+            let test = test_cell(&cell_samples(rows, t.region, t.k, kind, m, methods), ALPHA);
+            if !test.scored() {
+                continue;
+            }
+            s.cells += 1;
+            if test.friedman.is_some_and(|f| f.p_value < ALPHA) {
+                s.differ += 1;
+            }
+            match test.winner {
+                Some(w) => *s.wins.entry(w).or_default() += 1,
+                None => s.ties += 1,
+            }
+            s.tests.insert((t.number, m), test);
+        }
+    }
+    s
+}
+
+/// A cell of the significance grid: "**C2**" for a significant win, "C2 ~ D,MG" for the best
+/// by mean and the methods not significantly worse, "C2 ~ all" when none is.
+fn significance_cell(t: &CellTest) -> String {
+    match (t.winner, t.best) {
+        (Some(w), _) => format!("**{}**", w.abbrev()),
+        (None, Some(b)) => {
+            let others: Vec<MethodId> = t
+                .level_with_best
+                .iter()
+                .copied()
+                .filter(|&m| m != b)
+                .collect();
+            if others.len() + 1 == t.methods.len() {
+                format!("{} ~ all", b.abbrev())
+            } else {
+                format!("{} ~ {}", b.abbrev(), names(&others))
+            }
+        }
+        _ => "—".into(),
+    }
+}
+
+/// The smallest number of seeds with which a method can win a cell of `k` methods at all:
+/// the exact two-sided Wilcoxon p-value is at least 2/2ⁿ and Holm's first step tests it
+/// against α / (k(k−1)/2).
+pub fn min_seeds_for_a_win(k: usize) -> u32 {
+    let pairs = (k * (k.saturating_sub(1)) / 2).max(1) as f64;
+    let mut n = 1;
+    while 2.0 / 2f64.powi(n as i32) >= ALPHA / pairs {
+        n += 1;
+    }
+    n
+}
+
+/// The `csv/significance.csv` of every cell tested: the Friedman test, the best method, the
+/// winner (if any) and each other method's Holm-adjusted p-value against the best.
+pub fn significance_csv(rows: &[Row], tables: &[&TableSpec], methods: &[MethodId]) -> Vec<u8> {
+    let paper_methods: Vec<MethodId> = methods
+        .iter()
+        .copied()
+        .filter(|m| m.paper_key().is_some())
+        .collect();
+    let mut out = String::from(
+        "table,measure,kind,family,seeds,friedman_chi2,friedman_p,best,winner,holm_p_vs_best\n",
+    );
+    for (kind, kind_name) in [(Kind::Exact, "exact"), (Kind::Sampled, "sampled")] {
+        for (family, ms) in [("paper", &paper_methods), ("all", &methods.to_vec())] {
+            let s = significant_score(rows, tables, ms, kind);
+            for ((table, m), t) in &s.tests {
+                let vs: Vec<String> = t
+                    .best
+                    .map(|b| {
+                        t.methods
+                            .iter()
+                            .filter(|&&o| o != b)
+                            .filter_map(|&o| {
+                                t.pair(b, o).map(|(_, p)| format!("{}:{p:.3e}", o.abbrev()))
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                let _ = writeln!(
+                    out,
+                    "{table},{},{kind_name},{family},{},{},{},{},{},{}",
+                    m.csv_name(),
+                    t.seeds,
+                    t.friedman
+                        .map_or(String::new(), |f| format!("{}", f.statistic)),
+                    t.friedman
+                        .map_or(String::new(), |f| format!("{:e}", f.p_value)),
+                    t.best.map_or("", |b| b.name()),
+                    t.winner.map_or("", |b| b.name()),
+                    vs.join(";")
+                );
+            }
+        }
+    }
+    out.into_bytes()
+}
+
 fn names(ms: &[MethodId]) -> String {
     if ms.is_empty() {
         "—".into()
     } else {
         ms.iter().map(|m| m.abbrev()).collect::<Vec<_>>().join(",")
     }
+}
+
+fn significance_section(
+    out: &mut String,
+    rows: &[Row],
+    tables: &[&TableSpec],
+    methods: &[MethodId],
+    paper_methods: &[MethodId],
+) {
+    let se = significant_score(rows, tables, paper_methods, Kind::Exact);
+    let ss = significant_score(rows, tables, paper_methods, Kind::Sampled);
+    let sf = significant_score(rows, tables, methods, Kind::Exact);
+    let seeds = se.tests.values().map(|t| t.seeds).min().unwrap_or(0);
+    out.push_str("## Keeping score with significance (α = 0.05)\n\n");
+    let _ = writeln!(
+        out,
+        "A method wins a (table, measure) cell only if it has the lowest mean over the seeds, a \
+         Friedman test across the methods (seeds as blocks) rejects \"all alike\" at α = 0.05, and \
+         two-sided Wilcoxon signed-rank tests paired by seed, Holm-corrected over all the cell's \
+         pairs, put it significantly below every other method; otherwise the cell is a tie. \
+         Paired seeds per cell: at least {seeds}. With the paper's six methods a win needs at \
+         least {} seeds, with seven {}. Per-cell tests: `csv/significance.csv`.\n",
+        min_seeds_for_a_win(paper_methods.len()),
+        min_seeds_for_a_win(methods.len())
+    );
+    out.push_str("| method | ours, exact | ours, sampled | ours, exact, with CCVT-fast |\n| :--- | ---: | ---: | ---: |\n");
+    let wins = |s: &SignificantScore, m: MethodId| {
+        s.wins.get(&m).map_or("—".to_string(), |w| w.to_string())
+    };
+    for &m in methods {
+        let paper_col = |s: &SignificantScore| {
+            if m.paper_key().is_some() {
+                wins(s, m)
+            } else {
+                "—".to_string()
+            }
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} |",
+            m.column(),
+            paper_col(&se),
+            paper_col(&ss),
+            wins(&sf, m)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "| ties (no significant winner) | {} | {} | {} |\n| (cells scored) | {} | {} | {} |\n",
+        se.ties, ss.ties, sf.ties, se.cells, ss.cells, sf.cells
+    );
+    // The paper's claim excepts TRIANGLE: test the other five on their own too.
+    let five: Vec<MethodId> = paper_methods
+        .iter()
+        .copied()
+        .filter(|&m| m != MethodId::Triangle)
+        .collect();
+    let s5e = significant_score(rows, tables, &five, Kind::Exact);
+    let s5s = significant_score(rows, tables, &five, Kind::Sampled);
+    out.push_str(
+        "\"The differences between the performance of the methods (with again the TRIANGLE \
+         algorithm being a possible exception) are statistically insignificant\" (Section 4.1), \
+         tested: cells where the Friedman test rejects \"all methods alike\" at α = 0.05, and \
+         cells with a significant winner.\n\n\
+         | methods | Friedman rejects, exact | significant winner, exact | Friedman rejects, sampled | significant winner, sampled |\n\
+         | :--- | ---: | ---: | ---: | ---: |\n",
+    );
+    for (name, e, s) in [
+        ("the paper's six", &se, &ss),
+        ("the five without TRIANGLE", &s5e, &s5s),
+    ] {
+        let _ = writeln!(
+            out,
+            "| {name} | {}/{} | {}/{} | {}/{} | {}/{} |",
+            e.differ,
+            e.cells,
+            e.cells - e.ties,
+            e.cells,
+            s.differ,
+            s.cells,
+            s.cells - s.ties,
+            s.cells
+        );
+    }
+    out.push('\n');
+    out.push_str(
+        "### Per table and measure\n\nEach cell: ours exact / ours sampled, the paper's six methods. \
+         **X**: X wins significantly; X ~ Y,Z: X has the lowest mean but Y and Z are not \
+         significantly worse (a tie); X ~ all: no method is significantly worse than X; ?: not \
+         scored (the paper misprints Table 6's γ and h).\n\n",
+    );
+    out.push_str("| table |");
+    for m in Measure::QUALITY {
+        let _ = write!(out, " {} |", m.symbol());
+    }
+    out.push_str("\n| :--- |");
+    for _ in Measure::QUALITY {
+        out.push_str(" :---: |");
+    }
+    out.push('\n');
+    for t in tables {
+        let _ = write!(out, "| {} {} K={} |", t.number, t.region, t.k);
+        for m in Measure::QUALITY {
+            let cell = |s: &SignificantScore| {
+                s.tests
+                    .get(&(t.number, m))
+                    .map_or("—".to_string(), significance_cell)
+            };
+            if untrustworthy(t.number, m) {
+                out.push_str(" ? |");
+            } else {
+                let _ = write!(out, " {} / {} |", cell(&se), cell(&ss));
+            }
+        }
+        out.push('\n');
+    }
+    out.push('\n');
 }
 
 /// The Markdown of `summary.md`. `tables` are the tables that have rows; `methods` the
@@ -146,7 +394,20 @@ pub fn render_summary(
     );
     out.push_str(".\n\n");
 
-    out.push_str("## Keeping score (Section 4.1)\n\n");
+    let n_seeds = agg.all_seeds().len();
+    if n_seeds >= 2 {
+        significance_section(&mut out, rows, tables, methods, &paper_methods);
+    } else {
+        let _ = writeln!(
+            out,
+            "## Keeping score with significance\n\nOne seed: nothing here can be tested. Run \
+             `study --seeds 10` or more (with the paper's six methods a significant win needs at \
+             least {} seeds) for Friedman and Holm-corrected Wilcoxon tests over seeds.\n",
+            min_seeds_for_a_win(paper_methods.len().max(2))
+        );
+    }
+
+    out.push_str("## Keeping score by mean (Section 4.1)\n\n");
     out.push_str(
         "\"If one were to keep score of which method is best for each domain and for each quality \
          measure, one finds that DISTMESH and the second CCVT algorithm do 'best', with the latter \
@@ -333,5 +594,50 @@ mod tests {
         assert!(md.contains("| DISTMESH | 12 | 0 |"), "{md}");
         assert!(md.contains("| CCVT-fast | — | — | — | 12 |"), "{md}");
         assert!(md.contains("| 1 circle K=19 | D / — /"), "{md}");
+    }
+
+    #[test]
+    fn report_declares_a_significant_win_and_ties() {
+        use MethodId::*;
+        let paper = PaperTables::embedded().unwrap();
+        let t = [&TABLES[0]];
+        let methods = [Distmesh, Vtm, Ccvt2];
+        let rows_with = |x: fn(MethodId) -> f64| -> Vec<Row> {
+            (1..=8u64)
+                .flat_map(|s| {
+                    methods.map(|m| {
+                        let noise = ((s * 37) % 11) as f64 * 0.01;
+                        fake_row("circle", 19, m, s, Kind::Exact, x(m) + noise)
+                    })
+                })
+                .collect()
+        };
+        // CCVT(2) below the other two in every measure and all 8 seeds: raw p = 2/2⁸ for each
+        // pair, under Holm's 0.05/3 for three pairs: a significant win in each of 12 cells.
+        let better = rows_with(|m| if m == Ccvt2 { 0.0 } else { 1.0 });
+        let md = render_summary(&better, &paper, &t, &methods, &[]);
+        assert!(md.contains("| CCVT(2) | 12 | 0 | 12 |"), "{md}");
+        assert!(md.contains("| DISTMESH | 0 | 0 | 0 |"), "{md}");
+        assert!(
+            md.contains("| ties (no significant winner) | 0 | 0 | 0 |"),
+            "{md}"
+        );
+        assert!(md.contains("| 1 circle K=19 | **C2** / — |"), "{md}");
+        // Three identical methods: every cell is a tie.
+        let same = rows_with(|_| 1.0);
+        let md = render_summary(&same, &paper, &t, &methods, &[]);
+        assert!(md.contains("| CCVT(2) | 0 | 0 | 0 |"), "{md}");
+        assert!(
+            md.contains("| ties (no significant winner) | 12 | 0 | 12 |"),
+            "{md}"
+        );
+        assert!(md.contains("| 1 circle K=19 | D ~ all / — |"), "{md}");
+        // One seed: no test, and the summary says how many seeds a win needs.
+        let one: Vec<Row> = better.into_iter().filter(|r| r.seed == 1).collect();
+        let md = render_summary(&one, &paper, &t, &methods, &[]);
+        assert!(md.contains("One seed: nothing here can be tested"), "{md}");
+        assert_eq!(min_seeds_for_a_win(6), 10);
+        assert_eq!(min_seeds_for_a_win(3), 7);
+        assert_eq!(min_seeds_for_a_win(2), 6);
     }
 }

@@ -10,6 +10,11 @@ pub const SAMPLES: usize = 10_000;
 /// Seed of the paper-style estimate's samples.
 pub const SAMPLE_SEED: u64 = 1;
 
+/// Half-width of the 95 % Student-t confidence interval of the mean.
+fn ci95(s: &Stat) -> f64 {
+    crate::inference::ci_half_width(s.std, s.n, 0.95)
+}
+
 fn finite_or(x: f64, f: impl Fn(f64) -> String) -> String {
     if x.is_nan() {
         "NaN".into()
@@ -25,7 +30,8 @@ fn finite_or(x: f64, f: impl Fn(f64) -> String) -> String {
 }
 
 /// One table cell: the statistic times 10^`exp` with 2 decimals (counts as integers),
-/// "mean ± std" when it came from several seeds, "—" when absent.
+/// "mean ± half-width of the 95 % confidence interval" when it came from several seeds, "—"
+/// when absent.
 pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
     let Some(s) = stat else { return "—".into() };
     if s.n == 0 {
@@ -38,18 +44,19 @@ pub fn format_cell(stat: Option<Stat>, m: Measure, exp: i32) -> String {
             format!(
                 "{} ± {}",
                 finite_or(s.mean, |x| format!("{x:.1}")),
-                finite_or(s.std, |x| format!("{x:.1}"))
+                finite_or(ci95(&s), |x| format!("{x:.1}"))
             )
         };
     }
     let scale = 10f64.powi(exp);
     let mean = finite_or(s.mean * scale, |x| format!("{x:.2}"));
-    if s.n == 1 {
+    // An infinite mean (a cell of the sampled estimate without samples) has no interval.
+    if s.n == 1 || !s.mean.is_finite() {
         mean
     } else {
         format!(
             "{mean} ± {}",
-            finite_or(s.std * scale, |x| format!("{x:.2}"))
+            finite_or(ci95(&s) * scale, |x| format!("{x:.2}"))
         )
     }
 }
@@ -63,24 +70,32 @@ pub fn format_printed(printed: f64, m: Measure) -> String {
     }
 }
 
-/// "seed 1" or "mean ± sample std over seeds 1–5" (or an explicit list if not contiguous).
-pub fn describe_seeds(seeds: &[u64]) -> String {
+/// "seed 1", "seeds 1–5", or an explicit list if the seeds are not contiguous.
+pub fn seed_list(seeds: &[u64]) -> String {
     match seeds {
         [] => "no seeds".into(),
         [s] => format!("seed {s}"),
         _ => {
             let contiguous = seeds.windows(2).all(|w| w[1] == w[0] + 1);
-            let list = if contiguous {
-                format!("{}–{}", seeds[0], seeds[seeds.len() - 1])
+            if contiguous {
+                format!("seeds {}–{}", seeds[0], seeds[seeds.len() - 1])
             } else {
-                seeds
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            format!("mean ± sample standard deviation over seeds {list}")
+                let list: Vec<String> = seeds.iter().map(|s| s.to_string()).collect();
+                format!("seeds {}", list.join(", "))
+            }
         }
+    }
+}
+
+/// "seed 1" or "mean ± half-width of its 95 % confidence interval (Student t) over seeds 1–5".
+pub fn describe_seeds(seeds: &[u64]) -> String {
+    if seeds.len() < 2 {
+        seed_list(seeds)
+    } else {
+        format!(
+            "mean ± half-width of its 95 % confidence interval (Student t) over {}",
+            seed_list(seeds)
+        )
     }
 }
 
@@ -174,23 +189,31 @@ pub fn render_table(
         .copied()
         .filter(|m| m.paper_key().is_some())
         .collect();
-    for (kind, name) in [(Kind::Exact, "exact"), (Kind::Sampled, "sampled")] {
+    for (kind, name) in [
+        (Kind::Exact, "exact, at the paper's length scale"),
+        (Kind::Sampled, "sampled"),
+    ] {
         let _ = writeln!(out, "## Ratio ours ({name}) / paper\n");
         match kind {
             Kind::Exact if scale != 1.0 => {
                 let _ = writeln!(
                     out,
-                    "The paper's τ and d for this region match coordinates scaled by {scale}, so exact \
-                     ratios near {:.0} (τ) and {:.0} (d) mean agreement.\n",
-                    1.0 / (scale * scale),
-                    1.0 / scale.powi(4)
+                    "The paper's τ and d for this region match coordinates scaled by {scale}: our exact \
+                     τ and d are multiplied by {} and {} here (the other measures are scale-free), so \
+                     ratios near 1 mean agreement.\n",
+                    scale * scale,
+                    scale.powi(4)
                 );
             }
-            Kind::Sampled => out.push_str(
-                "Like for like with the paper's apparent method for h, μ, χ, ν, τ, d (the other rows \
-                 repeat the exact ratios).\n\n",
+            Kind::Exact => out.push_str(
+                "The exact measures fit the paper's numbers best of our two estimates \
+                 (`fidelity.md`).\n\n",
             ),
-            _ => {}
+            Kind::Sampled => out.push_str(
+                "The paper-style estimate for h, μ, χ, ν, τ, d (the other rows repeat the exact \
+                 ratios). With 10⁴ samples the smallest cells get few samples, which inflates μ and \
+                 ν about twofold against the paper; the exact ratios above fit better.\n\n",
+            ),
         }
         header(&mut out, &ratio_methods);
         for m in Measure::ALL {
@@ -198,9 +221,15 @@ pub fn render_table(
             for &method in &ratio_methods {
                 let ours = agg.get(region, k, method, kind, m);
                 let theirs = paper.cell(t, m, method);
+                // The sampled estimate is already at the paper's scale; the exact one is not.
+                let at_paper_scale = match (kind, m) {
+                    (Kind::Exact, Measure::Tau) => scale * scale,
+                    (Kind::Exact, Measure::D) => scale.powi(4),
+                    _ => 1.0,
+                };
                 let cell = match (ours, theirs) {
                     (Some(o), Some(p)) if o.n > 0 && p.value != 0.0 => {
-                        let r = finite_or(o.mean / p.value, |x| format!("{x:.2}"));
+                        let r = finite_or(o.mean * at_paper_scale / p.value, |x| format!("{x:.2}"));
                         if untrustworthy(t, m) {
                             format!("{r} †")
                         } else {
@@ -277,13 +306,21 @@ mod tests {
             std: 0.00304,
             n: 5,
         });
-        assert_eq!(format_cell(many, Measure::Lambda, 1), "0.51 ± 0.03");
+        // Half-width t(0.975, 4) · 0.00304 / √5 = 2.776 · 0.00136 = 0.00377.
+        assert_eq!(format_cell(many, Measure::Lambda, 1), "0.51 ± 0.04");
         let ks = Some(Stat {
             mean: 143.4,
             std: 1.14,
             n: 5,
         });
-        assert_eq!(format_cell(ks, Measure::Ktilde, 0), "143.4 ± 1.1");
+        // 2.776 · 1.14 / √5 = 1.42.
+        assert_eq!(format_cell(ks, Measure::Ktilde, 0), "143.4 ± 1.4");
+        let inf = Some(Stat {
+            mean: f64::INFINITY,
+            std: f64::NAN,
+            n: 5,
+        });
+        assert_eq!(format_cell(inf, Measure::Mu, 1), "∞");
         assert_eq!(format_printed(11.5, Measure::P), "11.50");
         assert_eq!(format_printed(146.0, Measure::Ktilde), "146");
     }
@@ -293,12 +330,10 @@ mod tests {
         assert_eq!(describe_seeds(&[1]), "seed 1");
         assert_eq!(
             describe_seeds(&[1, 2, 3]),
-            "mean ± sample standard deviation over seeds 1–3"
+            "mean ± half-width of its 95 % confidence interval (Student t) over seeds 1–3"
         );
-        assert_eq!(
-            describe_seeds(&[1, 3]),
-            "mean ± sample standard deviation over seeds 1, 3"
-        );
+        assert_eq!(seed_list(&[1, 3]), "seeds 1, 3");
+        assert_eq!(seed_list(&[]), "no seeds");
     }
 
     #[test]
@@ -310,9 +345,13 @@ mod tests {
         for m in Measure::ALL {
             v[m.index()] = paper.cell(2, m, MethodId::Ccvt2).unwrap().value;
         }
-        let rows: Vec<Row> = Kind::ALL
-            .iter()
-            .map(|&kind| Row::new("circle", 88, MethodId::Ccvt2, 1, kind, v, 10, true, 1.0))
+        // The exact row is at the region's own scale: τ and d four and sixteen times larger.
+        let mut exact = v;
+        exact[Measure::Tau.index()] *= 4.0;
+        exact[Measure::D.index()] *= 16.0;
+        let rows: Vec<Row> = [(Kind::Exact, exact), (Kind::Sampled, v)]
+            .into_iter()
+            .map(|(kind, v)| Row::new("circle", 88, MethodId::Ccvt2, 1, kind, v, 10, true, 1.0))
             .collect();
         let mut rows = rows;
         rows.push(fake_row(
@@ -361,7 +400,10 @@ mod tests {
         );
         assert!(md.contains("label is lost"));
         // Ratios: the CCVT(2) column is all 1.00; CCVT-fast has no paper column.
-        let ratio = md.split("## Ratio ours (exact) / paper").nth(1).unwrap();
+        let ratio = md
+            .split("## Ratio ours (exact, at the paper's length scale) / paper")
+            .nth(1)
+            .unwrap();
         assert!(ratio.contains("| | DISTMESH | VTM | CCVT(2) |\n"));
         for line in ratio
             .lines()

@@ -1,6 +1,7 @@
 //! End to end with real methods: a run split into two shards and merged gives the same CSV as
 //! the unsharded run (all but the timing column), and the merge draws tables and figures from
-//! the shards' stored meshes.
+//! the shards' stored meshes; a run extended to more seeds with `first_seed` equals one that
+//! ran them all at once.
 use std::path::Path;
 use study::{output, record, MethodId, Row, Shard, StudyOptions};
 
@@ -67,4 +68,53 @@ fn sharded_then_merged_equals_unsharded() {
         std::fs::read_to_string(output::table_md(&whole, 11)).unwrap(),
         std::fs::read_to_string(output::table_md(&merged, 11)).unwrap()
     );
+}
+
+#[test]
+fn extending_a_run_to_more_seeds_equals_running_them_at_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base = StudyOptions {
+        regions: vec!["square_two_hex"],
+        methods: vec![MethodId::Meshgen],
+        threads: Some(2),
+        ..StudyOptions::default()
+    };
+    let whole = tmp.path().join("whole");
+    study::run_study(
+        &StudyOptions {
+            seeds: 3,
+            out: whole.clone(),
+            ..base.clone()
+        },
+        &|_| {},
+    )
+    .unwrap();
+    let grown = tmp.path().join("grown");
+    for (first_seed, seeds) in [(1, 1), (2, 3)] {
+        let o = study::run_study(
+            &StudyOptions {
+                first_seed,
+                seeds,
+                out: grown.clone(),
+                ..base.clone()
+            },
+            &|_| {},
+        )
+        .unwrap();
+        assert_eq!(o.jobs as u64, seeds + 1 - first_seed);
+    }
+    assert_eq!(rows(&whole), rows(&grown));
+    // Three seeds are enough for the significance section to be drawn, and for its CSV.
+    assert!(output::significance_csv(&grown).exists());
+    // A first seed beyond the last is refused.
+    let bad = study::run_study(
+        &StudyOptions {
+            first_seed: 4,
+            seeds: 3,
+            out: grown,
+            ..base
+        },
+        &|_| {},
+    );
+    assert!(bad.is_err());
 }
