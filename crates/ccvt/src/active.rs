@@ -61,8 +61,10 @@ pub(crate) fn active_set(
     }
     let del = &work.del;
     let cap = (ACTIVE_FRACTION * k as f64) as usize;
-    let tol2 = (phase.tol * phase.spacing).powi(2);
-    let thr2 = ((DEFECT_SHARE * max_move).max(0.5 * phase.tol) * phase.spacing).powi(2);
+    // Relative to the local spacing, as the convergence test measures moves.
+    let tol2 = phase.tol.powi(2);
+    let thr2 = (DEFECT_SHARE * max_move).max(0.5 * phase.tol).powi(2);
+    let scale = &phase.scale;
     // One pass: how many move more than the tolerance, and the defects.
     const CHUNK: usize = 8192;
     let parts: Vec<(usize, Vec<u32>)> = s
@@ -74,7 +76,7 @@ pub(crate) fn active_set(
             let mut seeds = Vec::new();
             let mut n = 0;
             for (k, (t, z)) in t.iter().zip(z).enumerate() {
-                let d2 = (*t - *z).length_squared();
+                let d2 = (*t - *z).length_squared() / scale.at(*z).powi(2);
                 n += usize::from(d2 > tol2);
                 if d2 > thr2 {
                     if let Some(v) = del.vertex_index(c * CHUNK + k) {
@@ -230,6 +232,7 @@ mod tests {
             tol: 1e-4,
             max_iter: 100,
             spacing,
+            scale: crate::scale::LocalScale::new(&region, &density, spacing),
             active_from: 0,
             cancel: None,
         };

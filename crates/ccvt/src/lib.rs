@@ -55,6 +55,8 @@ mod map;
 mod method;
 mod newton;
 mod params;
+mod scale;
+mod start;
 mod sublevel;
 
 pub use init::{initial_points, Init};

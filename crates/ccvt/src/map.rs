@@ -2,6 +2,7 @@
 //! triangulation and cells kept from one evaluation to the next, the labels of Section 2.2.3,
 //! the progress trace and the time profile.
 use crate::params::Solver;
+use crate::scale::LocalScale;
 use crate::sublevel::Sublevel;
 use geometry::{DVec2, Density, PieceId, Polygon, Region};
 use mesh::Progress;
@@ -46,6 +47,24 @@ pub struct Profile {
 }
 
 impl Profile {
+    /// Add another run's times and counts to these.
+    pub fn add(&mut self, other: &Profile) {
+        self.triangulation += other.triangulation;
+        self.cells += other.cells;
+        self.projection += other.projection;
+        self.convergence += other.convergence;
+        self.acceleration += other.acceleration;
+        self.hessian += other.hessian;
+        self.linear_solve += other.linear_solve;
+        self.evaluations += other.evaluations;
+        self.rejected += other.rejected;
+        self.label_resets += other.label_resets;
+        self.linear_iterations += other.linear_iterations;
+        self.flipped += other.flipped;
+        self.local_evaluations += other.local_evaluations;
+        self.local_moved += other.local_moved;
+    }
+
     /// Seconds of all timed parts.
     pub fn total(&self) -> f64 {
         self.triangulation
@@ -144,6 +163,8 @@ pub struct Phase<'a> {
     pub tol: f64,
     pub max_iter: usize,
     pub spacing: f64,
+    /// The local spacing, the yardstick of every per-generator move (`spacing` where ρ ≡ 1).
+    pub scale: LocalScale<'a>,
     /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
     pub active_from: usize,
     /// The request's cancel flag: a phase stops at its next evaluation once it is set.
@@ -217,7 +238,7 @@ pub(crate) fn map_cell(phase: &Phase, cell: &tessellation::Cell) -> (Role, DVec2
         match best.corner {
             Some(corner) => (
                 Role::Boundary(j),
-                off_corner(region, corner, j, c, phase.spacing),
+                off_corner(region, corner, j, c, &phase.scale),
             ),
             None => (Role::Boundary(j), best.point),
         }
@@ -239,16 +260,17 @@ pub(crate) fn map_cell(phase: &Phase, cell: &tessellation::Cell) -> (Role, DVec2
 /// A centroid beyond the end of its piece (in the normal cone of a reflex corner) projects onto
 /// the corner itself, where the corner's own generator sits: the two would coincide and one cell
 /// would vanish. Section 2.3 allows any constrained centroid in that case; keep the generator on
-/// its piece at the centroid's distance from the corner, clamped to [0.1, 0.5] of the spacing
-/// (and to half the piece).
+/// its piece at the centroid's distance from the corner, clamped to [0.1, 0.5] of the local
+/// spacing at the corner (and to half the piece).
 fn off_corner(
     region: &Region,
     corner: usize,
     piece: PieceId,
     centroid: DVec2,
-    spacing: f64,
+    scale: &LocalScale,
 ) -> DVec2 {
     let c = &region.corners()[corner];
+    let spacing = scale.at(c.pos);
     let p = &region.pieces()[piece];
     let (t_start, t_end) = p.end_tangents();
     let into_piece = if c.piece_out == piece {
@@ -292,21 +314,26 @@ pub(crate) fn assign_corners(
     }
 }
 
-/// Largest |a_k − b_k| (a parallel max: exact and independent of the thread count); infinite
-/// if any move is NaN, so that a non-finite centroid never passes the convergence test.
-fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
-    a.par_iter()
-        .zip(b)
-        .map(|(p, q)| {
-            let d = (*p - *q).length_squared();
-            if d.is_nan() {
-                f64::INFINITY
-            } else {
-                d
-            }
-        })
-        .reduce(|| 0.0, f64::max)
-        .sqrt()
+/// Largest |a_k − b_k| / h(b_k), h the local spacing (a parallel max: exact and independent
+/// of the thread count); infinite if any move is NaN, so that a non-finite centroid never
+/// passes the convergence test.
+fn max_move(a: &[DVec2], b: &[DVec2], scale: &LocalScale) -> f64 {
+    let relative = |(p, q): (&DVec2, &DVec2)| {
+        let d = (*p - *q).length_squared();
+        if d.is_nan() {
+            f64::INFINITY
+        } else if scale.is_uniform() {
+            d
+        } else {
+            d / scale.at(*q).powi(2)
+        }
+    };
+    let m = a.par_iter().zip(b).map(relative).reduce(|| 0.0, f64::max);
+    if scale.is_uniform() {
+        m.sqrt() / scale.mean()
+    } else {
+        m.sqrt()
+    }
 }
 
 /// What every phase reports: energy and relative largest move per iteration, progress, and
@@ -314,7 +341,7 @@ fn max_move(a: &[DVec2], b: &[DVec2]) -> f64 {
 pub struct Trace<'a> {
     /// CVT energy per iteration.
     pub energies: Vec<f64>,
-    /// Largest move / spacing per iteration.
+    /// Largest move / local spacing per iteration.
     pub moves: Vec<f64>,
     /// Called after every iteration.
     pub progress: &'a mut dyn FnMut(Progress),
@@ -322,7 +349,7 @@ pub struct Trace<'a> {
     pub prof: Profile,
 }
 
-/// The largest move of the map at `z` (relative to the spacing), appended with the energy to
+/// The largest move of the map at `z` (relative to the local spacing), appended with the energy to
 /// the histories and reported as progress.
 pub(crate) fn record(
     phase: &Phase,
@@ -332,7 +359,7 @@ pub(crate) fn record(
     trace: &mut Trace,
 ) -> f64 {
     let mut t = Instant::now();
-    let mv = max_move(&s.targets, z) / phase.spacing;
+    let mv = max_move(&s.targets, z, &phase.scale);
     trace.energies.push(s.energy);
     trace.moves.push(mv);
     trace.prof.convergence += lap(&mut t);

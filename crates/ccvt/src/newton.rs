@@ -38,7 +38,7 @@ const CG_MAX: usize = 20;
 // 12 runs (6 region/size pairs, seeds 1 and 2): 2747 evaluations in all with it, 7733 without;
 // pie_hole at K = 287, seed 1: 565 against 4538.
 const SIGMA_LLOYD: f64 = 1.0;
-/// Largest Newton move of one generator, relative to the spacing: the quadratic model holds
+/// Largest Newton move of one generator, relative to the local spacing: the quadratic model holds
 /// only while the Voronoi neighbours stay the same.
 // 12 runs (6 regions, seeds 2 and 3): caps of ∞ / 0.15 / 0.1 / 0.05 took 5462 / 4982 / 3881 /
 // 3951 evaluations in all.
@@ -314,7 +314,7 @@ fn newton_point(
 /// cap, and one that is not allowed (a fixed generator, a move out of the domain) goes to its
 /// Lloyd target.
 fn moved_to(phase: &Phase, z: DVec2, x: DVec2, dof: Dof, tan: &[Tangent], target: DVec2) -> DVec2 {
-    let p = z + x.clamp_length_max(STEP_CAP * phase.spacing);
+    let p = z + x.clamp_length_max(STEP_CAP * phase.scale.at(z));
     match dof {
         Dof::Fixed => target,
         Dof::Free if phase.inside.contains(p) => p,
@@ -452,7 +452,7 @@ fn newton_move(
             let (i, Role::Boundary(piece)) = (pt(r as usize), s.roles[pt(r as usize)]) else {
                 unreachable!("tangent dofs are boundary generators")
             };
-            let (t, k) = tangent(region, z[i], piece, phase.spacing);
+            let (t, k) = tangent(region, z[i], piece, phase.scale.at(z[i]));
             Tangent { t, piece, k }
         })
         .collect_into_vec(&mut buf.tangents);

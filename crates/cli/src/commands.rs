@@ -251,6 +251,14 @@ pub struct MeasureArgs {
     /// the field asks for [default: none].
     #[arg(long)]
     size_field: Option<String>,
+    /// As for `mesh`: measure against the distance field toward this loop or point (with
+    /// --size-threshold; the smaller of this and --size-field where both are given)
+    /// [default: none].
+    #[arg(long, value_name = "loop:I|point:X,Y", requires = "size_threshold")]
+    size_toward: Vec<String>,
+    /// As for `mesh`: HMIN,HMAX,DMIN,DMAX of --size-toward's field [default: none].
+    #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
+    size_threshold: Option<String>,
 }
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
@@ -277,11 +285,16 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         )?),
         None => None,
     };
-    let conformity = match &a.size_field {
-        Some(text) => {
-            let field = inputs::size_field(text)?;
+    let field = inputs::graded_field(
+        a.size_field.as_deref(),
+        &a.size_toward,
+        a.size_threshold.as_deref(),
+        &region,
+    )?;
+    let conformity = match &field {
+        Some(field) => {
             field.check(&region).map_err(cvtmesh::MeshError::from)?;
-            Some(cvtmesh::metrics::size_conformity(&mesh, &field, &region)?)
+            Some(cvtmesh::metrics::size_conformity(&mesh, field, &region)?)
         }
         None => None,
     };
@@ -309,10 +322,15 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         }
     }
     if let Some(c) = conformity {
-        println!(
-            "size field '{}':",
-            a.size_field.as_deref().unwrap_or_default()
-        );
+        let toward = a.size_toward.join(" ");
+        let threshold = a.size_threshold.as_deref().unwrap_or_default();
+        match (&a.size_field, toward.is_empty()) {
+            (Some(text), true) => println!("size field '{text}':"),
+            (None, _) => println!("size field toward {toward} ({threshold}):"),
+            (Some(text), false) => {
+                println!("size field min('{text}', toward {toward} ({threshold})):")
+            }
+        }
         for (name, v) in cvtmesh::metrics::SizeConformity::NAMES
             .iter()
             .zip(c.values())

@@ -23,11 +23,13 @@ fn main() {
         _ => Ccvt::algorithm2(),
     };
     // For experiments: CCVT_EPS_PHASE_TOL overrides the ε-phase tolerance, CCVT_ACTIVE_FROM the
-    // size from which Newton takes active-set steps.
+    // size from which Newton takes active-set steps, CCVT_MULTILEVEL_FROM the size from which a
+    // coarser level gives the start.
     let m = Ccvt {
         eps_phase_tol: env("CCVT_EPS_PHASE_TOL").unwrap_or(m.eps_phase_tol),
         active_from: env("CCVT_ACTIVE_FROM").unwrap_or(m.active_from),
         eps_start: env("CCVT_EPS_START").unwrap_or(m.eps_start),
+        multilevel_from: env("CCVT_MULTILEVEL_FROM").unwrap_or(m.multilevel_from),
         ..m
     };
     let seed = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
@@ -74,6 +76,17 @@ fn main() {
         g.notes
     );
     println!("{:?}", g.profile);
+    let mesh = tessellation::conforming_mesh(&g.points, &g.markers, &region).expect("mesh");
+    let c = cvtmesh::metrics::size_conformity(
+        &mesh,
+        &geometry::SizeField::constant(req.spacing(&region)),
+        &region,
+    )
+    .expect("measures");
+    println!(
+        "min angle {:.1} (1st percentile {:.1}), unit share {:.4}, efficiency {:.4}",
+        c.min_angle_deg, c.min_angle_p1_deg, c.unit_share, c.efficiency
+    );
     let mut prev = 0.0;
     let secs: Vec<String> = ends
         .iter()

@@ -1,0 +1,218 @@
+//! Starts that already have the target spacing, along ∂Ω and inside, so that the constrained
+//! iteration (Algorithm 1) only has to relax them: the vertices of a Delaunay refinement
+//! driven by the density (a graded start), and a coarser CCVT prolongated by one level (every
+//! edge of its mesh split at its midpoint, which turns a hexagonal lattice into the lattice of
+//! half its spacing, and keeps any grading).
+use crate::scale::LocalScale;
+use geometry::{DVec2, Region, Rng};
+use mesh::{Mesh, MeshError, MeshRequest, VertexMarker};
+use refine::Refine;
+use std::collections::HashMap;
+
+/// Points with a flag for those on ∂Ω (which count adjustments leave alone).
+pub(crate) struct Seeds {
+    pub points: Vec<DVec2>,
+    pub on_boundary: Vec<bool>,
+}
+
+impl Seeds {
+    fn from_mesh(mesh: &Mesh) -> Seeds {
+        Seeds {
+            points: mesh.points.clone(),
+            on_boundary: mesh
+                .markers
+                .iter()
+                .map(|m| !matches!(m, VertexMarker::Interior))
+                .collect(),
+        }
+    }
+}
+
+/// How many generators a coarse level needs so that its prolongation has about `k`: a
+/// triangulation of V vertices, B of them on ∂Ω, has about 3V − B edges, so V + E ≈ 4V − B;
+/// B halves from the fine level to the coarse one.
+pub(crate) fn coarse_count(region: &Region, scale: &LocalScale, k: usize) -> usize {
+    let fine_boundary = boundary_count(region, scale);
+    ((k as f64 + 0.5 * fine_boundary) / 4.0).round() as usize
+}
+
+/// About how many generators lie on ∂Ω at the local spacing: ∫_∂Ω ds / h.
+fn boundary_count(region: &Region, scale: &LocalScale) -> f64 {
+    let poly = region.polygonize(1e-3 * scale.mean());
+    poly.rings
+        .iter()
+        .flat_map(|ring| {
+            let n = ring.points.len();
+            (0..n).map(move |i| (ring.points[i], ring.points[(i + 1) % n]))
+        })
+        .map(|(a, b)| (b - a).length() / scale.at(0.5 * (a + b)))
+        .sum()
+}
+
+/// The vertices of `mesh` and the midpoint of each of its edges; midpoints of boundary edges
+/// go onto ∂Ω (the nearest point of the piece the edge follows).
+pub(crate) fn prolongate(region: &Region, mesh: &Mesh) -> Seeds {
+    let mut seeds = Seeds::from_mesh(mesh);
+    let boundary: HashMap<(u32, u32), ()> = mesh
+        .boundary_edges()
+        .iter()
+        .map(|e| ((e.a.min(e.b), e.a.max(e.b)), ()))
+        .collect();
+    let mut seen: HashMap<(u32, u32), ()> = HashMap::with_capacity(3 * mesh.points.len());
+    for t in &mesh.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let key = (a.min(b), a.max(b));
+            if seen.insert(key, ()).is_some() {
+                continue;
+            }
+            let mid = 0.5 * (mesh.points[a as usize] + mesh.points[b as usize]);
+            let on_boundary = boundary.contains_key(&key);
+            let p = if on_boundary {
+                let piece = [a, b].iter().find_map(|&v| match mesh.markers[v as usize] {
+                    VertexMarker::Boundary { piece, .. } => Some(piece),
+                    _ => None,
+                });
+                match piece {
+                    Some(j) => region.project_onto_piece(mid, j).point,
+                    None => region.project(mid).point,
+                }
+            } else {
+                mid
+            };
+            seeds.points.push(p);
+            seeds.on_boundary.push(on_boundary);
+        }
+    }
+    seeds
+}
+
+/// Exactly `k` points: surplus interior points removed at random, missing ones added beside
+/// random interior points (a third of the local spacing away, inside Ω), all from `seed`.
+/// Either leaves a few scattered local defects for the relaxation.
+pub(crate) fn fit_count(
+    region: &Region,
+    scale: &LocalScale,
+    mut seeds: Seeds,
+    k: usize,
+    seed: u64,
+) -> Vec<DVec2> {
+    let mut rng = Rng::new(seed ^ 0x5eed_5eed);
+    let interior: Vec<usize> = (0..seeds.points.len())
+        .filter(|&i| !seeds.on_boundary[i])
+        .collect();
+    let n = seeds.points.len();
+    if n > k && !interior.is_empty() {
+        let mut drop = vec![false; n];
+        let mut pool = interior.clone();
+        let mut excess = n - k;
+        while excess > 0 && !pool.is_empty() {
+            let i = pool.swap_remove(rng.below(pool.len()));
+            drop[i] = true;
+            excess -= 1;
+        }
+        let mut kept = Vec::with_capacity(k);
+        for (i, p) in seeds.points.iter().enumerate() {
+            if !drop[i] {
+                kept.push(*p);
+            }
+        }
+        seeds.points = kept;
+    }
+    seeds.points.truncate(k);
+    let mut tries = 0;
+    while seeds.points.len() < k {
+        tries += 1;
+        let base = if interior.is_empty() || tries > 100 * k {
+            // Nothing to stand beside: anywhere in Ω.
+            let (lo, hi) = region.bbox();
+            DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y))
+        } else {
+            seeds.points[interior[rng.below(interior.len())].min(seeds.points.len() - 1)]
+        };
+        let h = scale.at(base);
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let p = base + DVec2::from_angle(angle) * (h / 3.0);
+        if region.signed_distance(p) < -0.1 * h {
+            seeds.points.push(p);
+        }
+    }
+    seeds.points
+}
+
+/// A graded start of exactly `k` points: the vertices of a Delaunay refinement whose area
+/// bound follows the density (20° minimum angle), sized by one trial refinement and one
+/// corrected by the count it gave, then fitted to `k`.
+pub(crate) fn graded(
+    region: &Region,
+    request: &MeshRequest,
+    scale: &LocalScale,
+    k: usize,
+) -> Result<Vec<DVec2>, MeshError> {
+    let refine = Refine::default();
+    // Triangles average about 0.6 of the area bound and number about 2K; the bound is scaled
+    // by ρ^(−½), so the ρ^(½)-weighted area decides the count.
+    let weighted = region.area() * scale.mean_sqrt_density();
+    let mut area = weighted / (1.2 * k as f64);
+    let budget = 4 * k + 1000;
+    let mut r = refine.refine_with_area(region, area, &request.density, budget)?;
+    let got = r.mesh.num_vertices();
+    if got != k && got > 0 {
+        area *= got as f64 / k as f64;
+        r = refine.refine_with_area(region, area, &request.density, budget)?;
+    }
+    Ok(fit_count(
+        region,
+        scale,
+        Seeds::from_mesh(&r.mesh),
+        k,
+        request.seed,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geometry::Density;
+
+    #[test]
+    fn prolongation_of_a_mesh_splits_every_edge_once() {
+        let region = Region::builtin("square_hole").unwrap();
+        let r = Refine::default()
+            .refine_with_area(&region, 0.05, &Density::Uniform, usize::MAX)
+            .unwrap();
+        let mesh = &r.mesh;
+        let seeds = prolongate(&region, mesh);
+        let (v, t) = (mesh.num_vertices(), mesh.triangles.len());
+        let b = mesh.boundary_edges().len();
+        // Euler: every triangle has 3 edges, interior ones shared by two.
+        let edges = (3 * t + b) / 2;
+        assert_eq!(seeds.points.len(), v + edges);
+        // Boundary midpoints lie on ∂Ω; the others inside.
+        for (p, on) in seeds.points.iter().zip(&seeds.on_boundary) {
+            let d = region.signed_distance(*p);
+            if *on {
+                assert!(d.abs() < 1e-9, "{p}: {d}");
+            } else {
+                assert!(d < 0.0, "{p}: {d}");
+            }
+        }
+        assert_eq!(seeds.on_boundary.iter().filter(|&&b| b).count(), 2 * b);
+    }
+
+    #[test]
+    fn fitted_counts_are_exact_inside_and_reproducible() {
+        let region = Region::builtin("lake").unwrap();
+        let scale = LocalScale::new(&region, &Density::Uniform, 0.05);
+        let r = Refine::default()
+            .refine_with_area(&region, 2e-3, &Density::Uniform, usize::MAX)
+            .unwrap();
+        let n = r.mesh.num_vertices();
+        for k in [n - 37, n, n + 41] {
+            let a = fit_count(&region, &scale, Seeds::from_mesh(&r.mesh), k, 3);
+            assert_eq!(a.len(), k);
+            assert!(a.iter().all(|p| region.signed_distance(*p) <= 1e-12));
+            let b = fit_count(&region, &scale, Seeds::from_mesh(&r.mesh), k, 3);
+            assert_eq!(a, b);
+        }
+    }
+}

@@ -1,0 +1,125 @@
+//! Graded CCVT meshes from size fields: the default method starts from a graded point set and
+//! converges by the same rule as uniform runs, with edges that follow the field.
+use cvtmesh_ccvt::Ccvt;
+use geometry::{DVec2, LoopRole, Region, SizeField, Threshold, Toward};
+use mesh::{check_conforming, MeshRequest, Mesher};
+use metrics::size_conformity;
+
+/// Run the default method on `field` (K from the field) and check convergence, conformity to
+/// the region and to the field; returns the evaluations it took.
+fn graded_run(region: &Region, field: &SizeField, seed: u64) -> usize {
+    let request = MeshRequest::size_field(field, region, None)
+        .unwrap()
+        .seed(seed);
+    let k = request.validate(region).unwrap();
+    let r = Ccvt::default()
+        .mesh(region, &request, &mut |_| {})
+        .expect("mesh");
+    assert!(
+        r.converged,
+        "{}: not converged in {} evaluations",
+        region.name(),
+        r.iterations
+    );
+    assert_eq!(r.mesh.num_vertices(), k);
+    check_conforming(&r.mesh, region).unwrap();
+    let c = size_conformity(&r.mesh, field, region).unwrap();
+    assert!(
+        c.unit_share >= 0.95,
+        "{}: unit share {}",
+        region.name(),
+        c.unit_share
+    );
+    assert!(
+        c.efficiency >= 0.9,
+        "{}: efficiency {}",
+        region.name(),
+        c.efficiency
+    );
+    assert!(
+        c.min_angle_deg >= 30.0,
+        "{}: min angle {}",
+        region.name(),
+        c.min_angle_deg
+    );
+    r.iterations
+}
+
+#[test]
+fn refined_toward_a_hole_converges_and_follows_the_field() {
+    // Gmsh's Distance + Threshold toward the hole: a flat band of h_min along it, so the field
+    // has a kink on the hole's loop; the grid holds the loop's size inside the hole.
+    let region = Region::builtin("square_hole").unwrap();
+    let t = Threshold {
+        size_min: 0.02,
+        size_max: 0.2,
+        dist_min: 0.04,
+        dist_max: 1.2,
+    };
+    let field = SizeField::threshold(&region, &[Toward::Loop(1)], t).unwrap();
+    let evaluations = graded_run(&region, &field, 1);
+    // Thousands of evaluations (capped runs) were the failure this guards against.
+    assert!(evaluations < 1000, "{evaluations} evaluations");
+}
+
+#[test]
+fn refined_toward_a_reentrant_corner_converges_and_follows_the_field() {
+    let region = Region::from_loops(
+        "l_shape",
+        vec![(
+            LoopRole::Outer,
+            vec![
+                DVec2::new(0.0, 0.0),
+                DVec2::new(1.0, 0.0),
+                DVec2::new(1.0, 0.5),
+                DVec2::new(0.5, 0.5),
+                DVec2::new(0.5, 1.0),
+                DVec2::new(0.0, 1.0),
+            ],
+        )],
+    )
+    .unwrap();
+    let t = Threshold {
+        size_min: 0.006,
+        size_max: 0.06,
+        dist_min: 0.0,
+        dist_max: 0.7,
+    };
+    let field = SizeField::threshold(&region, &[Toward::Point(DVec2::new(0.5, 0.5))], t).unwrap();
+    let evaluations = graded_run(&region, &field, 2);
+    assert!(evaluations < 1000, "{evaluations} evaluations");
+}
+
+#[test]
+fn graded_runs_are_reproducible() {
+    let region = Region::builtin("circle").unwrap();
+    let field = SizeField::from_expr("0.03 + 0.1 * sqrt(x^2 + y^2)").unwrap();
+    let request = MeshRequest::size_field(&field, &region, Some(600)).unwrap();
+    let a = Ccvt::default()
+        .mesh(&region, &request, &mut |_| {})
+        .unwrap();
+    let b = Ccvt::default()
+        .mesh(&region, &request, &mut |_| {})
+        .unwrap();
+    assert_eq!(a.mesh.points, b.mesh.points);
+    assert_eq!(a.mesh.triangles, b.mesh.triangles);
+}
+
+#[test]
+fn a_prolongated_coarse_level_gives_a_converged_mesh_of_exactly_k() {
+    let region = Region::builtin("square_hole").unwrap();
+    let ccvt = Ccvt {
+        multilevel_from: 1500,
+        ..Ccvt::default()
+    };
+    let request = MeshRequest::points(2500);
+    let r = ccvt.mesh(&region, &request, &mut |_| {}).unwrap();
+    assert!(r.converged);
+    assert_eq!(r.mesh.num_vertices(), 2500);
+    check_conforming(&r.mesh, &region).unwrap();
+    assert!(r
+        .notes
+        .iter()
+        .any(|n| n.contains("every edge of its mesh split")));
+    assert!(r.mesh.min_angle_deg() >= 25.0, "{}", r.mesh.min_angle_deg());
+}
