@@ -19,6 +19,7 @@ CASES = {
     "square_hole-hole": ("square_hole", ["loop:1"], 10.0, (0.02, 0.6)),
     "lake-shores": ("lake", None, 5.0, (0.0, 0.5)),
 }
+DEFAULT_CASES = "circle-point,l-corner,square_hole-hole"
 CONFORMITY = "edges,unit_share,efficiency,mean_length,min_angle_deg,min_angle_p1_deg,vertices,predicted_vertices".split(",")
 
 
@@ -117,6 +118,20 @@ def measure(exe, mesh, region, fargs):
     return dict(zip(lines[-2].split(","), map(float, lines[-1].split(","))))
 
 
+def write_tables(out, rows):
+    with open(os.path.join(out, "graded.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["case", "K", "tool", "seconds", "mesher_seconds", "note"] + CONFORMITY)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in w.fieldnames})
+    with open(os.path.join(out, "graded.md"), "w") as f:
+        f.write("| case | K | tool | seconds (mesher) | vertices | unit share | efficiency | min angle | 1st pct angle |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write(f"| {r['case']} | {r['K']} | {r['tool']} | {r['seconds']:.2f} ({r['mesher_seconds']:.2f}) | {r['vertices']:.0f} | "
+                    f"{r['unit_share']:.3f} | {r['efficiency']:.3f} | {r['min_angle_deg']:.1f} | {r['min_angle_p1_deg']:.1f} |\n")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cvtmesh", required=True)
@@ -124,7 +139,8 @@ def main():
     ap.add_argument("--regions-extra", required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--sizes", default="10000,100000")
-    ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--cases", default=DEFAULT_CASES,
+                    help="also lake-shores: Gmsh's Distance field to its 2 000 shore segments did not finish here")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
@@ -138,7 +154,8 @@ def main():
             # is the one timed and kept.
             if area is None:
                 p0, t0_, _ = gmsh_mesh(path, toward, 0.05, 1.0, dists)
-                area = float(np.sum(np.abs(np.cross(p0[t0_[:, 1]] - p0[t0_[:, 0]], p0[t0_[:, 2]] - p0[t0_[:, 0]]))) / 2)
+                u, v = p0[t0_[:, 1]] - p0[t0_[:, 0]], p0[t0_[:, 2]] - p0[t0_[:, 0]]
+                area = float(np.sum(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]))) / 2
             hmin = math.sqrt(2 * area / (math.sqrt(3) * k)) / math.sqrt(ratio)
             for _ in range(3):
                 p, t, sec = gmsh_mesh(path, toward, hmin, ratio, dists)
@@ -160,24 +177,14 @@ def main():
                 raise SystemExit(out.stderr)
             line = out.stdout.strip().splitlines()[-1]
             own = float(line.split()[-3].rstrip("s"))
-            asked = next(float(w.split("(")[1]) for w in out.stderr.split("\n") if "asked for by the field" in w)
+            asked = next(float(w.split("(")[1].split()[0]) for w in out.stderr.split("\n") if "asked for by the field" in w)
             # With --points the field is scaled to K: measure against the scaled field.
             scaled = field_args(toward, hmin * math.sqrt(asked / k), ratio, dists)
             m = measure(a.cvtmesh, base + ".node", path, scaled)
             state = "converged" if line.endswith(".node") and "NOT CONVERGED" not in line else "not converged"
             rows.append(dict(case=case, K=k, tool="cvtmesh", seconds=whole, mesher_seconds=own, note=state, **m))
             print(f"{case} {k} cvtmesh: {line}", file=sys.stderr)
-    with open(os.path.join(a.out, "graded.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["case", "K", "tool", "seconds", "mesher_seconds", "note"] + CONFORMITY)
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: r.get(k, "") for k in w.fieldnames})
-    with open(os.path.join(a.out, "graded.md"), "w") as f:
-        f.write("| case | K | tool | seconds (mesher) | vertices | unit share | efficiency | min angle | 1st pct angle |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|\n")
-        for r in rows:
-            f.write(f"| {r['case']} | {r['K']} | {r['tool']} | {r['seconds']:.2f} ({r['mesher_seconds']:.2f}) | {r['vertices']:.0f} | "
-                    f"{r['unit_share']:.3f} | {r['efficiency']:.3f} | {r['min_angle_deg']:.1f} | {r['min_angle_p1_deg']:.1f} |\n")
+            write_tables(a.out, rows)
 
 
 if __name__ == "__main__":
