@@ -83,8 +83,10 @@ pub struct MeshArgs {
     /// Iteration cap.
     #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
     max_iter: usize,
-    /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines
-    /// [default: none: every vertex where the boundary turns is a corner].
+    /// Keep only corners whose turning angle exceeds this (degrees); 0 keeps every vertex where
+    /// the boundary turns. The default applies where the corners are computed (polygon files);
+    /// built-in regions and JSON with "corners" keep theirs [default: 30, or the corners the
+    /// region lists].
     #[arg(long)]
     corner_angle: Option<f64>,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence.
@@ -119,11 +121,12 @@ fn method_help() -> String {
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
     let method = inputs::method(&a.method)?;
-    let region = inputs::region(&a.region, a.corner_angle)?;
-    if let Some(deg) = region.corner_threshold() {
+    let (region, corners) = inputs::region_with_corners(&a.region, a.corner_angle)?;
+    eprintln!("{corners}");
+    if region.num_parts() > 1 {
         eprintln!(
-            "corner-angle threshold {deg}° applied: {} corners kept",
-            region.corners().len()
+            "region: {} disjoint parts, meshed one by one with K shared by area",
+            region.num_parts()
         );
     }
     let graded = inputs::graded_field(
@@ -159,7 +162,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     .seed(a.seed)
     .tol(a.tol)
     .max_iter(a.max_iter);
-    let k = request.validate(&region)?;
+    let k = request.validate_whole(&region)?;
     if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
         eprintln!(
             "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
@@ -178,7 +181,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     );
     bar.set_prefix(format!("{} K={k}", method.name()));
     let start = Instant::now();
-    let result = method.mesh(&region, &request, &mut |p| {
+    let result = method.mesh_parts(&region, &request, &mut |p| {
         bar.set_position(p.iteration as u64);
         bar.set_message(format!("energy {:.6e}  move {:.2e}", p.energy, p.max_move));
     })?;
