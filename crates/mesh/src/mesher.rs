@@ -629,6 +629,28 @@ mod tests {
     }
 
     #[test]
+    fn a_request_beyond_the_machines_memory_is_refused_with_the_figure() {
+        let Some(total) = total_memory() else { return };
+        let k = (total / BYTES_PER_VERTEX) as usize + 1;
+        if k > MAX_POINTS {
+            return;
+        }
+        let e = MeshRequest::points(k)
+            .validate(&region("circle"))
+            .unwrap_err();
+        match &e {
+            MeshError::TooMuchMemory {
+                requested, bytes, ..
+            } => assert_eq!((*requested, *bytes), (k, memory_estimate(k))),
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            e.to_string().contains("GiB") && e.is_invalid_request(),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn the_iteration_cap_must_be_at_least_one() {
         let e = MeshRequest::points(50)
             .max_iter(0)
