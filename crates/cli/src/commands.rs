@@ -89,7 +89,8 @@ pub struct MeshArgs {
     /// region lists].
     #[arg(long)]
     corner_angle: Option<f64>,
-    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence.
+    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence, and
+    /// refuse (before any work) a region narrower than half the spacing somewhere.
     #[arg(long)]
     strict: bool,
     /// No progress bar.
@@ -163,6 +164,12 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     .tol(a.tol)
     .max_iter(a.max_iter);
     let k = request.validate_whole(&region)?;
+    if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
+        if a.strict {
+            bail!("--strict: {thin}; nothing written");
+        }
+        eprintln!("warning: {thin}");
+    }
     if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
         eprintln!(
             "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",

@@ -892,3 +892,40 @@ fn a_coastline_meshes_far_below_its_vertex_count() {
         text(&o)
     );
 }
+
+#[test]
+fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
+    let d = scratch("channel");
+    let input = d.join("channel.txt");
+    std::fs::write(&input, "0 0\n10 0\n10 0.001\n0 0.001\n").unwrap();
+    let out = d.join("channel.vtu");
+    let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("warning: the region is 1.000e-3 wide near ("),
+        "{t}"
+    );
+    assert!(
+        t.contains("thinner than the spacing") && t.contains("K ≥ 2"),
+        "{t}"
+    );
+    std::fs::remove_file(&out).unwrap();
+    let o = cvtmesh(&[
+        "mesh",
+        s(&input),
+        "-n",
+        "300",
+        "--strict",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("--strict: the region is 1.000e-3 wide"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists());
+}

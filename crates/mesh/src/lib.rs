@@ -9,6 +9,7 @@ mod error;
 pub mod io;
 mod mesher;
 mod parts;
+mod thin;
 mod types;
 
 pub use check::{check_conforming, ConformityError};
@@ -17,4 +18,5 @@ pub use mesher::{
     memory_estimate, total_memory, MeshRequest, MeshResult, Mesher, Progress, Size,
     BYTES_PER_VERTEX, MAX_POINTS,
 };
+pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -167,7 +167,7 @@ pub(crate) fn allocate(k: usize, weights: &[f64], needs: &[usize]) -> Vec<usize>
 /// ∫ ρ^(1/2) over a part (its area for a uniform density), estimated on a 128 × 128 grid of
 /// cell centres over its bounding box; a part too small for the grid takes ρ at the centre
 /// of its bounding box times its area.
-fn weight(region: &Region, density: &Density) -> f64 {
+pub(crate) fn weight(region: &Region, density: &Density) -> f64 {
     if density.is_uniform() {
         return region.area();
     }
