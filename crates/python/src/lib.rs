@@ -447,6 +447,13 @@ fn mesh(
             n.ok_or_else(|| err("give n (the number of vertices) or size (an edge length)"))?,
         ),
     };
+    // A region narrower than half the spacing somewhere meshes into slivers there: say where,
+    // and what K would resolve it, as the command line does.
+    if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        warnings.call_method1("warn", (thin.to_string(), category))?;
+    }
     let cancel = Arc::new(AtomicBool::new(false));
     let request = request
         .seed(seed)

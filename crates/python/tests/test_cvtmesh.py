@@ -351,3 +351,9 @@ def test_a_coastline_keeps_only_its_real_corners():
     assert len(m.points) == 300
     with pytest.raises(MeshError, match="at least 3003"):
         cvtmesh.mesh(coast, n=300, corner_angle=0)
+
+
+def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
+    channel = np.array([[0, 0], [10, 0], [10, 0.001], [0, 0.001]], dtype=float)
+    with pytest.warns(RuntimeWarning, match=r"1\.000e-3 wide near .*K ≥ 2"):
+        cvtmesh.mesh(channel, n=300)
