@@ -41,8 +41,9 @@ pub struct MeshArgs {
     /// given [default: none, a uniform mesh].
     #[arg(long, conflicts_with = "density")]
     size_field: Option<String>,
-    /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...) or a
-    /// point (`point:X,Y`); repeat for several. The size grows with the distance as
+    /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
+    /// region of several parts each outer loop is followed by its holes) or a point
+    /// (`point:X,Y`); repeat for several. The size grows with the distance as
     /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
     /// --size-field is used [default: none].
     #[arg(

@@ -135,3 +135,37 @@ fn too_few_points_for_all_parts_is_refused_before_any_work() {
         "{e}"
     );
 }
+
+/// A digitized coastline: 3000 points around a wavy disc; no vertex turns by more than a few
+/// degrees, so by default none is a corner.
+fn coastline() -> Region {
+    let pts = (0..3000)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 3000.0;
+            let r = 1.0 + 0.05 * (7.0 * t).sin() + 0.003 * (53.0 * t).sin();
+            cvtmesh::DVec2::new(r * t.cos(), r * t.sin())
+        })
+        .collect();
+    Region::from_loops("coast", vec![(cvtmesh::geometry::LoopRole::Outer, pts)]).unwrap()
+}
+
+#[test]
+fn a_coastline_meshes_at_k_far_below_its_vertex_count_by_every_method() {
+    let raw = coastline();
+    assert_eq!(raw.corners().len(), 3000);
+    assert!(cvtmesh::mesh(&raw, 300).is_err());
+    let coast = raw.with_default_corners();
+    assert!(coast.corners().is_empty());
+    for m in Method::ALL {
+        let req = MeshRequest::points(300).max_iter(500);
+        let result = m.run(&coast, &req).unwrap_or_else(|e| panic!("{m}: {e}"));
+        check_conforming(&result.mesh, &raw).unwrap_or_else(|e| panic!("{m}: {e}"));
+        let k = result.mesh.num_vertices();
+        assert!((270..=330).contains(&k), "{m}: K = {k}");
+        assert!(
+            result.mesh.min_angle_deg() > 20.0,
+            "{m}: {}",
+            result.mesh.min_angle_deg()
+        );
+    }
+}

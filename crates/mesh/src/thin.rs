@@ -9,6 +9,9 @@ use std::fmt;
 const MAX_SAMPLES: usize = 4000;
 /// Most boundary segments [`thin_feature`] tests rays against (beyond, it does not look).
 const MAX_SEGMENTS: usize = 200_000;
+/// Most ray–segment tests: on a long boundary fewer rays are cast, so the look stays under
+/// about a second.
+const MAX_TESTS: usize = 200_000_000;
 /// A place counts as thin when it is narrower than this share of the spacing: a triangle of
 /// edge h is 0.87 h high, so below half the spacing none fits across and the mesh there is
 /// slivers. (The paper's horn narrows to 0.55 of its spacing at K = 138 and meshes well.)
@@ -56,7 +59,8 @@ impl fmt::Display for ThinFeature {
 /// Where `region` is narrower than half the spacing `request` asks for, the narrowest place;
 /// `None` where it is wide enough everywhere (or has more than 200 000 boundary segments).
 ///
-/// Rays are cast along the inward normal from up to 4000 points spread along the boundary;
+/// Rays are cast along the inward normal from up to 4000 points spread along the boundary
+/// (fewer on a boundary of more than 50 000 segments, at most 2·10⁸ ray–segment tests);
 /// the width is the distance to the boundary they first meet, counted when that is another
 /// loop or a part of the same loop more than 4 widths of arc length away (so that the wedge
 /// of a sharp corner is not a feature). The spacing is the request's mean spacing, scaled by
@@ -99,7 +103,8 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
         lengths.push(s);
     }
     let perimeter: f64 = lengths.iter().sum();
-    let step = (perimeter / MAX_SAMPLES as f64).max(f64::MIN_POSITIVE);
+    let samples = MAX_SAMPLES.min(MAX_TESTS / nseg).max(1);
+    let step = (perimeter / samples as f64).max(f64::MIN_POSITIVE);
     // Local spacing: mean spacing × (ρ̄ / ρ)^(1/4), ρ̄^(1/2) = ∫ρ^(1/2) / |Ω|.
     let graded = !request.density.is_uniform();
     let mean_root = if graded {
