@@ -304,7 +304,8 @@ pub(crate) fn new_region(
                 "{} lies inside {}, an outer loop, with no hole between them: a loop inside an outer loop is one of its holes",
                 label[l], label[p]
             ),
-            (LoopRole::Outer, None) => unreachable!("a loop inside no loop has depth 0"),
+            // A loop inside no other loop is outer, so this role always agrees.
+            (LoopRole::Outer, None) => format!("{} has no consistent role", label[l]),
         }));
     }
     for (l, pieces) in lps.iter_mut().enumerate() {

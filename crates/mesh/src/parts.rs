@@ -56,7 +56,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
 fn merge(into: &mut Mesh, mesh: Mesh, part: &Part) -> Result<(), MeshError> {
     let offset = u32::try_from(into.points.len())
         .ok()
-        .filter(|o| o.checked_add(mesh.points.len() as u32).is_some())
+        .filter(|o| u32::try_from(mesh.points.len()).is_ok_and(|n| o.checked_add(n).is_some()))
         .ok_or_else(|| MeshError::BadRequest("more vertices than a mesh can number".into()))?;
     into.points.extend(mesh.points);
     into.triangles
