@@ -8,9 +8,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Largest K accepted: far beyond what fits in memory is refused up front, not by an allocator.
-/// Meshes up to this size are checked for conformity before they are written.
-const CHECK_LIMIT: usize = 2_000_000;
 const DEFAULT_TOL: f64 = 1e-4;
 /// The default gradation limit of size fields: mmg's default ratio of 1.3 between adjacent
 /// edges, as a slope.
@@ -195,14 +192,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    if result.mesh.num_vertices() <= CHECK_LIMIT {
-        if let Err(e) = cvtmesh::check_conforming(&result.mesh, &region) {
-            bail!(
-                "{} produced a mesh that does not conform to the region ({e}); nothing written",
-                method.name()
-            );
-        }
-    }
+    // `mesh_parts` has checked that the mesh conforms (up to CONFORMITY_CHECK_LIMIT vertices).
     let title = format!(
         "{} {} K={}",
         region.name(),

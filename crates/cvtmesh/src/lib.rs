@@ -61,7 +61,7 @@ pub use ::mesh::io;
 pub use ::mesh::{
     check_conforming, memory_estimate, thin_feature, total_memory, BoundaryEdge, ConformityError,
     Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, Size, ThinFeature, VertexMarker,
-    BYTES_PER_VERTEX, MAX_POINTS,
+    BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT, MAX_POINTS,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

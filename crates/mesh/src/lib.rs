@@ -18,5 +18,6 @@ pub use mesher::{
     memory_estimate, total_memory, MeshRequest, MeshResult, Mesher, Progress, Size,
     BYTES_PER_VERTEX, MAX_POINTS,
 };
+pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

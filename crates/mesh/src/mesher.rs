@@ -480,6 +480,10 @@ pub trait Mesher: Sync {
 
     /// Mesh a region of any number of parts: a region of one part as [`Mesher::mesh`] does;
     /// otherwise each part ([`Region::parts`]) with its share of K, then the meshes merged.
+    /// The mesh returned conforms to the region ([`check_conforming`](crate::check_conforming),
+    /// up to [`CONFORMITY_CHECK_LIMIT`](crate::CONFORMITY_CHECK_LIMIT) vertices): where a
+    /// method's does not, the error ([`MeshError::NotConforming`]) names the first problem and,
+    /// where the region is thinner than the spacing, the place and the K that would resolve it.
     ///
     /// Shares follow the count the density asks for in each part, ∫ ρ^(1/2) (its area for a
     /// uniform density), by largest remainders, so they add up to K and each is within one
