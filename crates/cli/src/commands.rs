@@ -8,9 +8,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Largest K accepted: far beyond what fits in memory is refused up front, not by an allocator.
-/// Meshes up to this size are checked for conformity before they are written.
-const CHECK_LIMIT: usize = 2_000_000;
 const DEFAULT_TOL: f64 = 1e-4;
 /// The default gradation limit of size fields: mmg's default ratio of 1.3 between adjacent
 /// edges, as a slope.
@@ -41,8 +38,9 @@ pub struct MeshArgs {
     /// given [default: none, a uniform mesh].
     #[arg(long, conflicts_with = "density")]
     size_field: Option<String>,
-    /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...) or a
-    /// point (`point:X,Y`); repeat for several. The size grows with the distance as
+    /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
+    /// region of several parts each outer loop is followed by its holes) or a point
+    /// (`point:X,Y`); repeat for several. The size grows with the distance as
     /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
     /// --size-field is used [default: none].
     #[arg(
@@ -83,11 +81,14 @@ pub struct MeshArgs {
     /// Iteration cap.
     #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
     max_iter: usize,
-    /// Keep only corners whose turning angle exceeds this (degrees), e.g. for digitized coastlines
-    /// [default: none: every vertex where the boundary turns is a corner].
+    /// Keep only corners whose turning angle exceeds this (degrees); 0 keeps every vertex where
+    /// the boundary turns. The default applies where the corners are computed (polygon files);
+    /// built-in regions and JSON with "corners" keep theirs [default: 30, or the corners the
+    /// region lists].
     #[arg(long)]
     corner_angle: Option<f64>,
-    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence.
+    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence, and
+    /// refuse (before any work) a region narrower than half the spacing somewhere.
     #[arg(long)]
     strict: bool,
     /// No progress bar.
@@ -119,11 +120,12 @@ fn method_help() -> String {
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
     let method = inputs::method(&a.method)?;
-    let region = inputs::region(&a.region, a.corner_angle)?;
-    if let Some(deg) = region.corner_threshold() {
+    let (region, corners) = inputs::region_with_corners(&a.region, a.corner_angle)?;
+    eprintln!("{corners}");
+    if region.num_parts() > 1 {
         eprintln!(
-            "corner-angle threshold {deg}° applied: {} corners kept",
-            region.corners().len()
+            "region: {} disjoint parts, meshed one by one with K shared by area",
+            region.num_parts()
         );
     }
     let graded = inputs::graded_field(
@@ -159,7 +161,13 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     .seed(a.seed)
     .tol(a.tol)
     .max_iter(a.max_iter);
-    let k = request.validate(&region)?;
+    let k = request.validate_whole(&region)?;
+    if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
+        if a.strict {
+            bail!("--strict: {thin}; nothing written");
+        }
+        eprintln!("warning: {thin}");
+    }
     if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
         eprintln!(
             "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
@@ -178,20 +186,13 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     );
     bar.set_prefix(format!("{} K={k}", method.name()));
     let start = Instant::now();
-    let result = method.mesh(&region, &request, &mut |p| {
+    let result = method.mesh_parts(&region, &request, &mut |p| {
         bar.set_position(p.iteration as u64);
         bar.set_message(format!("energy {:.6e}  move {:.2e}", p.energy, p.max_move));
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    if result.mesh.num_vertices() <= CHECK_LIMIT {
-        if let Err(e) = cvtmesh::check_conforming(&result.mesh, &region) {
-            bail!(
-                "{} produced a mesh that does not conform to the region ({e}); nothing written",
-                method.name()
-            );
-        }
-    }
+    // `mesh_parts` has checked that the mesh conforms (up to CONFORMITY_CHECK_LIMIT vertices).
     let title = format!(
         "{} {} K={}",
         region.name(),

@@ -8,17 +8,44 @@ use std::path::Path;
 /// Pixels spanned by the longer side of a picture's bounding box, unless `show --px` says.
 pub const PICTURE_PX: u32 = 1200;
 
+/// The region to mesh and a line saying how many corners were kept: `corner_angle` keeps
+/// only corners turning more than that many degrees; without it a region whose corners were
+/// computed keeps those turning more than the default ([`Region::with_default_corners`]).
+pub fn region_with_corners(spec: &str, corner_angle: Option<f64>) -> Result<(Region, String)> {
+    let raw = region(spec, None)?;
+    let all = raw.corners().len();
+    let region = match corner_angle {
+        Some(deg) => with_corner_angle(raw, deg)?,
+        None => raw.with_default_corners(),
+    };
+    let kept = region.corners().len();
+    let line = match (corner_angle, region.corner_threshold()) {
+        (Some(deg), _) => format!(
+            "corners: {kept} of {all} kept (--corner-angle {deg}: turning by more than {deg}°)"
+        ),
+        (None, Some(deg)) => format!(
+            "corners: {kept} of {all} kept (turning by more than {deg}°, the default for computed corners; --corner-angle 0 keeps all)"
+        ),
+        (None, None) => format!("corners: {kept} (as the region lists them)"),
+    };
+    Ok((region, line))
+}
+
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.
 /// `corner_angle` keeps only corners turning more than that many degrees.
 pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
     let region = cvtmesh::load_region(spec)?;
-    Ok(match corner_angle {
-        Some(deg) if !(0.0..180.0).contains(&deg) => {
-            bail!("--corner-angle must be in [0, 180) degrees, got {deg}")
-        }
-        Some(deg) => region.with_corner_angle(deg),
-        None => region,
-    })
+    match corner_angle {
+        Some(deg) => with_corner_angle(region, deg),
+        None => Ok(region),
+    }
+}
+
+fn with_corner_angle(region: Region, deg: f64) -> Result<Region> {
+    if !(0.0..180.0).contains(&deg) {
+        bail!("--corner-angle must be in [0, 180) degrees, got {deg}")
+    }
+    Ok(region.with_corner_angle(deg))
 }
 
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.

@@ -109,10 +109,7 @@ fn help_names_every_default() {
         ("tol", "1e-4"),
         ("max-iter", "10000"),
         ("density", "1, a uniform mesh"),
-        (
-            "corner-angle",
-            "none: every vertex where the boundary turns is a corner",
-        ),
+        ("corner-angle", "30, or the corners the region lists"),
     ] {
         let line = option_line(&mesh, option);
         assert!(
@@ -508,9 +505,9 @@ fn bad_input_is_refused_with_a_clear_message() {
     for (name, body, want) in [
         ("bowtie.txt", "0 0\n1 1\n1 0\n0 1\n", "crosses itself at"),
         (
-            "outside.txt",
-            "0 0\n1 0\n1 1\n0 1\n\n5 5\n6 5\n6 6\n",
-            "outside",
+            "overlap.txt",
+            "0 0\n1 0\n1 1\n0 1\n\n0.5 0.5\n6 5\n6 6\n",
+            "cross",
         ),
         ("nan.txt", "0 0\n1 0\nnan 1\n0 1\n", "nan.txt"),
         ("dup.txt", "0 0\n1 0\n1 0\n1 1\n0 1\n", "duplicate"),
@@ -815,4 +812,120 @@ fn distance_fields_refine_toward_loops_and_points() {
         let _ = std::fs::remove_file(&out);
         assert_refused(&all, &out, needle);
     }
+}
+
+#[test]
+fn every_part_of_a_multipolygon_is_meshed() {
+    let d = scratch("multipart");
+    let input = d.join("two.geojson");
+    std::fs::write(
+        &input,
+        r#"{"type":"MultiPolygon","coordinates":[[[[0,0],[1,0],[1,1],[0,1],[0,0]]],
+           [[[2,0],[4,0],[4,1],[2,1],[2,0]],[[2.5,0.25],[2.5,0.75],[3,0.75],[3,0.25],[2.5,0.25]]]]}"#,
+    )
+    .unwrap();
+    let out = d.join("two.msh");
+    let o = cvtmesh(&["mesh", s(&input), "-n", "1000", "-q", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("region: 2 disjoint parts"), "{t}");
+    assert!(
+        t.contains("part 0: K = 364") && t.contains("part 1: K = 636"),
+        "{t}"
+    );
+    let mesh = cvtmesh::io::read_mesh(&out).unwrap();
+    assert_eq!(mesh.num_vertices(), 1000);
+    assert!((mesh.area() - 2.75).abs() < 1e-9, "{}", mesh.area());
+    // The measures accept the mesh of the whole region.
+    let o = cvtmesh(&["measure", s(&out), "--region", s(&input), "--csv"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("does not conform"), "{}", text(&o));
+}
+
+/// A digitized coastline: 3000 points around a wavy disc, with digitizer noise; no vertex
+/// turns by more than a few degrees.
+fn coastline(n: usize) -> String {
+    let mut state = 7u64;
+    let mut noise = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = 1.0 + 0.05 * (7.0 * t).sin() + 0.003 * (53.0 * t).sin() + 2e-4 * noise();
+            format!("{} {}\n", r * t.cos(), r * t.sin())
+        })
+        .collect()
+}
+
+#[test]
+fn a_coastline_meshes_far_below_its_vertex_count() {
+    let d = scratch("coast");
+    let input = d.join("coast.txt");
+    std::fs::write(&input, coastline(3000)).unwrap();
+    let out = d.join("coast.vtu");
+    let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("corners: 0 of 3000 kept"), "{}", text(&o));
+    // --corner-angle 0 keeps every vertex a corner, as before: far too many for K = 300.
+    let o = cvtmesh(&[
+        "mesh",
+        s(&input),
+        "-n",
+        "300",
+        "--corner-angle",
+        "0",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("at least 3003 vertices"), "{}", text(&o));
+    // Listed corners are kept: the square's four.
+    let o = cvtmesh(&["mesh", "square_hole", "-n", "200", "-q", "-o", s(&out)]);
+    assert!(
+        text(&o).contains("corners: 4 (as the region lists them)"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
+fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
+    let d = scratch("channel");
+    let input = d.join("channel.txt");
+    std::fs::write(&input, "0 0\n10 0\n10 0.001\n0 0.001\n").unwrap();
+    let out = d.join("channel.vtu");
+    let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("warning: the region is 1.000e-3 wide near ("),
+        "{t}"
+    );
+    assert!(
+        t.contains("thinner than the spacing") && t.contains("K ≥ 2"),
+        "{t}"
+    );
+    std::fs::remove_file(&out).unwrap();
+    let o = cvtmesh(&[
+        "mesh",
+        s(&input),
+        "-n",
+        "300",
+        "--strict",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("--strict: the region is 1.000e-3 wide"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists());
 }

@@ -89,9 +89,10 @@ impl Method {
     }
 
     /// Mesh `region` as `request` asks, with this method's default settings and no progress
-    /// reports.
+    /// reports; a region of several parts has each part meshed with its share of K and the
+    /// meshes merged ([`Mesher::mesh_parts`]).
     pub fn run(self, region: &Region, request: &MeshRequest) -> Result<MeshResult, MeshError> {
-        self.mesher().mesh(region, request, &mut |_| {})
+        self.mesher().mesh_parts(region, request, &mut |_| {})
     }
 }
 

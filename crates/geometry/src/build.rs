@@ -4,7 +4,7 @@ use crate::error::GeometryError;
 use crate::index::Index;
 use crate::numeric::segment_segment_distance;
 use crate::piece::Piece;
-use crate::predicates::point_in_ring;
+use crate::predicates::{point_in_ring, ring_signed_area};
 use crate::region::Region;
 use crate::types::{Corner, Loop, LoopRole};
 use glam::DVec2;
@@ -16,6 +16,12 @@ pub(crate) const SNAP: f64 = 1e-9;
 const TOUCH: f64 = 1e-11;
 /// Relative chord tolerance (× diameter) of the polygonization used for validation.
 const CHECK_TOL: f64 = 1e-6;
+/// Turning angle (degrees) above which [`Region::with_default_corners`] keeps a computed
+/// corner: the boundary's direction changes by more than 30° there (an interior angle below
+/// 150° or above 210°). A square's, a hexagon's and an octagon's vertices stay corners; the
+/// small turns of a digitized curve do not. It is the feature angle of VTK's feature-edge
+/// filter, and the paper's regions list their corners, so they are not affected.
+pub const DEFAULT_CORNER_ANGLE: f64 = 30.0;
 /// Turning angle (radians) above which a junction is a corner when none are listed.
 pub(crate) const CORNER_ANGLE: f64 = 1e-6;
 
@@ -27,13 +33,17 @@ fn role_name(r: LoopRole) -> &'static str {
 }
 
 impl Region {
-    /// Build from loops of pieces (outer first). Validates (closed, no self-intersection, no
-    /// loops crossing, holes inside the outer loop, finite numbers), normalises orientation,
-    /// and takes `corners` as given (`None`: every junction whose turning angle exceeds 1e-6 rad).
+    /// Build from loops of pieces. Validates (closed, no self-intersection, no loops crossing,
+    /// roles that agree with nesting, finite numbers), normalises orientation, and takes
+    /// `corners` as given (`None`: every junction whose turning angle exceeds 1e-6 rad).
     ///
     /// Details:
-    /// - exactly one loop must be `Outer`; it becomes loop 0 even if it is not listed first
-    ///   (the holes keep their relative order). Messages number loops as given;
+    /// - a region may have several disjoint parts, each an outer loop with its holes. Nesting
+    ///   decides which is which, and the roles given must agree: a loop inside no other loop,
+    ///   or inside a hole (an island), is outer; a loop whose innermost enclosing loop is outer
+    ///   is a hole of it. Loops are renumbered part by part: each outer loop, in the order
+    ///   given, followed by its holes in the order given (one outer loop becomes loop 0).
+    ///   Messages number loops as given;
     /// - a gap of at most 1e-9·diameter between consecutive pieces is closed by moving the
     ///   end of the straight piece (line or chain) onto its neighbour; a larger gap is an error;
     /// - duplicate consecutive vertices (an edge of length ≤ 1e-9·diameter) are **rejected**,
@@ -50,6 +60,7 @@ impl Region {
         loops: Vec<(LoopRole, Vec<Piece>)>,
         corners: Option<Vec<DVec2>>,
     ) -> Result<Region, GeometryError> {
+        let loops = loops.into_iter().map(|(r, p)| (Some(r), p)).collect();
         new_region(name, loops, corners)
     }
 
@@ -120,47 +131,75 @@ impl Region {
             lps.push((lp.role, pieces));
             flags.push(f);
         }
-        assemble(self.name.clone(), lps, &flags, Some(degrees))
+        let mut merged = assemble(self.name.clone(), lps, &flags, Some(degrees));
+        merged.corners_computed = self.corners_computed;
+        merged
+    }
+
+    /// The same region with the default corners of a region whose corners were computed
+    /// rather than listed ([`Region::corners_computed`]): only the junctions turning by more
+    /// than [`DEFAULT_CORNER_ANGLE`] stay corners, so that a digitized outline is not cornered
+    /// at every vertex a digitizer put down. A region with listed corners (every built-in
+    /// region), or one a threshold was already applied to, comes back unchanged.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, LoopRole, Region, DEFAULT_CORNER_ANGLE};
+    /// use std::f64::consts::TAU;
+    /// // A square whose bottom side is digitized with 200 slightly wiggling points.
+    /// let mut pts: Vec<DVec2> = (0..200)
+    ///     .map(|i| DVec2::new(i as f64 / 200.0, 0.002 * (TAU * i as f64 / 20.0).sin()))
+    ///     .collect();
+    /// pts.extend([DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)]);
+    /// let raw = Region::from_loops("square", vec![(LoopRole::Outer, pts)])?;
+    /// assert!(raw.corners().len() > 150);
+    /// let r = raw.with_default_corners();
+    /// assert_eq!(r.corners().len(), 4);
+    /// assert_eq!(r.corner_threshold(), Some(DEFAULT_CORNER_ANGLE));
+    /// // Listed corners are kept: the lake has 101.
+    /// assert_eq!(Region::builtin("lake")?.with_default_corners().corners().len(), 101);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn with_default_corners(&self) -> Region {
+        if self.corners_computed && self.corner_threshold.is_none() {
+            self.with_corner_angle(DEFAULT_CORNER_ANGLE)
+        } else {
+            self.clone()
+        }
     }
 }
 
-/// Implements `Region::new`.
-fn new_region(
+/// Implements `Region::new` and the readers whose formats leave roles to nesting (`None`).
+pub(crate) fn new_region(
     name: &str,
-    loops: Vec<(LoopRole, Vec<Piece>)>,
+    loops: Vec<(Option<LoopRole>, Vec<Piece>)>,
     corners: Option<Vec<DVec2>>,
 ) -> Result<Region, GeometryError> {
     let err = |m: String| GeometryError::Invalid {
         region: name.to_string(),
         message: m,
     };
-
-    // Exactly one outer loop; it goes first. `label[i]` names loop i as the caller numbered it.
-    let outers: Vec<usize> = loops
+    if !loops.is_empty() && loops.iter().all(|l| l.0 == Some(LoopRole::Hole)) {
+        return Err(err(
+            "no outer loop (a region needs at least one loop with role 'outer')".into(),
+        ));
+    }
+    // `label[i]` names loop i as the caller numbered it.
+    let label: Vec<String> = loops
         .iter()
         .enumerate()
-        .filter(|(_, l)| l.0 == LoopRole::Outer)
-        .map(|(i, _)| i)
+        .map(|(i, l)| match l.0 {
+            Some(r) => format!("loop {i} ({})", role_name(r)),
+            None => format!("loop {i}"),
+        })
         .collect();
-    match outers.len() {
-        0 => return Err(err("no outer loop (a region needs exactly one loop with role 'outer')".into())),
-        1 => {}
-        k => return Err(err(format!("{k} outer loops (loops {outers:?}); a region has exactly one, the others must be holes"))),
-    }
-    let mut order: Vec<usize> = outers.clone();
-    order.extend((0..loops.len()).filter(|i| *i != outers[0]));
-    let mut slots: Vec<Option<(LoopRole, Vec<Piece>)>> = loops.into_iter().map(Some).collect();
-    let mut lps: Vec<(LoopRole, Vec<Piece>)> = Vec::with_capacity(order.len());
-    let mut label: Vec<String> = Vec::with_capacity(order.len());
-    for &i in &order {
-        if let Some(l) = slots[i].take() {
-            label.push(format!("loop {i} ({})", role_name(l.0)));
-            lps.push(l);
-        }
+    let given: Vec<Option<LoopRole>> = loops.iter().map(|l| l.0).collect();
+    let mut lps: Vec<Vec<Piece>> = loops.into_iter().map(|l| l.1).collect();
+    if lps.is_empty() {
+        return Err(err("no outer loop (no loops given)".into()));
     }
 
     // Numbers and per-piece parameters.
-    for (l, (_, pieces)) in lps.iter().enumerate() {
+    for (l, pieces) in lps.iter().enumerate() {
         if pieces.is_empty() {
             return Err(err(format!("{} has no segments", label[l])));
         }
@@ -173,7 +212,7 @@ fn new_region(
         return Err(err(format!("corner ({}, {}) is not finite", c.x, c.y)));
     }
 
-    let (lo, hi) = bbox_of(lps.iter().flat_map(|l| &l.1));
+    let (lo, hi) = bbox_of(lps.iter().flatten());
     let diam = (hi - lo).length();
     if !(diam > 0.0 && diam.is_finite()) {
         return Err(err("the boundary has zero or non-finite extent".into()));
@@ -181,7 +220,7 @@ fn new_region(
     let snap = SNAP * diam;
 
     // Closed loops (snapping gaps below `snap`), no zero-length edges.
-    for (l, (_, pieces)) in lps.iter_mut().enumerate() {
+    for (l, pieces) in lps.iter_mut().enumerate() {
         close_loop(pieces, snap).map_err(|m| err(format!("{} {m}", label[l])))?;
         for p in pieces.iter() {
             let pts: &[DVec2] = match p {
@@ -201,7 +240,7 @@ fn new_region(
     // Simple, non-crossing loops (checked on a fine polygonization that keeps every chain point).
     let rings: Vec<Vec<DVec2>> = lps
         .iter()
-        .map(|(_, ps)| ring_points(ps, CHECK_TOL * diam))
+        .map(|ps| ring_points(ps, CHECK_TOL * diam))
         .collect();
     for (l, r) in rings.iter().enumerate() {
         if r.len() < 3 {
@@ -231,13 +270,50 @@ fn new_region(
         }
     })?;
 
-    // Orientation: outer CCW, holes CW.
-    for (l, (role, pieces)) in lps.iter_mut().enumerate() {
+    // Orientation: outer CCW, holes CW (roles from nesting, checked against the given ones).
+    let parent = nesting(&rings);
+    let depth: Vec<usize> = (0..rings.len())
+        .map(|l| std::iter::successors(parent[l], |&p| parent[p]).count())
+        .collect();
+    let role: Vec<LoopRole> = depth
+        .iter()
+        .map(|d| {
+            if d % 2 == 0 {
+                LoopRole::Outer
+            } else {
+                LoopRole::Hole
+            }
+        })
+        .collect();
+    for l in 0..rings.len() {
+        let Some(want) = given[l] else { continue };
+        if want == role[l] {
+            continue;
+        }
+        let x = rings[l][0];
+        return Err(err(match (want, parent[l]) {
+            (LoopRole::Hole, None) => format!(
+                "{} is not inside the outer loop (its point ({}, {}) is outside every loop)",
+                label[l], x.x, x.y
+            ),
+            (LoopRole::Hole, Some(p)) => format!(
+                "{} lies inside {} (holes must be disjoint; a loop inside a hole is an outer loop, an island)",
+                label[l], label[p]
+            ),
+            (LoopRole::Outer, Some(p)) => format!(
+                "{} lies inside {}, an outer loop, with no hole between them: a loop inside an outer loop is one of its holes",
+                label[l], label[p]
+            ),
+            // A loop inside no other loop is outer, so this role always agrees.
+            (LoopRole::Outer, None) => format!("{} has no consistent role", label[l]),
+        }));
+    }
+    for (l, pieces) in lps.iter_mut().enumerate() {
         let a: f64 = pieces.iter().map(Piece::area_integral).sum();
         if a.is_nan() || a.abs() <= 1e-14 * diam * diam {
             return Err(err(format!("{} encloses no area", label[l])));
         }
-        if (a > 0.0) != (*role == LoopRole::Outer) {
+        if (a > 0.0) != (role[l] == LoopRole::Outer) {
             pieces.reverse();
             for p in pieces.iter_mut() {
                 *p = p.reversed();
@@ -245,26 +321,21 @@ fn new_region(
         }
     }
 
-    // Holes inside the outer loop and outside each other.
-    for h in 1..rings.len() {
-        let x = rings[h][0];
-        if !point_in_ring(x, &rings[0]) {
-            return Err(err(format!(
-                "{} is not inside the outer loop (its point ({}, {}) is outside)",
-                label[h], x.x, x.y
-            )));
-        }
-        for g in 1..rings.len() {
-            if g != h && point_in_ring(x, &rings[g]) {
-                return Err(err(format!(
-                    "{} lies inside {} (holes must be disjoint)",
-                    label[h], label[g]
-                )));
-            }
-        }
+    // Loops part by part: each outer loop (in the order given) followed by its holes (in the
+    // order given), so that a region of one part keeps its outer loop as loop 0.
+    let mut order = Vec::with_capacity(lps.len());
+    for o in (0..lps.len()).filter(|&l| role[l] == LoopRole::Outer) {
+        order.push(o);
+        order.extend((0..lps.len()).filter(|&h| role[h] == LoopRole::Hole && parent[h] == Some(o)));
     }
+    let mut slots: Vec<Option<Vec<Piece>>> = lps.into_iter().map(Some).collect();
+    let lps: Vec<(LoopRole, Vec<Piece>)> = order
+        .iter()
+        .map(|&l| (role[l], slots[l].take().unwrap_or_default()))
+        .collect();
 
     // Corners: given positions matched to junctions, or every junction that turns.
+    let computed = corners.is_none();
     let flags = match corners {
         None => lps
             .iter()
@@ -305,7 +376,38 @@ fn new_region(
             flags
         }
     };
-    Ok(assemble(name.to_string(), lps, &flags, None))
+    let mut region = assemble(name.to_string(), lps, &flags, None);
+    region.corners_computed = computed;
+    Ok(region)
+}
+
+/// The innermost loop containing each loop (None: inside no other loop). The loops must be
+/// simple and disjoint, so one point of a loop decides which loops contain it.
+fn nesting(rings: &[Vec<DVec2>]) -> Vec<Option<usize>> {
+    let boxes: Vec<(DVec2, DVec2)> = rings
+        .iter()
+        .map(|r| {
+            r.iter().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            )
+        })
+        .collect();
+    let area: Vec<f64> = rings.iter().map(|r| ring_signed_area(r).abs()).collect();
+    (0..rings.len())
+        .map(|l| {
+            let x = rings[l][0];
+            // Of the loops that contain this one, the innermost is the smallest.
+            (0..rings.len())
+                .filter(|&o| {
+                    o != l
+                        && x.cmpge(boxes[o].0).all()
+                        && x.cmple(boxes[o].1).all()
+                        && point_in_ring(x, &rings[o])
+                })
+                .min_by(|&a, &b| area[a].total_cmp(&area[b]))
+        })
+        .collect()
 }
 
 /// Angle (radians, in [0, π]) between the end tangent of `a` and the start tangent of `b`.
@@ -500,6 +602,7 @@ pub(crate) fn assemble(
         corners,
         area,
         corner_threshold,
+        corners_computed: false,
         bbox,
         index,
         corner_at_start,

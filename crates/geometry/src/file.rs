@@ -2,7 +2,9 @@
 //! `regions/SOURCES.md` in this crate).
 //!
 //! Only `loops` is required. Each loop is an object with `segments` (required, non-empty),
-//! `role` (`"outer"` | `"hole"`; default: the first loop is outer, the others holes) and
+//! `role` (`"outer"` | `"hole"`; default: nesting decides, a loop inside no loop or inside a
+//! hole is outer, a loop inside an outer loop is a hole of it; several outer loops make a
+//! region of several parts) and
 //! `orientation` (`"ccw"` | `"cw"`; only gives circles and super-ellipses their direction,
 //! and orientation is normalised anyway). Segment kinds:
 //! - `polyline`: `points` (≥ 2), each straight edge a `Piece::Line`;
@@ -162,27 +164,16 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
     let mut loops = Vec::with_capacity(loops_v.len());
     for (i, lv) in loops_v.iter().enumerate() {
         let ctx = format!("loops[{i}]");
-        loops.push(parse_loop(lv, i, &ctx).map_err(perr)?);
+        loops.push(parse_loop(lv, &ctx).map_err(perr)?);
     }
-    let outer: Vec<usize> = loops
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.0 == LoopRole::Outer)
-        .map(|(i, _)| i)
-        .collect();
-    if outer.is_empty() {
+    if loops.iter().all(|l| l.0 == Some(LoopRole::Hole)) {
         return Err(perr("no loop has role 'outer'".into()));
-    }
-    if outer.len() > 1 {
-        return Err(perr(format!(
-            "loops {outer:?} all have role 'outer'; a region has exactly one outer loop"
-        )));
     }
     let corners = match top.get("corners") {
         None | Some(Value::Null) => None,
         Some(c) => Some(points(c, "corners", 0).map_err(perr)?),
     };
-    Region::new(&name, loops, corners).map_err(|e| match e {
+    crate::build::new_region(&name, loops, corners).map_err(|e| match e {
         GeometryError::Invalid { region, message } => GeometryError::Invalid {
             region: format!("{region} (from {label})"),
             message,
@@ -191,20 +182,14 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
     })
 }
 
-fn parse_loop(lv: &Value, i: usize, ctx: &str) -> Result<(LoopRole, Vec<Piece>), String> {
+fn parse_loop(lv: &Value, ctx: &str) -> Result<(Option<LoopRole>, Vec<Piece>), String> {
     let obj = lv
         .as_object()
         .ok_or_else(|| format!("{ctx} must be an object with 'segments'"))?;
     let role = match obj.get("role") {
-        None | Some(Value::Null) => {
-            if i == 0 {
-                LoopRole::Outer
-            } else {
-                LoopRole::Hole
-            }
-        }
-        Some(Value::String(s)) if s.eq_ignore_ascii_case("outer") => LoopRole::Outer,
-        Some(Value::String(s)) if s.eq_ignore_ascii_case("hole") => LoopRole::Hole,
+        None | Some(Value::Null) => None,
+        Some(Value::String(s)) if s.eq_ignore_ascii_case("outer") => Some(LoopRole::Outer),
+        Some(Value::String(s)) if s.eq_ignore_ascii_case("hole") => Some(LoopRole::Hole),
         Some(other) => {
             return Err(format!(
                 "{ctx}.role is {other}; expected \"outer\" or \"hole\""
@@ -212,7 +197,7 @@ fn parse_loop(lv: &Value, i: usize, ctx: &str) -> Result<(LoopRole, Vec<Piece>),
         }
     };
     let ccw = match obj.get("orientation") {
-        None | Some(Value::Null) => role == LoopRole::Outer,
+        None | Some(Value::Null) => role != Some(LoopRole::Hole),
         Some(Value::String(s)) if s.eq_ignore_ascii_case("ccw") => true,
         Some(Value::String(s)) if s.eq_ignore_ascii_case("cw") => false,
         Some(other) => {

@@ -3,8 +3,16 @@
 //!
 //! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] and every
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
-//! of its vertices as corners, as Triangle users expect. Loops may come in either orientation
-//! (they are oriented here: outer CCW, holes CW); exact repeated points are dropped.
+//! of its vertices as corners, as Triangle users expect ([`Region::with_default_corners`]
+//! keeps only the real turns, as the command line and the Python package do by default).
+//! Loops may come in either orientation (they are oriented here: outer CCW, holes CW); exact
+//! repeated points are dropped.
+//!
+//! A file may hold several disjoint parts. GeoJSON says which ring is a hole; a loop list and
+//! a `.poly` do not, so nesting decides: a loop inside no other loop is an outer loop, a loop
+//! inside an outer loop is one of its holes, and a loop inside a hole is an island, a part of
+//! its own.
+use crate::build::new_region;
 use crate::error::GeometryError;
 use crate::piece::Piece;
 use crate::predicates::{point_in_ring, ring_signed_area};
@@ -32,11 +40,13 @@ const GEOJSON_TYPES: &[&str] = &[
 ];
 
 impl Region {
-    /// A polygonal region from its loops' vertices: `(LoopRole::Outer, points)` and any
-    /// number of `(LoopRole::Hole, points)`, each loop listed once around (either direction;
-    /// a closing copy of the first point is dropped). Every vertex where the boundary turns
-    /// is a corner ([`Region::with_corner_angle`] keeps fewer). The checks of [`Region::new`]
-    /// apply: finite points, no repeated vertex, simple loops that do not cross, holes inside.
+    /// A polygonal region from its loops' vertices: `(LoopRole::Outer, points)` and
+    /// `(LoopRole::Hole, points)`, each loop listed once around (either direction; a closing
+    /// copy of the first point is dropped); several outer loops make several parts. Every
+    /// vertex where the boundary turns is a corner ([`Region::with_corner_angle`] and
+    /// [`Region::with_default_corners`] keep fewer). The checks of [`Region::new`] apply:
+    /// finite points, no repeated vertex, simple loops that do not cross, roles that agree
+    /// with nesting.
     ///
     /// ```
     /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
@@ -55,6 +65,7 @@ impl Region {
         name: &str,
         loops: Vec<(LoopRole, Vec<DVec2>)>,
     ) -> Result<Region, GeometryError> {
+        let loops = loops.into_iter().map(|(r, p)| (Some(r), p)).collect();
         polygon_region(name, name, loops)
     }
 
@@ -140,16 +151,16 @@ fn json_region(text: &str, path: &Path) -> Result<Region, GeometryError> {
 pub fn read_poly(path: &Path) -> Result<Region, GeometryError> {
     let text = read_text(path)?;
     let node_path = path.with_extension("node");
-    let loops = parse_poly(&text, &label(path), &mut || {
+    let (loops, holes) = parse_poly(&text, &label(path), &mut || {
         Ok((read_text(&node_path)?, label(&node_path)))
     })?;
-    polygon_region(&stem(path), &label(path), loops)
+    poly_region(&stem(path), &label(path), loops, &holes)
 }
 
 /// Parse `.poly` text (`label` names it in errors, `name` is the region's name). The vertices
 /// must be in the text itself.
 pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
-    let loops = parse_poly(text, label, &mut || {
+    let (loops, holes) = parse_poly(text, label, &mut || {
         Err(GeometryError::Parse {
             path: label.to_string(),
             message: "the vertex count is 0, so the vertices are in a separate .node file; \
@@ -157,12 +168,47 @@ pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geom
                 .into(),
         })
     })?;
-    polygon_region(name, label, loops)
+    poly_region(name, label, loops, &holes)
 }
 
-/// Read a GeoJSON file: a Polygon, or a MultiPolygon, Feature, FeatureCollection or
-/// GeometryCollection that holds exactly one polygon (several parts are refused with their
-/// count, never dropped). The first ring is the outer boundary, the rest are holes.
+/// The region of a `.poly`'s loops, nesting deciding the roles, checked against its hole
+/// points as Triangle would use them: every hole loop must hold a hole point (else Triangle
+/// meshes its inside, an internal boundary a region cannot express), and no hole point may
+/// lie in a part that is meshed (Triangle would eat that part).
+fn poly_region(
+    name: &str,
+    label: &str,
+    loops: Loops,
+    holes: &[(usize, DVec2)],
+) -> Result<Region, GeometryError> {
+    let region = polygon_region(name, label, loops)?;
+    for &(line, h) in holes {
+        if region.contains(h) {
+            return Err(parse_err(
+                label,
+                line,
+                format!("hole point {h} lies in the region, not inside any hole loop"),
+            ));
+        }
+    }
+    let poly = region.polygonize(0.0);
+    for ring in poly.rings.iter().filter(|r| r.hole) {
+        if !holes.iter().any(|&(_, h)| point_in_ring(h, &ring.points)) {
+            return Err(invalid(
+                label,
+                format!(
+                    "the inner loop through {} has no hole point: internal boundaries are not supported (add a hole point inside it if it is a hole)",
+                    ring.points[0]
+                ),
+            ));
+        }
+    }
+    Ok(region)
+}
+
+/// Read a GeoJSON file: a Polygon, MultiPolygon, Feature, FeatureCollection or
+/// GeometryCollection. Every polygon it holds is a part of the region (the first ring of each
+/// its outer boundary, the rest its holes); polygons must not overlap.
 pub fn read_geojson(path: &Path) -> Result<Region, GeometryError> {
     geojson_from_str(&read_text(path)?, &label(path), &stem(path))
 }
@@ -174,8 +220,9 @@ pub fn geojson_from_str(text: &str, label: &str, name: &str) -> Result<Region, G
 }
 
 /// Read a plain loop list: one `x y` (or `x, y`) per line, loops separated by blank lines,
-/// `#` comments; the first loop is the outer boundary, the rest are holes. A loop may repeat
-/// its first point at the end.
+/// `#` comments. Nesting decides the roles: a loop inside no other loop (or inside a hole) is
+/// an outer loop, one inside an outer loop is a hole of it. A loop may repeat its first point
+/// at the end.
 pub fn read_loops(path: &Path) -> Result<Region, GeometryError> {
     loops_from_str(&read_text(path)?, &label(path), &stem(path))
 }
@@ -186,24 +233,12 @@ pub fn loops_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geo
     polygon_region(name, label, loops)
 }
 
-type Loops = Vec<(LoopRole, Vec<DVec2>)>;
+/// Loops with their roles, or `None` where nesting decides.
+type Loops = Vec<(Option<LoopRole>, Vec<DVec2>)>;
 
-/// The first ring as the outer loop, the others as holes.
-fn outer_then_holes(rings: Vec<Vec<DVec2>>) -> Loops {
-    rings
-        .into_iter()
-        .enumerate()
-        .map(|(i, r)| {
-            (
-                if i == 0 {
-                    LoopRole::Outer
-                } else {
-                    LoopRole::Hole
-                },
-                r,
-            )
-        })
-        .collect()
+/// Rings whose roles nesting decides.
+fn by_nesting(rings: Vec<Vec<DVec2>>) -> Loops {
+    rings.into_iter().map(|r| (None, r)).collect()
 }
 
 fn label(path: &Path) -> String {
@@ -314,7 +349,7 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
             }
             return Err(invalid(label, format!("loop {k} encloses no area")));
         }
-        if (area > 0.0) != (role == LoopRole::Outer) {
+        if role.is_some_and(|r| (area > 0.0) != (r == LoopRole::Outer)) {
             pts.reverse();
         }
         let n = pts.len();
@@ -332,11 +367,13 @@ fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, Geome
             .collect();
         out.push((role, pieces));
     }
-    Region::new(name, out, Some(corners)).map_err(|e| match e {
+    let mut region = new_region(name, out, Some(corners)).map_err(|e| match e {
         // Name the file, not just the region, so that the user knows what to fix.
         GeometryError::Invalid { message, .. } => invalid(label, message),
         e => e,
-    })
+    })?;
+    region.corners_computed = true;
+    Ok(region)
 }
 
 /// Non-empty lines with `#` comments removed, with 1-based line numbers.
@@ -427,7 +464,14 @@ fn vertex_header(label: &str, line: usize, t: &[&str]) -> Result<usize, Geometry
 
 type NodeSource<'a> = dyn FnMut() -> Result<(String, String), GeometryError> + 'a;
 
-fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loops, GeometryError> {
+/// Hole points of a `.poly`, with their line numbers.
+type HolePoints = Vec<(usize, DVec2)>;
+
+fn parse_poly(
+    text: &str,
+    label: &str,
+    node_file: &mut NodeSource,
+) -> Result<(Loops, HolePoints), GeometryError> {
     let last_line = text.lines().count().max(1);
     let mut recs = records(text);
     let (line, head) = recs
@@ -575,56 +619,9 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Loo
             ),
         ));
     }
-    // Regional attributes may follow; they do not change the region.
-
-    // The outer loop is the largest; every other loop must lie inside it and is a hole.
-    let outer = (0..rings.len())
-        .max_by(|&i, &j| {
-            ring_signed_area(&rings[i])
-                .abs()
-                .total_cmp(&ring_signed_area(&rings[j]).abs())
-        })
-        .unwrap_or(0);
-    let outer_ring = rings.swap_remove(outer);
-    rings.insert(0, outer_ring);
-    for (k, r) in rings.iter().enumerate().skip(1) {
-        if !point_in_ring(r[0], &rings[0]) {
-            return Err(invalid(
-                label,
-                format!("the loop through {} lies outside the outer loop; a region has one outer boundary", r[0]),
-            ));
-        }
-        if let Some(j) = (1..rings.len()).find(|&j| j != k && point_in_ring(r[0], &rings[j])) {
-            return Err(invalid(
-                label,
-                format!("the loop through {} lies inside the hole through {}; islands are not supported", r[0], rings[j][0]),
-            ));
-        }
-    }
-    // Triangle meshes the inside of an inner loop that has no hole point (an internal
-    // boundary); a region here has only holes, so say so rather than drop that area.
-    if let Some(r) = rings[1..]
-        .iter()
-        .find(|r| !holes.iter().any(|(_, h)| point_in_ring(*h, r)))
-    {
-        return Err(invalid(
-            label,
-            format!(
-                "the inner loop through {} has no hole point: internal boundaries are not supported (add a hole point inside it if it is a hole)",
-                r[0]
-            ),
-        ));
-    }
-    for (line, h) in holes {
-        if point_in_ring(h, &rings[0]) && !rings[1..].iter().any(|r| point_in_ring(h, r)) {
-            return Err(parse_err(
-                label,
-                line,
-                format!("hole point {h} lies in the region, not inside any hole loop"),
-            ));
-        }
-    }
-    Ok(outer_then_holes(rings))
+    // Regional attributes may follow; they do not change the region. Which loops are holes
+    // is for nesting to decide and the hole points to confirm (`poly_region`).
+    Ok((by_nesting(rings), holes))
 }
 
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -636,58 +633,69 @@ fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
         path: label.to_string(),
         message: m,
     };
-    let rings = find_polygon(&v).map_err(bad)?;
-    let rings = rings
-        .as_array()
-        .ok_or_else(|| bad("polygon coordinates must be an array of rings".into()))?;
-    if rings.is_empty() {
-        return Err(bad("the polygon has no rings".into()));
-    }
-    let mut loops = Vec::with_capacity(rings.len());
-    for (k, ring) in rings.iter().enumerate() {
-        let positions = ring
+    let polygons = find_polygons(&v).map_err(bad)?;
+    let several = polygons.len() > 1;
+    let mut loops = Vec::new();
+    for (p, rings) in polygons.iter().enumerate() {
+        // Name the polygon only where there are several, so a single polygon's rings read as
+        // in the file.
+        let ring_name = |k: usize| {
+            if several {
+                format!("polygon {p}, ring {k}")
+            } else {
+                format!("ring {k}")
+            }
+        };
+        let rings = rings
             .as_array()
-            .ok_or_else(|| bad(format!("ring {k} is not an array of positions")))?;
-        let mut pts = Vec::with_capacity(positions.len());
-        for (i, pos) in positions.iter().enumerate() {
-            let xy = pos
+            .ok_or_else(|| bad("polygon coordinates must be an array of rings".into()))?;
+        if rings.is_empty() {
+            return Err(bad(if several {
+                format!("polygon {p} has no rings")
+            } else {
+                "the polygon has no rings".into()
+            }));
+        }
+        for (k, ring) in rings.iter().enumerate() {
+            let positions = ring
                 .as_array()
-                .filter(|a| a.len() >= 2)
-                .and_then(|a| Some(DVec2::new(a[0].as_f64()?, a[1].as_f64()?)));
-            pts.push(xy.ok_or_else(|| bad(format!("ring {k}, position {i}: expected [x, y]")))?);
-        }
-        if pts.first() != pts.last() {
-            return Err(bad(format!(
-                "ring {k} is not closed: GeoJSON rings end with a copy of their first position (open polyline)"
-            )));
-        }
-        loops.push((
-            if k == 0 {
+                .ok_or_else(|| bad(format!("{} is not an array of positions", ring_name(k))))?;
+            let mut pts = Vec::with_capacity(positions.len());
+            for (i, pos) in positions.iter().enumerate() {
+                let xy = pos
+                    .as_array()
+                    .filter(|a| a.len() >= 2)
+                    .and_then(|a| Some(DVec2::new(a[0].as_f64()?, a[1].as_f64()?)));
+                pts.push(xy.ok_or_else(|| {
+                    bad(format!("{}, position {i}: expected [x, y]", ring_name(k)))
+                })?);
+            }
+            if pts.first() != pts.last() {
+                return Err(bad(format!(
+                    "{} is not closed: GeoJSON rings end with a copy of their first position (open polyline)",
+                    ring_name(k)
+                )));
+            }
+            let role = if k == 0 {
                 LoopRole::Outer
             } else {
                 LoopRole::Hole
-            },
-            pts,
-        ));
+            };
+            loops.push((Some(role), pts));
+        }
     }
     Ok(loops)
 }
 
-/// The coordinates (array of rings) of the one polygon in a GeoJSON object. A region is one
-/// connected part: an object with several polygons (a MultiPolygon of two, a collection of
-/// several features) is refused with their count rather than meshed in part.
-fn find_polygon(v: &Value) -> Result<&Value, String> {
+/// The coordinates (arrays of rings) of every polygon in a GeoJSON object, each a part of
+/// the region.
+fn find_polygons(v: &Value) -> Result<Vec<&Value>, String> {
     let mut found = Vec::new();
     collect_polygons(v, 0, &mut found)?;
-    match found.as_slice() {
-        [] => Err("the GeoJSON object contains no Polygon or MultiPolygon".into()),
-        [one] => Ok(one),
-        many => Err(format!(
-            "the GeoJSON object holds {} polygons; a region is one connected part (its holes \
-             included): write each part to a file of its own and mesh them one by one",
-            many.len()
-        )),
+    if found.is_empty() {
+        return Err("the GeoJSON object contains no Polygon or MultiPolygon".into());
     }
+    Ok(found)
 }
 
 /// Every polygon's coordinates in a GeoJSON object, in document order.
@@ -801,7 +809,7 @@ fn parse_loops(text: &str, label: &str) -> Result<Loops, GeometryError> {
     if loops.is_empty() {
         return Err(invalid(label, "no points: expected loops of 'x y' lines"));
     }
-    Ok(outer_then_holes(loops))
+    Ok(by_nesting(loops))
 }
 
 #[cfg(test)]
@@ -818,15 +826,25 @@ mod tests {
         }
     }
 
-    fn poly(text: &str) -> Result<Loops, GeometryError> {
-        parse_poly(text, "t.poly", &mut no_node())
+    fn poly(text: &str) -> Result<Region, GeometryError> {
+        poly_from_str(text, "t.poly", "t")
     }
 
     /// Ring areas (positive) in order, to compare parses independent of start point/orientation.
-    fn areas(loops: &Loops) -> Vec<(LoopRole, f64)> {
+    fn areas(loops: &Loops) -> Vec<(Option<LoopRole>, f64)> {
         loops
             .iter()
             .map(|(r, p)| (*r, ring_signed_area(p).abs()))
+            .collect()
+    }
+
+    /// Loop roles and areas of a region.
+    fn region_areas(r: &Region) -> Vec<(LoopRole, f64)> {
+        r.polygonize(0.0)
+            .rings
+            .iter()
+            .zip(r.loops())
+            .map(|(ring, l)| (l.role, ring_signed_area(&ring.points).abs()))
             .collect()
     }
 
@@ -840,12 +858,12 @@ mod tests {
 
     #[test]
     fn poly_assembles_loops_and_finds_the_hole() {
-        let loops = poly(SQUARE_HOLE_POLY).unwrap();
+        let r = poly(SQUARE_HOLE_POLY).unwrap();
         assert_eq!(
-            areas(&loops),
+            region_areas(&r),
             [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)]
         );
-        assert_eq!(loops[0].1.len(), 4);
+        assert_eq!(r.loops()[0].pieces.len(), 4);
         // Without the hole point Triangle would mesh the inner square too (an internal
         // boundary), which a region cannot express: refused, naming the loop.
         let no_hole = SQUARE_HOLE_POLY.replace("\n1\n1 1.5 1.5\n", "\n0\n");
@@ -854,7 +872,7 @@ mod tests {
         // 0-based numbering, duplicate coincident vertex closing a loop, trailing attributes.
         let zero =
             "5 2 1 0\n0 0 0 9\n1 3 0 9\n2 0 3 9\n3 0 0 9\n4 9 9 9\n3 0\n0 0 1\n1 1 2\n2 2 3\n0\n";
-        assert_eq!(areas(&poly(zero).unwrap()), [(LoopRole::Outer, 4.5)]);
+        assert_eq!(region_areas(&poly(zero).unwrap()), [(LoopRole::Outer, 4.5)]);
     }
 
     #[test]
@@ -866,10 +884,14 @@ mod tests {
                 "t.node".to_string(),
             ))
         };
-        let loops = parse_poly(text, "t.poly", &mut node).unwrap();
-        assert_eq!(areas(&loops), [(LoopRole::Outer, 2.0)]);
-        let e = poly(text).unwrap_err().to_string();
+        let (loops, _) = parse_poly(text, "t.poly", &mut node).unwrap();
+        assert_eq!(areas(&loops), [(None, 2.0)]);
+        let e = parse_poly(text, "t.poly", &mut no_node())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no node file"), "{e}");
+        let e = poly(text).unwrap_err().to_string();
+        assert!(e.contains("separate .node file"), "{e}");
     }
 
     #[test]
@@ -926,13 +948,11 @@ mod tests {
                 "{e:?} should contain {want:?}"
             );
         }
-        // Two separate squares: the smaller is not inside the larger.
+        // Two separate squares are two parts, as Triangle meshes them.
         let two = "8 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n5 5 0\n6 6 0\n7 6 1\n8 5 1\n\
                    8 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n8 8 5\n0\n";
-        assert!(poly(two)
-            .unwrap_err()
-            .to_string()
-            .contains("outside the outer loop"));
+        let r = poly(two).unwrap();
+        assert_eq!((r.num_parts(), r.area()), (2, 5.0));
         // A vertex shared by three segments.
         let bow = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 2 0\n5 2 1\n6 0\n1 1 2\n2 2 3\n3 3 1\n4 2 4\n5 4 5\n6 5 2\n0\n";
         assert!(poly(bow)
@@ -946,15 +966,16 @@ mod tests {
         let ring = "[[0,0],[4,0],[4,4],[0,4],[0,0]]";
         let hole = "[[1,1],[1,2],[2,2],[2,1],[1,1]]";
         let poly = format!("{{\"type\":\"Polygon\",\"coordinates\":[{ring},{hole}]}}");
-        let want = [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)];
+        let want = [(Some(LoopRole::Outer), 16.0), (Some(LoopRole::Hole), 1.0)];
         assert_eq!(areas(&parse_geojson(&poly, "g").unwrap()), want);
         let multi = format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}]]}}");
         assert_eq!(areas(&parse_geojson(&multi, "g").unwrap()), want);
-        // Two parts are refused with their count, never meshed in part.
+        // Every polygon is a part: overlapping ones are refused by the region's checks.
         let two =
             format!("{{\"type\":\"MultiPolygon\",\"coordinates\":[[{ring},{hole}],[{ring}]]}}");
-        let e = parse_geojson(&two, "g").unwrap_err().to_string();
-        assert!(e.contains("holds 2 polygons"), "{e}");
+        assert_eq!(parse_geojson(&two, "g").unwrap().len(), 3);
+        let e = geojson_from_str(&two, "g", "g").unwrap_err().to_string();
+        assert!(e.contains("loop 0 (outer) and loop 2 (outer)"), "{e}");
         let feature = format!("{{\"type\":\"Feature\",\"properties\":{{}},\"geometry\":{poly}}}");
         assert_eq!(areas(&parse_geojson(&feature, "g").unwrap()), want);
         let point =
@@ -964,8 +985,7 @@ mod tests {
         let both = format!(
             "{{\"type\":\"FeatureCollection\",\"features\":[{feature},{point},{feature}]}}"
         );
-        let e = parse_geojson(&both, "g").unwrap_err().to_string();
-        assert!(e.contains("holds 2 polygons"), "{e}");
+        assert_eq!(parse_geojson(&both, "g").unwrap().len(), 4);
         assert!(
             is_geojson(&coll)
                 && is_geojson(&poly)
@@ -975,7 +995,7 @@ mod tests {
         let z = "{\"type\":\"Polygon\",\"coordinates\":[[[0,0,5],[1,0,5],[0,1,5],[0,0,5]]]}";
         assert_eq!(
             areas(&parse_geojson(z, "g").unwrap()),
-            [(LoopRole::Outer, 0.5)]
+            [(Some(LoopRole::Outer), 0.5)]
         );
     }
 
@@ -1031,10 +1051,7 @@ mod tests {
             5,
             "the closing point is dropped later, in polygon_region"
         );
-        assert_eq!(
-            areas(&loops),
-            [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)]
-        );
+        assert_eq!(areas(&loops), [(None, 16.0), (None, 1.0)]);
         let cases = [
             ("0 0\n1 0\n1 1 1\n", "line 3: expected two numbers"),
             ("0 0\n1 x\n", "line 2: expected y"),

@@ -26,12 +26,13 @@ mod se;
 mod size;
 mod types;
 
+pub use build::DEFAULT_CORNER_ANGLE;
 pub use density::Density;
 pub use error::GeometryError;
 pub use glam::DVec2;
 pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
-pub use region::Region;
+pub use region::{Part, Region};
 pub use rng::Rng;
 pub use size::{SizeField, SizeFieldError, SizeRange, Threshold, Toward};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

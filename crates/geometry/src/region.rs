@@ -10,8 +10,11 @@ use crate::types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};
 use glam::DVec2;
 use std::sync::Arc;
 
-/// A planar region: one outer loop and any number of holes, validated and oriented
-/// (outer CCW, holes CW).
+/// A planar region: one or more disjoint parts, each an outer loop and any number of holes,
+/// validated and oriented (outer CCW, holes CW). Loops are numbered part by part: each outer
+/// loop is followed by its holes, so a region of one part has its outer loop as loop 0.
+/// [`Region::parts`] splits a region of several parts into regions of one, which is what the
+/// methods mesh.
 ///
 /// Make one with [`Region::builtin`] (the paper's ten regions), [`Region::from_file`] (every
 /// supported file format) or [`Region::new`] (loops of [`Piece`]s). Regions are immutable and
@@ -62,6 +65,9 @@ pub struct Region {
     pub(crate) area: f64,
     /// Corner-angle threshold applied (degrees), if any (`with_corner_angle`).
     pub(crate) corner_threshold: Option<f64>,
+    /// True when the corners were computed from the turning of the boundary rather than
+    /// listed by the caller or the file.
+    pub(crate) corners_computed: bool,
     /// Exact bounding box (min, max).
     pub(crate) bbox: (DVec2, DVec2),
     /// Nearest-point index over the boundary (shared by clones).
@@ -97,6 +103,100 @@ impl Region {
     /// The corner-angle threshold (degrees) applied when the region was loaded, if any.
     pub fn corner_threshold(&self) -> Option<f64> {
         self.corner_threshold
+    }
+    /// True when the corners were computed from how the boundary turns (polygon file formats,
+    /// [`Region::from_loops`], [`Region::new`] without a corner list), false when they were
+    /// listed (every built-in region). [`Region::with_default_corners`] thins only the former.
+    pub fn corners_computed(&self) -> bool {
+        self.corners_computed
+    }
+    /// Number of disjoint parts: one per outer loop.
+    pub fn num_parts(&self) -> usize {
+        self.loops
+            .iter()
+            .filter(|l| l.role == LoopRole::Outer)
+            .count()
+    }
+    /// The region's parts as regions of one part each, in loop order, with the maps from
+    /// each part's loop, piece and corner numbers to this region's. A region of one part
+    /// gives itself.
+    ///
+    /// ```
+    /// // Two unit squares side by side, the second with a hole; in a loop list, nesting
+    /// // decides which loop is a hole.
+    /// let text = "0 0\n1 0\n1 1\n0 1\n\n2 0\n3 0\n3 1\n2 1\n\n2.4 0.4\n2.6 0.4\n2.6 0.6\n2.4 0.6\n";
+    /// let r = cvtmesh_geometry::formats::loops_from_str(text, "two", "two")?;
+    /// assert_eq!(r.num_parts(), 2);
+    /// let parts = r.parts();
+    /// assert_eq!(parts[1].loops, vec![1, 2]);
+    /// assert_eq!(parts[1].region.loops().len(), 2);
+    /// assert!((parts[0].region.area() + parts[1].region.area() - r.area()).abs() < 1e-12);
+    /// // Piece and corner numbers map back to the whole region's.
+    /// let c = &parts[1].region.corners()[0];
+    /// assert_eq!(r.corners()[parts[1].corners[0]].pos, c.pos);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn parts(&self) -> Vec<Part> {
+        let outers: Vec<usize> = (0..self.loops.len())
+            .filter(|&l| self.loops[l].role == LoopRole::Outer)
+            .collect();
+        if outers.len() <= 1 {
+            return vec![Part {
+                region: self.clone(),
+                loops: (0..self.loops.len()).collect(),
+                pieces: (0..self.pieces.len()).collect(),
+                corners: (0..self.corners.len()).collect(),
+            }];
+        }
+        outers
+            .iter()
+            .enumerate()
+            .map(|(i, &o)| {
+                let end = outers.get(i + 1).copied().unwrap_or(self.loops.len());
+                let loops: Vec<usize> = (o..end).collect();
+                let lps = loops
+                    .iter()
+                    .map(|&l| {
+                        let lp = &self.loops[l];
+                        (
+                            lp.role,
+                            lp.pieces.iter().map(|&p| self.pieces[p].clone()).collect(),
+                        )
+                    })
+                    .collect();
+                let flags: Vec<Vec<bool>> = loops
+                    .iter()
+                    .map(|&l| {
+                        self.loops[l]
+                            .pieces
+                            .iter()
+                            .map(|&p| self.corner_at_start[p].is_some())
+                            .collect()
+                    })
+                    .collect();
+                let mut region = crate::build::assemble(
+                    format!("{} part {i}", self.name),
+                    lps,
+                    &flags,
+                    self.corner_threshold,
+                );
+                region.corners_computed = self.corners_computed;
+                // Pieces and corners are numbered loop by loop, so a part's are a run of ours.
+                let pieces = loops
+                    .iter()
+                    .flat_map(|&l| self.loops[l].pieces.iter().copied())
+                    .collect();
+                let corners = (0..self.corners.len())
+                    .filter(|&c| loops.contains(&self.corners[c].loop_index))
+                    .collect();
+                Part {
+                    region,
+                    loops,
+                    pieces,
+                    corners,
+                }
+            })
+            .collect()
     }
     /// Exact area |Ω| (analytic for circles, arcs, super-ellipses).
     pub fn area(&self) -> f64 {
@@ -246,4 +346,18 @@ impl Region {
             corner,
         }
     }
+}
+
+/// One part of a region ([`Region::parts`]): a region of one outer loop and its holes, and
+/// where its loops, pieces and corners are in the whole region.
+#[derive(Clone, Debug)]
+pub struct Part {
+    /// The part as a region of its own (loop 0 its outer loop).
+    pub region: Region,
+    /// The whole region's number of each of the part's loops.
+    pub loops: Vec<usize>,
+    /// The whole region's id of each of the part's pieces.
+    pub pieces: Vec<PieceId>,
+    /// The whole region's number of each of the part's corners.
+    pub corners: Vec<usize>,
 }

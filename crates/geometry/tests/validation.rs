@@ -158,15 +158,30 @@ fn bad_numbers_and_degenerate_pieces_are_rejected() {
         None,
     ));
     assert!(e.contains("no outer loop"), "{e}");
-    let e = invalid(Region::new(
+    // Two outer loops side by side are two parts; an outer loop inside another, with no hole
+    // between them, is refused naming both loops.
+    let two = Region::new(
         "two",
         vec![
             (LoopRole::Outer, square(0.0, 1.0)),
             (LoopRole::Outer, square(2.0, 3.0)),
         ],
         None,
+    )
+    .unwrap();
+    assert_eq!((two.num_parts(), two.area()), (2, 2.0));
+    let e = invalid(Region::new(
+        "nested",
+        vec![
+            (LoopRole::Outer, square(0.0, 4.0)),
+            (LoopRole::Outer, square(1.0, 2.0)),
+        ],
+        None,
     ));
-    assert!(e.contains("2 outer loops"), "{e}");
+    assert!(
+        e.contains("loop 1 (outer) lies inside loop 0 (outer)") && e.contains("one of its holes"),
+        "{e}"
+    );
     let mut p = square(0.0, 1.0);
     p.push(Piece::Circle {
         center: v(0.5, 0.5),
@@ -271,11 +286,20 @@ fn region_file_errors_name_the_file_and_the_problem() {
         r#"{"loops": [{"role": "hole", "segments": [{"kind": "circle", "center": [0, 0], "radius": 1}]}]}"#,
     );
     assert!(e.contains("no loop has role 'outer'"), "{e}");
+    // Two outer loops are two parts; the same circle twice crosses itself.
     let c = r#"{"kind": "circle", "center": [0, 0], "radius": 1}"#;
-    let e = parse_err(&format!(
+    let d = r#"{"kind": "circle", "center": [3, 0], "radius": 1}"#;
+    let text = format!(
         r#"{{"loops": [{{"role": "outer", "segments": [{c}]}}, {{"role": "outer", "segments": [{c}]}}]}}"#
-    ));
-    assert!(e.contains("exactly one outer loop"), "{e}");
+    );
+    let e = Region::from_json_str(&text, "test.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("loop 0 (outer) and loop 1 (outer) cross"), "{e}");
+    let text = format!(r#"{{"loops": [{{"segments": [{c}]}}, {{"segments": [{d}]}}]}}"#);
+    let r = Region::from_json_str(&text, "test.json").unwrap();
+    assert_eq!(r.num_parts(), 2);
+    assert!((r.area() - 2.0 * std::f64::consts::PI).abs() < 1e-12);
     let e = parse_err(
         r#"{"loops": [{"segments": [{"kind": "polyline", "points": [[0, 0], [1, "a"]]}]}]}"#,
     );

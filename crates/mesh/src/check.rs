@@ -197,7 +197,8 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
         }
     }
     let chi = mesh.points.len() as i64 - undirected + mesh.triangles.len() as i64;
-    let expected = 2 - region.loops().len() as i64;
+    // Each part is a disc with holes, χ = 1 − holes; over the parts, 2·parts − loops.
+    let expected = 2 * region.num_parts() as i64 - region.loops().len() as i64;
     if chi != expected {
         return Err(ConformityError::Topology(chi, expected));
     }

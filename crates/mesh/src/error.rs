@@ -98,6 +98,27 @@ pub enum MeshError {
         /// The limit.
         max: usize,
     },
+    /// The request would need more memory than the machine has.
+    #[error("K = {requested} would need about {} of memory ({bytes_per_vertex} bytes per vertex) but this machine has {}; ask for fewer points or a larger size", gib(*.bytes), gib(*.available))]
+    TooMuchMemory {
+        /// K asked for.
+        requested: usize,
+        /// The estimated peak, in bytes.
+        bytes: u64,
+        /// The estimate's bytes per vertex.
+        bytes_per_vertex: u64,
+        /// The machine's total memory, in bytes.
+        available: u64,
+    },
+    /// A method was handed a region of several parts; [`Mesher::mesh_parts`](crate::Mesher::mesh_parts)
+    /// meshes each part and merges the meshes.
+    #[error("region '{region}' has {parts} disjoint parts and a method meshes one part at a time: mesh it through Mesher::mesh_parts (cvtmesh::mesh, Method::run, the command line and the Python package do)")]
+    SeveralParts {
+        /// The region's name.
+        region: String,
+        /// Its number of parts.
+        parts: usize,
+    },
     /// The request's cancel flag was set ([`MeshRequest::cancel_flag`](crate::MeshRequest::cancel_flag)).
     #[error("{method}: cancelled after {iterations} iterations")]
     Cancelled {
@@ -213,12 +234,24 @@ impl MeshError {
         matches!(
             self,
             MeshError::TooFewPoints { .. }
+                | MeshError::TooManyPoints { .. }
+                | MeshError::TooMuchMemory { .. }
                 | MeshError::InvalidTolerance(_)
                 | MeshError::ZeroMaxIter
                 | MeshError::InvalidEdgeLength(_)
                 | MeshError::InvalidDensity { .. }
                 | MeshError::ZeroDensity
         )
+    }
+}
+
+/// Bytes as GiB (or MiB below one GiB), for messages.
+fn gib(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= (1u64 << 30) as f64 {
+        format!("{:.1} GiB", b / (1u64 << 30) as f64)
+    } else {
+        format!("{:.0} MiB", b / (1u64 << 20) as f64)
     }
 }
 

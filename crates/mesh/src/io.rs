@@ -29,9 +29,9 @@ mod obj;
 mod triangle;
 mod vtu;
 
-pub use gmsh::{read_gmsh, write_gmsh};
-pub use obj::{read_obj, write_obj};
-pub use triangle::{read_triangle, write_triangle};
+pub use gmsh::{gmsh_from_str, read_gmsh, write_gmsh};
+pub use obj::{obj_from_str, read_obj, write_obj};
+pub use triangle::{read_triangle, triangle_from_str, write_triangle};
 pub use vtu::{triangle_quality, write_vtu};
 
 /// The `piece` of a boundary marker read from a file that does not record pieces.

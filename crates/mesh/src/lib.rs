@@ -8,9 +8,16 @@ mod check;
 mod error;
 pub mod io;
 mod mesher;
+mod parts;
+mod thin;
 mod types;
 
 pub use check::{check_conforming, ConformityError};
 pub use error::MeshError;
-pub use mesher::{MeshRequest, MeshResult, Mesher, Progress, Size, MAX_POINTS};
+pub use mesher::{
+    memory_estimate, total_memory, MeshRequest, MeshResult, Mesher, Progress, Size,
+    BYTES_PER_VERTEX, MAX_POINTS,
+};
+pub use parts::CONFORMITY_CHECK_LIMIT;
+pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -220,9 +220,25 @@ impl MeshRequest {
     /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
     /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
     /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
-    /// 201 × 201 grid over the region's bounding box that lies in the region. Every method
-    /// calls this first.
+    /// 201 × 201 grid over the region's bounding box that lies in the region; a region of
+    /// several parts ([`MeshError::SeveralParts`]: [`Mesher::mesh_parts`] meshes those). K is
+    /// also refused when its memory estimate exceeds the machine's
+    /// ([`MeshError::TooMuchMemory`], see [`memory_estimate`]). Every method calls this first.
     pub fn validate(&self, region: &Region) -> Result<usize, MeshError> {
+        let k = self.validate_whole(region)?;
+        if region.num_parts() > 1 {
+            return Err(MeshError::SeveralParts {
+                region: region.name().to_string(),
+                parts: region.num_parts(),
+            });
+        }
+        Ok(k)
+    }
+
+    /// [`MeshRequest::validate`] without the refusal of several parts: the checks that hold
+    /// for the whole region, as [`Mesher::mesh_parts`] makes them before splitting it. K is
+    /// the total over the parts.
+    pub fn validate_whole(&self, region: &Region) -> Result<usize, MeshError> {
         let edge_length = match self.size {
             Size::EdgeLength(h) if !(h.is_finite() && h > 0.0) => {
                 return Err(MeshError::InvalidEdgeLength(h))
@@ -249,6 +265,17 @@ impl MeshRequest {
                 max: MAX_POINTS,
             });
         }
+        if let Some(available) = total_memory() {
+            let bytes = memory_estimate(k);
+            if bytes > available {
+                return Err(MeshError::TooMuchMemory {
+                    requested: k,
+                    bytes,
+                    bytes_per_vertex: BYTES_PER_VERTEX,
+                    available,
+                });
+            }
+        }
         if !(self.tol.is_finite() && self.tol > 0.0) {
             return Err(MeshError::InvalidTolerance(self.tol));
         }
@@ -264,6 +291,31 @@ impl MeshRequest {
         let k = self.size.points(region).max(1) as f64;
         (2.0 * region.area() / (3f64.sqrt() * k)).sqrt()
     }
+}
+
+/// Peak bytes per vertex assumed by [`memory_estimate`]: a CCVT run at 10⁶ vertices peaks at
+/// 834–922 MiB, and the other methods at less.
+pub const BYTES_PER_VERTEX: u64 = 1024;
+
+/// The peak memory, in bytes, that a mesh of `k` vertices is assumed to need: K ×
+/// [`BYTES_PER_VERTEX`] plus 64 MiB for the program itself.
+///
+/// ```
+/// assert_eq!(cvtmesh_mesh::memory_estimate(1_000_000), 1_000_000 * 1024 + (64 << 20));
+/// ```
+pub fn memory_estimate(k: usize) -> u64 {
+    (k as u64)
+        .saturating_mul(BYTES_PER_VERTEX)
+        .saturating_add(64 << 20)
+}
+
+/// The machine's total memory in bytes (`MemTotal` of `/proc/meminfo`), or `None` where it
+/// cannot be read; then only [`MAX_POINTS`] bounds a request.
+pub fn total_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
 }
 
 /// A density must be finite and non-negative on the region and positive somewhere. It is only
@@ -425,6 +477,63 @@ pub trait Mesher: Sync {
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError>;
+
+    /// Mesh a region of any number of parts: a region of one part as [`Mesher::mesh`] does;
+    /// otherwise each part ([`Region::parts`]) with its share of K, then the meshes merged.
+    /// The mesh returned conforms to the region ([`check_conforming`](crate::check_conforming),
+    /// up to [`CONFORMITY_CHECK_LIMIT`](crate::CONFORMITY_CHECK_LIMIT) vertices): where a
+    /// method's does not, the error ([`MeshError::NotConforming`]) names the first problem and,
+    /// where the region is thinner than the spacing, the place and the K that would resolve it.
+    ///
+    /// Shares follow the count the density asks for in each part, ∫ ρ^(1/2) (its area for a
+    /// uniform density), by largest remainders, so they add up to K and each is within one
+    /// of K times the part's fraction; a part whose fraction is below what its boundary needs
+    /// (`corners + 3 · loops`) gets that, and the others share the rest. The merged mesh
+    /// numbers the parts' vertices one part after another, its markers name the whole
+    /// region's loops, pieces and corners, and it is converged only if every part is; the
+    /// iterations add up, the histories follow one another and each part's notes are
+    /// prefixed with its number.
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{check_conforming, MeshRequest, Mesher};
+    /// # use cvtmesh_mesh::{Mesh, MeshError, MeshResult, Progress, VertexMarker};
+    /// # use geometry::{DVec2, Region};
+    /// # /// Fans a convex polygon's corners from its first corner (K = corners).
+    /// # struct Fan;
+    /// # impl Mesher for Fan {
+    /// #     fn name(&self) -> &'static str { "fan" }
+    /// #     fn mesh(&self, region: &Region, request: &MeshRequest, _: &mut dyn FnMut(Progress))
+    /// #         -> Result<MeshResult, MeshError> {
+    /// #         request.validate(region)?;
+    /// #         let points: Vec<DVec2> = region.corners().iter().map(|c| c.pos).collect();
+    /// #         let markers = (0..points.len()).map(|i| VertexMarker::at_corner(region, i)).collect();
+    /// #         let triangles = (1..points.len() as u32 - 1).map(|i| [0, i, i + 1]).collect();
+    /// #         let mesh = Mesh { points, triangles, markers };
+    /// #         Ok(MeshResult { mesh, iterations: 1, converged: true, energy_history: vec![],
+    /// #             move_history: vec![], notes: vec![] })
+    /// #     }
+    /// # }
+    /// // Two squares, the second twice as wide: two parts.
+    /// let text = "0 0\n1 0\n1 1\n0 1\n\n2 0\n4 0\n4 1\n2 1\n";
+    /// let region = geometry::formats::loops_from_str(text, "two", "two")?;
+    /// assert_eq!(region.num_parts(), 2);
+    /// // A method alone refuses it; mesh_parts meshes both parts and merges them.
+    /// assert!(Fan.mesh(&region, &MeshRequest::points(21), &mut |_| {}).is_err());
+    /// let result = Fan.mesh_parts(&region, &MeshRequest::points(21), &mut |_| {})?;
+    /// check_conforming(&result.mesh, &region)?;
+    /// assert_eq!(result.mesh.num_vertices(), 8);
+    /// assert!((result.mesh.area() - region.area()).abs() < 1e-12);
+    /// assert!(result.notes[0].starts_with("part 0: K = 4"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn mesh_parts(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<MeshResult, MeshError> {
+        crate::parts::mesh_parts(self, region, request, progress)
+    }
 }
 
 #[cfg(test)]
@@ -521,6 +630,28 @@ mod tests {
             assert!(matches!(e, MeshError::InvalidTolerance(_)), "{tol}: {e:?}");
             assert!(e.to_string().contains("--tol"), "{e}");
         }
+    }
+
+    #[test]
+    fn a_request_beyond_the_machines_memory_is_refused_with_the_figure() {
+        let Some(total) = total_memory() else { return };
+        let k = (total / BYTES_PER_VERTEX) as usize + 1;
+        if k > MAX_POINTS {
+            return;
+        }
+        let e = MeshRequest::points(k)
+            .validate(&region("circle"))
+            .unwrap_err();
+        match &e {
+            MeshError::TooMuchMemory {
+                requested, bytes, ..
+            } => assert_eq!((*requested, *bytes), (k, memory_estimate(k))),
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            e.to_string().contains("GiB") && e.is_invalid_request(),
+            "{e}"
+        );
     }
 
     #[test]

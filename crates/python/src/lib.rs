@@ -66,8 +66,8 @@ fn read_only<T>(a: &Bound<'_, T>) -> PyResult<()> {
     a.as_any().getattr("flags")?.setattr("writeable", false)
 }
 
-/// A planar region: an outer boundary loop and holes, each made of boundary pieces joined at
-/// corners.
+/// A planar region: one or more disjoint parts, each an outer boundary loop and holes, made of
+/// boundary pieces joined at corners.
 #[pyclass(name = "Region", module = "cvtmesh", frozen)]
 struct PyRegion {
     inner: Arc<Region>,
@@ -130,6 +130,20 @@ impl PyRegion {
         })
     }
 
+    /// The same region with the default corners: where its corners were computed (polygon
+    /// files, arrays), only those turning by more than 30°; listed corners are kept.
+    fn with_default_corners(&self) -> PyRegion {
+        PyRegion {
+            inner: Arc::new(self.inner.with_default_corners()),
+        }
+    }
+
+    /// Number of disjoint parts (outer loops); `cvtmesh.mesh` meshes every one.
+    #[getter]
+    fn num_parts(&self) -> usize {
+        self.inner.num_parts()
+    }
+
     /// Name (file stem or built-in name).
     #[getter]
     fn name(&self) -> String {
@@ -156,8 +170,8 @@ impl PyRegion {
         ((lo.x, lo.y), (hi.x, hi.y))
     }
 
-    /// The boundary as polygons with chord error at most `tol`: a list of (k, 2) arrays,
-    /// the outer loop (counter-clockwise) first, then the holes (clockwise).
+    /// The boundary as polygons with chord error at most `tol`: a list of (k, 2) arrays, part by
+    /// part, each outer loop (counter-clockwise) followed by its holes (clockwise).
     fn polygonize<'py>(
         &self,
         py: Python<'py>,
@@ -195,9 +209,10 @@ impl PyRegion {
 
     fn __repr__(&self) -> String {
         format!(
-            "Region('{}', area={}, loops={}, corners={})",
+            "Region('{}', area={}, parts={}, loops={}, corners={})",
             self.inner.name(),
             self.inner.area(),
+            self.inner.num_parts(),
             self.inner.loops().len(),
             self.inner.corners().len()
         )
@@ -432,6 +447,13 @@ fn mesh(
             n.ok_or_else(|| err("give n (the number of vertices) or size (an edge length)"))?,
         ),
     };
+    // A region narrower than half the spacing somewhere meshes into slivers there: say where,
+    // and what K would resolve it, as the command line does.
+    if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        warnings.call_method1("warn", (thin.to_string(), category))?;
+    }
     let cancel = Arc::new(AtomicBool::new(false));
     let request = request
         .seed(seed)
@@ -458,7 +480,7 @@ fn mesh(
                     cancel.store(true, Ordering::Relaxed);
                 }
             };
-            method.mesher().mesh(&region, &request, &mut report)
+            method.mesher().mesh_parts(&region, &request, &mut report)
         })
     };
     if let Some(e) = stopped {

@@ -320,3 +320,40 @@ def test_pictures_are_written_with_and_without_the_region(tmp_path):
     with pytest.raises(MeshError, match="region"):
         read.measures()
     assert read.measures(Region.builtin("horn"))["K"] == 138
+
+
+def test_every_part_of_a_multipolygon_is_meshed(tmp_path):
+    path = tmp_path / "two.geojson"
+    path.write_text(
+        '{"type":"MultiPolygon","coordinates":[[[[0,0],[1,0],[1,1],[0,1],[0,0]]],'
+        '[[[2,0],[4,0],[4,1],[2,1],[2,0]],[[2.5,0.25],[2.5,0.75],[3,0.75],[3,0.25],[2.5,0.25]]]]}'
+    )
+    r = Region.from_file(str(path))
+    assert r.num_parts == 2
+    m = cvtmesh.mesh(str(path), n=1000)
+    p, t = m.points, m.triangles
+    a, b, c = p[t[:, 0]], p[t[:, 1]], p[t[:, 2]]
+    areas = 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    assert areas.sum() == pytest.approx(2.75, rel=1e-9)
+    # Vertices in proportion to area: 1 / 2.75 of them in the unit square.
+    assert (p[:, 0] <= 1.0 + 1e-9).sum() == 364
+    assert set(np.unique(m.boundary_loop)) == {0, 1, 2}
+    assert m.converged
+
+
+def test_a_coastline_keeps_only_its_real_corners():
+    t = np.linspace(0, 2 * np.pi, 3000, endpoint=False)
+    r = 1 + 0.05 * np.sin(7 * t) + 0.003 * np.sin(53 * t)
+    coast = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    assert len(Region.from_loops(coast).corners) == 3000
+    assert len(Region.from_loops(coast).with_default_corners().corners) == 0
+    m = cvtmesh.mesh(coast, n=300)
+    assert len(m.points) == 300
+    with pytest.raises(MeshError, match="at least 3003"):
+        cvtmesh.mesh(coast, n=300, corner_angle=0)
+
+
+def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
+    channel = np.array([[0, 0], [10, 0], [10, 0.001], [0, 0.001]], dtype=float)
+    with pytest.warns(RuntimeWarning, match=r"1\.000e-3 wide near .*K ≥ 2"):
+        cvtmesh.mesh(channel, n=300)

@@ -42,6 +42,10 @@ pub(crate) struct Bounds {
     pub off_centers: bool,
     /// Stop (incomplete) when the triangulation reaches this many vertices.
     pub max_vertices: usize,
+    /// Stop (incomplete) after this many steps: splits, give-ups and sweeps. Each step either
+    /// adds a vertex or retires a queued element, so this bounds a run whose queues refill
+    /// without end.
+    pub max_steps: usize,
 }
 
 /// What one refinement run produced.
@@ -232,12 +236,17 @@ impl Engine<'_> {
     /// Main loop: encroached subsegments first, then the worst bad triangle; when both queues
     /// are empty a full sweep re-checks everything (cheap insurance against missed updates).
     fn run(&mut self) -> Result<bool, MeshError> {
+        let mut steps = 0usize;
         loop {
+            steps += 1;
             if !self.sweep() {
                 return Ok(true);
             }
             loop {
-                if self.cdt.num_vertices() >= self.bounds.max_vertices {
+                steps += 1;
+                if self.cdt.num_vertices() >= self.bounds.max_vertices
+                    || steps > self.bounds.max_steps
+                {
                     return Ok(false);
                 }
                 if let Some((k, forced)) = self.enc.pop_front() {

@@ -87,6 +87,10 @@ pub struct Refine {
     pub max_area: Option<f64>,
     /// Cap on area-search steps (the request's `max_iter` caps it too).
     pub max_search_steps: usize,
+    /// Cap on the steps (insertions, give-ups, re-checks) of one refinement run; `None`: 20
+    /// per vertex of the run's vertex budget, plus 1000. A run that reaches it stops with the
+    /// mesh it has, reported as not converged.
+    pub max_steps: Option<usize>,
 }
 
 impl Default for Refine {
@@ -96,6 +100,7 @@ impl Default for Refine {
             off_centers: true,
             max_area: None,
             max_search_steps: 60,
+            max_steps: None,
         }
     }
 }
@@ -136,6 +141,12 @@ impl Refine {
             max_area,
             off_centers: self.off_centers,
             max_vertices: max_vertices.max(pslg.points.len() + 1),
+            max_steps: self.max_steps.unwrap_or_else(|| {
+                max_vertices
+                    .max(pslg.points.len() + 1)
+                    .saturating_mul(20)
+                    .saturating_add(1000)
+            }),
         };
         let r = engine::refine(region, pslg, density, bounds)?;
         let markers = r
@@ -195,7 +206,11 @@ impl Mesher for Refine {
             self.min_angle_deg, self.off_centers
         );
         if let Some(a) = self.max_area {
-            let r = self.refine_with_area(region, a, &request.density, usize::MAX)?;
+            // A fixed bound sets its own K: the vertex budget is what fits in memory.
+            let budget = mesh::total_memory()
+                .map_or(mesh::MAX_POINTS, |m| (m / mesh::BYTES_PER_VERTEX) as usize)
+                .min(mesh::MAX_POINTS);
+            let r = self.refine_with_area(region, a, &request.density, budget)?;
             progress(Progress {
                 iteration: 1,
                 max_iter: 1,

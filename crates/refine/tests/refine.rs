@@ -192,3 +192,30 @@ fn all_paper_regions() {
         );
     }
 }
+
+#[test]
+fn a_run_that_reaches_its_step_cap_returns_its_mesh_not_converged() {
+    let region = Region::builtin("square_hole").unwrap();
+    // A fixed area bound that asks for ~10⁵ vertices, stopped after 500 steps.
+    let m = Refine {
+        max_area: Some(1e-4),
+        max_steps: Some(500),
+        ..Refine::default()
+    };
+    let r = m
+        .mesh(&region, &MeshRequest::points(100), &mut |_| {})
+        .unwrap();
+    assert!(!r.converged);
+    assert!(r.mesh.num_vertices() < 1000, "{}", r.mesh.num_vertices());
+    check_conforming(&r.mesh, &region).unwrap();
+    // Searching for K with a cap too small for any run to finish fails with a message,
+    // rather than running on.
+    let m = Refine {
+        max_steps: Some(10),
+        ..Refine::default()
+    };
+    let e = m
+        .mesh(&region, &MeshRequest::points(500), &mut |_| {})
+        .unwrap_err();
+    assert!(e.to_string().contains("no complete refinement"), "{e}");
+}

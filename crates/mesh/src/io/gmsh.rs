@@ -130,6 +130,20 @@ pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
     parse(&String::from_utf8_lossy(&bytes), path)
 }
 
+/// Parse the text of a Gmsh ASCII mesh, as [`read_gmsh`] reads a file; errors name
+/// `mesh.msh`.
+///
+/// ```
+/// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n";
+/// let m = cvtmesh_mesh::io::gmsh_from_str(text)?;
+/// assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
+/// assert!(cvtmesh_mesh::io::gmsh_from_str("$MeshFormat\n").is_err());
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
+    parse(text, Path::new("mesh.msh"))
+}
+
 /// Element kinds the reader distinguishes.
 #[derive(Clone, Copy, PartialEq)]
 enum Kind {

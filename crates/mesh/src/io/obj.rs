@@ -37,6 +37,18 @@ pub fn read_obj(path: &Path) -> Result<Mesh, MeshError> {
     parse(&read_text(path)?, path)
 }
 
+/// Parse the text of a Wavefront OBJ mesh, as [`read_obj`] reads a file; errors name
+/// `mesh.obj`.
+///
+/// ```
+/// let m = cvtmesh_mesh::io::obj_from_str("v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n")?;
+/// assert_eq!(m.num_triangles(), 1);
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn obj_from_str(text: &str) -> Result<Mesh, MeshError> {
+    parse(text, Path::new("mesh.obj"))
+}
+
 fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
     let mut points = Vec::new();
     let mut triangles = Vec::new();

@@ -189,6 +189,22 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
     Ok(read_mesh_parts(points, triangles, exact))
 }
 
+/// Parse a Triangle mesh from the texts of its `.node` and `.ele` files, as [`read_triangle`]
+/// reads them; errors name `mesh.node` and `mesh.ele`.
+///
+/// ```
+/// let m = cvtmesh_mesh::io::triangle_from_str("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n")?;
+/// assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
+/// assert!(cvtmesh_mesh::io::triangle_from_str("3 2 0 0\n", "").is_err());
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
+    let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
+    let (points, base, exact) = parse_node(node_text, node_path)?;
+    let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
+    Ok(read_mesh_parts(points, triangles, exact))
+}
+
 type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>);
 
 /// Vertices, the index base (0 or 1), and the exact markers when the file is one of ours.

@@ -55,6 +55,8 @@ def _region(region: RegionLike, holes: Optional[Sequence[Any]], corner_angle: Op
         r = Region.from_loops(outer, hs)
     if corner_angle is not None:
         r = r.with_corner_angle(float(corner_angle))
+    else:
+        r = r.with_default_corners()
     return r
 
 
@@ -81,7 +83,9 @@ def mesh(
     ----------
     region
         A built-in name, a region file's path, a :class:`Region`, or the outer loop as a
-        ``(k, 2)`` array (then ``holes`` lists ``(m, 2)`` arrays).
+        ``(k, 2)`` array (then ``holes`` lists ``(m, 2)`` arrays). A region of several parts
+        (a GeoJSON MultiPolygon, a loop list of disjoint loops) has every part meshed, with
+        the vertices shared by area.
     n
         The number of vertices. With ``size`` as well, the size field's shape is kept and
         scaled so that the mesh has exactly ``n`` vertices.
@@ -102,7 +106,9 @@ def mesh(
     density
         A CVT density ρ instead of ``size`` (spacing ∝ ρ^(-1/4)); needs ``n``.
     corner_angle
-        Keep only corners where the boundary turns by more than this many degrees.
+        Keep only corners where the boundary turns by more than this many degrees; 0 keeps
+        every vertex where it turns. Default: 30 where the corners were computed (polygon
+        files, arrays), the region's own where it lists them (built-in regions).
     progress
         Called as ``progress(iteration, energy, largest_move)`` during the run.
     size_min, size_max

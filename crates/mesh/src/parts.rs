@@ -1,0 +1,247 @@
+//! Regions of several parts: each part meshed on its own with its share of K, the meshes
+//! merged into one whose markers speak of the whole region.
+use crate::{
+    check_conforming, thin_feature, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress,
+    Size, VertexMarker,
+};
+use geometry::{DVec2, Density, Part, Region};
+
+/// Implements [`Mesher::mesh_parts`].
+pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
+    mesher: &M,
+    region: &Region,
+    request: &MeshRequest,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<MeshResult, MeshError> {
+    let result = if region.num_parts() <= 1 {
+        mesher.mesh(region, request, progress)?
+    } else {
+        mesh_each_part(mesher, region, request, progress)?
+    };
+    // A method may hand back a mesh that leaves the region where the region is far thinner
+    // than the spacing; the caller gets an error naming the place instead.
+    if result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {
+        if let Err(cause) = check_conforming(&result.mesh, region) {
+            let hint = match thin_feature(region, request) {
+                Some(thin) => thin.to_string(),
+                None => "try a larger K, or keep every corner (--corner-angle 0)".into(),
+            };
+            return Err(MeshError::NotConforming {
+                method: mesher.name().to_string(),
+                cause,
+                hint,
+            });
+        }
+    }
+    Ok(result)
+}
+
+/// The largest mesh [`Mesher::mesh_parts`] checks for conformity before returning it (the
+/// check takes about a second at 10⁶ vertices on two cores).
+pub const CONFORMITY_CHECK_LIMIT: usize = 2_000_000;
+
+/// Each part meshed with its share of K, the meshes merged.
+fn mesh_each_part<M: Mesher + ?Sized>(
+    mesher: &M,
+    region: &Region,
+    request: &MeshRequest,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<MeshResult, MeshError> {
+    let k = request.validate_whole(region)?;
+    let parts = region.parts();
+    let shares = shares(k, &parts, &request.density);
+    let mut merged = MeshResult {
+        mesh: Mesh::default(),
+        iterations: 0,
+        converged: true,
+        energy_history: Vec::new(),
+        move_history: Vec::new(),
+        notes: Vec::new(),
+    };
+    for (i, (part, &ki)) in parts.iter().zip(&shares).enumerate() {
+        let mut r = request.clone();
+        r.size = Size::Points(ki);
+        let result = mesher.mesh(&part.region, &r, progress)?;
+        merged.notes.push(format!(
+            "part {i}: K = {} on area {:.6e} ({:.1} % of the region){}",
+            result.mesh.num_vertices(),
+            part.region.area(),
+            100.0 * part.region.area() / region.area(),
+            if result.converged {
+                ""
+            } else {
+                ", NOT CONVERGED"
+            }
+        ));
+        merged
+            .notes
+            .extend(result.notes.iter().map(|n| format!("part {i}: {n}")));
+        merge(&mut merged.mesh, result.mesh, part)?;
+        merged.iterations += result.iterations;
+        merged.converged &= result.converged;
+        merged.energy_history.extend(result.energy_history);
+        merged.move_history.extend(result.move_history);
+    }
+    Ok(merged)
+}
+
+/// Appends a part's mesh, its vertex numbers offset and its markers renumbered from the
+/// part's loops, pieces and corners to the whole region's.
+fn merge(into: &mut Mesh, mesh: Mesh, part: &Part) -> Result<(), MeshError> {
+    let offset = u32::try_from(into.points.len())
+        .ok()
+        .filter(|o| u32::try_from(mesh.points.len()).is_ok_and(|n| o.checked_add(n).is_some()))
+        .ok_or_else(|| MeshError::BadRequest("more vertices than a mesh can number".into()))?;
+    into.points.extend(mesh.points);
+    into.triangles
+        .extend(mesh.triangles.iter().map(|t| t.map(|v| v + offset)));
+    into.markers
+        .extend(mesh.markers.into_iter().map(|m| match m {
+            VertexMarker::Interior => VertexMarker::Interior,
+            VertexMarker::Boundary {
+                loop_index,
+                piece,
+                loop_param,
+            } => VertexMarker::Boundary {
+                loop_index: part.loops[loop_index],
+                piece: part.pieces[piece],
+                loop_param,
+            },
+            VertexMarker::Corner {
+                loop_index,
+                corner,
+                loop_param,
+            } => VertexMarker::Corner {
+                loop_index: part.loops[loop_index],
+                corner: part.corners[corner],
+                loop_param,
+            },
+        }));
+    Ok(())
+}
+
+/// Each part's share of `k` vertices: in proportion to the count the density asks for there,
+/// ∫ ρ^(1/2) (spacing ∝ ρ^(-1/4), so vertices per area ∝ ρ^(1/2); its area for ρ ≡ 1), but at
+/// least what its boundary needs (`corners + 3 · loops`). The shares add up to `k`, which
+/// must be at least the parts' needs together (checked by the caller).
+pub(crate) fn shares(k: usize, parts: &[Part], density: &Density) -> Vec<usize> {
+    let weights: Vec<f64> = parts.iter().map(|p| weight(&p.region, density)).collect();
+    let needs: Vec<usize> = parts
+        .iter()
+        .map(|p| p.region.corners().len() + 3 * p.region.loops().len())
+        .collect();
+    allocate(k, &weights, &needs)
+}
+
+/// Largest-remainder apportionment of `k` by `weights`, each share at least its `need`.
+/// Parts whose proportional share falls below their need get their need, and the rest is
+/// shared among the others in proportion; if every part is short, each gets its need and the
+/// surplus goes to the heaviest. Weights that are not positive numbers count as zero (all
+/// zero: equal shares).
+pub(crate) fn allocate(k: usize, weights: &[f64], needs: &[usize]) -> Vec<usize> {
+    let n = weights.len();
+    let w: Vec<f64> = weights
+        .iter()
+        .map(|&x| if x.is_finite() && x > 0.0 { x } else { 0.0 })
+        .collect();
+    let mut fixed = vec![false; n];
+    loop {
+        let free: Vec<usize> = (0..n).filter(|&i| !fixed[i]).collect();
+        let rest = k.saturating_sub((0..n).filter(|&i| fixed[i]).map(|i| needs[i]).sum());
+        let total: f64 = free.iter().map(|&i| w[i]).sum();
+        let weight = |i: usize| if total > 0.0 { w[i] } else { 1.0 };
+        let total = if total > 0.0 {
+            total
+        } else {
+            free.len() as f64
+        };
+        let ideal = |i: usize| rest as f64 * weight(i) / total;
+        let short: Vec<usize> = free
+            .iter()
+            .copied()
+            .filter(|&i| ideal(i) < needs[i] as f64)
+            .collect();
+        if short.len() == free.len() {
+            let mut out = needs.to_vec();
+            let used: usize = out.iter().sum();
+            if let Some(big) = (0..n).max_by(|&a, &b| w[a].total_cmp(&w[b]).then(b.cmp(&a))) {
+                out[big] += k.saturating_sub(used);
+            }
+            return out;
+        }
+        if short.is_empty() {
+            let mut out: Vec<usize> = (0..n)
+                .map(|i| {
+                    if fixed[i] {
+                        needs[i]
+                    } else {
+                        ideal(i).floor() as usize
+                    }
+                })
+                .collect();
+            let mut left = rest.saturating_sub(free.iter().map(|&i| out[i]).sum());
+            let mut order = free.clone();
+            let frac = |i: usize| ideal(i) - ideal(i).floor();
+            order.sort_by(|&a, &b| frac(b).total_cmp(&frac(a)).then(a.cmp(&b)));
+            for i in order {
+                if left == 0 {
+                    break;
+                }
+                out[i] += 1;
+                left -= 1;
+            }
+            return out;
+        }
+        for i in short {
+            fixed[i] = true;
+        }
+    }
+}
+
+/// ∫ ρ^(1/2) over a part (its area for a uniform density), estimated on a 128 × 128 grid of
+/// cell centres over its bounding box; a part too small for the grid takes ρ at the centre
+/// of its bounding box times its area.
+pub(crate) fn weight(region: &Region, density: &Density) -> f64 {
+    if density.is_uniform() {
+        return region.area();
+    }
+    const N: usize = 128;
+    let (lo, hi) = region.bbox();
+    let (mut sum, mut inside) = (0.0, 0usize);
+    for i in 0..N {
+        for j in 0..N {
+            let p = lo
+                + (hi - lo) * DVec2::new((i as f64 + 0.5) / N as f64, (j as f64 + 0.5) / N as f64);
+            if region.contains(p) {
+                sum += density.at(p).max(0.0).sqrt();
+                inside += 1;
+            }
+        }
+    }
+    let mean = if inside > 0 {
+        sum / inside as f64
+    } else {
+        density.at((lo + hi) / 2.0).max(0.0).sqrt()
+    };
+    mean * region.area()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_follow_the_weights_and_add_up() {
+        assert_eq!(allocate(100, &[1.0, 1.0, 2.0], &[3, 3, 3]), [25, 25, 50]);
+        assert_eq!(allocate(10, &[1.0, 1.0, 1.0], &[3, 3, 3]), [4, 3, 3]);
+        // A tiny part gets its need, the rest is shared by the others.
+        assert_eq!(allocate(100, &[1e-6, 1.0, 1.0], &[6, 3, 3]), [6, 47, 47]);
+        // Every part at its need, the surplus to the largest.
+        assert_eq!(allocate(13, &[1.0, 2.0], &[6, 6]), [6, 7]);
+        for k in [15, 16, 50, 333, 1001] {
+            let s = allocate(k, &[0.3, 0.01, 5.0, 1.2], &[3, 3, 3, 6]);
+            assert_eq!(s.iter().sum::<usize>(), k, "{s:?}");
+            assert!(s.iter().zip([3, 3, 3, 6]).all(|(a, b)| *a >= b), "{s:?}");
+        }
+    }
+}

@@ -1,0 +1,235 @@
+//! Features thinner than the spacing: where the region is narrower than the edges a request
+//! asks for, no triangle fits across and the mesh there is slivers. Found before any work, so
+//! that the user learns the size that would resolve it.
+use crate::{parts, MeshRequest};
+use geometry::{DVec2, Region};
+use std::fmt;
+
+/// Most boundary samples [`thin_feature`] casts a ray from.
+const MAX_SAMPLES: usize = 4000;
+/// Most boundary segments [`thin_feature`] tests rays against (beyond, it does not look).
+const MAX_SEGMENTS: usize = 200_000;
+/// Most ray–segment tests: on a long boundary fewer rays are cast, so the look stays under
+/// about a second.
+const MAX_TESTS: usize = 200_000_000;
+/// A place counts as thin when it is narrower than this share of the spacing: a triangle of
+/// edge h is 0.87 h high, so below half the spacing none fits across and the mesh there is
+/// slivers. (The paper's horn narrows to 0.55 of its spacing at K = 138 and meshes well.)
+const THIN_RATIO: f64 = 0.5;
+/// A ray that comes back to its own loop within this many widths of arc length only crossed a
+/// corner's wedge (a 30° corner gives 3.7), not a feature.
+const WEDGE_RATIO: f64 = 4.0;
+
+/// The narrowest place where the region is thinner than the requested spacing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThinFeature {
+    /// A boundary point there.
+    pub at: DVec2,
+    /// The region's width there (along the boundary's inward normal).
+    pub width: f64,
+    /// The spacing the request asks for there.
+    pub spacing: f64,
+    /// The K asked for.
+    pub points: usize,
+    /// The K at which the spacing there would be twice the width (no longer thin).
+    pub points_needed: usize,
+    /// Length of the boundary where the region is thinner than half the spacing.
+    pub thin_length: f64,
+}
+
+impl fmt::Display for ThinFeature {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the region is {:.3e} wide near ({:.6}, {:.6}) ({:.3e} of its boundary is that thin), \
+             {:.1}× thinner than the spacing {:.3e} of K = {}: K ≥ {} (or --size {:.3e}) would resolve it",
+            self.width,
+            self.at.x,
+            self.at.y,
+            self.thin_length,
+            self.spacing / self.width,
+            self.spacing,
+            self.points,
+            self.points_needed,
+            2.0 * self.width
+        )
+    }
+}
+
+/// Where `region` is narrower than half the spacing `request` asks for, the narrowest place;
+/// `None` where it is wide enough everywhere (or has more than 200 000 boundary segments).
+///
+/// Rays are cast along the inward normal from up to 4000 points spread along the boundary
+/// (fewer on a boundary of more than 50 000 segments, at most 2·10⁸ ray–segment tests);
+/// the width is the distance to the boundary they first meet, counted when that is another
+/// loop or a part of the same loop more than 4 widths of arc length away (so that the wedge
+/// of a sharp corner is not a feature). The spacing is the request's mean spacing, scaled by
+/// ρ^(-1/4) against its mean for a graded request.
+///
+/// ```
+/// use cvtmesh_mesh::{thin_feature, MeshRequest};
+/// let channel = geometry::formats::loops_from_str("0 0\n10 0\n10 0.001\n0 0.001\n", "c", "c")?;
+/// let t = thin_feature(&channel, &MeshRequest::points(300)).expect("a thin channel");
+/// assert!((t.width - 0.001).abs() < 1e-9);
+/// assert!(t.spacing / t.width > 6.0);
+/// assert!((2_800..3_000).contains(&t.points_needed));
+/// let circle = geometry::Region::builtin("circle")?;
+/// assert!(thin_feature(&circle, &MeshRequest::points(300)).is_none());
+/// # Ok::<(), geometry::GeometryError>(())
+/// ```
+pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeature> {
+    let k = request.size.points(region);
+    if k == 0 {
+        return None;
+    }
+    let mean_spacing = request.spacing(region);
+    let diam = region.diameter();
+    let poly = region.polygonize(1e-4 * mean_spacing.min(diam));
+    let nseg: usize = poly.rings.iter().map(|r| r.points.len()).sum();
+    if nseg > MAX_SEGMENTS || nseg == 0 {
+        return None;
+    }
+    // Segments of every ring with their ring and arc length at their start.
+    let mut segs: Vec<(DVec2, DVec2, usize, f64)> = Vec::with_capacity(nseg);
+    let mut lengths = Vec::with_capacity(poly.rings.len());
+    for (r, ring) in poly.rings.iter().enumerate() {
+        let n = ring.points.len();
+        let mut s = 0.0;
+        for i in 0..n {
+            let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
+            segs.push((a, b, r, s));
+            s += a.distance(b);
+        }
+        lengths.push(s);
+    }
+    let perimeter: f64 = lengths.iter().sum();
+    let samples = MAX_SAMPLES.min(MAX_TESTS / nseg).max(1);
+    let step = (perimeter / samples as f64).max(f64::MIN_POSITIVE);
+    // Local spacing: mean spacing × (ρ̄ / ρ)^(1/4), ρ̄^(1/2) = ∫ρ^(1/2) / |Ω|.
+    let graded = !request.density.is_uniform();
+    let mean_root = if graded {
+        parts::weight(region, &request.density) / region.area()
+    } else {
+        1.0
+    };
+    let spacing_at = |p: DVec2| {
+        if graded {
+            let root = request.density.at(p).max(1e-300).sqrt();
+            mean_spacing * (mean_root / root).sqrt()
+        } else {
+            mean_spacing
+        }
+    };
+    let tiny = 1e-12 * diam;
+    let mut worst: Option<(f64, DVec2, f64, f64)> = None; // (width / spacing, at, width, spacing)
+    let mut thin_length = 0.0;
+    let mut next = 0.0;
+    for &(a, b, r, s0) in &segs {
+        let len = a.distance(b);
+        if len <= 0.0 {
+            continue;
+        }
+        let dir = (b - a) / len;
+        // The interior lies left of every ring (outer loops CCW, holes CW).
+        let normal = dir.perp();
+        while next < s0 + len {
+            let t = (next - s0).max(0.0);
+            next += step;
+            let q = a + dir * t;
+            let sq = s0 + t;
+            let Some((width, hit_ring, hit_s)) = cast(q, normal, &segs, tiny) else {
+                continue;
+            };
+            let h = spacing_at(q);
+            if width >= THIN_RATIO * h {
+                continue;
+            }
+            let feature = hit_ring != r || {
+                let d = (sq - hit_s).abs();
+                d.min(lengths[r] - d) > WEDGE_RATIO * width
+            };
+            if !feature {
+                continue;
+            }
+            thin_length += step;
+            if worst.is_none_or(|w| width / h < w.0) {
+                worst = Some((width / h, q, width, h));
+            }
+        }
+        if next < s0 + len {
+            next = s0 + len;
+        }
+        // Rings restart their arc length: carry the sampling position over.
+        if (s0 + len - lengths[r]).abs() <= tiny {
+            next = 0.0;
+        }
+    }
+    let (_, at, width, spacing) = worst?;
+    // The K at which the spacing there is twice the width, the threshold.
+    let needed = (k as f64 * (THIN_RATIO * spacing / width).powi(2)).ceil();
+    Some(ThinFeature {
+        at,
+        width,
+        spacing,
+        points: k,
+        points_needed: if needed.is_finite() && needed < usize::MAX as f64 {
+            needed as usize
+        } else {
+            usize::MAX
+        },
+        thin_length: thin_length.min(perimeter),
+    })
+}
+
+/// The first boundary segment the ray `o + t·d` (t > `tiny`) meets: distance, ring, arc
+/// length of the hit.
+fn cast(
+    o: DVec2,
+    d: DVec2,
+    segs: &[(DVec2, DVec2, usize, f64)],
+    tiny: f64,
+) -> Option<(f64, usize, f64)> {
+    let mut best: Option<(f64, usize, f64)> = None;
+    for &(a, b, r, s0) in segs {
+        let e = b - a;
+        let den = d.perp_dot(e);
+        if den.abs() <= f64::MIN_POSITIVE {
+            continue;
+        }
+        let w = a - o;
+        let t = w.perp_dot(e) / den;
+        let u = w.perp_dot(d) / den;
+        if t > tiny && (0.0..=1.0).contains(&u) && best.is_none_or(|x| t < x.0) {
+            best = Some((t, r, s0 + u * e.length()));
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_regions_at_the_papers_k_have_no_thin_features() {
+        for (name, k) in Region::paper_cases() {
+            let r = Region::builtin(name).unwrap();
+            assert_eq!(
+                thin_feature(&r, &MeshRequest::points(k)),
+                None,
+                "{name} K={k}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_gap_between_a_hole_and_the_outer_loop_is_found() {
+        // A 1 × 1 square with a hole 0.002 from its right side.
+        let text = "0 0\n1 0\n1 1\n0 1\n\n0.2 0.2\n0.998 0.2\n0.998 0.8\n0.2 0.8\n";
+        let r = geometry::formats::loops_from_str(text, "gap", "gap").unwrap();
+        let t = thin_feature(&r, &MeshRequest::points(200)).unwrap();
+        assert!((t.width - 0.002).abs() < 1e-9, "{t}");
+        assert!(t.at.x > 0.99, "{t}");
+        assert!(thin_feature(&r, &MeshRequest::points(t.points_needed)).is_none());
+    }
+}

@@ -1,0 +1,11 @@
+//! Gmsh .msh (2.2 and 4.1 ASCII): a mesh or an error, never a panic.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(text) = std::str::from_utf8(data) {
+        if let Ok(m) = mesh::io::gmsh_from_str(text) {
+            let _ = m.boundary_edges();
+        }
+    }
+});
