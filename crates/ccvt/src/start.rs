@@ -202,9 +202,16 @@ mod tests {
     #[test]
     fn fitted_counts_are_exact_inside_and_reproducible() {
         let region = Region::builtin("lake").unwrap();
-        let scale = LocalScale::new(&region, &Density::Uniform, 0.05);
+        // About a thousand vertices (the lake is 125 000 units of area).
+        let spacing = (region.area() / 1000.0).sqrt();
+        let scale = LocalScale::new(&region, &Density::Uniform, spacing);
         let r = Refine::default()
-            .refine_with_area(&region, 2e-3, &Density::Uniform, usize::MAX)
+            .refine_with_area(
+                &region,
+                region.area() / 2000.0,
+                &Density::Uniform,
+                usize::MAX,
+            )
             .unwrap();
         let n = r.mesh.num_vertices();
         for k in [n - 37, n, n + 41] {

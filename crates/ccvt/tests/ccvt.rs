@@ -129,6 +129,7 @@ fn constructors_have_their_documented_settings() {
     assert_eq!((d.algorithm, d.solver), (Algorithm::Two, Solver::Newton));
     assert_eq!(d.name(), "ccvt");
     assert_eq!(Ccvt::fast(), d);
+    assert!(d.graded_start && d.multilevel_from == usize::MAX);
     for (m, algorithm, solver, name) in [
         (Ccvt::algorithm1(), Algorithm::One, Solver::Lloyd, "ccvt1"),
         (Ccvt::algorithm2(), Algorithm::Two, Solver::Lloyd, "ccvt2"),
@@ -142,9 +143,11 @@ fn constructors_have_their_documented_settings() {
         assert_eq!(m.name(), name);
         assert_eq!(
             m,
+            // The paper's algorithms as stated: from the lattice, no graded start.
             Ccvt {
                 algorithm,
                 solver,
+                graded_start: false,
                 ..Ccvt::default()
             }
         );
