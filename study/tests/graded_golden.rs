@@ -1,6 +1,6 @@
 //! CI regression of the graded comparison: re-run a fast subset and compare it with the
-//! committed `results/csv/graded.csv` (rewrite it on purpose by rerunning the default study,
-//! `cargo run --release -p study`, or `--graded-only`).
+//! committed `results/csv/graded.csv` (rewrite it on purpose with `scripts/refresh_baseline.sh`,
+//! which reruns the default study and with it the graded part).
 //!
 //! Subset: the L-shape (a re-entrant corner, ratio 30) and square_hole (a curved hole) cases
 //! with every default graded method, seed 1. The circle case is left out because its CCVT
@@ -108,7 +108,7 @@ fn graded_subset_matches_the_committed_baseline() {
     assert!(
         report.is_empty(),
         "the graded subset differs from {} (tolerance: rel {REL_TOL:e} + abs {ABS_TOL:e}; counts exact).\n\
-         If the change is intended, rerun the default study and commit the new CSV.\n\n{report}",
+         If the change is intended, rerun scripts/refresh_baseline.sh and commit the new CSV.\n\n{report}",
         path.display()
     );
     assert_eq!(compared, jobs.len());
