@@ -226,7 +226,11 @@ pub fn run_study(
                 .filter(|f| keep(&f.region, f.K_requested, &f.method, f.seed)),
         );
     }
-    write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
+    // Without the paper part an unsharded run leaves metrics.csv alone (`--fresh` would
+    // otherwise empty it); a shard still writes one, which merge expects in every directory.
+    if opts.paper || opts.shard.is_some() {
+        write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
+    }
     run_graded_part(opts, on_event, &mut out)?;
     if opts.shard.is_none() {
         let report = write_report(&opts.out)?;

@@ -178,4 +178,31 @@ fn graded_part_sharded_then_merged_equals_unsharded() {
             assert!(graded::graded_png(d, case.name).exists(), "{}", case.name);
         }
     }
+    // A graded-only run, even with `fresh`, leaves the paper's CSV alone.
+    let metrics = output::metrics_csv(&whole);
+    let row = Row::new(
+        "circle",
+        19,
+        MethodId::Triangle,
+        1,
+        study::Kind::Exact,
+        [1.0; 14],
+        1,
+        true,
+        0.1,
+    );
+    std::fs::write(&metrics, record::rows_csv(&[row]).unwrap()).unwrap();
+    let before = std::fs::read(&metrics).unwrap();
+    study::run_study(
+        &StudyOptions {
+            out: whole.clone(),
+            fresh: true,
+            seeds: 2,
+            first_seed: 2,
+            ..base
+        },
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(std::fs::read(&metrics).unwrap(), before);
 }
