@@ -43,7 +43,7 @@ pub const DEFAULT_METHOD: MethodId = MethodId::CcvtFast;
 pub enum Domain {
     /// A built-in region by name.
     Builtin(&'static str),
-    /// [0,1]² minus [0.5,1]².
+    /// `[0,1]²` minus `[0.5,1]²`.
     LShape,
 }
 
@@ -102,7 +102,7 @@ pub const CASES: [GradedCase; 3] = [
     },
 ];
 
-/// The L-shape [0,1]² minus [0.5,1]², six corners, the re-entrant one at (0.5, 0.5).
+/// The L-shape `[0,1]²` minus `[0.5,1]²`, six corners, the re-entrant one at (0.5, 0.5).
 pub fn l_shape() -> Result<Region, StudyError> {
     let p = |x, y| DVec2::new(x, y);
     let outer = vec![
