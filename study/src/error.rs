@@ -52,6 +52,9 @@ pub enum StudyError {
     /// A region could not be loaded.
     #[error(transparent)]
     Geometry(#[from] cvtmesh::geometry::GeometryError),
+    /// A size field could not be built.
+    #[error(transparent)]
+    SizeField(#[from] cvtmesh::SizeFieldError),
     /// A picture could not be drawn or written.
     #[error(transparent)]
     Render(#[from] render::RenderError),

@@ -1,6 +1,7 @@
 //! The study: every method on every paper region at the paper's K, measured exactly and
 //! paper-style, written as the paper's Tables 1–12 (Markdown), one CSV of every number,
-//! Figures 3–7 and a summary with the paper's "keeping score" count.
+//! Figures 3–7 and a summary with the paper's "keeping score" count; and a graded comparison
+//! beyond the paper ([`graded`]): meshes that follow a size field, measured against it.
 //!
 //! The pipeline is split so that sharded runs and their merge share one path:
 //! [`run_study`] runs jobs and writes `DIR/csv/*.csv` and `DIR/meshes/*`; [`merge`] combines
@@ -11,6 +12,7 @@
 mod error;
 pub mod fidelity;
 pub mod figures;
+pub mod graded;
 pub mod inference;
 pub mod jobs;
 mod measure;
@@ -54,8 +56,15 @@ pub struct StudyOptions {
     pub threads: Option<usize>,
     /// Run only this shard and write only the CSV (and meshes).
     pub shard: Option<Shard>,
-    /// Discard rows already in `DIR/csv/metrics.csv` instead of updating them.
+    /// Discard rows already in `DIR/csv/metrics.csv` (and `graded.csv`) instead of
+    /// updating them.
     pub fresh: bool,
+    /// Run the paper's tables (true by default).
+    pub paper: bool,
+    /// Run the graded comparison ([`graded`], true by default); `regions` does not apply to it.
+    pub graded: bool,
+    /// Methods of the graded comparison ([`graded::GRADED_METHODS`] by default).
+    pub graded_methods: Vec<MethodId>,
 }
 
 impl Default for StudyOptions {
@@ -69,6 +78,9 @@ impl Default for StudyOptions {
             threads: None,
             shard: None,
             fresh: false,
+            paper: true,
+            graded: true,
+            graded_methods: graded::GRADED_METHODS.to_vec(),
         }
     }
 }
@@ -76,12 +88,25 @@ impl Default for StudyOptions {
 impl StudyOptions {
     /// The jobs these options select, in the deterministic list order.
     pub fn jobs(&self) -> Vec<Job> {
+        if !self.paper {
+            return Vec::new();
+        }
         let mut all = job_list(&self.regions, &self.methods, self.seeds);
         all.retain(|j| j.seed >= self.first_seed);
         match self.shard {
             Some(s) => s.select(&all),
             None => all,
         }
+    }
+
+    /// The graded jobs these options select, in their deterministic list order.
+    pub fn graded_jobs(&self) -> Vec<graded::GradedJob> {
+        if !self.graded {
+            return Vec::new();
+        }
+        let mut all = graded::graded_jobs(&self.graded_methods, self.seeds);
+        all.retain(|j| j.seed >= self.first_seed);
+        graded::shard_graded(self.shard, all)
     }
 }
 
@@ -202,13 +227,66 @@ pub fn run_study(
                 .filter(|f| keep(&f.region, f.K_requested, &f.method, f.seed)),
         );
     }
-    write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
+    // Without the paper part an unsharded run leaves metrics.csv alone (`--fresh` would
+    // otherwise empty it); a shard still writes one, which merge expects in every directory.
+    if opts.paper || opts.shard.is_some() {
+        write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
+    }
+    run_graded_part(opts, on_event, &mut out)?;
     if opts.shard.is_none() {
         let report = write_report(&opts.out)?;
         out.written.extend(report.written);
         out.notes.extend(report.notes);
     }
     Ok(out)
+}
+
+/// The graded part of [`run_study`]: run its jobs, write their meshes and `graded.csv`
+/// (keeping, as for the paper's rows, the cells not run and the seeds below the first).
+fn run_graded_part(
+    opts: &StudyOptions,
+    on_event: &(dyn Fn(Event<'_>) + Sync),
+    out: &mut Outcome,
+) -> Result<(), StudyError> {
+    let jobs = opts.graded_jobs();
+    if jobs.is_empty() {
+        return Ok(());
+    }
+    let results = graded::run_graded(&jobs, opts.threads, on_event)?;
+    graded::write_graded_meshes(&opts.out, &results)?;
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for r in &results {
+        match &r.outcome {
+            Ok((row, _)) => rows.push(row.clone()),
+            Err(_) => failures.extend(r.failure()),
+        }
+    }
+    out.jobs += jobs.len();
+    out.failures.extend(failures.iter().cloned());
+    if opts.shard.is_none() && !opts.fresh {
+        let ran: BTreeSet<(&str, &str)> = jobs
+            .iter()
+            .map(|j| (j.case.name, j.method.name()))
+            .collect();
+        let keep = |case: &str, method: &str, seed: u64| {
+            seed < opts.first_seed || !ran.contains(&(case, method))
+        };
+        let (old_rows, old_failures) = graded::read_graded(&opts.out)?;
+        rows.extend(
+            old_rows
+                .into_iter()
+                .filter(|r| keep(&r.case, &r.method, r.seed)),
+        );
+        failures.extend(
+            old_failures
+                .into_iter()
+                .filter(|f| keep(&f.region, &f.method, f.seed)),
+        );
+    }
+    out.written
+        .extend(graded::write_graded(&opts.out, &mut rows, &mut failures)?);
+    Ok(())
 }
 
 /// Combine the CSVs and meshes of shard directories `dirs` into `out` (rows sorted as an
@@ -260,6 +338,23 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
     let mut rows = record::merge_rows(parts)?;
     result.failures = failures.clone();
     write_csvs(out, &mut rows, &mut failures, &mut result.written)?;
+    let mut graded_parts = Vec::new();
+    let mut graded_failures = Vec::new();
+    for d in dirs.iter().filter(|d| graded::graded_csv_path(d).exists()) {
+        let (g, f) = graded::read_graded(d)?;
+        if d.as_path() != out {
+            graded::copy_graded_meshes(d, out, &g, &mut result.notes)?;
+        }
+        graded_parts.push(g);
+        graded_failures.extend(f);
+    }
+    if !graded_parts.is_empty() {
+        let mut g = graded::merge_graded(graded_parts)?;
+        result.failures.extend(graded_failures.iter().cloned());
+        result
+            .written
+            .extend(graded::write_graded(out, &mut g, &mut graded_failures)?);
+    }
     let report = write_report(out)?;
     result.written.extend(report.written);
     result.notes.extend(report.notes);
@@ -297,8 +392,8 @@ pub fn load_meshes(
     Ok(set)
 }
 
-/// Write `dir/tables/table_NN.md`, `dir/summary.md` and `dir/figures/*` from
-/// `dir/csv/*.csv` and `dir/meshes/*`.
+/// Write `dir/tables/table_NN.md`, `dir/summary.md`, `dir/graded.md` and `dir/figures/*`
+/// from `dir/csv/*.csv` and `dir/meshes/*`.
 pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
     let (rows, failures) = read_dir_csv(dir)?;
     let paper = PaperTables::embedded()?;
@@ -365,6 +460,8 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
     let regions = run::load_regions(&names.into_iter().collect::<Vec<_>>())?;
     out.written
         .extend(figures::draw_figures(dir, &regions, &meshes, &methods)?);
+    out.written
+        .extend(graded::write_graded_report(dir, &mut out.notes)?);
     Ok(out)
 }
 

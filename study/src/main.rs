@@ -39,9 +39,15 @@ struct Cli {
     /// Run only jobs j with j mod N = I−1 of the job list, and write only the CSV and meshes.
     #[arg(long, value_name = "I/N")]
     shard: Option<String>,
-    /// Replace DIR/csv/metrics.csv instead of updating only the cells run.
+    /// Replace DIR/csv/metrics.csv (and graded.csv) instead of updating only the cells run.
     #[arg(long)]
     fresh: bool,
+    /// Skip the graded comparison (graded.md, csv/graded.csv), run by default.
+    #[arg(long, conflicts_with = "graded_only")]
+    no_graded: bool,
+    /// Run only the graded comparison: three size-field cases at K = 1500, default methods refine, distmesh, ccvt (--methods chooses others). --regions does not apply to it.
+    #[arg(long)]
+    graded_only: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -70,6 +76,8 @@ fn options(cli: &Cli) -> anyhow::Result<StudyOptions> {
         out: cli.out.clone(),
         threads: cli.jobs,
         fresh: cli.fresh,
+        paper: !cli.graded_only,
+        graded: !cli.no_graded,
         ..StudyOptions::default()
     };
     if let Some(r) = &cli.regions {
@@ -77,6 +85,7 @@ fn options(cli: &Cli) -> anyhow::Result<StudyOptions> {
     }
     if let Some(m) = &cli.methods {
         o.methods = MethodId::parse_list(m)?;
+        o.graded_methods = o.methods.clone();
     }
     if let Some(s) = &cli.shard {
         o.shard = Some(Shard::parse(s)?);
@@ -154,7 +163,9 @@ fn real_main() -> anyhow::Result<ExitCode> {
         None => {
             let opts = options(&cli)?;
             let jobs = opts.jobs();
-            let bar = ProgressBar::new(jobs.len() as u64);
+            let graded_jobs = opts.graded_jobs();
+            let total = jobs.len() + graded_jobs.len();
+            let bar = ProgressBar::new(total as u64);
             bar.set_style(
                 ProgressStyle::with_template(
                     "{elapsed_precise} [{bar:30}] {pos}/{len} jobs  {msg}",
@@ -167,11 +178,12 @@ fn real_main() -> anyhow::Result<ExitCode> {
                 .filter(|t| opts.regions.contains(&t.region))
                 .count();
             bar.println(format!(
-                "study: {} jobs ({} tables × {} methods × {} seeds{}) on {} threads → {}",
-                jobs.len(),
-                n_tables,
+                "study: {} jobs ({} tables × {} methods × {} seeds, {} graded{}) on {} threads → {}",
+                total,
+                if opts.paper { n_tables } else { 0 },
                 opts.methods.len(),
                 opts.seeds + 1 - opts.first_seed,
+                graded_jobs.len(),
                 opts.shard.map_or(String::new(), |s| format!(
                     ", shard {}/{}",
                     s.index, s.count
@@ -188,7 +200,6 @@ fn real_main() -> anyhow::Result<ExitCode> {
             }));
             // Without a terminal (batch logs) the bar is hidden: log one line per job instead.
             let log_lines = !std::io::stderr().is_terminal();
-            let total = jobs.len();
             // The jobs in flight, shown after the counter.
             let running = std::sync::Mutex::new(Vec::<String>::new());
             let show = |f: &dyn Fn(&mut Vec<String>)| {
@@ -198,19 +209,20 @@ fn real_main() -> anyhow::Result<ExitCode> {
                 }
             };
             let on_event = |e: Event<'_>| match e {
-                Event::Started(job) => show(&|r| r.push(job.label())),
-                Event::Finished(job, ok, secs) => {
-                    show(&|r| r.retain(|l| *l != job.label()));
+                Event::Started(_) | Event::GradedStarted(_) => show(&|r| r.push(e.label())),
+                Event::Finished(_, ok, secs) | Event::GradedFinished(_, ok, secs) => {
+                    let label = e.label();
+                    show(&|r| r.retain(|l| *l != label));
                     bar.inc(1);
                     let status = if ok { "done" } else { "FAILED" };
                     if log_lines {
                         eprintln!(
                             "[{}/{total}] {status} {} ({secs:.1} s)",
                             bar.position(),
-                            job.label()
+                            label
                         );
                     } else if !ok {
-                        bar.println(format!("failed: {}", job.label()));
+                        bar.println(format!("failed: {label}"));
                     }
                 }
             };

@@ -1,4 +1,5 @@
 //! Running jobs: mesh, measure (exact and sampled), time; in parallel on a rayon pool.
+use crate::graded::GradedJob;
 use crate::paper::sample_scale;
 use crate::record::{Failure, Kind, Row};
 use crate::tables::{SAMPLES, SAMPLE_SEED};
@@ -53,6 +54,20 @@ pub enum Event<'a> {
     /// A job finished: whether it succeeded, and its wall time in seconds (meshing and
     /// measuring).
     Finished(&'a Job, bool, f64),
+    /// A graded job started.
+    GradedStarted(&'a GradedJob),
+    /// A graded job finished, as [`Event::Finished`].
+    GradedFinished(&'a GradedJob, bool, f64),
+}
+
+impl Event<'_> {
+    /// The label of the job.
+    pub fn label(&self) -> String {
+        match self {
+            Event::Started(j) | Event::Finished(j, ..) => j.label(),
+            Event::GradedStarted(j) | Event::GradedFinished(j, ..) => j.label(),
+        }
+    }
 }
 
 /// Load the built-in regions named.
@@ -110,6 +125,11 @@ pub fn run_job(job: &Job, region: &Region) -> Result<JobOutput, String> {
             notes: result.notes,
         })
     };
+    catch(work)
+}
+
+/// Run `work`, turning a panic into an error message.
+pub(crate) fn catch<T>(work: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
     match catch_unwind(AssertUnwindSafe(work)) {
         Ok(r) => r,
         Err(payload) => {
@@ -140,6 +160,38 @@ pub fn run_jobs(
             )));
         }
     }
+    let results = pool_map(jobs, threads, Job::cost, |job| {
+        on_event(Event::Started(job));
+        let start = Instant::now();
+        let outcome = run_job(job, &regions[job.region()]);
+        on_event(Event::Finished(
+            job,
+            outcome.is_ok(),
+            start.elapsed().as_secs_f64(),
+        ));
+        JobResult { job: *job, outcome }
+    })?;
+    Ok(results
+        .into_iter()
+        .zip(jobs)
+        .map(|(r, job)| {
+            r.unwrap_or_else(|| JobResult {
+                job: *job,
+                outcome: Err("not run".into()),
+            })
+        })
+        .collect())
+}
+
+/// Map `work` over `jobs` on a pool of `threads` workers (`None`: all cores), the costliest
+/// first (for load balance); results come back in the order of `jobs`, `None` for a job
+/// whose worker died.
+pub(crate) fn pool_map<J: Sync, R: Send + Clone>(
+    jobs: &[J],
+    threads: Option<usize>,
+    cost: impl Fn(&J) -> f64,
+    work: impl Fn(&J) -> R + Sync,
+) -> Result<Vec<Option<R>>, StudyError> {
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
         if n == 0 {
@@ -151,41 +203,23 @@ pub fn run_jobs(
         .build()
         .map_err(|e| StudyError::Pool(e.to_string()))?;
     let mut order: Vec<usize> = (0..jobs.len()).collect();
-    order.sort_by(|&a, &b| jobs[b].cost().total_cmp(&jobs[a].cost()).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| cost(&jobs[b]).total_cmp(&cost(&jobs[a])).then(a.cmp(&b)));
     let next = AtomicUsize::new(0);
-    let slots: Mutex<Vec<Option<JobResult>>> = Mutex::new(vec![None; jobs.len()]);
+    let slots: Mutex<Vec<Option<R>>> = Mutex::new(vec![None; jobs.len()]);
     let workers = pool.current_num_threads().min(jobs.len());
     pool.scope(|s| {
         for _ in 0..workers {
             s.spawn(|_| loop {
                 let i = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&j) = order.get(i) else { break };
-                let job = &jobs[j];
-                on_event(Event::Started(job));
-                let start = Instant::now();
-                let outcome = run_job(job, &regions[job.region()]);
-                on_event(Event::Finished(
-                    job,
-                    outcome.is_ok(),
-                    start.elapsed().as_secs_f64(),
-                ));
+                let r = work(&jobs[j]);
                 if let Ok(mut slots) = slots.lock() {
-                    slots[j] = Some(JobResult { job: *job, outcome });
+                    slots[j] = Some(r);
                 }
             });
         }
     });
-    let slots = slots
+    slots
         .into_inner()
-        .map_err(|_| StudyError::Pool("a worker panicked".into()))?;
-    Ok(slots
-        .into_iter()
-        .zip(jobs)
-        .map(|(r, job)| {
-            r.unwrap_or_else(|| JobResult {
-                job: *job,
-                outcome: Err("not run".into()),
-            })
-        })
-        .collect())
+        .map_err(|_| StudyError::Pool("a worker panicked".into()))
 }

@@ -21,6 +21,7 @@ fn sharded_then_merged_equals_unsharded() {
         methods: vec![MethodId::Meshgen, MethodId::CcvtFast],
         seeds: 2,
         threads: Some(2),
+        graded: false,
         ..StudyOptions::default()
     };
     let whole = tmp.path().join("whole");
@@ -77,6 +78,7 @@ fn extending_a_run_to_more_seeds_equals_running_them_at_once() {
         regions: vec!["square_two_hex"],
         methods: vec![MethodId::Meshgen],
         threads: Some(2),
+        graded: false,
         ..StudyOptions::default()
     };
     let whole = tmp.path().join("whole");
@@ -117,4 +119,90 @@ fn extending_a_run_to_more_seeds_equals_running_them_at_once() {
         &|_| {},
     );
     assert!(bad.is_err());
+}
+
+#[test]
+fn graded_part_sharded_then_merged_equals_unsharded() {
+    use study::graded;
+    let tmp = tempfile::tempdir().unwrap();
+    let base = StudyOptions {
+        paper: false,
+        graded_methods: vec![MethodId::Triangle],
+        seeds: 2,
+        threads: Some(2),
+        ..StudyOptions::default()
+    };
+    let whole = tmp.path().join("whole");
+    let o = study::run_study(
+        &StudyOptions {
+            out: whole.clone(),
+            ..base.clone()
+        },
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(o.jobs, 3 * 2);
+    assert!(o.failures.is_empty(), "{:?}", o.failures);
+    let mut shard_dirs = Vec::new();
+    for i in 1..=2 {
+        let d = tmp.path().join(format!("shard_{i}"));
+        study::run_study(
+            &StudyOptions {
+                out: d.clone(),
+                shard: Some(Shard { index: i, count: 2 }),
+                ..base.clone()
+            },
+            &|_| {},
+        )
+        .unwrap();
+        shard_dirs.push(d);
+    }
+    let merged = tmp.path().join("merged");
+    study::merge(&shard_dirs, &merged).unwrap();
+    let read = |d: &Path| {
+        let (mut rows, failures) = graded::read_graded(d).unwrap();
+        assert!(failures.is_empty());
+        for r in &mut rows {
+            r.seconds = 0.0;
+        }
+        rows
+    };
+    let a = read(&whole);
+    assert_eq!(a.len(), 6);
+    assert_eq!(a, read(&merged));
+    for d in [&whole, &merged] {
+        let md = std::fs::read_to_string(graded::graded_md_path(d)).unwrap();
+        assert!(md.contains("| TRIANGLE | "), "{md}");
+        assert!(md.contains("means over 2 seeds"), "{md}");
+        for case in &graded::CASES {
+            assert!(graded::graded_png(d, case.name).exists(), "{}", case.name);
+        }
+    }
+    // A graded-only run, even with `fresh`, leaves the paper's CSV alone.
+    let metrics = output::metrics_csv(&whole);
+    let row = Row::new(
+        "circle",
+        19,
+        MethodId::Triangle,
+        1,
+        study::Kind::Exact,
+        [1.0; 14],
+        1,
+        true,
+        0.1,
+    );
+    std::fs::write(&metrics, record::rows_csv(&[row]).unwrap()).unwrap();
+    let before = std::fs::read(&metrics).unwrap();
+    study::run_study(
+        &StudyOptions {
+            out: whole.clone(),
+            fresh: true,
+            seeds: 2,
+            first_seed: 2,
+            ..base
+        },
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(std::fs::read(&metrics).unwrap(), before);
 }
