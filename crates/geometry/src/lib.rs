@@ -30,6 +30,7 @@ pub use build::DEFAULT_CORNER_ANGLE;
 pub use density::Density;
 pub use error::GeometryError;
 pub use glam::DVec2;
+pub use numeric::ln_gamma;
 pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
 pub use region::{Part, Region};
