@@ -1,7 +1,7 @@
 //! Turning command-line words into regions, meshes, methods and densities, with errors that
 //! name the problem.
 use anyhow::{anyhow, bail, Result};
-use cvtmesh::geometry::{DVec2, Density, Region, SizeField, Threshold, Toward};
+use cvtmesh::geometry::{Density, Region, SizeField, Threshold, Toward};
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::Path;
 
@@ -86,7 +86,10 @@ pub fn graded_field(
     } else {
         let targets = toward
             .iter()
-            .map(|t| parse_toward(t))
+            .map(|t| {
+                t.parse::<Toward>()
+                    .map_err(|e| anyhow!("--size-toward {e}"))
+            })
             .collect::<Result<Vec<_>>>()?;
         let t = threshold.ok_or_else(|| anyhow!("--size-toward needs --size-threshold"))?;
         let v: Vec<f64> = t
@@ -111,29 +114,6 @@ pub fn graded_field(
         (Some(a), Some(b)) => Some(a.min(&b, region)?),
         (a, b) => a.or(b),
     })
-}
-
-/// `loop:I` or `point:X,Y`.
-fn parse_toward(text: &str) -> Result<Toward> {
-    let bad = || {
-        anyhow!("--size-toward '{text}': expected loop:I (0 = outer, then the holes) or point:X,Y")
-    };
-    let (kind, rest) = text.split_once(':').ok_or_else(bad)?;
-    match kind.trim() {
-        "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
-        "point" => {
-            let (x, y) = rest.split_once(',').ok_or_else(bad)?;
-            let p = DVec2::new(
-                x.trim().parse().map_err(|_| bad())?,
-                y.trim().parse().map_err(|_| bad())?,
-            );
-            if !p.is_finite() {
-                return Err(bad());
-            }
-            Ok(Toward::Point(p))
-        }
-        _ => Err(bad()),
-    }
 }
 
 /// Output kind from the extension.

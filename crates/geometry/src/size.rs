@@ -79,6 +79,9 @@ pub enum SizeFieldError {
         /// Distance from which the size is `size_max`.
         dist_max: f64,
     },
+    /// A distance target that is neither `loop:I` nor `point:X,Y`.
+    #[error("'{0}': expected loop:I (0 = outer, then the holes) or point:X,Y")]
+    Toward(String),
     /// A distance field with nothing to measure the distance to.
     #[error("size field: a distance field needs at least one loop or point to refine toward")]
     NothingToward,
@@ -335,6 +338,41 @@ pub enum Toward {
     Loop(usize),
     /// A point (a source, a re-entrant corner).
     Point(DVec2),
+}
+
+impl std::str::FromStr for Toward {
+    type Err = SizeFieldError;
+
+    /// `loop:I` (0 the outer loop, then the holes) or `point:X,Y`, as the command line and the
+    /// Python package take them.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Toward};
+    /// assert_eq!("loop:1".parse::<Toward>()?, Toward::Loop(1));
+    /// assert_eq!("point: 0.5, 0.25".parse::<Toward>()?, Toward::Point(DVec2::new(0.5, 0.25)));
+    /// assert!("corner:1".parse::<Toward>().is_err());
+    /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
+    /// ```
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let bad = || SizeFieldError::Toward(text.to_string());
+        let (kind, rest) = text.split_once(':').ok_or_else(bad)?;
+        match kind.trim() {
+            "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
+            "point" => {
+                let (x, y) = rest.split_once(',').ok_or_else(bad)?;
+                let p = DVec2::new(
+                    x.trim().parse().map_err(|_| bad())?,
+                    y.trim().parse().map_err(|_| bad())?,
+                );
+                if p.is_finite() {
+                    Ok(Toward::Point(p))
+                } else {
+                    Err(bad())
+                }
+            }
+            _ => Err(bad()),
+        }
+    }
 }
 
 /// Gmsh's Threshold: h = `size_min` within `dist_min` of the targets, `size_max` beyond

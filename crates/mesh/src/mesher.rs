@@ -61,7 +61,9 @@ pub struct MeshRequest {
     pub size: Size,
     /// Seed of every random choice.
     pub seed: u64,
-    /// Convergence tolerance, relative to the mean generator spacing.
+    /// Convergence tolerance, relative to the mean generator spacing (CCVT measures each
+    /// generator's move against the local spacing its density asks for, which is the mean
+    /// spacing for ρ ≡ 1).
     pub tol: f64,
     /// Iteration cap; hitting it is reported as not converged.
     pub max_iter: usize,

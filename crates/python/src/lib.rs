@@ -7,7 +7,7 @@
 //! user's size or density function is called once on every node of a background grid.
 #![forbid(unsafe_code)]
 
-use cvtmesh::geometry::{LoopRole, SizeField, SizeFieldError};
+use cvtmesh::geometry::{LoopRole, SizeField, SizeFieldError, Threshold, Toward};
 use cvtmesh::{DVec2, Density, Mesh, MeshRequest, Method, Progress, Region};
 use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -370,6 +370,42 @@ fn measures_dict<'py>(py: Python<'py>, m: &cvtmesh::Measures) -> PyResult<Bound<
     Ok(d)
 }
 
+/// Gmsh's Distance + Threshold: sizes from `threshold` = (h_min, h_max, d_min, d_max) by the
+/// distance to the loops and points of `toward` (`"loop:I"`, `"point:X,Y"`); `None` without
+/// targets.
+fn distance_field(
+    region: &Region,
+    toward: &[String],
+    threshold: Option<(f64, f64, f64, f64)>,
+) -> PyResult<Option<SizeField>> {
+    if toward.is_empty() {
+        return match threshold {
+            Some(_) => Err(err(
+                "size_threshold needs size_toward (the loops or points)",
+            )),
+            None => Ok(None),
+        };
+    }
+    let targets = toward
+        .iter()
+        .map(|t| {
+            t.parse::<Toward>()
+                .map_err(|e| err(format!("size_toward {e}")))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let (size_min, size_max, dist_min, dist_max) = threshold
+        .ok_or_else(|| err("size_toward needs size_threshold=(h_min, h_max, d_min, d_max)"))?;
+    let t = Threshold {
+        size_min,
+        size_max,
+        dist_min,
+        dist_max,
+    };
+    SizeField::threshold(region, &targets, t)
+        .map(Some)
+        .map_err(|e| err(format!("size_toward: {e}")))
+}
+
 /// A field given as a number, an expression in x and y, or a vectorized callable.
 fn scalar_field(
     py: Python<'_>,
@@ -408,7 +444,7 @@ fn scalar_field(
 #[pyfunction]
 #[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
     max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
-    gradation = 0.3))]
+    gradation = 0.3, size_toward = Vec::new(), size_threshold = None))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
@@ -423,6 +459,8 @@ fn mesh(
     size_min: Option<f64>,
     size_max: Option<f64>,
     gradation: Option<f64>,
+    size_toward: Vec<String>,
+    size_threshold: Option<(f64, f64, f64, f64)>,
 ) -> PyResult<PyMesh> {
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
@@ -431,9 +469,22 @@ fn mesh(
             "give size (an edge length) or density (a CVT density), not both",
         ));
     }
-    let request = match (size, density) {
-        (Some(s), _) => {
-            let field = scalar_field(py, &region, s, "size")?
+    let toward = distance_field(&region, &size_toward, size_threshold)?;
+    if toward.is_some() && density.is_some() {
+        return Err(err(
+            "give size_toward (an edge length) or density (a CVT density), not both",
+        ));
+    }
+    let by_size = size
+        .map(|s| scalar_field(py, &region, s, "size"))
+        .transpose()?;
+    let graded = match (by_size, toward) {
+        (Some(a), Some(b)) => Some(a.min(&b, &region).map_err(err)?),
+        (a, b) => a.or(b),
+    };
+    let request = match (graded, density) {
+        (Some(field), _) => {
+            let field = field
                 .bounded(&region, size_min, size_max, gradation)
                 .map_err(err)?;
             MeshRequest::size_field(&field, &region, n).map_err(err)?

@@ -139,6 +139,30 @@ def test_gradation_and_bounds_shape_the_size_field():
         cvtmesh.mesh("circle", size=0.1, size_min=0.2, size_max=0.1)
 
 
+def test_distance_fields_refine_toward_a_hole_and_a_point():
+    # Gmsh's Distance + Threshold toward square_hole's hole (loop 1).
+    m = cvtmesh.mesh("square_hole", size_toward=["loop:1"], size_threshold=(0.02, 0.2, 0.04, 1.2))
+    assert m.converged
+    e, lengths = edge_lengths(m.points, m.triangles)
+    mid = 0.5 * (m.points[e[:, 0]] + m.points[e[:, 1]])
+    d = np.hypot(mid[:, 0], mid[:, 1]) - 0.4
+    near, far = lengths[d < 0.04].mean(), lengths[d > 0.5].mean()
+    assert near == pytest.approx(0.02, rel=0.2)
+    assert far > 4 * near
+    # With n the field's shape is kept; with size as well the smaller of the two is used.
+    m = cvtmesh.mesh("circle", n=400, size_toward=["point:0,0"], size_threshold=(0.02, 0.2, 0, 1))
+    assert len(m.points) == 400
+    both = cvtmesh.mesh("circle", size=0.05, size_toward=["point:0,0"], size_threshold=(0.02, 0.2, 0, 1))
+    alone = cvtmesh.mesh("circle", size=0.05)
+    assert len(both.points) > len(alone.points)
+    with pytest.raises(MeshError, match="expected loop:I"):
+        cvtmesh.mesh("circle", size_toward=["corner:1"], size_threshold=(0.02, 0.2, 0, 1))
+    with pytest.raises(MeshError, match="size_threshold"):
+        cvtmesh.mesh("circle", size_toward=["loop:0"])
+    with pytest.raises(MeshError, match="no loop 3"):
+        cvtmesh.mesh("square_hole", size_toward=["loop:3"], size_threshold=(0.02, 0.2, 0, 1))
+
+
 def test_constant_size_gives_the_lattice_count():
     m = cvtmesh.mesh("square_hole", size=0.1, tol=1e-3)
     area = Region.builtin("square_hole").area

@@ -14,7 +14,7 @@ float64, ``triangles`` (M, 3) int64, 0-based and counter-clockwise.
 from __future__ import annotations
 
 import os
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -76,6 +76,8 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
+    size_toward: Sequence[str] = (),
+    size_threshold: Optional[Tuple[float, float, float, float]] = None,
 ) -> Mesh:
     """Mesh a planar region.
 
@@ -100,7 +102,8 @@ def mesh(
     seed
         Seed of every random choice: the same seed gives the same arrays.
     tol
-        Stop when the largest vertex move is below ``tol`` times the mean spacing.
+        Stop when the largest vertex move is below ``tol`` times the mean spacing (for
+        ``ccvt`` with a size field, the local spacing the field asks for).
     max_iter
         Iteration cap; a capped run returns its mesh with ``converged = False``.
     density
@@ -117,6 +120,12 @@ def mesh(
         The largest gradient of ``size``: sizes grow by at most this much per unit of
         distance, h(x) = min_y h(y) + g|x - y| (default 0.3; ``None`` leaves the field as
         given).
+    size_toward, size_threshold
+        Refine toward boundary loops or points, as Gmsh's Distance + Threshold fields do:
+        ``size_toward=["loop:1", "point:0.5,0.5"]`` (loop 0 is the outer boundary, then the
+        holes) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
+        to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
+        well, the smaller of the two is used.
 
     Raises
     ------
@@ -138,6 +147,8 @@ def mesh(
         progress=progress,
         size_min=size_min,
         size_max=size_max,
+        size_toward=list(size_toward),
+        size_threshold=size_threshold,
         gradation=gradation,
     )
 

@@ -1,5 +1,5 @@
 from os import PathLike
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,5 +29,7 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
+    size_toward: Sequence[str] = ...,
+    size_threshold: Optional[Tuple[float, float, float, float]] = None,
 ) -> Mesh: ...
 def measures(points: npt.ArrayLike, triangles: npt.ArrayLike, region: RegionLike) -> dict[str, float]: ...

@@ -1,7 +1,7 @@
 """Type stubs of the compiled module (see ``cvtmesh/__init__.py`` for the public layer)."""
 
 from os import PathLike
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -71,6 +71,8 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
+    size_toward: Sequence[str] = ...,
+    size_threshold: Optional[Tuple[float, float, float, float]] = None,
 ) -> Mesh: ...
 def measures(
     points: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], region: Region
