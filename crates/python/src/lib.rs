@@ -117,6 +117,33 @@ impl PyRegion {
         })
     }
 
+    /// A region of several disjoint parts, each an outer loop (k, 2) with its holes: `parts`
+    /// is a list of `(outer, [hole, ...])`. Loops are numbered part by part, outer loop first.
+    #[staticmethod]
+    #[pyo3(signature = (parts, name = "region"))]
+    #[allow(clippy::type_complexity)]
+    fn from_parts(
+        parts: Vec<(PyReadonlyArray2<'_, f64>, Vec<PyReadonlyArray2<'_, f64>>)>,
+        name: &str,
+    ) -> PyResult<PyRegion> {
+        if parts.is_empty() {
+            return Err(err("from_parts needs at least one (outer, holes) part"));
+        }
+        let mut loops = Vec::new();
+        for (p, (outer, holes)) in parts.iter().enumerate() {
+            loops.push((
+                LoopRole::Outer,
+                points_of(outer, &format!("part {p} outer"))?,
+            ));
+            for (i, h) in holes.iter().enumerate() {
+                loops.push((LoopRole::Hole, points_of(h, &format!("part {p} hole {i}"))?));
+            }
+        }
+        Ok(PyRegion {
+            inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
+        })
+    }
+
     /// The same region with only the corners where the boundary turns by more than
     /// `degrees` (digitized outlines have far fewer real corners than vertices).
     fn with_corner_angle(&self, degrees: f64) -> PyResult<PyRegion> {

@@ -381,3 +381,19 @@ def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
     channel = np.array([[0, 0], [10, 0], [10, 0.001], [0, 0.001]], dtype=float)
     with pytest.warns(RuntimeWarning, match=r"1\.000e-3 wide near .*K ≥ 2"):
         cvtmesh.mesh(channel, n=300)
+
+
+def test_regions_of_several_parts_from_arrays_mesh_every_part():
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    frame = np.array([[2, 0], [4, 0], [4, 2], [2, 2]], float)
+    hole = np.array([[2.5, 0.5], [2.5, 1.5], [3.5, 1.5], [3.5, 0.5]], float)
+    r = Region.from_parts([(square, []), (frame, [hole])], name="two")
+    assert r.num_parts == 2
+    assert r.area == pytest.approx(1 + 4 - 1)
+    m = cvtmesh.mesh(r, n=400)
+    assert len(m.points) == 400
+    # Vertices are shared by area: a quarter in the unit square.
+    in_square = np.count_nonzero(m.points[:, 0] <= 1 + 1e-12)
+    assert abs(in_square - 100) <= 2
+    with pytest.raises(MeshError, match="at least one"):
+        Region.from_parts([])
