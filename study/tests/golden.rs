@@ -11,21 +11,11 @@
 //!   platform the numbers are normally bit-identical whatever the optimisation level; the
 //!   slack absorbs reduction-order differences of parallel sums when the thread count differs.
 //! - `seconds` is not compared.
+mod common;
+use common::{baseline_path, close, ABS_TOL, REL_TOL};
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use std::path::PathBuf;
 use study::{job_list, run, Kind, Measure, MethodId, Row};
-
-const REL_TOL: f64 = 1e-6;
-const ABS_TOL: f64 = 1e-15;
-
-fn baseline_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join("results")
-        .join("csv")
-        .join("metrics.csv")
-}
 
 fn rel_diff(a: f64, b: f64) -> f64 {
     if a == b || (a.is_nan() && b.is_nan()) {
@@ -34,15 +24,9 @@ fn rel_diff(a: f64, b: f64) -> f64 {
     (a - b).abs() / a.abs().max(b.abs())
 }
 
-fn close(a: f64, b: f64) -> bool {
-    a == b
-        || (a.is_nan() && b.is_nan())
-        || (a - b).abs() <= REL_TOL * a.abs().max(b.abs()) + ABS_TOL
-}
-
 #[test]
 fn fast_subset_matches_the_committed_baseline() {
-    let path = baseline_path();
+    let path = baseline_path("metrics.csv");
     let committed: Vec<Row> = study::record::read_csv(&path).unwrap_or_else(|e| {
         panic!(
             "cannot read the baseline {} ({e}); create it with scripts/refresh_baseline.sh",

@@ -13,31 +13,15 @@
 //!   deterministic for a seed; the slack absorbs reduction-order differences of parallel
 //!   sums when the thread count differs.
 //! - `seconds` is not compared.
+mod common;
+use common::{baseline_path, close, ABS_TOL, REL_TOL};
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use std::path::PathBuf;
 use study::graded::{self, GradedRow, GRADED_METHODS};
-
-const REL_TOL: f64 = 1e-6;
-const ABS_TOL: f64 = 1e-15;
-
-fn baseline_path() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join("results")
-        .join("csv")
-        .join("graded.csv")
-}
-
-fn close(a: f64, b: f64) -> bool {
-    a == b
-        || (a.is_nan() && b.is_nan())
-        || (a - b).abs() <= REL_TOL * a.abs().max(b.abs()) + ABS_TOL
-}
 
 #[test]
 fn graded_subset_matches_the_committed_baseline() {
-    let path = baseline_path();
+    let path = baseline_path("graded.csv");
     let bytes = std::fs::read(&path)
         .unwrap_or_else(|e| panic!("cannot read the baseline {} ({e})", path.display()));
     let committed: Vec<GradedRow> =
