@@ -63,6 +63,22 @@ fn gamma_series(a: f64, x: f64) -> f64 {
     (sum * gamma_prefactor(a, x)).min(1.0)
 }
 
+/// One step of the modified Lentz method for a continued fraction with partial numerator
+/// `an` and denominator `bn`: updates C and D (kept away from zero) and returns the factor
+/// C·D that multiplies the running value.
+fn lentz(an: f64, bn: f64, c: &mut f64, d: &mut f64) -> f64 {
+    *d = bn + an * *d;
+    if d.abs() < TINY {
+        *d = TINY;
+    }
+    *c = bn + an / *c;
+    if c.abs() < TINY {
+        *c = TINY;
+    }
+    *d = 1.0 / *d;
+    *d * *c
+}
+
 /// Q(a, x) by its continued fraction, evaluated with the modified Lentz method (x ≥ a + 1).
 fn gamma_cf(a: f64, x: f64) -> f64 {
     let mut b = x + 1.0 - a;
@@ -72,16 +88,7 @@ fn gamma_cf(a: f64, x: f64) -> f64 {
     for i in 1..MAX_ITER {
         let an = -(i as f64) * (i as f64 - a);
         b += 2.0;
-        d = an * d + b;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = b + an / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
+        let del = lentz(an, b, &mut c, &mut d);
         h *= del;
         if (del - 1.0).abs() < EPS {
             break;
@@ -121,27 +128,9 @@ fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
         let m = m as f64;
         let m2 = 2.0 * m;
         let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        h *= d * c;
+        h *= lentz(aa, 1.0, &mut c, &mut d);
         let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
+        let del = lentz(aa, 1.0, &mut c, &mut d);
         h *= del;
         if (del - 1.0).abs() < EPS {
             break;

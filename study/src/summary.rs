@@ -79,22 +79,29 @@ fn score(
     for m in methods {
         s.wins.insert(*m, 0);
     }
-    for t in tables {
-        for m in Measure::QUALITY {
-            if untrustworthy(t.number, m) {
-                continue;
-            }
-            let w = winners(&values_for(agg, paper, t, m, methods, src));
-            if w.is_empty() {
-                continue;
-            }
-            s.pairs += 1;
-            for method in w {
-                *s.wins.entry(method).or_default() += 1;
-            }
+    for (t, m) in scored_cells(tables) {
+        let w = winners(&values_for(agg, paper, t, m, methods, src));
+        if w.is_empty() {
+            continue;
+        }
+        s.pairs += 1;
+        for method in w {
+            *s.wins.entry(method).or_default() += 1;
         }
     }
     s
+}
+
+/// The (table, quality measure) cells that are scored: all but Table 6's γ and h.
+fn scored_cells<'a>(
+    tables: &'a [&'a TableSpec],
+) -> impl Iterator<Item = (&'a TableSpec, Measure)> + 'a {
+    tables.iter().flat_map(|t| {
+        Measure::QUALITY
+            .into_iter()
+            .filter(move |&m| !untrustworthy(t.number, m))
+            .map(move |m| (*t, m))
+    })
 }
 
 /// Significant wins per method over the (table, quality measure) cells scored.
@@ -124,25 +131,20 @@ pub fn significant_score(
     for m in methods {
         s.wins.insert(*m, 0);
     }
-    for t in tables {
-        for m in Measure::QUALITY {
-            if untrustworthy(t.number, m) {
-                continue;
-            }
-            let test = test_cell(&cell_samples(rows, t.region, t.k, kind, m, methods), ALPHA);
-            if !test.scored() {
-                continue;
-            }
-            s.cells += 1;
-            if test.friedman.is_some_and(|f| f.p_value < ALPHA) {
-                s.differ += 1;
-            }
-            match test.winner {
-                Some(w) => *s.wins.entry(w).or_default() += 1,
-                None => s.ties += 1,
-            }
-            s.tests.insert((t.number, m), test);
+    for (t, m) in scored_cells(tables) {
+        let test = test_cell(&cell_samples(rows, t.region, t.k, kind, m, methods), ALPHA);
+        if !test.scored() {
+            continue;
         }
+        s.cells += 1;
+        if test.friedman.is_some_and(|f| f.p_value < ALPHA) {
+            s.differ += 1;
+        }
+        match test.winner {
+            Some(w) => *s.wins.entry(w).or_default() += 1,
+            None => s.ties += 1,
+        }
+        s.tests.insert((t.number, m), test);
     }
     s
 }
