@@ -10,6 +10,44 @@ import numpy as np
 MEASURES = "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p".split(",")
 
 
+def _resample(dense, h):
+    """Points along the open polyline `dense` at arc-length spacing ~h, both ends kept."""
+    dense = np.asarray(dense, float)
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
+    n = max(1, int(round(s[-1] / h)))
+    t = np.linspace(0.0, s[-1], n + 1)
+    return np.column_stack([np.interp(t, s, dense[:, 0]), np.interp(t, s, dense[:, 1])])
+
+
+def segment_points(seg, h):
+    """A curved segment (arc, superellipse, parametric) sampled at arc-length spacing ~h,
+    from its start to its end; a closed curve (superellipse) repeats its first point last.
+    A superellipse runs counter-clockwise; its loop's orientation decides the direction."""
+    k = seg["kind"]
+    if k == "arc":
+        c, r = seg["center"], seg["radius"]
+        t = np.radians(np.linspace(seg["from_deg"], seg["to_deg"], 4097))
+        dense = np.column_stack([c[0] + r * np.cos(t), c[1] + r * np.sin(t)])
+    elif k == "superellipse":
+        c, a, b, n = seg["center"], seg["a"], seg["b"], seg["exponent"]
+        t = np.linspace(0, 2 * math.pi, 16385)
+        ct, st = np.cos(t), np.sin(t)
+        dense = np.column_stack([c[0] + a * np.sign(ct) * np.abs(ct) ** (2 / n),
+                                 c[1] + b * np.sign(st) * np.abs(st) ** (2 / n)])
+        dense[-1] = dense[0]
+    elif k == "parametric":
+        dense = np.asarray(seg["points"], float)
+    else:
+        raise SystemExit(f"compare_tools: segment kind {k} not supported here")
+    return _resample(dense, h)
+
+
+def _same(a, b, d):
+    """Whether two boundary points coincide: a computed arc end and the corner stored in the
+    next piece differ by rounding only, and a near-duplicate vertex can crash Triangle."""
+    return np.allclose(a, b, rtol=0, atol=1e-9 * max(1.0, max(abs(v) for v in d["bbox"])))
+
+
 def loops_of(domain_file, h):
     """Boundary loops as (N,2) arrays, curves sampled at spacing ~h, outer first."""
     d = json.load(open(domain_file))
@@ -29,9 +67,12 @@ def loops_of(domain_file, h):
                 p = seg["points"]
                 if p[0] == p[-1]:
                     p = p[:-1]
-                pts += [tuple(q) for q in (p if not pts else p[1:] if tuple(p[0]) == pts[-1] else p)]
+                pts += [tuple(q) for q in (p if not pts or not _same(p[0], pts[-1], d) else p[1:])]
             else:
-                raise SystemExit(f"compare_tools: segment kind {k} not supported here")
+                p = segment_points(seg, h)
+                if k == "superellipse":
+                    p = p[:-1] if lp["orientation"] != "cw" else p[::-1][:-1]
+                pts += [tuple(q) for q in (p if not pts or not _same(p[0], pts[-1], d) else p[1:])]
         if len(pts) > 1 and np.allclose(pts[0], pts[-1]):
             pts = pts[:-1]
         loops.append(np.array(pts, float))
@@ -56,7 +97,11 @@ def compact(p, t):
     return p[used], remap[t]
 
 
-def run_triangle(domain_file, k, area):
+def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=None, tries=8):
+    """Triangle -pq<min_angle>a<A> with A searched to K. Without split_boundary, -Y keeps the
+    boundary as sampled (curves at spacing h, straight edges whole); with it Triangle splits
+    encroached boundary segments as its default does. `info` (a dict) receives the switches;
+    `tries` caps the search on A."""
     import triangle
     h = math.sqrt(2 * area / (math.sqrt(3) * k))
     d, loops = loops_of(domain_file, h)
@@ -69,29 +114,64 @@ def run_triangle(domain_file, k, area):
     holes = d.get("hole_points", [])
     a = math.sqrt(3) / 4 * h * h
     best = None
-    for _ in range(8):
+    for _ in range(tries):
         geom = {"vertices": verts, "segments": segs}
         if holes:
             geom["holes"] = holes
         t0 = time.perf_counter()
         # Triangle's switches take no exponent: "a5.4e-05" would be read as a5.4.
-        m = triangle.triangulate(geom, f"pq30a{a:.20f}Y")
+        switches = f"pq{min_angle:g}a{a:.20f}" + ("" if split_boundary else "Y")
+        m = triangle.triangulate(geom, switches)
         sec = time.perf_counter() - t0
         kk = len(m["vertices"])
         if best is None or abs(kk - k) < abs(best[2] - k):
             best = (m["vertices"], m["triangles"], kk, sec)
+            if info is not None:
+                info["switches"] = switches
         if abs(kk - k) <= 0.005 * k:
             break
         a *= kk / k
     return best[0], best[1], best[3]
 
 
-def run_gmsh(domain_file, k, area, algo):
+def _gmsh_curved_loop(gmsh, d, lp, h):
+    """A curve loop of lines (polyline pieces) and splines through points ~h/8 apart (curved
+    pieces): a chain of lines would make every sample point a mesh vertex."""
+    occ = gmsh.model.occ
+    tol = 1e-9 * max(1.0, max(abs(v) for v in d["bbox"]))
+    made = []  # (tag, xy): pieces share their end points, and the loop closes on its first
+
+    def point(xy):
+        for tag, q in made[-1:] + made[:1]:
+            if np.allclose(xy, q, rtol=0, atol=tol):
+                return tag
+        made.append((occ.addPoint(float(xy[0]), float(xy[1]), 0), np.asarray(xy, float)))
+        return made[-1][0]
+
+    curves = []
+    for seg in lp["segments"]:
+        if seg["kind"] == "polyline":
+            ids = [point(q) for q in seg["points"]]
+            curves += [occ.addLine(a, b) for a, b in zip(ids, ids[1:]) if a != b]
+            continue
+        chain = segment_points(seg, h / 8)
+        if seg["kind"] == "superellipse" and lp["orientation"] == "cw":
+            chain = chain[::-1]
+        # A closed piece ends on its first point, which Gmsh makes a periodic spline.
+        curves.append(occ.addSpline([point(q) for q in chain]))
+    return occ.addCurveLoop(curves)
+
+
+def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=True):
+    """Gmsh algorithm `algo` at a uniform size searched to K; `info` (a dict) receives the size.
+    Gmsh extends the sizes of the boundary's 1-D mesh inward, below Mesh.MeshSizeMin: a short
+    edge split in two then halves the spacing around it (square_two_hex: K jumps from 145 to
+    277 between sizes 0.100 and 0.099). size_from_boundary=False turns that off."""
     import gmsh
     h0 = math.sqrt(2 * area / (math.sqrt(3) * k))
     d, loops = loops_of(domain_file, h0 / 4)
     best, h = None, h0
-    for _ in range(5):
+    for _ in range(tries):
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("m")
@@ -101,6 +181,8 @@ def run_gmsh(domain_file, k, area, algo):
             if len(seg) == 1 and seg[0]["kind"] == "circle":
                 c, r = seg[0]["center"], seg[0]["radius"]
                 cl = gmsh.model.occ.addCurveLoop([gmsh.model.occ.addCircle(c[0], c[1], 0, r)])
+            elif any(s["kind"] not in ("polyline", "circle") for s in seg):
+                cl = _gmsh_curved_loop(gmsh, d, d["loops"][i], h0)
             else:
                 pts = [gmsh.model.occ.addPoint(x, y, 0) for x, y in lp]
                 lines = [gmsh.model.occ.addLine(pts[j], pts[(j + 1) % len(pts)]) for j in range(len(pts))]
@@ -111,6 +193,8 @@ def run_gmsh(domain_file, k, area, algo):
         gmsh.option.setNumber("Mesh.MeshSizeMin", h)
         gmsh.option.setNumber("Mesh.MeshSizeMax", h)
         gmsh.option.setNumber("Mesh.Algorithm", algo)
+        if not size_from_boundary:
+            gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         t0 = time.perf_counter()
         gmsh.model.mesh.generate(2)
         sec = time.perf_counter() - t0
@@ -123,6 +207,8 @@ def run_gmsh(domain_file, k, area, algo):
         p, tri = compact(p, tri)
         if best is None or abs(len(p) - k) < abs(len(best[0]) - k):
             best = (p, tri, sec)
+            if info is not None:
+                info["size"] = h
         if abs(len(p) - k) <= 0.01 * k:
             break
         h *= math.sqrt(len(p) / k)

@@ -19,6 +19,7 @@ mod measure;
 pub mod methods;
 pub mod output;
 pub mod paper;
+pub mod peers;
 pub mod record;
 pub mod run;
 pub mod significance;
@@ -65,6 +66,11 @@ pub struct StudyOptions {
     pub graded: bool,
     /// Methods of the graded comparison ([`graded::GRADED_METHODS`] by default).
     pub graded_methods: Vec<MethodId>,
+    /// Also mesh the tables of `regions` with the real Triangle and Gmsh ([`peers`]; false by
+    /// default). Not with a shard.
+    pub real_peers: bool,
+    /// The Python interpreter for [`peers`] (`None`: [`peers::default_python`]).
+    pub python: Option<PathBuf>,
 }
 
 impl Default for StudyOptions {
@@ -81,6 +87,8 @@ impl Default for StudyOptions {
             paper: true,
             graded: true,
             graded_methods: graded::GRADED_METHODS.to_vec(),
+            real_peers: false,
+            python: None,
         }
     }
 }
@@ -174,6 +182,11 @@ pub fn run_study(
             opts.seeds
         )));
     }
+    if opts.real_peers && opts.shard.is_some() {
+        return Err(StudyError::BadOption(
+            "--real-peers runs without --shard (its runs are few and cheap)".into(),
+        ));
+    }
     let jobs = opts.jobs();
     let names: Vec<&'static str> = {
         let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
@@ -233,6 +246,9 @@ pub fn run_study(
         write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
     }
     run_graded_part(opts, on_event, &mut out)?;
+    if opts.real_peers {
+        run_peers_part(opts, on_event, &mut out)?;
+    }
     if opts.shard.is_none() {
         let report = write_report(&opts.out)?;
         out.written.extend(report.written);
@@ -286,6 +302,49 @@ fn run_graded_part(
     }
     out.written
         .extend(graded::write_graded(&opts.out, &mut rows, &mut failures)?);
+    Ok(())
+}
+
+/// The real tools' part of [`run_study`]: check the interpreter (without it, a note and
+/// nothing else), run both tools on the selected tables and write `csv/real_peers.csv`,
+/// keeping the rows of tables not run (unless `fresh`).
+fn run_peers_part(
+    opts: &StudyOptions,
+    on_event: &(dyn Fn(Event<'_>) + Sync),
+    out: &mut Outcome,
+) -> Result<(), StudyError> {
+    let python = opts.python.clone().unwrap_or_else(peers::default_python);
+    let tools = match peers::check_python(&python) {
+        Ok(t) => t,
+        Err(why) => {
+            out.notes.push(why);
+            return Ok(());
+        }
+    };
+    out.notes.push(format!(
+        "real peers: {} with {}",
+        tools.python.display(),
+        tools.versions
+    ));
+    let mut rows = peers::run_peers(&tools, &opts.out, &opts.regions, &|label, ok, secs| {
+        on_event(Event::PeerFinished(label, ok, secs))
+    })?;
+    let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
+    if failed > 0 {
+        out.notes.push(format!(
+            "real peers: {failed} of {} runs failed (listed in real_peers.md)",
+            rows.len()
+        ));
+    }
+    if !opts.fresh {
+        let ran: BTreeSet<u8> = rows.iter().map(|r| r.table).collect();
+        rows.extend(
+            peers::read_peers(&opts.out)?
+                .into_iter()
+                .filter(|r| !ran.contains(&r.table)),
+        );
+    }
+    out.written.push(peers::write_peers(&opts.out, &mut rows)?);
     Ok(())
 }
 
@@ -462,6 +521,8 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
         .extend(figures::draw_figures(dir, &regions, &meshes, &methods)?);
     out.written
         .extend(graded::write_graded_report(dir, &mut out.notes)?);
+    out.written
+        .extend(peers::write_peers_report(dir, &rows, &paper)?);
     Ok(out)
 }
 

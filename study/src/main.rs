@@ -48,6 +48,15 @@ struct Cli {
     /// Run only the graded comparison: three size-field cases at K = 1500, default methods refine, distmesh, ccvt (--methods chooses others). --regions does not apply to it.
     #[arg(long)]
     graded_only: bool,
+    /// Also mesh every selected table with the real Triangle and the real Gmsh (Frontal-Delaunay) through scripts/real_peers.py, scored like every method: real_peers.md and csv/real_peers*.csv. Without the Python packages: a note, and the study runs as without the flag.
+    #[arg(long, conflicts_with = "shard")]
+    real_peers: bool,
+    /// Run only the real tools (as --real-peers) and redraw DIR's report: adds them to a finished run.
+    #[arg(long, conflicts_with_all = ["shard", "graded_only"])]
+    real_peers_only: bool,
+    /// Python interpreter with numpy, triangle and gmsh for --real-peers (default: $CVTMESH_PYTHON, else this repository's scripts/.venv/bin/python, made by scripts/compare_tools.sh).
+    #[arg(long, value_name = "PATH")]
+    python: Option<PathBuf>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -76,8 +85,10 @@ fn options(cli: &Cli) -> anyhow::Result<StudyOptions> {
         out: cli.out.clone(),
         threads: cli.jobs,
         fresh: cli.fresh,
-        paper: !cli.graded_only,
-        graded: !cli.no_graded,
+        paper: !cli.graded_only && !cli.real_peers_only,
+        graded: !cli.no_graded && !cli.real_peers_only,
+        real_peers: cli.real_peers || cli.real_peers_only,
+        python: cli.python.clone(),
         ..StudyOptions::default()
     };
     if let Some(r) = &cli.regions {
@@ -164,7 +175,12 @@ fn real_main() -> anyhow::Result<ExitCode> {
             let opts = options(&cli)?;
             let jobs = opts.jobs();
             let graded_jobs = opts.graded_jobs();
-            let total = jobs.len() + graded_jobs.len();
+            let peer_runs = if opts.real_peers {
+                study::peers::peer_runs(&opts.regions).len()
+            } else {
+                0
+            };
+            let total = jobs.len() + graded_jobs.len() + peer_runs;
             let bar = ProgressBar::new(total as u64);
             bar.set_style(
                 ProgressStyle::with_template(
@@ -178,12 +194,17 @@ fn real_main() -> anyhow::Result<ExitCode> {
                 .filter(|t| opts.regions.contains(&t.region))
                 .count();
             bar.println(format!(
-                "study: {} jobs ({} tables × {} methods × {} seeds, {} graded{}) on {} threads → {}",
+                "study: {} jobs ({} tables × {} methods × {} seeds, {} graded{}{}) on {} threads → {}",
                 total,
                 if opts.paper { n_tables } else { 0 },
                 opts.methods.len(),
                 opts.seeds + 1 - opts.first_seed,
                 graded_jobs.len(),
+                if peer_runs > 0 {
+                    format!(", {peer_runs} real-tool runs")
+                } else {
+                    String::new()
+                },
                 opts.shard.map_or(String::new(), |s| format!(
                     ", shard {}/{}",
                     s.index, s.count
@@ -210,7 +231,9 @@ fn real_main() -> anyhow::Result<ExitCode> {
             };
             let on_event = |e: Event<'_>| match e {
                 Event::Started(_) | Event::GradedStarted(_) => show(&|r| r.push(e.label())),
-                Event::Finished(_, ok, secs) | Event::GradedFinished(_, ok, secs) => {
+                Event::Finished(_, ok, secs)
+                | Event::GradedFinished(_, ok, secs)
+                | Event::PeerFinished(_, ok, secs) => {
                     let label = e.label();
                     show(&|r| r.retain(|l| *l != label));
                     bar.inc(1);

@@ -58,6 +58,9 @@ pub enum Event<'a> {
     GradedStarted(&'a GradedJob),
     /// A graded job finished, as [`Event::Finished`].
     GradedFinished(&'a GradedJob, bool, f64),
+    /// A real tool's run (`--real-peers`) finished: its label, whether it worked, its wall
+    /// time in seconds (the driver's whole run).
+    PeerFinished(&'a str, bool, f64),
 }
 
 impl Event<'_> {
@@ -66,6 +69,7 @@ impl Event<'_> {
         match self {
             Event::Started(j) | Event::Finished(j, ..) => j.label(),
             Event::GradedStarted(j) | Event::GradedFinished(j, ..) => j.label(),
+            Event::PeerFinished(label, ..) => label.to_string(),
         }
     }
 }
