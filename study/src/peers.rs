@@ -819,7 +819,9 @@ fn render_runs(out: &mut String, peers: &[PeerRow]) {
          | ---: | :--- | :--- | ---: | ---: | ---: | ---: | :--- |\n",
     );
     for p in peers {
-        let tool = p.peer_id().map_or(p.peer.clone(), |id| id.column().to_string());
+        let tool = p
+            .peer_id()
+            .map_or(p.peer.clone(), |id| id.column().to_string());
         if p.error.is_empty() {
             let _ = writeln!(
                 out,
