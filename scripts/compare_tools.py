@@ -48,8 +48,9 @@ def _same(a, b, d):
     return np.allclose(a, b, rtol=0, atol=1e-9 * max(1.0, max(abs(v) for v in d["bbox"])))
 
 
-def loops_of(domain_file, h):
-    """Boundary loops as (N,2) arrays, curves sampled at spacing ~h, outer first."""
+def loops_of(domain_file, h, split_lines=False):
+    """Boundary loops as (N,2) arrays, curves sampled at spacing ~h, outer first; straight
+    edges whole, or with split_lines also split at spacing ~h."""
     d = json.load(open(domain_file))
     loops = []
     for lp in d["loops"]:
@@ -67,6 +68,10 @@ def loops_of(domain_file, h):
                 p = seg["points"]
                 if p[0] == p[-1]:
                     p = p[:-1]
+                if split_lines:
+                    p = [tuple(q) for a, b in zip(seg["points"], seg["points"][1:])
+                         for q in _resample([a, b], h)[:-1]] + [tuple(seg["points"][-1])]
+                    p = p[:-1] if _same(p[0], p[-1], d) else p
                 pts += [tuple(q) for q in (p if not pts or not _same(p[0], pts[-1], d) else p[1:])]
             else:
                 p = segment_points(seg, h)
@@ -97,14 +102,15 @@ def compact(p, t):
     return p[used], remap[t]
 
 
-def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=None, tries=8):
+def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=None, tries=8,
+                 split_lines=False):
     """Triangle -pq<min_angle>a<A> with A searched to K. Without split_boundary, -Y keeps the
     boundary as sampled (curves at spacing h, straight edges whole); with it Triangle splits
     encroached boundary segments as its default does. `info` (a dict) receives the switches;
-    `tries` caps the search on A."""
+    `tries` caps the search on A; split_lines samples straight edges at spacing h too."""
     import triangle
     h = math.sqrt(2 * area / (math.sqrt(3) * k))
-    d, loops = loops_of(domain_file, h)
+    d, loops = loops_of(domain_file, h, split_lines)
     verts, segs, holes, off = [], [], [], 0
     for i, lp in enumerate(loops):
         n = len(lp)

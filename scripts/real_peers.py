@@ -5,7 +5,7 @@
         prints `real_peers: ok triangle=<version> gmsh=<version> numpy=<version>` and exits 0,
         or one line naming what is missing and exits 3.
     real_peers.py --tool triangle|gmsh-frontal --region REGION.json --k K --out BASE
-                  [--min-angle DEG] [--split-boundary]
+                  [--min-angle DEG] [--split-boundary] [--sample-straight]
         writes BASE.node and BASE.ele (1-based, Triangle's format) and prints one line
         `real_peers: tool=<tool> K=<vertices> triangles=<n> seconds=<mesher time> params=<...>`;
         on failure one line `real_peers: error <message>` and exit 1.
@@ -50,7 +50,8 @@ def run(a):
     info = {}
     if a.tool == "triangle":
         p, t, sec = ct.run_triangle(a.region, a.k, area, min_angle=a.min_angle,
-                                    split_boundary=a.split_boundary, info=info, tries=TRIANGLE_TRIES)
+                                    split_boundary=a.split_boundary, info=info, tries=TRIANGLE_TRIES,
+                                    split_lines=a.sample_straight)
         params = info.get("switches", "")
     else:
         # Gmsh's algorithm 6 is Frontal-Delaunay.
@@ -74,6 +75,8 @@ def main():
     ap.add_argument("--min-angle", type=float, default=20.0, help="Triangle's -q bound in degrees")
     ap.add_argument("--split-boundary", action="store_true",
                     help="let Triangle split boundary segments (without it, -Y keeps them as sampled)")
+    ap.add_argument("--sample-straight", action="store_true",
+                    help="give Triangle straight edges split at the spacing of K, as curves are")
     a = ap.parse_args()
     if a.check:
         return check()

@@ -552,13 +552,51 @@ pub fn peer_runs(regions: &[&str]) -> Vec<(&'static TableSpec, Peer)> {
         .collect()
 }
 
-/// Mesh one table with one tool through the driver and score it.
+/// How the real Triangle is run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleSettings {
+    /// `-q` bound in degrees.
+    pub min_angle_deg: f64,
+    /// Let Triangle split boundary segments (its default; without it `-Y` keeps the boundary
+    /// as sampled: curves at the hexagonal spacing of K, straight edges whole).
+    pub split_boundary: bool,
+    /// Give Triangle straight edges split at the hexagonal spacing of K, as curves are
+    /// (otherwise whole, as our `refine` gets them).
+    pub sample_straight: bool,
+}
+
+impl Default for TriangleSettings {
+    /// As our TRIANGLE: [`TRIANGLE_MIN_ANGLE_DEG`], and straight boundary edges split when
+    /// encroached (our `refine` splits them so).
+    fn default() -> Self {
+        TriangleSettings {
+            min_angle_deg: TRIANGLE_MIN_ANGLE_DEG,
+            split_boundary: true,
+            sample_straight: false,
+        }
+    }
+}
+
+/// Mesh one table with one tool through the driver, writing the mesh under `dir/meshes`,
+/// and score it. `triangle` applies to [`Peer::Triangle`] only.
+pub fn run_peer(
+    tools: &PythonTools,
+    dir: &Path,
+    table: &TableSpec,
+    peer: Peer,
+    triangle: &TriangleSettings,
+) -> Result<PeerRow, String> {
+    let scratch = Scratch::new()?;
+    run_one(tools, &scratch.0, dir, table, peer, triangle)
+}
+
 fn run_one(
     tools: &PythonTools,
     scratch: &Path,
     dir: &Path,
     table: &TableSpec,
     peer: Peer,
+    triangle: &TriangleSettings,
 ) -> Result<PeerRow, String> {
     let json = region_json(table.region)
         .ok_or_else(|| format!("no region file for '{}'", table.region))?;
@@ -578,10 +616,13 @@ fn run_one(
         .arg(&region_file)
         .arg("--out")
         .arg(&base)
-        .args(["--min-angle", &TRIANGLE_MIN_ANGLE_DEG.to_string()])
-        // Our refine splits straight boundary edges when encroached, as Triangle does by
-        // default; the real one is given the same freedom.
-        .arg("--split-boundary");
+        .args(["--min-angle", &triangle.min_angle_deg.to_string()]);
+    if triangle.split_boundary {
+        cmd.arg("--split-boundary");
+    }
+    if triangle.sample_straight {
+        cmd.arg("--sample-straight");
+    }
     let tag = format!("{}_{}", table.number, peer.tool());
     let (code, out, err) =
         run_captured(&mut cmd, scratch, &tag, RUN_LIMIT).map_err(|e| e.to_string())?;
@@ -611,8 +652,15 @@ pub fn run_peers(
     let mut rows = Vec::new();
     for (t, peer) in peer_runs(regions) {
         let start = Instant::now();
-        let row = run_one(tools, &scratch.0, dir, t, peer)
-            .unwrap_or_else(|e| PeerRow::failed(t, peer, &e));
+        let row = run_one(
+            tools,
+            &scratch.0,
+            dir,
+            t,
+            peer,
+            &TriangleSettings::default(),
+        )
+        .unwrap_or_else(|e| PeerRow::failed(t, peer, &e));
         on_run(
             &format!("{} K={} {}", t.region, t.k, peer.name()),
             row.error.is_empty(),
@@ -803,7 +851,7 @@ fn two(x: f64) -> String {
 
 /// τ and d at the paper's length scale (the paper's circle and annulus coordinates are
 /// halved; the other measures are scale-free), so a value can be set beside the paper's.
-fn paper_scale(region: &str, m: Measure, v: f64) -> f64 {
+pub fn at_paper_scale(region: &str, m: Measure, v: f64) -> f64 {
     let s = sample_scale(region);
     match m {
         Measure::Tau => v * s * s,
@@ -910,8 +958,8 @@ fn render_paper(out: &mut String, cells: &[PeerCell], paper: &PaperTables, table
             if untrustworthy(c.table, m) {
                 continue;
             }
-            vs_real.push((p.value, paper_scale(r, m, c.real)));
-            vs_ours.push((p.value, paper_scale(r, m, c.median())));
+            vs_real.push((p.value, at_paper_scale(r, m, c.real)));
+            vs_ours.push((p.value, at_paper_scale(r, m, c.median())));
         }
         let n_real = vs_real.iter().filter(|(p, x)| near(*p, *x)).count();
         let n_ours = vs_ours.iter().filter(|(p, x)| near(*p, *x)).count();
@@ -1027,7 +1075,7 @@ fn render_tables(
                         && r.kind == Kind::Exact
                         && r.method_id() == Some(MethodId::Triangle)
                 })
-                .map(|r| paper_scale(t.region, m, r.value(m)))
+                .map(|r| at_paper_scale(t.region, m, r.value(m)))
                 .collect();
             let _ = write!(
                 out,
@@ -1036,7 +1084,7 @@ fn render_tables(
                 format_cell(mean_std(&ours), m, exp)
             );
             for p in Peer::ALL {
-                let v = peer_row(p).map(|r| paper_scale(t.region, m, r.value(m)));
+                let v = peer_row(p).map(|r| at_paper_scale(t.region, m, r.value(m)));
                 let _ = write!(
                     out,
                     " {} |",
