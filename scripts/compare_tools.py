@@ -119,7 +119,7 @@ def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=
         off += n
     holes = d.get("hole_points", [])
     a = math.sqrt(3) / 4 * h * h
-    best = None
+    best, bracket = None, [None, None]
     for _ in range(tries):
         geom = {"vertices": verts, "segments": segs}
         if holes:
@@ -136,7 +136,7 @@ def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=
                 info["switches"] = switches
         if abs(kk - k) <= 0.005 * k:
             break
-        a *= kk / k
+        a = next_size(a, kk, k, kk / k, bracket)
     return best[0], best[1], best[3]
 
 
@@ -176,7 +176,7 @@ def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=
     import gmsh
     h0 = math.sqrt(2 * area / (math.sqrt(3) * k))
     d, loops = loops_of(domain_file, h0 / 4)
-    best, h = None, h0
+    best, h, bracket = None, h0, [None, None]
     for _ in range(tries):
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
@@ -217,7 +217,7 @@ def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=
                 info["size"] = h
         if abs(len(p) - k) <= 0.01 * k:
             break
-        h *= math.sqrt(len(p) / k)
+        h = next_size(h, len(p), k, math.sqrt(len(p) / k), bracket)
     return best
 
 
@@ -284,6 +284,22 @@ def _worker(q, fn, args):
         q.put((np.asarray(p), np.asarray(t), sec))
     except Exception as e:  # reported as a failed row
         q.put(e)
+
+
+def next_size(x, kk, k, step, bracket):
+    """The next size (area bound or mesh size; a larger one gives fewer vertices) after `x`
+    gave kk vertices for k wanted: the proportional step, unless it leaves the bracket the
+    runs so far have set, where K(x) jumps and the step cycles; then the bracket's geometric
+    middle. `bracket` is [too small, too large], updated here."""
+    if kk > k:
+        bracket[0] = x if bracket[0] is None else max(bracket[0], x)
+    elif kk < k:
+        bracket[1] = x if bracket[1] is None else min(bracket[1], x)
+    y = x * step
+    lo, hi = bracket
+    if lo is not None and hi is not None and not lo < y < hi:
+        y = math.sqrt(lo * hi)
+    return y
 
 
 def with_timeout(fn, args, timeout):
