@@ -43,14 +43,6 @@ const SIGMA_LLOYD: f64 = 1.0;
 // 12 runs (6 regions, seeds 2 and 3): caps of ∞ / 0.15 / 0.1 / 0.05 took 5462 / 4982 / 3881 /
 // 3951 evaluations in all.
 const STEP_CAP: f64 = 0.1;
-/// With a density, a rejected Newton step (global or active-set) is tried once more at this
-/// fraction of its length before the Lloyd step. Graded runs crawl for hundreds of evaluations
-/// where every full step is rejected (the shifted model positive definite and still wrong, σ
-/// cycling through Lloyd steps), and a shorter step along the same direction often lowers the
-/// energy. Uniform runs keep their paths.
-// The three cases of scripts/compare_graded.py at K = 10⁴, seeds 1–3: 4039 → 3068 evaluations
-// (circle 1665 → 1037, L-shape 1782 → 1476, square_hole 592 → 575); L-shape seed 1 865 → 256.
-const BACKTRACK: f64 = 0.25;
 /// Linear solves per step: after negative curvature, raise the local shifts and solve again.
 // Circle and lake at 10⁴ and 10⁵: 1 or 6 solves took 587 or 499 evaluations against 513 for 3
 // (the path changes, with no trend).
@@ -227,8 +219,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
             iterations += 1;
             continue;
         }
-        let (candidate, short) =
-            newton_point(phase, &z, &s, work, &mut buf, &mut sigma, &mut trace.prof);
+        let candidate = newton_point(phase, &z, &s, work, &mut buf, &mut sigma, &mut trace.prof);
         let next = step(phase, &candidate, work, &mut trace.prof);
         iterations += 1;
         if next.energy < s.energy {
@@ -237,15 +228,6 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
             sigma = (sigma * 0.5).max(SIGMA_MIN);
         } else {
             trace.prof.rejected += 1;
-            if let Some(short) = short.filter(|_| iterations + 2 <= phase.max_iter) {
-                let next = step(phase, &short, work, &mut trace.prof);
-                iterations += 1;
-                if next.energy < s.energy {
-                    z = short;
-                    s = next;
-                    continue;
-                }
-            }
             sigma = (sigma * 4.0).min(SIGMA_MAX);
             (z, s) = lloyd(phase, s, work, &mut trace.prof);
             iterations += 1;
@@ -293,7 +275,7 @@ fn newton_point(
     buf: &mut Buffers,
     sigma: &mut f64,
     prof: &mut Profile,
-) -> (Vec<DVec2>, Option<Vec<DVec2>>) {
+) -> Vec<DVec2> {
     let mut t = Instant::now();
     let del = &work.del;
     energy_hessian(del, phase.domain, phase.density, &work.cells, &mut buf.hess);
@@ -309,27 +291,23 @@ fn newton_point(
         prof,
     );
     let mut t = Instant::now();
-    let candidate = |alpha: f64| -> Vec<DVec2> {
-        // A point without a Newton move (a duplicate) goes to its Lloyd target.
-        (0..z.len())
-            .into_par_iter()
-            .map(|i| match del.vertex_index(i) {
-                Some(v) => moved_to(
-                    phase,
-                    z[i],
-                    buf.x[v] * alpha,
-                    buf.dofs[v],
-                    &buf.tangents,
-                    s.targets[i],
-                ),
-                None => s.targets[i],
-            })
-            .collect()
-    };
-    let full = candidate(1.0);
-    let short = (!phase.scale.is_uniform()).then(|| candidate(BACKTRACK));
+    // A point without a Newton move (a duplicate) goes to its Lloyd target.
+    let candidate = (0..z.len())
+        .into_par_iter()
+        .map(|i| match del.vertex_index(i) {
+            Some(v) => moved_to(
+                phase,
+                z[i],
+                buf.x[v],
+                buf.dofs[v],
+                &buf.tangents,
+                s.targets[i],
+            ),
+            None => s.targets[i],
+        })
+        .collect();
     prof.hessian += lap(&mut t);
-    (full, short)
+    candidate
 }
 
 /// Where a generator at `z` goes with the Newton move `x`: a long move is shortened to the
@@ -376,25 +354,22 @@ fn active_step(
     energy_hessian_rows(del, grid, phase.density, cells, set, &mut buf.hess);
     prof.hessian += lap(&mut t);
     newton_move(phase, z, s, work, Rows::Active(set), buf, sigma, prof);
-    let moves_at = |alpha: f64, z: &[DVec2], s: &Step, work: &Work| -> Vec<(u32, DVec2)> {
-        set.iter()
-            .enumerate()
-            .filter_map(|(r, &v)| {
-                let i = work.del.point_of_vertex(v as usize);
-                let p = moved_to(
-                    phase,
-                    z[i],
-                    buf.x[r] * alpha,
-                    buf.dofs[r],
-                    &buf.tangents,
-                    s.targets[i],
-                );
-                (p != z[i]).then_some((i as u32, p))
-            })
-            .collect()
-    };
-    let moves = moves_at(1.0, z, s, work);
-    let short = (!phase.scale.is_uniform()).then(|| moves_at(BACKTRACK, z, s, work));
+    let moves: Vec<(u32, DVec2)> = set
+        .iter()
+        .enumerate()
+        .filter_map(|(r, &v)| {
+            let i = work.del.point_of_vertex(v as usize);
+            let p = moved_to(
+                phase,
+                z[i],
+                buf.x[r],
+                buf.dofs[r],
+                &buf.tangents,
+                s.targets[i],
+            );
+            (p != z[i]).then_some((i as u32, p))
+        })
+        .collect();
     let e0 = s.energy;
     let undo = active::apply(phase, z, s, work, &moves, prof);
     if s.energy < e0 {
@@ -402,20 +377,11 @@ fn active_step(
         return 1;
     }
     prof.rejected += 1;
-    active::apply(phase, z, s, work, &undo, prof);
-    let mut evaluations = 3;
-    if let Some(short) = short {
-        let undo = active::apply(phase, z, s, work, &short, prof);
-        if s.energy < e0 {
-            return 3;
-        }
-        active::apply(phase, z, s, work, &undo, prof);
-        evaluations += 2;
-    }
     *sigma = (*sigma * 4.0).min(SIGMA_MAX);
+    active::apply(phase, z, s, work, &undo, prof);
     let m = active::lloyd_moves(z, s, work, set);
     active::apply(phase, z, s, work, &m, prof);
-    evaluations
+    3
 }
 
 /// Newton's move for the rows `rows` (whose Hessian block is in `buf.hess`), left in `buf.x`
