@@ -145,18 +145,25 @@ struct Engine<'a> {
     dropped: HashSet<[u32; 3]>,
 }
 
-/// Refine the constrained Delaunay triangulation of `pslg` inside `region`.
+/// Refine the constrained Delaunay triangulation of `pslg` inside `region`; `None` when two
+/// of its segments cross, as a chord of a curved piece split too coarsely can (it cuts across
+/// a neighbouring piece where the curve bends towards it).
 pub(crate) fn refine(
     region: &Region,
     pslg: Pslg,
     density: &Density,
     bounds: Bounds,
-) -> Result<Refined, MeshError> {
+) -> Result<Option<Refined>, MeshError> {
     let n = pslg.points.len();
     let verts: Vec<Point2<f64>> = pslg.points.iter().map(|p| pt(*p)).collect();
     let edges: Vec<[usize; 2]> = pslg.segments.iter().map(|s| [s.0, s.1]).collect();
-    let cdt = Cdt::bulk_load_cdt(verts, edges)
+    // spade's `bulk_load_cdt` panics on crossing segments; this one reports them.
+    let mut crossing = false;
+    let cdt = Cdt::try_bulk_load_cdt(verts, edges, |_| crossing = true)
         .map_err(|e| failed(format!("initial triangulation: {e:?}")))?;
+    if crossing {
+        return Ok(None);
+    }
     if cdt.num_vertices() != n || cdt.num_constraints() != pslg.segments.len() {
         return Err(failed(
             "boundary vertices coincide or boundary segments cross".into(),
@@ -218,13 +225,13 @@ pub(crate) fn refine(
         .vertices()
         .map(|v| DVec2::new(v.position().x, v.position().y))
         .collect();
-    Ok(Refined {
+    Ok(Some(Refined {
         points,
         kinds: e.kinds,
         triangles,
         complete,
         given_up: e.given_up,
-    })
+    }))
 }
 
 impl Engine<'_> {

@@ -219,3 +219,29 @@ fn a_run_that_reaches_its_step_cap_returns_its_mesh_not_converged() {
         .unwrap_err();
     assert!(e.to_string().contains("no complete refinement"), "{e}");
 }
+
+/// Found by the `mesh_loops` fuzz target: a pentagon whose default corners merge a bend of
+/// 28° into one polyline piece. At the coarse area bounds a search for K = 8 tries, that
+/// piece's single chord cuts across the neighbouring side, and the initial triangulation
+/// panicked on the crossing constraints.
+#[test]
+fn a_chord_crossing_the_boundary_at_a_coarse_bound_shrinks_the_bound_not_panics() {
+    let pts = [(2, 5), (11, 6), (15, 1), (12, 7), (2, 14)]
+        .map(|(x, y)| geometry::DVec2::new(x as f64, y as f64))
+        .to_vec();
+    let raw = Region::from_loops("pentagon", vec![(geometry::LoopRole::Outer, pts)]).unwrap();
+    let region = raw.with_default_corners();
+    assert_eq!(region.corners().len(), 4);
+    let m = Refine::default();
+    for max_iter in [10, 20, 60] {
+        let request = MeshRequest::points(8).tol(1e-2).max_iter(max_iter);
+        let r = m.mesh(&region, &request, &mut |_| {}).unwrap();
+        check_conforming(&r.mesh, &raw).unwrap();
+    }
+    // A fixed bound that coarse is refused with the reason.
+    let e = m
+        .refine_with_area(&region, 100.0, &Density::Uniform, 1000)
+        .unwrap_err();
+    assert!(matches!(e, MeshError::Failed { .. }), "{e:?}");
+    assert!(e.to_string().contains("crosses another piece"), "{e}");
+}
