@@ -124,7 +124,8 @@ impl Refine {
     /// Refine `region` once with area bound `max_area` and vertex budget `max_vertices`.
     ///
     /// Refused with [`MeshError::Failed`] when the bound is so coarse that a chord of a curved
-    /// piece, pre-split at the spacing it implies, crosses another piece of the boundary.
+    /// piece, pre-split at the spacing it implies, crosses another piece of the boundary or
+    /// runs through one of its vertices.
     pub fn refine_with_area(
         &self,
         region: &Region,
@@ -137,7 +138,7 @@ impl Refine {
                 method: "refine".into(),
                 message: format!(
                     "area bound {max_area:.6e} too coarse: a boundary chord pre-split at its \
-                     spacing crosses another piece of the boundary"
+                     spacing crosses another piece of the boundary or runs through its vertex"
                 ),
             })
     }
@@ -271,8 +272,8 @@ impl Mesher for Refine {
         let dist = |r: &Refinement| r.mesh.num_vertices().abs_diff(k);
         while steps < cap {
             steps += 1;
-            // A bound whose chords cross the boundary is too coarse: count it as too few
-            // vertices, so the search shrinks it.
+            // A bound whose chords cross the boundary or run through its vertices is too
+            // coarse: count it as too few vertices, so the search shrinks it.
             let run = self.refine_once(region, a, &request.density, budget)?;
             let got = match &run {
                 Some(r) if r.complete => r.mesh.num_vertices(),
