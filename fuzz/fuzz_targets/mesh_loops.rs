@@ -5,8 +5,8 @@
 //! The first byte picks the method and K (8–39), the second the iteration cap (1–8), the rest
 //! are the loops. A small cap is the point: robustness, not convergence, is under test, and a
 //! method stopped after one or two iterations must still hand back a conforming mesh. CCVT
-//! applies the cap per phase, so a cap of 4 or more is needed for its active-set steps, 3 for
-//! a Newton step; every cap in between is reached.
+//! applies the cap per phase: a Newton step needs a cap of 3 or more, an active-set step 4,
+//! and the range covers them as well as the single Lloyd step of a cap of 1.
 #![no_main]
 use cvtmesh::{check_conforming, MeshRequest, Method};
 use geometry::{DVec2, LoopRole, Region};
