@@ -1,41 +1,54 @@
 //! Regions built from fuzzed loops (small integer coordinates make collinear, touching and
 //! crossing loops common) and meshed at small K by every method: a conforming mesh or an
 //! error, never a panic.
+//!
+//! The first byte picks the method and K (8–39), the second the iteration cap (1–8), the rest
+//! are the loops. A small cap is the point: robustness, not convergence, is under test, and a
+//! method stopped after one or two iterations must still hand back a conforming mesh. CCVT
+//! applies the cap per phase: a Newton step needs a cap of 3 or more, an active-set step 4,
+//! and the range covers them as well as the single Lloyd step of a cap of 1.
 #![no_main]
 use cvtmesh::{check_conforming, MeshRequest, Method};
 use geometry::{DVec2, LoopRole, Region};
 use libfuzzer_sys::fuzz_target;
 
-fuzz_target!(|data: &[u8]| {
-    let Some((&head, rest)) = data.split_first() else {
-        return;
-    };
-    // Loops of 3 to 10 points, from byte pairs on a 16 × 16 grid.
-    let mut loops = Vec::new();
-    let mut bytes = rest;
-    while bytes.len() >= 6 && loops.len() < 4 {
-        let n = (3 + bytes[0] as usize % 8).min((bytes.len() - 1) / 2);
-        let pts: Vec<DVec2> = bytes[1..1 + 2 * n]
-            .chunks(2)
-            .map(|c| DVec2::new((c[0] % 16) as f64, (c[1] % 16) as f64))
-            .collect();
-        let role = if loops.is_empty() || bytes[0] & 0x80 == 0 {
-            LoopRole::Outer
-        } else {
-            LoopRole::Hole
+fuzz_target!(
+    init: {
+        // One fuzzing process is one core: rayon would otherwise start a worker per core.
+        let _ = rayon::ThreadPoolBuilder::new().num_threads(1).build_global();
+    },
+    |data: &[u8]| {
+        let [head, cap, rest @ ..] = data else {
+            return;
         };
-        loops.push((role, pts));
-        bytes = &bytes[1 + 2 * n..];
-    }
-    let Ok(region) = Region::from_loops("fuzz", loops) else {
-        return;
-    };
-    let method = Method::ALL[head as usize % Method::ALL.len()];
-    let k = 20 + (head as usize / 8) % 60;
-    let request = MeshRequest::points(k).tol(1e-2).max_iter(200);
-    if let Ok(result) = method.run(&region.with_default_corners(), &request) {
-        if let Err(e) = check_conforming(&result.mesh, &region) {
-            panic!("{method} K={k}: a mesh that does not conform: {e}");
+        // Loops of 3 to 10 points, from byte pairs on a 16 × 16 grid.
+        let mut loops = Vec::new();
+        let mut bytes = rest;
+        while bytes.len() >= 6 && loops.len() < 4 {
+            let n = (3 + bytes[0] as usize % 8).min((bytes.len() - 1) / 2);
+            let pts: Vec<DVec2> = bytes[1..1 + 2 * n]
+                .chunks(2)
+                .map(|c| DVec2::new((c[0] % 16) as f64, (c[1] % 16) as f64))
+                .collect();
+            let role = if loops.is_empty() || bytes[0] & 0x80 == 0 {
+                LoopRole::Outer
+            } else {
+                LoopRole::Hole
+            };
+            loops.push((role, pts));
+            bytes = &bytes[1 + 2 * n..];
+        }
+        let Ok(region) = Region::from_loops("fuzz", loops) else {
+            return;
+        };
+        let method = Method::ALL[*head as usize % Method::ALL.len()];
+        let k = 8 + (*head as usize / 8) % 32;
+        let max_iter = 1 + *cap as usize % 8;
+        let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
+        if let Ok(result) = method.run(&region.with_default_corners(), &request) {
+            if let Err(e) = check_conforming(&result.mesh, &region) {
+                panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");
+            }
         }
     }
-});
+);

@@ -145,19 +145,50 @@ struct Engine<'a> {
     dropped: HashSet<[u32; 3]>,
 }
 
-/// Refine the constrained Delaunay triangulation of `pslg` inside `region`.
+/// Refine the constrained Delaunay triangulation of `pslg` inside `region`; `None` when a
+/// segment crosses another or runs through a vertex, as a chord of a curved piece split too
+/// coarsely can (it cuts across, or runs along, a neighbouring piece where the curve bends
+/// towards it).
 pub(crate) fn refine(
     region: &Region,
     pslg: Pslg,
     density: &Density,
     bounds: Bounds,
-) -> Result<Refined, MeshError> {
+) -> Result<Option<Refined>, MeshError> {
     let n = pslg.points.len();
     let verts: Vec<Point2<f64>> = pslg.points.iter().map(|p| pt(*p)).collect();
     let edges: Vec<[usize; 2]> = pslg.segments.iter().map(|s| [s.0, s.1]).collect();
-    let cdt = Cdt::bulk_load_cdt(verts, edges)
+    // spade's `bulk_load_cdt` panics on crossing segments; this one reports them.
+    let mut crossing = false;
+    let cdt = Cdt::try_bulk_load_cdt(verts, edges, |_| crossing = true)
         .map_err(|e| failed(format!("initial triangulation: {e:?}")))?;
-    if cdt.num_vertices() != n || cdt.num_constraints() != pslg.segments.len() {
+    if cdt.num_vertices() != n {
+        return Err(failed(
+            "boundary vertices coincide or boundary segments cross".into(),
+        ));
+    }
+    // A segment through another's vertex is split there by spade without a report, and one
+    // along another merges with it: the refinement would then chase a sliver of zero width
+    // until its vertex budget ran out. Neither is an edge of the triangulation, nor is either
+    // of two that cross. In a valid region only the chords of curved pieces, which a finer
+    // spacing moves, can do that.
+    let missing = pslg.segments.iter().any(|&(a, b, _)| {
+        !cdt.get_edge_from_neighbors(vh(a as u32), vh(b as u32))
+            .is_some_and(|e| e.is_constraint_edge())
+    });
+    if crossing || missing {
+        let chords = pslg
+            .segments
+            .iter()
+            .any(|&(_, _, piece)| is_curved(&region.pieces()[piece]));
+        if chords {
+            return Ok(None);
+        }
+        return Err(failed(
+            "boundary segments cross or run through a boundary vertex".into(),
+        ));
+    }
+    if cdt.num_constraints() != pslg.segments.len() {
         return Err(failed(
             "boundary vertices coincide or boundary segments cross".into(),
         ));
@@ -218,13 +249,13 @@ pub(crate) fn refine(
         .vertices()
         .map(|v| DVec2::new(v.position().x, v.position().y))
         .collect();
-    Ok(Refined {
+    Ok(Some(Refined {
         points,
         kinds: e.kinds,
         triangles,
         complete,
         given_up: e.given_up,
-    })
+    }))
 }
 
 impl Engine<'_> {

@@ -122,6 +122,10 @@ pub struct Refinement {
 
 impl Refine {
     /// Refine `region` once with area bound `max_area` and vertex budget `max_vertices`.
+    ///
+    /// Refused with [`MeshError::Failed`] when the bound is so coarse that a chord of a curved
+    /// piece, pre-split at the spacing it implies, crosses another piece of the boundary or
+    /// runs through one of its vertices.
     pub fn refine_with_area(
         &self,
         region: &Region,
@@ -129,6 +133,24 @@ impl Refine {
         density: &Density,
         max_vertices: usize,
     ) -> Result<Refinement, MeshError> {
+        self.refine_once(region, max_area, density, max_vertices)?
+            .ok_or_else(|| MeshError::Failed {
+                method: "refine".into(),
+                message: format!(
+                    "area bound {max_area:.6e} too coarse: a boundary chord pre-split at its \
+                     spacing crosses another piece of the boundary or runs through its vertex"
+                ),
+            })
+    }
+
+    /// [`Refine::refine_with_area`], with `None` for a bound too coarse for the curved pieces.
+    fn refine_once(
+        &self,
+        region: &Region,
+        max_area: f64,
+        density: &Density,
+        max_vertices: usize,
+    ) -> Result<Option<Refinement>, MeshError> {
         if !(max_area.is_finite() && max_area > 0.0) {
             return Err(MeshError::BadRequest(format!(
                 "area bound must be positive, got {max_area}"
@@ -148,7 +170,9 @@ impl Refine {
                     .saturating_add(1000)
             }),
         };
-        let r = engine::refine(region, pslg, density, bounds)?;
+        let Some(r) = engine::refine(region, pslg, density, bounds)? else {
+            return Ok(None);
+        };
         let markers = r
             .points
             .iter()
@@ -159,7 +183,7 @@ impl Refine {
                 VKind::Boundary(piece) => VertexMarker::on_piece(region, *p, piece),
             })
             .collect();
-        Ok(Refinement {
+        Ok(Some(Refinement {
             mesh: Mesh {
                 points: r.points,
                 triangles: r.triangles,
@@ -169,7 +193,7 @@ impl Refine {
             boundary_spacing: spacing,
             complete: r.complete,
             given_up: r.given_up,
-        })
+        }))
     }
 
     fn check(&self) -> Result<(), MeshError> {
@@ -248,11 +272,13 @@ impl Mesher for Refine {
         let dist = |r: &Refinement| r.mesh.num_vertices().abs_diff(k);
         while steps < cap {
             steps += 1;
-            let r = self.refine_with_area(region, a, &request.density, budget)?;
-            let got = if r.complete {
-                r.mesh.num_vertices()
-            } else {
-                usize::MAX
+            // A bound whose chords cross the boundary or run through its vertices is too
+            // coarse: count it as too few vertices, so the search shrinks it.
+            let run = self.refine_once(region, a, &request.density, budget)?;
+            let got = match &run {
+                Some(r) if r.complete => r.mesh.num_vertices(),
+                Some(_) => usize::MAX,
+                None => 0,
             };
             progress(Progress {
                 iteration: steps,
@@ -261,12 +287,10 @@ impl Mesher for Refine {
                 max_move: got.abs_diff(k) as f64 / k as f64,
             });
             request.check_cancel(self.name(), steps)?;
-            let better = match &best {
-                None => true,
-                Some(b) => dist(&r) < dist(b),
-            };
-            if r.complete && better {
-                best = Some(r);
+            if let Some(r) = run.filter(|r| r.complete) {
+                if best.as_ref().is_none_or(|b| dist(&r) < dist(b)) {
+                    best = Some(r);
+                }
             }
             if got == k {
                 converged = true;

@@ -219,3 +219,56 @@ fn a_run_that_reaches_its_step_cap_returns_its_mesh_not_converged() {
         .unwrap_err();
     assert!(e.to_string().contains("no complete refinement"), "{e}");
 }
+
+/// Found by the `mesh_loops` fuzz target: a pentagon whose default corners merge a bend of
+/// 28° into one polyline piece. At the coarse area bounds a search for K = 8 tries, that
+/// piece's single chord cuts across the neighbouring side, and the initial triangulation
+/// panicked on the crossing constraints.
+#[test]
+fn a_chord_crossing_the_boundary_at_a_coarse_bound_shrinks_the_bound_not_panics() {
+    let pts = [(2, 5), (11, 6), (15, 1), (12, 7), (2, 14)]
+        .map(|(x, y)| geometry::DVec2::new(x as f64, y as f64))
+        .to_vec();
+    let raw = Region::from_loops("pentagon", vec![(geometry::LoopRole::Outer, pts)]).unwrap();
+    let region = raw.with_default_corners();
+    assert_eq!(region.corners().len(), 4);
+    let m = Refine::default();
+    for max_iter in [10, 20, 60] {
+        let request = MeshRequest::points(8).tol(1e-2).max_iter(max_iter);
+        let r = m.mesh(&region, &request, &mut |_| {}).unwrap();
+        check_conforming(&r.mesh, &raw).unwrap();
+    }
+    // A fixed bound that coarse is refused with the reason.
+    let e = m
+        .refine_with_area(&region, 100.0, &Density::Uniform, 1000)
+        .unwrap_err();
+    assert!(matches!(e, MeshError::Failed { .. }), "{e:?}");
+    assert!(e.to_string().contains("crosses another piece"), "{e}");
+}
+
+/// Found by the `mesh_loops` fuzz target as a hang: a hexagon whose default corners merge
+/// (15, 15), (2, 8), (0, 5) into one polyline piece. At a coarse bound that piece is one chord
+/// from (15, 15) to (0, 5), which runs exactly through the vertex (9, 11) and along the side
+/// from there to (0, 5). spade split the chord at the vertex without a word, and the
+/// refinement chased the sliver of zero width until its vertex budget ran out: 1100 boundary
+/// vertices and 2 s for each such step of the search at K = 10.
+#[test]
+fn a_chord_through_a_vertex_of_another_piece_is_too_coarse_not_refined_to_the_budget() {
+    let pts = [(15, 15), (3, 0), (0, 0), (9, 11), (0, 5), (2, 8)]
+        .map(|(x, y)| geometry::DVec2::new(x as f64, y as f64))
+        .to_vec();
+    let raw = Region::from_loops("hexagon", vec![(geometry::LoopRole::Outer, pts)]).unwrap();
+    let region = raw.with_default_corners();
+    assert_eq!(region.corners().len(), 5);
+    let m = Refine::default();
+    let e = m
+        .refine_with_area(&region, 150.0, &Density::Uniform, 1100)
+        .unwrap_err();
+    assert!(e.to_string().contains("runs through its vertex"), "{e}");
+    for max_iter in [4, 5, 20] {
+        let request = MeshRequest::points(10).tol(1e-2).max_iter(max_iter);
+        let r = m.mesh(&region, &request, &mut |_| {}).unwrap();
+        check_conforming(&r.mesh, &raw).unwrap();
+        assert!(r.mesh.num_vertices() < 50, "{}", r.mesh.num_vertices());
+    }
+}
