@@ -10,7 +10,7 @@ import argparse, csv, json, math, os, re, subprocess, sys, time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from compare_tools import loops_of, write_node_ele, compact  # noqa: E402
+from compare_tools import loops_of, write_node_ele, gmsh_generate  # noqa: E402
 
 # name, region, toward (cvtmesh syntax), size ratio hmax/hmin, (dmin, dmax). Distances are in
 # the region's own coordinates, as both Gmsh and cvtmesh read them. The lake is in map units
@@ -101,17 +101,7 @@ def gmsh_mesh(path, toward, hmin, ratio, dists):
     for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber("Mesh." + opt, 0)
     gmsh.option.setNumber("Mesh.Algorithm", 6)
-    t0 = time.perf_counter()
-    gmsh.model.mesh.generate(2)
-    sec = time.perf_counter() - t0
-    tags, xyz, _ = gmsh.model.mesh.getNodes()
-    _, _, enodes = gmsh.model.mesh.getElements(2)
-    gmsh.finalize()
-    p = xyz.reshape(-1, 3)[:, :2]
-    index = {int(tg): i for i, tg in enumerate(tags)}
-    tri = np.array([index[int(n)] for n in enodes[0]]).reshape(-1, 3)
-    p, tri = compact(p, tri)
-    return p, tri, sec
+    return gmsh_generate(gmsh)
 
 
 def field_args(toward, hmin, ratio, dists):

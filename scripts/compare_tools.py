@@ -168,6 +168,22 @@ def _gmsh_curved_loop(gmsh, d, lp, h):
     return occ.addCurveLoop(curves)
 
 
+def gmsh_generate(gmsh):
+    """Mesh the current Gmsh model in 2D, timed around `generate` alone; finalizes Gmsh and
+    returns the used vertices and the triangles (renumbered) and the seconds."""
+    t0 = time.perf_counter()
+    gmsh.model.mesh.generate(2)
+    sec = time.perf_counter() - t0
+    tags, xyz, _ = gmsh.model.mesh.getNodes()
+    _, _, enodes = gmsh.model.mesh.getElements(2)
+    gmsh.finalize()
+    p = xyz.reshape(-1, 3)[:, :2]
+    index = {int(tg): i for i, tg in enumerate(tags)}
+    tri = np.array([index[int(n)] for n in enodes[0]]).reshape(-1, 3)
+    p, tri = compact(p, tri)
+    return p, tri, sec
+
+
 def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=True):
     """Gmsh algorithm `algo` at a uniform size searched to K; `info` (a dict) receives the size.
     Gmsh extends the sizes of the boundary's 1-D mesh inward, below Mesh.MeshSizeMin: a short
@@ -201,16 +217,7 @@ def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=
         gmsh.option.setNumber("Mesh.Algorithm", algo)
         if not size_from_boundary:
             gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        t0 = time.perf_counter()
-        gmsh.model.mesh.generate(2)
-        sec = time.perf_counter() - t0
-        tags, xyz, _ = gmsh.model.mesh.getNodes()
-        et, etags, enodes = gmsh.model.mesh.getElements(2)
-        gmsh.finalize()
-        p = xyz.reshape(-1, 3)[:, :2]
-        index = {int(tg): i for i, tg in enumerate(tags)}
-        tri = np.array([index[int(n)] for n in enodes[0]]).reshape(-1, 3)
-        p, tri = compact(p, tri)
+        p, tri, sec = gmsh_generate(gmsh)
         if best is None or abs(len(p) - k) < abs(len(best[0]) - k):
             best = (p, tri, sec)
             if info is not None:
