@@ -539,6 +539,11 @@ impl Ctx<'_> {
             };
         }
 
+        let diam = if self.density.is_some() {
+            self.drop_far_outside(s, z, h + delta, diam)
+        } else {
+            diam
+        };
         let c = self.reference_point(s, z, diam);
         let wc = bnd.winding(z + c);
         let fan = self.fan(z + c);
@@ -660,6 +665,45 @@ impl Ctx<'_> {
             }
         }
         self.finish(mom, c, z, h, pieces)
+    }
+
+    /// Cut the convex cell `s.k` down to the smallest box |x − z|∞ ≤ r that holds every
+    /// boundary point in it (all within `reach` of z) and every vertex of it inside Ω, and
+    /// return the cell's new diameter (`diam` if it is kept whole).
+    ///
+    /// A generator on the hull, or on a shore facing land, has a convex cell that runs far
+    /// beyond its part in Ω: to the box around Ω, or across the land. The fan triangles then
+    /// span the whole convex cell, and the density's quadrature must cancel over it: on the
+    /// lake, corner cells came out with a negative mass and energies 10³ times their own.
+    /// Each part of the cell beyond the box meets no boundary, so it lies wholly inside or
+    /// wholly outside Ω; it holds a vertex of the cell (a part without one would lie along a
+    /// single edge whose two ends are in the box), which is outside Ω. Exact moments do not
+    /// change; only where the triangles lie.
+    fn drop_far_outside(&self, s: &mut Scratch, z: DVec2, reach: f64, diam: f64) -> f64 {
+        if max_norm(&s.k) <= 2.0 * reach {
+            return diam;
+        }
+        let r =
+            s.k.iter()
+                .filter(|&&v| self.bnd.inside(z + v))
+                .fold(reach, |r, v| r.max(v.x.abs()).max(v.y.abs()));
+        let r = 1.01 * r;
+        if max_norm(&s.k) <= 2.0 * r {
+            return diam;
+        }
+        for (axis, sign) in [
+            (DVec2::X, 1.0),
+            (DVec2::X, -1.0),
+            (DVec2::Y, 1.0),
+            (DVec2::Y, -1.0),
+        ] {
+            clip_closed(&s.k, &mut s.tmp, |x| r - sign * axis.dot(x));
+            std::mem::swap(&mut s.k, &mut s.tmp);
+        }
+        let (klo, khi) = bbox(&s.k);
+        let diam = (khi - klo).length();
+        dedupe(&mut s.k, 1e-12 * diam);
+        diam
     }
 
     /// Clip `s.chain` (closed ring or open polyline) by every edge of the convex cell `s.k`.
@@ -825,6 +869,55 @@ mod tests {
                     assert_eq!(a.pieces, b.pieces);
                 }
             }
+        }
+    }
+
+    /// Generators on the inner shores of a U have convex cells reaching across the gap; with a
+    /// density that is not a polynomial the fan's quadrature must not be spread over the gap.
+    #[test]
+    fn cells_across_a_gap_integrate_the_density_where_they_lie() {
+        let corners = [
+            (0.0, 0.0),
+            (20.0, 0.0),
+            (20.0, 20.0),
+            (15.0, 20.0),
+            (15.0, 5.0),
+            (5.0, 5.0),
+            (5.0, 20.0),
+            (0.0, 20.0),
+        ];
+        let domain = Polygon {
+            rings: vec![Ring {
+                points: corners.iter().map(|&(x, y)| DVec2::new(x, y)).collect(),
+                pieces: (0..8).collect(),
+                loop_index: 0,
+                hole: false,
+            }],
+        };
+        let rho = Density::Function(Arc::new(|p: DVec2| 1.0 + 0.9 * p.x.sin() * p.y.sin()));
+        // ∫ρ over [a, b] × [c, d], exactly.
+        let box_mass = |a: f64, b: f64, c: f64, d: f64| {
+            (b - a) * (d - c) + 0.9 * (a.cos() - b.cos()) * (c.cos() - d.cos())
+        };
+        let exact = box_mass(0.0, 20.0, 0.0, 20.0) - box_mass(5.0, 15.0, 5.0, 20.0);
+        let mut rng = Rng::new(3);
+        let mut pts = Vec::new();
+        for j in 0..80 {
+            for i in 0..80 {
+                let p = DVec2::new(0.25 * i as f64 + 0.125, 0.25 * j as f64 + 0.125)
+                    + 0.05 * DVec2::new(rng.uniform() - 0.5, rng.uniform() - 0.5);
+                if domain.contains(p) {
+                    pts.push(p);
+                }
+            }
+        }
+        let cells = clipped_cells(&pts, &Delaunay::new(&pts), &domain, &rho);
+        let total: f64 = cells.cells.iter().map(|c| c.mass).sum();
+        assert!((total - exact).abs() < 1e-9 * exact, "{total} vs {exact}");
+        for c in &cells.cells {
+            // ρ lies in [0.1, 1.9], and the cell within h of its generator.
+            assert!(c.mass >= 0.1 * c.area && c.mass <= 1.9 * c.area, "{c:?}");
+            assert!(c.energy > 0.0 && c.energy <= c.mass * c.h * c.h, "{c:?}");
         }
     }
 

@@ -2,6 +2,7 @@
 //! for one region and size field.
 //! `cargo run --release -p cvtmesh-tools --bin graded -- REGION 'H(x,y)' [K]`
 use cvtmesh::ccvt::{Algorithm, Generators};
+use cvtmesh::geometry::{Threshold, Toward};
 use cvtmesh::metrics::size_conformity;
 use cvtmesh::{Ccvt, Mesh, MeshRequest, Method, SizeField};
 use std::time::Instant;
@@ -19,12 +20,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?;
     // With K given, the field is scaled to ask for K itself, so that it is what the mesh should
     // follow.
-    let field = SizeField::from_expr(text)?;
+    // `toward:loop:0+point:1,2@HMIN,HMAX,DMIN,DMAX` is a distance field, anything else an
+    // expression.
+    let make = |scale: f64| -> Result<SizeField, Box<dyn std::error::Error>> {
+        Ok(match text.strip_prefix("toward:") {
+            Some(rest) => {
+                let (targets, t) = rest.split_once('@').ok_or("toward:TARGETS@H,H,D,D")?;
+                let targets: Vec<Toward> = targets
+                    .split('+')
+                    .map(str::parse)
+                    .collect::<Result<_, _>>()?;
+                let v: Vec<f64> = t.split(',').map(str::parse).collect::<Result<_, _>>()?;
+                let t = Threshold {
+                    size_min: v[0] * scale,
+                    size_max: v[1] * scale,
+                    dist_min: v[2],
+                    dist_max: v[3],
+                };
+                SizeField::threshold(&region, &targets, t)?
+            }
+            None => SizeField::from_expr(&format!("({text}) * {scale:e}"))?,
+        })
+    };
+    let field = make(1.0)?;
     let field = match k {
-        Some(k) => {
-            let scale = (field.predicted_points(&region) / k as f64).sqrt();
-            SizeField::from_expr(&format!("({text}) * {scale:e}"))?
-        }
+        Some(k) => make((field.predicted_points(&region) / k as f64).sqrt())?,
         None => field,
     };
     let mut request = MeshRequest::size_field(&field, &region, k)?;
@@ -80,13 +100,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Some(z) => ccvt.generators_from(&region, &request, z, &mut |_| {})?,
             None => ccvt.generators(&region, &request, &mut |_| {})?,
         };
-        let mesh = cvtmesh::tessellation::conforming_mesh(&g.points, &g.markers, &region)?;
-        report(
-            label,
-            t.elapsed().as_secs_f64(),
-            &mesh,
-            g.iterations,
-            g.converged,
+        eprintln!(
+            "{label}: {} evaluations, converged {}",
+            g.iterations, g.converged
         );
         if std::env::var_os("GRADED_TRACE").is_some() {
             let m = &g.move_history;
@@ -96,6 +112,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect();
             println!("  moves {}", picks.join(" "));
         }
+        let mesh = cvtmesh::tessellation::conforming_mesh(&g.points, &g.markers, &region)?;
+        report(
+            label,
+            t.elapsed().as_secs_f64(),
+            &mesh,
+            g.iterations,
+            g.converged,
+        );
         let p = &g.profile;
         println!(
             "{:<28} triangulation {:.2}  cells {:.2}  projection {:.2}  hessian {:.2}  solve {:.2}  convergence {:.2}  rejected {}  local {}  cg {}",
@@ -123,6 +147,53 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 },
                 None,
             )?,
+            // Which generators move most between evaluation N and N + 1 (N from GRADED_WHERE).
+            "w" => {
+                let n: usize = std::env::var("GRADED_WHERE")?.parse()?;
+                let at = |cap: usize| {
+                    let mut r = request.clone();
+                    r.max_iter = cap;
+                    Ccvt::default().generators(&region, &r, &mut |_| {})
+                };
+                let (a, b) = (at(n)?, at(n + 1)?);
+                let mut moves: Vec<(f64, usize)> = a
+                    .points
+                    .iter()
+                    .zip(&b.points)
+                    .enumerate()
+                    .map(|(i, (p, q))| ((*p - *q).length(), i))
+                    .collect();
+                moves.sort_by(|x, y| y.0.total_cmp(&x.0));
+                let omega = region.polygonize(1e-4 * request.spacing(&region));
+                let cells = |z: &[cvtmesh::DVec2]| {
+                    let d = cvtmesh::tessellation::Delaunay::new(z);
+                    cvtmesh::tessellation::clipped_cells(z, &d, &omega, &request.density)
+                };
+                let (ca, cb) = (cells(&a.points), cells(&b.points));
+                let mut jumps: Vec<(f64, usize)> = ca
+                    .cells
+                    .iter()
+                    .zip(&cb.cells)
+                    .enumerate()
+                    .map(|(i, (x, y))| ((x.energy - y.energy).abs(), i))
+                    .collect();
+                jumps.sort_by(|x, y| y.0.total_cmp(&x.0));
+                println!("  total energy {:.6e} -> {:.6e}", ca.energy(), cb.energy());
+                for &(d, i) in jumps.iter().take(6) {
+                    let (x, y) = (&ca.cells[i], &cb.cells[i]);
+                    println!(
+                        "  cell {i} at ({:.3}, {:.3}) {:?}: energy {:.4e} -> {:.4e} (jump {d:.3e}), mass {:.4e} -> {:.4e}, area {:.4e} -> {:.4e}, h {:.3} -> {:.3}",
+                        a.points[i].x, a.points[i].y, a.markers[i], x.energy, y.energy, x.mass, y.mass, x.area, y.area, x.h, y.h
+                    );
+                }
+                for &(d, i) in moves.iter().take(8) {
+                    println!(
+                        "  {i:>6} at ({:.3}, {:.3}) moved {d:.3e} ({:?} -> {:?}), energy {:.9e} -> {:.9e}",
+                        a.points[i].x, a.points[i].y, a.markers[i], b.markers[i],
+                        a.energy_history.last().unwrap_or(&0.0), b.energy_history.last().unwrap_or(&0.0)
+                    );
+                }
+            }
             _ => return Err(format!("unknown variant {w}").into()),
         }
     }
