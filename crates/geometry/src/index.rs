@@ -359,6 +359,19 @@ impl Index {
         hit
     }
 
+    /// Nearest boundary point over the elements of the pieces `keep` accepts.
+    pub fn nearest_where(&self, pieces: &[Piece], p: DVec2, keep: impl Fn(usize) -> bool) -> Hit {
+        let mut hit = Hit::NONE;
+        self.bvh.nearest(p, |e, best| {
+            if keep(self.elems[e as usize].piece as usize) {
+                self.eval(pieces, e, p, best, &mut hit)
+            } else {
+                f64::INFINITY
+            }
+        });
+        hit
+    }
+
     /// Nearest point on one piece.
     pub fn nearest_on_piece(&self, pieces: &[Piece], p: DVec2, piece: usize) -> Hit {
         let mut hit = Hit::NONE;

@@ -239,6 +239,21 @@ impl Region {
             d
         }
     }
+    /// Distance from `p` to the nearest of the pieces `keep` accepts (∞ if it accepts none),
+    /// by the same hierarchy as [`Region::signed_distance`].
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    /// let r = Region::builtin("square_hole")?; // the square [-1, 1]², a hole of radius 0.4
+    /// let hole: Vec<usize> = r.loops()[1].pieces.clone();
+    /// let d = r.distance_where(DVec2::new(0.9, 0.0), |piece| hole.contains(&piece));
+    /// assert!((d - 0.5).abs() < 1e-12);
+    /// assert!((r.signed_distance(DVec2::new(0.9, 0.0)) + 0.1).abs() < 1e-12);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn distance_where(&self, p: DVec2, keep: impl Fn(PieceId) -> bool) -> f64 {
+        self.index.nearest_where(&self.pieces, p, keep).d2.sqrt()
+    }
     /// Nearest boundary point over all pieces.
     ///
     /// When the nearest point is within 1e-12·diameter of a corner, the corner is reported

@@ -534,18 +534,25 @@ impl SizeField {
         let (lo, hi) = region.bbox();
         let extent = (hi - lo).max_element();
         let n = ((4.0 * extent / threshold.size_min).ceil() as usize).clamp(64, 1024);
+        let mut target_piece = vec![false; region.pieces().len()];
+        for t in toward {
+            if let Toward::Loop(i) = *t {
+                for &piece in &loops[i].pieces {
+                    target_piece[piece] = true;
+                }
+            }
+        }
         let distance = |p: DVec2| {
             toward
                 .iter()
-                .map(|t| match *t {
-                    Toward::Point(q) => (p - q).length(),
-                    Toward::Loop(i) => loops[i]
-                        .pieces
-                        .iter()
-                        .map(|&piece| region.project_onto_piece(p, piece).distance)
-                        .fold(f64::INFINITY, f64::min),
+                .filter_map(|t| match *t {
+                    Toward::Point(q) => Some((p - q).length()),
+                    Toward::Loop(_) => None,
                 })
-                .fold(f64::INFINITY, f64::min)
+                .fold(
+                    region.distance_where(p, |piece| target_piece[piece]),
+                    f64::min,
+                )
         };
         let field = SizeField::from_samples(region, n, |nodes| {
             Ok::<_, std::convert::Infallible>(

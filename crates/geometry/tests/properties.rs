@@ -141,6 +141,30 @@ proptest! {
     }
 
     #[test]
+    fn distance_to_chosen_loops_is_the_nearest_of_their_pieces(
+        s in shape(),
+        probes in prop::collection::vec((-1.7f64..1.7, -1.7f64..1.7), 30)
+    ) {
+        let r = build(&s, 0.0, DVec2::ZERO);
+        prop_assume!(r.is_some());
+        let r = r.unwrap();
+        for chosen in r.loops() {
+            let mine = |piece: usize| chosen.pieces.contains(&piece);
+            for &(x, y) in &probes {
+                let p = DVec2::new(x, y);
+                let direct = chosen
+                    .pieces
+                    .iter()
+                    .map(|&q| r.project_onto_piece(p, q).distance)
+                    .fold(f64::INFINITY, f64::min);
+                let d = r.distance_where(p, mine);
+                prop_assert!((d - direct).abs() <= 1e-13 * r.diameter(), "{} vs {}", d, direct);
+            }
+        }
+        prop_assert!(r.distance_where(DVec2::ZERO, |_| false).is_infinite());
+    }
+
+    #[test]
     fn expansion_is_simple_and_at_distance_eps(s in shape(), eps in 0.005f64..0.6) {
         let r = build(&s, 0.0, DVec2::ZERO);
         prop_assume!(r.is_some());
