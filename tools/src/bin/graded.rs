@@ -1,6 +1,14 @@
 //! Graded CCVT: time, evaluations and size conformity from different starts and algorithms,
 //! for one region and size field.
-//! `cargo run --release -p cvtmesh-tools --bin graded -- REGION 'H(x,y)' [K]`
+//! `cargo run --release -p cvtmesh-tools --bin graded -- REGION FIELD [K] [VARIANTS]`
+//!
+//! FIELD is an expression `H(x,y)` or a distance field `toward:loop:0+point:X,Y@HMIN,HMAX,DMIN,DMAX`.
+//! VARIANTS (comma-separated): `1r`, `1l`, `2r`, `2l` (Algorithm 1 or 2 from the refinement
+//! start or the lattice), `d` (the default method), `s` (single level), `w` (with
+//! GRADED_WHERE=N: the generators and cells that change most between evaluations N and N + 1).
+//! GRADED_TRACE prints the largest move through the run (GRADED_TRACE_ALL every evaluation),
+//! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_EXACT evaluates an expression
+//! itself instead of its background grid.
 use cvtmesh::ccvt::{Algorithm, Generators};
 use cvtmesh::geometry::{Threshold, Toward};
 use cvtmesh::metrics::size_conformity;
@@ -98,7 +106,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = Instant::now();
         let g: Generators = match from {
             Some(z) => ccvt.generators_from(&region, &request, z, &mut |_| {})?,
-            None => ccvt.generators(&region, &request, &mut |_| {})?,
+            None => {
+                // GRADED_JUMPS: the evaluations whose largest move is 10× the one before.
+                let jumps = std::env::var_os("GRADED_JUMPS").is_some();
+                let mut last = f64::INFINITY;
+                ccvt.generators(&region, &request, &mut |p| {
+                    if jumps && p.max_move > 10.0 * last {
+                        println!(
+                            "  jump at evaluation {}: {last:.1e} -> {:.1e}",
+                            p.iteration, p.max_move
+                        );
+                    }
+                    last = p.max_move;
+                })?
+            }
         };
         eprintln!(
             "{label}: {} evaluations, converged {}",
@@ -107,7 +128,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if std::env::var_os("GRADED_TRACE").is_some() {
             let m = &g.move_history;
             let picks: Vec<String> = (0..m.len())
-                .step_by((m.len() / 40).max(1))
+                .step_by(if std::env::var_os("GRADED_TRACE_ALL").is_some() {
+                    1
+                } else {
+                    (m.len() / 40).max(1)
+                })
                 .map(|i| format!("{i}:{:.1e}", m[i]))
                 .collect();
             println!("  moves {}", picks.join(" "));
