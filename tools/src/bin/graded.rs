@@ -7,7 +7,7 @@
 //! start or the lattice), `d` (the default method), `s` (single level), `w` (with
 //! GRADED_WHERE=N: the generators and cells that change most between evaluations N and N + 1).
 //! GRADED_TRACE prints the largest move through the run (GRADED_TRACE_ALL every evaluation),
-//! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_EXACT evaluates an expression
+//! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_SEED the seed, GRADED_GRADATION the gradient limit, GRADED_EXACT evaluates an expression
 //! itself instead of its background grid.
 use cvtmesh::ccvt::{Algorithm, Generators};
 use cvtmesh::geometry::{Threshold, Toward};
@@ -50,12 +50,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => SizeField::from_expr(&format!("({text}) * {scale:e}"))?,
         })
     };
+    // GRADED_GRADATION=G limits the field's gradient as `cvtmesh mesh --gradation G` does.
+    let gradation: Option<f64> = std::env::var("GRADED_GRADATION")
+        .ok()
+        .map(|g| g.parse())
+        .transpose()?;
+    let make = |scale: f64| -> Result<SizeField, Box<dyn std::error::Error>> {
+        let field = make(scale)?;
+        Ok(match gradation {
+            Some(g) => field.bounded(&region, None, None, Some(g))?,
+            None => field,
+        })
+    };
     let field = make(1.0)?;
+    // A distance field is handed over unscaled, as `cvtmesh mesh --points K` does (its
+    // background grid follows its smallest size); an expression is scaled to ask for K.
     let field = match k {
-        Some(k) => make((field.predicted_points(&region) / k as f64).sqrt())?,
-        None => field,
+        Some(k) if !text.starts_with("toward:") => {
+            make((field.predicted_points(&region) / k as f64).sqrt())?
+        }
+        _ => field,
     };
     let mut request = MeshRequest::size_field(&field, &region, k)?;
+    if let Some(seed) = std::env::var("GRADED_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        request.seed = seed;
+    }
     if std::env::var_os("GRADED_EXACT").is_some() {
         // The expression itself, not its samples on the background grid.
         request.density = field.density(field.check(&region)?.min);
@@ -63,7 +85,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let k = request.size.points(&region);
     // The field the mesh should follow: scaled when K is given.
     let scale = (field.predicted_points(&region) / k as f64).sqrt();
-    let scaled = field.on_grid(&region, field.check(&region)?.min);
+    let (scaled, scale) = if text.starts_with("toward:") {
+        (make(scale)?, 1.0)
+    } else {
+        (field.on_grid(&region, field.check(&region)?.min), scale)
+    };
     let report = |label: &str, secs: f64, mesh: &Mesh, iterations: usize, converged: bool| {
         let c = size_conformity(mesh, &scaled, &region).expect("a mesh");
         println!(
