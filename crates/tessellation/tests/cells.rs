@@ -479,7 +479,8 @@ fn density_moments_are_exact_for_polynomials() {
         assert!((a.mass - 2.0 * b.area).abs() < 1e-14);
         assert!((a.mass_centroid - b.centroid).length() < 1e-12);
         assert!((a.energy - 2.0 * b.energy).abs() < 1e-14);
-        assert_eq!(a.area, b.area);
+        // The same up to rounding: with a density a hull cell is cut before it is fanned.
+        assert!((a.area - b.area).abs() < 1e-15, "{} vs {}", a.area, b.area);
     }
 }
 
