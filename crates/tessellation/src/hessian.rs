@@ -6,8 +6,8 @@
 //! * ∂²F/∂z_i∂z_j = (2/|z_i − z_j|) ∫_{e_ij ∩ Ω} ρ (x − z_i)(x − z_j)ᵀ ds,
 //! * ∂²F/∂z_i²   = 2 m_i I − Σ_j (2/|z_i − z_j|) ∫_{e_ij ∩ Ω} ρ (x − z_i)(x − z_i)ᵀ ds,
 //!
-//! (boundary edges of the domain do not move). The edge integrals use Simpson's rule on each
-//! part of e_ij inside the domain, exact for constant ρ.
+//! (boundary edges of the domain do not move). The edge integrals are exact on each part of
+//! e_ij inside the domain for constant ρ; a density is taken at the part's midpoint.
 use crate::boundary::Boundary;
 use crate::cells::{Cells, DomainGrid};
 use crate::delaunay::Delaunay;
@@ -207,8 +207,11 @@ fn row(
     diag
 }
 
-/// (∫ ρ (x − zi)(x − zj)ᵀ ds, ∫ ρ (x − zi)(x − zi)ᵀ ds) over the segment a–b: exact for
-/// constant ρ, else Simpson's rule.
+/// (∫ ρ (x − zi)(x − zj)ᵀ ds, ∫ ρ (x − zi)(x − zi)ᵀ ds) over the segment a–b: the exact
+/// integrals of the polynomial factors times ρ at the segment's midpoint (exact for constant
+/// ρ). The Hessian only shapes Newton's direction, which the energy then accepts or rejects;
+/// Simpson's rule on ρ (three evaluations per edge instead of one) gave the same evaluation
+/// counts over 45 graded runs and cost 3–18 % more per evaluation.
 fn edge_integrals(
     a: DVec2,
     b: DVec2,
@@ -220,21 +223,15 @@ fn edge_integrals(
     let (ua, ub) = (a - zi, b - zi);
     let w = zi - zj;
     let outer = |u: DVec2, v: DVec2| DMat2::from_cols(u * v.x, u * v.y);
+    // ∫ u uᵀ for u linear along the segment, and ∫ u.
+    let uu = (outer(ua, ua) + outer(ub, ub)) * (len / 3.0)
+        + (outer(ua, ub) + outer(ub, ua)) * (len / 6.0);
+    let u1 = (ua + ub) * (0.5 * len);
     let (uu, u1) = match density {
-        // ∫ u uᵀ for u linear along the segment, and ∫ u.
-        None => (
-            (outer(ua, ua) + outer(ub, ub)) * (len / 3.0)
-                + (outer(ua, ub) + outer(ub, ua)) * (len / 6.0),
-            (ua + ub) * (0.5 * len),
-        ),
+        None => (uu, u1),
         Some(d) => {
-            let um = 0.5 * (ua + ub);
-            let (ra, rm, rb) = (d.at(a), d.at(zi + um), d.at(b));
-            (
-                (outer(ua, ua) * ra + outer(um, um) * (4.0 * rm) + outer(ub, ub) * rb)
-                    * (len / 6.0),
-                (ua * ra + um * (4.0 * rm) + ub * rb) * (len / 6.0),
-            )
+            let rho = d.at(zi + 0.5 * (ua + ub));
+            (uu * rho, u1 * rho)
         }
     };
     // x − zj = (x − zi) + (zi − zj).
@@ -304,9 +301,9 @@ mod tests {
     use geometry::{Region, Rng};
 
     /// Gradient of the energy: 2 m_i (z_i − c_i).
-    fn gradient(points: &[DVec2], domain: &Polygon) -> Vec<DVec2> {
+    fn gradient(points: &[DVec2], domain: &Polygon, density: &Density) -> Vec<DVec2> {
         let del = Delaunay::new(points);
-        let cells = clipped_cells(points, &del, domain, &Density::Uniform);
+        let cells = clipped_cells(points, &del, domain, density);
         points
             .iter()
             .zip(&cells.cells)
@@ -315,10 +312,22 @@ mod tests {
     }
 
     /// The Hessian agrees with central differences of the gradient, also for cells cut by the
-    /// boundary of a region with a hole.
+    /// boundary of a region with a hole; with a density to the accuracy of taking ρ at each
+    /// edge's midpoint.
     #[test]
     fn matches_finite_differences_of_the_gradient() {
-        for name in ["circle", "lake", "annulus"] {
+        let graded = Density::Function(std::sync::Arc::new(|p: DVec2| {
+            (0.8 * p.x + 0.5 * p.y).exp()
+        }));
+        for (name, density, tol) in [
+            ("circle", Density::Uniform, 1e-4),
+            ("lake", Density::Uniform, 1e-4),
+            ("annulus", Density::Uniform, 1e-4),
+            // ρ varies by 10 % across a cell here; Simpson's rule on ρ gave 4e-4 and the
+            // midpoint gives 3e-2, where ignoring ρ would be off by its whole variation.
+            ("circle", graded.clone(), 5e-2),
+            ("annulus", graded, 5e-2),
+        ] {
             let region = Region::builtin(name).unwrap();
             let domain = region.polygonize(1e-4);
             let (lo, hi) = region.bbox();
@@ -331,9 +340,9 @@ mod tests {
                 }
             }
             let del = Delaunay::new(&pts);
-            let cells = clipped_cells(&pts, &del, &domain, &Density::Uniform);
+            let cells = clipped_cells(&pts, &del, &domain, &density);
             let mut h = BlockMatrix::default();
-            energy_hessian(&del, &domain, &Density::Uniform, &cells, &mut h);
+            energy_hessian(&del, &domain, &density, &cells, &mut h);
             assert_eq!(h.rows(), pts.len());
             let scale = (hi - lo).length() * 1e-7;
             let mut worst: f64 = 0.0;
@@ -343,7 +352,10 @@ mod tests {
                     let (mut a, mut b) = (pts.clone(), pts.clone());
                     a[j] += axis * scale;
                     b[j] -= axis * scale;
-                    let (ga, gb) = (gradient(&a, &domain), gradient(&b, &domain));
+                    let (ga, gb) = (
+                        gradient(&a, &domain, &density),
+                        gradient(&b, &domain, &density),
+                    );
                     let vj = del.vertex_of_point[j];
                     for i in 0..pts.len() {
                         let fd = (ga[i] - gb[i]) / (2.0 * scale);
@@ -355,7 +367,7 @@ mod tests {
                 }
             }
             assert!(
-                worst < 1e-4 * norm,
+                worst < tol * norm,
                 "{name}: Hessian differs from finite differences by {worst:e} (scale {norm:e})"
             );
         }
