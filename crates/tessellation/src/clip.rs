@@ -96,6 +96,9 @@ pub(crate) struct Fan<'a> {
     pub origin: DVec2,
     /// `None` for ρ ≡ 1 (only the geometric moments are computed).
     pub density: Option<&'a Density>,
+    /// Integrate ρ on the four half-size triangles of each fan triangle (cells that reach
+    /// the boundary, where a size field toward a loop changes ρ most across a cell).
+    pub fine: bool,
 }
 
 impl Fan<'_> {
@@ -118,17 +121,36 @@ impl Fan<'_> {
         if let Some(rho) = self.density {
             let area = 0.5 * cr;
             if area != 0.0 {
-                for &(l1, l2, w) in &RULE {
-                    let x = p * l1 + q * l2;
-                    let r = rho.at(self.origin + x) * w * area;
-                    m.m += r;
-                    m.mx += r * x.x;
-                    m.my += r * x.y;
-                    m.mr2 += r * x.length_squared();
+                if self.fine {
+                    // The four halves-of-sides triangles, each with a quarter of the area.
+                    let (hp, hq, hpq) = (0.5 * p, 0.5 * q, 0.5 * (p + q));
+                    for (a, b, c) in [
+                        (DVec2::ZERO, hp, hq),
+                        (hp, p, hpq),
+                        (hq, hpq, q),
+                        (hpq, hq, hp),
+                    ] {
+                        self.rule(rho, a, b - a, c - a, 0.25 * area, &mut m);
+                    }
+                } else {
+                    self.rule(rho, DVec2::ZERO, p, q, area, &mut m);
                 }
             }
         }
         m
+    }
+
+    /// The ρ-moments of the triangle (a, a + u, a + v) of signed area `area` by [`RULE`].
+    #[inline]
+    fn rule(&self, rho: &Density, a: DVec2, u: DVec2, v: DVec2, area: f64, m: &mut Mom) {
+        for &(l1, l2, w) in &RULE {
+            let x = a + u * l1 + v * l2;
+            let r = rho.at(self.origin + x) * w * area;
+            m.m += r;
+            m.mx += r * x.x;
+            m.my += r * x.y;
+            m.mr2 += r * x.length_squared();
+        }
     }
 
     /// Moments of a closed polygon (signed by orientation).
@@ -283,6 +305,7 @@ mod tests {
                 let got = Fan {
                     origin: DVec2::ZERO,
                     density: Some(&rho),
+                    fine: false,
                 }
                 .tri(p, q)
                 .m;
@@ -295,6 +318,7 @@ mod tests {
         let got = Fan {
             origin: DVec2::ZERO,
             density: Some(&rho),
+            fine: false,
         }
         .tri(p, q)
         .m;
@@ -312,6 +336,7 @@ mod tests {
         let m = Fan {
             origin: DVec2::ZERO,
             density: None,
+            fine: false,
         }
         .polygon(&sq);
         assert!((m.a - 1.0).abs() < 1e-15);
@@ -323,6 +348,7 @@ mod tests {
         let q = Fan {
             origin: DVec2::ZERO,
             density: Some(&one),
+            fine: false,
         }
         .polygon(&sq);
         assert!((q.m - 1.0).abs() < 1e-14 && (q.mx - 0.5).abs() < 1e-14);
