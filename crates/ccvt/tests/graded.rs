@@ -93,6 +93,38 @@ fn refined_toward_a_reentrant_corner_converges_and_follows_the_field() {
 }
 
 #[test]
+fn refined_toward_the_outer_loop_from_the_loop_converges() {
+    // A boundary layer: h_min on the loop itself, ρ halving across a boundary cell. With one
+    // 7-point rule per fan triangle in the boundary cells both runs hit the cap.
+    for (name, k) in [("circle", 1000), ("square_hole", 2000)] {
+        let region = Region::builtin(name).unwrap();
+        let t = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 0.5,
+        };
+        let field = SizeField::threshold(&region, &[Toward::Loop(0)], t)
+            .unwrap()
+            .bounded(&region, None, None, Some(0.3))
+            .unwrap();
+        let request = MeshRequest::size_field(&field, &region, Some(k))
+            .unwrap()
+            .max_iter(2000);
+        let r = Ccvt::default()
+            .mesh(&region, &request, &mut |_| {})
+            .expect("mesh");
+        assert!(
+            r.converged,
+            "{name}: not converged in {} evaluations",
+            r.iterations
+        );
+        check_conforming(&r.mesh, &region).unwrap();
+        assert!(r.iterations < 1000, "{name}: {} evaluations", r.iterations);
+    }
+}
+
+#[test]
 fn graded_runs_are_reproducible() {
     let region = Region::builtin("circle").unwrap();
     let field = SizeField::from_expr("0.03 + 0.1 * sqrt(x^2 + y^2)").unwrap();
