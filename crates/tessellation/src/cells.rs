@@ -931,11 +931,9 @@ mod tests {
         }
     }
 
-    /// ρ that falls by e⁻² across a cell from one side of the square, most of its mass in the
-    /// cells on that side: they integrate it on four sub-triangles per fan triangle.
-    #[test]
-    fn cells_on_the_boundary_integrate_a_steep_density_finely() {
-        let domain = Polygon {
+    /// The square [0, 1]², one piece per side.
+    fn unit_square() -> Polygon {
+        Polygon {
             rings: vec![Ring {
                 points: vec![
                     DVec2::new(0.0, 0.0),
@@ -947,7 +945,14 @@ mod tests {
                 loop_index: 0,
                 hole: false,
             }],
-        };
+        }
+    }
+
+    /// ρ that falls by e⁻² across a cell from one side of the square, most of its mass in the
+    /// cells on that side: they integrate it on four sub-triangles per fan triangle.
+    #[test]
+    fn cells_on_the_boundary_integrate_a_steep_density_finely() {
+        let domain = unit_square();
         let rho = Density::Function(Arc::new(|p: DVec2| (-30.0 * p.x).exp()));
         let exact = (1.0 - (-30.0f64).exp()) / 30.0;
         let mut rng = Rng::new(9);
@@ -969,19 +974,7 @@ mod tests {
 
     #[test]
     fn cells_into_reused_memory_equal_fresh_cells() {
-        let domain = Polygon {
-            rings: vec![Ring {
-                points: vec![
-                    DVec2::new(0.0, 0.0),
-                    DVec2::new(1.0, 0.0),
-                    DVec2::new(1.0, 1.0),
-                    DVec2::new(0.0, 1.0),
-                ],
-                pieces: vec![0, 1, 2, 3],
-                loop_index: 0,
-                hole: false,
-            }],
-        };
+        let domain = unit_square();
         let mut rng = Rng::new(5);
         let mut random = |n: usize| -> Vec<DVec2> {
             (0..n)
