@@ -549,10 +549,10 @@ impl Ctx<'_> {
         let wc = bnd.winding(z + c);
         // A size field toward a loop is smallest on it, so ρ changes most across the cells
         // that reach the boundary (by half or more across one cell where the field grows by
-        // 0.2 of the distance): the 7-point rule on each fan triangle left errors there that
-        // stalled runs refined toward an outer loop (circle, square_hole, horn at K = 1000,
-        // the lake's shores at 3000). Four sub-triangles per fan triangle made them converge,
-        // for about a fifth more time per graded evaluation (boundary cells are few but dear).
+        // 0.2 of the distance), and one 7-point rule per fan triangle leaves errors there
+        // larger than the energy changes near convergence. Four sub-triangles per fan
+        // triangle cost about a fifth more per graded evaluation (docs/design-notes.md,
+        // "Refinement toward a wall").
         let fan = Fan {
             fine: true,
             ..self.fan(z + c)
@@ -682,9 +682,10 @@ impl Ctx<'_> {
     /// return the cell's new diameter (`diam` if it is kept whole).
     ///
     /// A generator on the hull, or on a shore facing land, has a convex cell that runs far
-    /// beyond its part in Ω: to the box around Ω, or across the land. The fan triangles then
-    /// span the whole convex cell, and the density's quadrature must cancel over it: on the
-    /// lake, corner cells came out with a negative mass and energies 10³ times their own.
+    /// beyond its part in Ω: to the box around Ω, or across the land. The fan triangles would
+    /// span the whole convex cell, and the density's quadrature does not cancel over
+    /// triangles hundreds of spacings long (a corner cell of the lake gets a negative mass and
+    /// an energy 10³ times its own).
     /// Each part of the cell beyond the box meets no boundary, so it lies wholly inside or
     /// wholly outside Ω; it holds a vertex of the cell (a part without one would lie along a
     /// single edge whose two ends are in the box), which is outside Ω. Exact moments do not

@@ -209,9 +209,9 @@ fn row(
 
 /// (∫ ρ (x − zi)(x − zj)ᵀ ds, ∫ ρ (x − zi)(x − zi)ᵀ ds) over the segment a–b: the exact
 /// integrals of the polynomial factors times ρ at the segment's midpoint (exact for constant
-/// ρ). The Hessian only shapes Newton's direction, which the energy then accepts or rejects;
-/// Simpson's rule on ρ (three evaluations per edge instead of one) gave the same evaluation
-/// counts over 45 graded runs and cost 3–18 % more per evaluation.
+/// ρ). The Hessian only shapes Newton's direction, which the energy then accepts or rejects,
+/// so one evaluation of ρ per edge is enough (docs/design-notes.md, "The density's Hessian at
+/// the midpoint").
 fn edge_integrals(
     a: DVec2,
     b: DVec2,
