@@ -35,5 +35,5 @@ pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
 pub use region::{Part, Region};
 pub use rng::Rng;
-pub use size::{SizeField, SizeFieldError, SizeRange, Threshold, Toward};
+pub use size::{SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

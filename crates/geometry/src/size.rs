@@ -106,6 +106,33 @@ fn bspline_weights_6(u: f64) -> [f64; 4] {
     ]
 }
 
+/// A density sampled on a background grid and interpolated by cubic B-splines, as
+/// [`SizeField::density`] makes it from a sampled field: [`Density::Sampled`].
+#[derive(Clone, Debug)]
+pub struct SampledDensity {
+    grid: Grid,
+}
+
+impl SampledDensity {
+    /// ρ at `p` (the nearest grid value's extension outside the grid's box).
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{Density, DVec2, Region, SizeField, Threshold, Toward};
+    /// let region = Region::builtin("circle")?;
+    /// let t = Threshold { size_min: 0.05, size_max: 0.2, dist_min: 0.3, dist_max: 0.7 };
+    /// let h = SizeField::threshold(&region, &[Toward::Point(DVec2::ZERO)], t)?;
+    /// let Density::Sampled(rho) = h.density(0.05) else { panic!("a sampled field") };
+    /// // ρ = (h_min / h)⁴: 1 near the point, (0.05 / 0.2)⁴ near the unit circle.
+    /// assert!((rho.at(DVec2::new(0.1, 0.0)) - 1.0).abs() < 1e-12);
+    /// assert!((rho.at(DVec2::new(0.0, 0.95)) - 1.0 / 256.0).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn at(&self, p: DVec2) -> f64 {
+        self.grid.at(p)
+    }
+}
+
 /// Values on a regular grid over a box, interpolated by cubic B-splines (clamped outside the
 /// box).
 #[derive(Clone, Debug)]
@@ -318,6 +345,7 @@ impl Grid {
     /// on the kinks of a bilinear interpolant), and a convex combination of sixteen samples,
     /// so positive wherever they are. It reproduces fields linear in x and y. Where a sample it
     /// reads is not positive and finite (outside the region), the bilinear value instead.
+    #[inline]
     fn at(&self, p: DVec2) -> f64 {
         let t = (p - self.lo) * self.inv_step;
         let (fx, fy) = (
@@ -353,6 +381,7 @@ impl Grid {
         }
     }
 
+    #[cold]
     fn bilinear(&self, p: DVec2) -> f64 {
         let t = (p - self.lo) / self.step;
         let fx = t.x.clamp(0.0, (self.nx - 1) as f64);
@@ -804,10 +833,9 @@ impl SizeField {
         match &self.kind {
             Kind::Constant(_) => Density::Uniform,
             // ρ itself on the grid: the cells read it ~45 times per cell and evaluation.
-            Kind::Grid(g) => {
-                let rho = g.with_values(g.values.iter().map(|&h| (h_min / h).powi(4)).collect());
-                Density::Function(Arc::new(move |p| rho.at(p)))
-            }
+            Kind::Grid(g) => Density::Sampled(Arc::new(SampledDensity {
+                grid: g.with_values(g.values.iter().map(|&h| (h_min / h).powi(4)).collect()),
+            })),
             Kind::Expr(_) => {
                 let field = self.clone();
                 Density::Function(Arc::new(move |p| (h_min / field.at(p)).powi(4)))
