@@ -36,6 +36,98 @@ pub(crate) fn coarse_count(region: &Region, scale: &LocalScale, k: usize) -> usi
     ((k as f64 + 0.5 * fine_boundary) / 4.0).round() as usize
 }
 
+/// The boundary spacing of a converged CCVT relative to the local hexagonal spacing h(x): the
+/// uniform circle at 10⁵ settles with 990–1017 boundary generators where 2π/h is 1043.
+const BOUNDARY_SPACING: f64 = 1.04;
+
+/// Interior start points closer to ∂Ω than this many local spacings are dropped: in a converged
+/// CCVT the first row of interior generators lies about 0.85 spacings from ∂Ω, and a point whose
+/// cell reaches ∂Ω is labelled a boundary generator, which it then stays.
+const CLEARANCE: f64 = 0.7;
+
+/// The vertices of `mesh` with its boundary vertices replaced by points at CCVT's own boundary
+/// spacing (`BOUNDARY_SPACING`·h, h the local spacing; corners kept) and its interior vertices
+/// within `CLEARANCE`·h of ∂Ω dropped. Under the paper's labels a generator on ∂Ω never leaves
+/// it, and interior generators of a refinement's near-boundary layer joined ∂Ω during the
+/// relaxation: the boundary came out 20–35 % denser than the interior, with flat triangles
+/// along it.
+fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds {
+    let mut seeds = Seeds {
+        points: Vec::with_capacity(mesh.points.len()),
+        on_boundary: Vec::with_capacity(mesh.points.len()),
+    };
+    // Per loop: (loop parameter, point, piece if not a corner).
+    let mut loops: Vec<Vec<(f64, DVec2, Option<geometry::PieceId>)>> =
+        vec![Vec::new(); region.loops().len()];
+    for (p, m) in mesh.points.iter().zip(&mesh.markers) {
+        match *m {
+            VertexMarker::Interior => {
+                if -region.signed_distance(*p) >= CLEARANCE * scale.at(*p) {
+                    seeds.points.push(*p);
+                    seeds.on_boundary.push(false);
+                }
+            }
+            VertexMarker::Boundary {
+                loop_index,
+                piece,
+                loop_param,
+            } => loops[loop_index].push((loop_param, *p, Some(piece))),
+            VertexMarker::Corner {
+                loop_index,
+                loop_param,
+                ..
+            } => loops[loop_index].push((loop_param, *p, None)),
+        }
+    }
+    for mut vs in loops.into_iter().filter(|v| !v.is_empty()) {
+        vs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // Start at a corner if there is one: runs go from anchor to anchor.
+        let first = vs.iter().position(|v| v.2.is_none()).unwrap_or(0);
+        vs.rotate_left(first);
+        let n = vs.len();
+        let anchors: Vec<usize> = (0..n).filter(|&i| i == 0 || vs[i].2.is_none()).collect();
+        for (a, &start) in anchors.iter().enumerate() {
+            let end = anchors.get(a + 1).copied().unwrap_or(n);
+            seeds.points.push(vs[start].1);
+            seeds.on_boundary.push(true);
+            // The run's polyline, anchor to next anchor (the first one again at the end).
+            let run: Vec<&(f64, DVec2, Option<geometry::PieceId>)> =
+                (start..=end).map(|i| &vs[i % n]).collect();
+            let weights: Vec<f64> = run
+                .windows(2)
+                .map(|w| {
+                    let (p, q) = (w[0].1, w[1].1);
+                    (q - p).length() / (BOUNDARY_SPACING * scale.at(0.5 * (p + q)))
+                })
+                .collect();
+            let total: f64 = weights.iter().sum();
+            let pieces = (total.round() as usize).max(1);
+            let (mut k, mut below) = (0, 0.0);
+            for j in 1..pieces {
+                let target = total * j as f64 / pieces as f64;
+                while k + 1 < weights.len() && below + weights[k] < target {
+                    below += weights[k];
+                    k += 1;
+                }
+                let f = if weights[k] > 0.0 {
+                    ((target - below) / weights[k]).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let (p, q) = (run[k], run[k + 1]);
+                let x = p.1 + (q.1 - p.1) * f;
+                let point = match p.2.or(q.2) {
+                    Some(piece) => region.project_onto_piece(x, piece).point,
+                    None => region.project(x).point,
+                };
+                seeds.points.push(point);
+                seeds.on_boundary.push(true);
+            }
+        }
+    }
+    seeds
+}
+
 /// About how many generators lie on ∂Ω at the local spacing: ∫_∂Ω ds / h.
 fn boundary_count(region: &Region, scale: &LocalScale) -> f64 {
     let poly = region.polygonize(1e-3 * scale.mean());
@@ -140,8 +232,9 @@ pub(crate) fn fit_count(
 }
 
 /// A graded start of exactly `k` points: the vertices of a Delaunay refinement whose area
-/// bound follows the density (20° minimum angle), sized by one trial refinement and one
-/// corrected by the count it gave, then fitted to `k`.
+/// bound follows the density (20° minimum angle), its boundary resampled
+/// ([`resample_boundary`]), sized by one trial refinement and one corrected by the count it
+/// gave, then fitted to `k`.
 pub(crate) fn graded(
     region: &Region,
     request: &MeshRequest,
@@ -154,19 +247,17 @@ pub(crate) fn graded(
     let weighted = region.area() * scale.mean_sqrt_density();
     let mut area = weighted / (1.2 * k as f64);
     let budget = 4 * k + 1000;
-    let mut r = refine.refine_with_area(region, area, &request.density, budget)?;
-    let got = r.mesh.num_vertices();
+    let seeds = |area: f64| -> Result<Seeds, MeshError> {
+        let r = refine.refine_with_area(region, area, &request.density, budget)?;
+        Ok(resample_boundary(region, scale, &r.mesh))
+    };
+    let mut s = seeds(area)?;
+    let got = s.points.len();
     if got != k && got > 0 {
         area *= got as f64 / k as f64;
-        r = refine.refine_with_area(region, area, &request.density, budget)?;
+        s = seeds(area)?;
     }
-    Ok(fit_count(
-        region,
-        scale,
-        Seeds::from_mesh(&r.mesh),
-        k,
-        request.seed,
-    ))
+    Ok(fit_count(region, scale, s, k, request.seed))
 }
 
 #[cfg(test)]
@@ -197,6 +288,60 @@ mod tests {
             }
         }
         assert_eq!(seeds.on_boundary.iter().filter(|&&b| b).count(), 2 * b);
+    }
+
+    #[test]
+    fn resampled_boundary_has_the_ccvt_spacing_and_keeps_the_corners() {
+        // Graded toward the hole: the spacing along ∂Ω varies tenfold.
+        let region = Region::builtin("square_hole").unwrap();
+        let t = geometry::Threshold {
+            size_min: 0.02,
+            size_max: 0.2,
+            dist_min: 0.0,
+            dist_max: 1.0,
+        };
+        let field =
+            geometry::SizeField::threshold(&region, &[geometry::Toward::Loop(1)], t).unwrap();
+        let density = field.density(0.02);
+        let scale = LocalScale::new(&region, &density, 0.05);
+        let r = Refine::default()
+            .refine_with_area(&region, 1e-3, &density, usize::MAX)
+            .unwrap();
+        let seeds = resample_boundary(&region, &scale, &r.mesh);
+        let boundary: Vec<DVec2> = (0..seeds.points.len())
+            .filter(|&i| seeds.on_boundary[i])
+            .map(|i| seeds.points[i])
+            .collect();
+        for c in region.corners() {
+            assert_eq!(boundary.iter().filter(|p| **p == c.pos).count(), 1, "{c:?}");
+        }
+        for p in &boundary {
+            assert!(region.project(*p).distance < 1e-9, "{p}");
+        }
+        // Neighbours along each loop are BOUNDARY_SPACING·h apart, give or take the rounding
+        // of each side's count and h's change along a step.
+        for l in 0..region.loops().len() {
+            let mut on: Vec<(f64, DVec2)> = boundary
+                .iter()
+                .map(|p| (region.project(*p), *p))
+                .filter(|(b, _)| b.loop_index == l)
+                .map(|(b, p)| (b.loop_param, p))
+                .collect();
+            on.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for i in 0..on.len() {
+                let (p, q) = (on[i].1, on[(i + 1) % on.len()].1);
+                let r = (q - p).length() / (BOUNDARY_SPACING * scale.at(0.5 * (p + q)));
+                assert!((0.8..1.25).contains(&r), "loop {l} at {p}: {r}");
+            }
+        }
+        for (p, on) in seeds.points.iter().zip(&seeds.on_boundary) {
+            if !on {
+                assert!(
+                    -region.signed_distance(*p) >= CLEARANCE * scale.at(*p),
+                    "{p}"
+                );
+            }
+        }
     }
 
     #[test]
