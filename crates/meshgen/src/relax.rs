@@ -588,7 +588,9 @@ impl State {
     /// SIDE_GAP·h from the side's corners.
     fn propose(&self, frame: &Frame, si: usize, targets: &[DVec2], h: f64) -> Vec<(DVec2, Slot)> {
         let side = &frame.sides[si];
-        let gap = SIDE_GAP * h;
+        // A side shorter than two gaps (a short coastline segment between corners at a coarse
+        // spacing) keeps its vertices at its middle.
+        let gap = (SIDE_GAP * h).min(0.5 * side.length);
         self.side_vertices[si]
             .iter()
             .map(|&v| {

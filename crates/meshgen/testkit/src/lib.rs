@@ -149,6 +149,44 @@ pub fn graded_density_puts_more_points_where_dense(method: &dyn Mesher) -> MeshR
 }
 
 /// `max_iter = 2` cannot reach tol = 1e-4 from the jittered lattice: reported as such.
+/// A digitized coastline (2000 vertices, a star with fractal radius noise, corners where it
+/// turns by more than 30°) at K = 3000, one iteration: sides between corners shorter than the
+/// gap kept at their ends once made the side slots' clamp panic. Any result is fine but a
+/// panic; a mesh returned must conform.
+pub fn rough_coastline_does_not_panic(method: &dyn Mesher) {
+    let n = 2000;
+    let kmax = n / 2 - 1;
+    let mut rng = geometry::Rng::new(7);
+    let phases: Vec<f64> = (0..kmax)
+        .map(|_| rng.range(0.0, std::f64::consts::TAU))
+        .collect();
+    let noise: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            (1..=kmax)
+                .map(|k| (k as f64).powf(-0.9) * (k as f64 * t + phases[k - 1]).sin())
+                .sum()
+        })
+        .collect();
+    let top = noise.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let text: String = noise
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = 10.0 * (1.0 + 0.3 * v / top);
+            format!("{} {}\n", r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let region = geometry::formats::loops_from_str(&text, "coast", "coast")
+        .unwrap()
+        .with_default_corners();
+    let request = MeshRequest::points(3000).max_iter(1);
+    if let Ok(r) = method.mesh(&region, &request, &mut |_| {}) {
+        check_conforming(&r.mesh, &region).unwrap();
+    }
+}
+
 pub fn capped_run_is_not_converged(method: &dyn Mesher) {
     let region = Region::builtin("circle").unwrap();
     let r = method
@@ -318,6 +356,11 @@ macro_rules! relaxation_tests {
                 &r.move_history[r.move_history.len() - 3..]
             );
             assert!(r.iterations < 1000);
+        }
+
+        #[test]
+        fn rough_coastline_with_short_sides() {
+            rough_coastline_does_not_panic(&$method);
         }
 
         #[test]
