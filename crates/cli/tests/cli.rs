@@ -929,3 +929,42 @@ fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn a_mesh_that_leaves_out_part_of_the_region_is_named_and_refused_under_strict() {
+    // A ring 0.01 wide: Algorithm 1 at K = 300 keeps too few vertices on the outer circle,
+    // and the chords between them cut off 17 % of the ring.
+    let d = scratch("ring");
+    let input = d.join("ring.json");
+    std::fs::write(
+        &input,
+        r#"{"loops": [{"role": "outer", "segments": [{"kind": "circle", "center": [0, 0], "radius": 1.0}]},
+            {"role": "hole", "segments": [{"kind": "circle", "center": [0, 0], "radius": 0.99}]}]}"#,
+    )
+    .unwrap();
+    let out = d.join("ring.node");
+    let args = |strict: bool| {
+        let mut v = vec!["mesh", s(&input), "-n", "300", "-m", "ccvt1", "-q"];
+        if strict {
+            v.push("--strict");
+        }
+        v.extend(["-o", s(&out)]);
+        v
+    };
+    let o = cvtmesh(&args(false));
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning: the mesh covers 82.6 % of the region's area"),
+        "{}",
+        text(&o)
+    );
+    std::fs::remove_file(&out).unwrap();
+    let o = cvtmesh(&args(true));
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("--strict: the mesh covers 82.6 %"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists());
+}
