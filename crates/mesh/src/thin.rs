@@ -20,6 +20,10 @@ const THIN_RATIO: f64 = 0.5;
 /// corner's wedge (a 30° corner gives 3.7), not a feature.
 const WEDGE_RATIO: f64 = 4.0;
 
+/// ... and more than this many spacings of arc length away: a wedge sharper than about 28°
+/// passes the width test near its tip, where every wedge is thinner than any spacing.
+const WEDGE_SPACINGS: f64 = 2.0;
+
 /// The narrowest place where the region is thinner than the requested spacing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ThinFeature {
@@ -120,7 +124,10 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             mean_spacing
         }
     };
-    let tiny = 1e-12 * diam;
+    // Hits closer than rounding at the region's coordinates are the ray's own segment.
+    let (lo, hi) = region.bbox();
+    let magnitude = lo.abs().max(hi.abs()).max_element();
+    let tiny = (1e-12 * diam).max(1e-12 * magnitude);
     let mut worst: Option<(f64, DVec2, f64, f64)> = None; // (width / spacing, at, width, spacing)
     let mut thin_length = 0.0;
     let mut next = 0.0;
@@ -144,9 +151,11 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             if width >= THIN_RATIO * h {
                 continue;
             }
+            // The two sides must lie a few spacings apart along the boundary: any wedge is
+            // arbitrarily thin near its tip (a 26° corner gave 7e-7 "wide" at 1e-6 from it).
             let feature = hit_ring != r || {
                 let d = (sq - hit_s).abs();
-                d.min(lengths[r] - d) > WEDGE_RATIO * width
+                d.min(lengths[r] - d) > (WEDGE_RATIO * width).max(WEDGE_SPACINGS * h)
             };
             if !feature {
                 continue;
@@ -231,5 +240,29 @@ mod tests {
         assert!((t.width - 0.002).abs() < 1e-9, "{t}");
         assert!(t.at.x > 0.99, "{t}");
         assert!(thin_feature(&r, &MeshRequest::points(t.points_needed)).is_none());
+    }
+
+    #[test]
+    fn a_sharp_corner_is_not_a_thin_feature_even_far_from_the_origin() {
+        // A 20° wedge closed by an arc-like cap: thinner than any spacing near its tip, which
+        // is a corner, not a feature; the same shifted to 1e6, where rounding is 1e-10.
+        for offset in [0.0, 1e6] {
+            let tan = 20f64.to_radians().tan();
+            let text = format!(
+                "{o} {o}\n{a} {o}\n{a} {b}\n",
+                o = offset,
+                a = offset + 1.0,
+                b = offset + tan
+            );
+            let r = geometry::formats::loops_from_str(&text, "wedge", "wedge").unwrap();
+            // At most the stretch a spacing or two from the tip, where a few more points
+            // resolve it (before: widths of 1e-7 and K ≥ 10¹² at 1e-6 from the tip).
+            for k in [30, 300, 3000] {
+                if let Some(t) = thin_feature(&r, &MeshRequest::points(k)) {
+                    assert!(t.width > 0.25 * t.spacing, "{offset} K={k}: {t}");
+                    assert!(t.points_needed < 4 * k, "{offset} K={k}: {t}");
+                }
+            }
+        }
     }
 }
