@@ -204,7 +204,8 @@ fn attempt(
             {
                 return bad(format!(
                     "boundary edge ({}, {}) – ({}, {}) of loop {l} leaves the region near ({}, {}): the boundary \
-                     vertices skip a corner or are too coarse for the boundary's curvature",
+                     vertices skip a corner or a bend, or are too coarse for the boundary's curvature there: more \
+                     points, or a smaller corner angle (which keeps the bend as a corner), would follow it",
                     a.x, a.y, b.x, b.y, x.x, x.y
                 ));
             }
