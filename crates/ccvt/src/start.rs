@@ -59,6 +59,7 @@ fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds 
     // Per loop: (loop parameter, point, piece if not a corner).
     let mut loops: Vec<Vec<(f64, DVec2, Option<geometry::PieceId>)>> =
         vec![Vec::new(); region.loops().len()];
+    let at = |vs: &[(f64, DVec2, Option<geometry::PieceId>)], i: usize| vs[i % vs.len()];
     for (p, m) in mesh.points.iter().zip(&mesh.markers) {
         match *m {
             VertexMarker::Interior => {
@@ -90,13 +91,11 @@ fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds 
             let end = anchors.get(a + 1).copied().unwrap_or(n);
             seeds.points.push(vs[start].1);
             seeds.on_boundary.push(true);
-            // The run's polyline, anchor to next anchor (the first one again at the end).
-            let run: Vec<&(f64, DVec2, Option<geometry::PieceId>)> =
-                (start..=end).map(|i| &vs[i % n]).collect();
-            let weights: Vec<f64> = run
-                .windows(2)
-                .map(|w| {
-                    let (p, q) = (w[0].1, w[1].1);
+            // The run's polyline, anchor to next anchor (the first one again at the end):
+            // the weight of each step is its length in boundary spacings.
+            let weights: Vec<f64> = (start..end)
+                .map(|i| {
+                    let (p, q) = (at(&vs, i).1, at(&vs, i + 1).1);
                     (q - p).length() / (BOUNDARY_SPACING * scale.at(0.5 * (p + q)))
                 })
                 .collect();
@@ -114,7 +113,7 @@ fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds 
                 } else {
                     0.0
                 };
-                let (p, q) = (run[k], run[k + 1]);
+                let (p, q) = (at(&vs, start + k), at(&vs, start + k + 1));
                 let x = p.1 + (q.1 - p.1) * f;
                 let point = match p.2.or(q.2) {
                     Some(piece) => region.project_onto_piece(x, piece).point,
