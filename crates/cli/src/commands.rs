@@ -192,19 +192,11 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    // A mesh can conform (every triangle inside) and still leave out a band along a curved
-    // boundary whose vertices are far apart: say so, or refuse under --strict.
-    let coverage = result.mesh.area() / region.area();
-    if coverage < MIN_COVERAGE {
-        let what = format!(
-            "the mesh covers {:.1} % of the region's area: its boundary vertices are too far apart for the boundary's curvature at K = {} (ask for more points)",
-            100.0 * coverage,
-            result.mesh.num_vertices()
-        );
+    if let Some(short) = cvtmesh::short_coverage(&result.mesh, &region) {
         if a.strict {
-            bail!("--strict: {what}; nothing written");
+            bail!("--strict: {short}; nothing written");
         }
-        eprintln!("warning: {what}");
+        eprintln!("warning: {short}");
     }
     // `mesh_parts` has checked that the mesh conforms (up to CONFORMITY_CHECK_LIMIT vertices).
     let title = format!(
@@ -242,11 +234,6 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     }
     Ok(())
 }
-
-/// Below this share of the region's area covered by the mesh, `cvtmesh mesh` warns (refuses
-/// under `--strict`). The paper's coarsest mesh, a disc with 12 boundary vertices, covers
-/// 95.5 %.
-const MIN_COVERAGE: f64 = 0.9;
 
 /// `cvtmesh measure`.
 #[derive(Args)]

@@ -204,3 +204,53 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     }
     Ok(())
 }
+
+/// Below this share of the region's area covered, [`short_coverage`] reports a mesh. The
+/// paper's coarsest mesh, a disc with 12 boundary vertices, covers 95.5 %.
+pub const MIN_COVERAGE: f64 = 0.9;
+
+/// A mesh that conforms (every triangle in the region) but leaves out a band along a curved
+/// boundary whose vertices lie far apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShortCoverage {
+    /// The share of the region's area the triangles cover.
+    pub share: f64,
+    /// The mesh's vertex count.
+    pub points: usize,
+}
+
+impl std::fmt::Display for ShortCoverage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the mesh covers {:.1} % of the region's area: its boundary vertices are too far apart for the boundary's curvature at K = {} (ask for more points)",
+            100.0 * self.share,
+            self.points
+        )
+    }
+}
+
+/// How much of `region` `mesh` covers, when that is less than [`MIN_COVERAGE`].
+///
+/// ```
+/// use cvtmesh_mesh::{short_coverage, Mesh, VertexMarker};
+/// use geometry::{DVec2, Region};
+/// let disc = Region::builtin("circle")?;
+/// // A square inscribed in the unit circle covers 2/π of it.
+/// let points = vec![DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y];
+/// let mesh = Mesh {
+///     markers: vec![VertexMarker::Interior; 4],
+///     points,
+///     triangles: vec![[0, 1, 2], [0, 2, 3]],
+/// };
+/// let short = short_coverage(&mesh, &disc).expect("2/π < 0.9");
+/// assert!((short.share - 2.0 / std::f64::consts::PI).abs() < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn short_coverage(mesh: &Mesh, region: &Region) -> Option<ShortCoverage> {
+    let share = mesh.area() / region.area();
+    (share < MIN_COVERAGE).then_some(ShortCoverage {
+        share,
+        points: mesh.num_vertices(),
+    })
+}

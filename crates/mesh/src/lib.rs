@@ -12,7 +12,7 @@ mod parts;
 mod thin;
 mod types;
 
-pub use check::{check_conforming, ConformityError};
+pub use check::{check_conforming, short_coverage, ConformityError, ShortCoverage, MIN_COVERAGE};
 pub use error::MeshError;
 pub use mesher::{
     memory_estimate, total_memory, MeshRequest, MeshResult, Mesher, Progress, Size,

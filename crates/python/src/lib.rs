@@ -565,6 +565,12 @@ fn mesh(
         return Err(e);
     }
     let r = result.map_err(err)?;
+    // A mesh that leaves out a band along a curved boundary: say so, as the command line does.
+    if let Some(short) = cvtmesh::short_coverage(&r.mesh, &region) {
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        warnings.call_method1("warn", (short.to_string(), category))?;
+    }
     PyMesh::new(
         py,
         r.mesh,

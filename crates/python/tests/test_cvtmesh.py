@@ -397,3 +397,14 @@ def test_regions_of_several_parts_from_arrays_mesh_every_part():
     assert abs(in_square - 100) <= 2
     with pytest.raises(MeshError, match="at least one"):
         Region.from_parts([])
+
+
+def test_a_mesh_that_leaves_out_part_of_the_region_warns(tmp_path):
+    # A ring 0.01 wide: Algorithm 1 at n = 300 keeps too few vertices on the outer circle.
+    ring = tmp_path / "ring.json"
+    ring.write_text(
+        '{"loops": [{"role": "outer", "segments": [{"kind": "circle", "center": [0, 0], "radius": 1.0}]},'
+        ' {"role": "hole", "segments": [{"kind": "circle", "center": [0, 0], "radius": 0.99}]}]}'
+    )
+    with pytest.warns(RuntimeWarning, match=r"the mesh covers 82\.6 % of the region's area"):
+        cvtmesh.mesh(Region.from_file(str(ring)), n=300, method="ccvt1")
