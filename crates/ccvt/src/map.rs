@@ -287,8 +287,14 @@ fn off_corner(
         .point
 }
 
+/// Rings of Delaunay neighbours searched for a free generator when a corner's nearest one is
+/// taken.
+const CORNER_RINGS: usize = 8;
+
 /// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
-/// corners share a nearest generator (too coarse), the next-nearest free neighbour takes it.
+/// corners share a nearest generator (corners closer together than the spacing, as on a
+/// digitized coastline), the nearest free generator of the first ring of Delaunay neighbours
+/// that has one takes it (up to `CORNER_RINGS` rings), and sits on the corner from then on.
 pub(crate) fn assign_corners(
     region: &Region,
     z: &[DVec2],
@@ -296,14 +302,38 @@ pub(crate) fn assign_corners(
     roles: &mut [Role],
     targets: &mut [DVec2],
 ) {
+    let is_corner = |r: &Role| matches!(r, Role::Corner(_));
     for (ci, c) in region.corners().iter().enumerate() {
         let mut k = del.nearest(c.pos);
-        if matches!(roles[k], Role::Corner(_)) {
-            let free = del
-                .neighbors(k)
-                .into_iter()
-                .filter(|&j| !matches!(roles[j], Role::Corner(_)))
-                .min_by(|&a, &b| (z[a] - c.pos).length().total_cmp(&(z[b] - c.pos).length()));
+        if is_corner(&roles[k]) {
+            let mut seen = vec![k];
+            let mut ring = vec![k];
+            let mut free = None;
+            for _ in 0..CORNER_RINGS {
+                let mut next = Vec::new();
+                for &i in &ring {
+                    for j in del.neighbors(i) {
+                        if !seen.contains(&j) {
+                            seen.push(j);
+                            next.push(j);
+                        }
+                    }
+                }
+                free = next
+                    .iter()
+                    .copied()
+                    .filter(|&j| !is_corner(&roles[j]))
+                    .min_by(|&a, &b| {
+                        (z[a] - c.pos)
+                            .length()
+                            .total_cmp(&(z[b] - c.pos).length())
+                            .then(a.cmp(&b))
+                    });
+                if free.is_some() || next.is_empty() {
+                    break;
+                }
+                ring = next;
+            }
             match free {
                 Some(j) => k = j,
                 None => continue,

@@ -24,6 +24,7 @@ mod region;
 mod rng;
 mod se;
 mod size;
+mod spacing_corners;
 mod types;
 
 pub use build::DEFAULT_CORNER_ANGLE;
@@ -36,4 +37,5 @@ pub use polygon::{Polygon, Ring};
 pub use region::{Part, Region};
 pub use rng::Rng;
 pub use size::{SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward};
+pub use spacing_corners::{SpacingCorners, BEND_TOLERANCE, CHORDS, GAP_SPACINGS};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

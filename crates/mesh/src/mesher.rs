@@ -294,6 +294,44 @@ impl MeshRequest {
         let k = self.size.points(region).max(1) as f64;
         (2.0 * region.area() / (3f64.sqrt() * k)).sqrt()
     }
+
+    /// Local spacing: [`MeshRequest::spacing`] where the density is uniform; for a graded
+    /// request, the mean spacing × (ρ̄ / ρ(x))^(1/4), ρ̄^(1/2) the mean of ρ^(1/2) over the
+    /// region (spacing ∝ ρ^(-1/4), and K ∝ ∫ ρ^(1/2)).
+    ///
+    /// ```
+    /// use cvtmesh_mesh::MeshRequest;
+    /// use geometry::{DVec2, Density, Region};
+    /// use std::sync::Arc;
+    /// let region = Region::builtin("square_hole")?;
+    /// let uniform = MeshRequest::points(1000);
+    /// let h = uniform.spacing(&region);
+    /// assert_eq!(uniform.spacing_at(&region)(DVec2::ZERO), h);
+    /// // ρ 16 times larger on the right half: spacing half as large there as on the left.
+    /// let graded = uniform.density(Density::Function(Arc::new(|p: DVec2| if p.x > 0.0 { 16.0 } else { 1.0 })));
+    /// let at = graded.spacing_at(&region);
+    /// let (left, right) = (at(DVec2::new(-0.5, 0.0)), at(DVec2::new(0.5, 0.0)));
+    /// assert!((left / right - 2.0).abs() < 1e-9);
+    /// assert!(right < h && h < left);
+    /// # Ok::<(), geometry::GeometryError>(())
+    /// ```
+    pub fn spacing_at<'a>(&'a self, region: &Region) -> impl Fn(DVec2) -> f64 + 'a {
+        let mean_spacing = self.spacing(region);
+        let graded = !self.density.is_uniform();
+        let mean_root = if graded {
+            crate::parts::weight(region, &self.density) / region.area()
+        } else {
+            1.0
+        };
+        move |p: DVec2| {
+            if graded {
+                let root = self.density.at(p).max(1e-300).sqrt();
+                mean_spacing * (mean_root / root).sqrt()
+            } else {
+                mean_spacing
+            }
+        }
+    }
 }
 
 /// Peak bytes per vertex assumed by [`memory_estimate`]: a CCVT run at 10⁶ vertices peaks at

@@ -4,7 +4,7 @@ use crate::{
     check_conforming, thin_feature, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress,
     Size, VertexMarker,
 };
-use geometry::{DVec2, Density, Part, Region};
+use geometry::{DVec2, Density, Part, Piece, Region, SpacingCorners};
 
 /// Implements [`Mesher::mesh_parts`].
 pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
@@ -13,11 +13,24 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     request: &MeshRequest,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<MeshResult, MeshError> {
-    let result = if region.num_parts() <= 1 {
-        mesher.mesh(region, request, progress)?
+    let bent = with_spacing_corners(region, request);
+    let work = bent.as_ref().map_or(region, |b| &b.region);
+    let mut result = if work.num_parts() <= 1 {
+        mesher.mesh(work, request, progress)?
     } else {
-        mesh_each_part(mesher, region, request, progress)?
+        mesh_each_part(mesher, work, request, progress)?
     };
+    if let Some(bent) = &bent {
+        unbend(&mut result.mesh, bent, region);
+        result.notes.push(format!(
+            "corners: {} added where a boundary edge of the local spacing would stray more than \
+             {} of its length from a bend, {} along gaps narrower than {} spacings",
+            bent.bends,
+            geometry::BEND_TOLERANCE,
+            bent.gaps,
+            geometry::GAP_SPACINGS
+        ));
+    }
     // A method may hand back a mesh that leaves the region where the region is far thinner
     // than the spacing; the caller gets an error naming the place instead.
     if result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {
@@ -34,6 +47,62 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         }
     }
     Ok(result)
+}
+
+/// `region` with corners at its bends at the spacing `request` asks for
+/// ([`Region::with_bends`]), or `None` where it has none, or where so many that K could not
+/// give each a vertex and still have half its points left (the conformity check then says
+/// where the boundary is not followed).
+fn with_spacing_corners(region: &Region, request: &MeshRequest) -> Option<SpacingCorners> {
+    if !region
+        .pieces()
+        .iter()
+        .any(|p| matches!(p, Piece::Chain(_) | Piece::Line { .. }))
+    {
+        return None;
+    }
+    let k = request.size.points(region);
+    let bent = region.with_spacing_corners(&request.spacing_at(region));
+    let needed = bent.region.corners().len() + 3 * region.loops().len();
+    (bent.added() > 0 && needed <= k).then_some(bent)
+}
+
+/// Markers of a mesh of `bent.region` renumbered to speak of `region`: an added corner
+/// becomes a boundary vertex of the piece it lies on. Arc-length positions are the same in
+/// both.
+fn unbend(mesh: &mut Mesh, bent: &SpacingCorners, region: &Region) {
+    debug_assert_eq!(bent.pieces.len(), bent.region.pieces().len());
+    debug_assert!(region.pieces().len() <= bent.pieces.len());
+    for m in &mut mesh.markers {
+        *m = match *m {
+            VertexMarker::Interior => VertexMarker::Interior,
+            VertexMarker::Boundary {
+                loop_index,
+                piece,
+                loop_param,
+            } => VertexMarker::Boundary {
+                loop_index,
+                piece: bent.pieces[piece],
+                loop_param,
+            },
+            VertexMarker::Corner {
+                loop_index,
+                corner,
+                loop_param,
+            } => match bent.corners[corner] {
+                Some(c) => VertexMarker::Corner {
+                    loop_index,
+                    corner: c,
+                    loop_param,
+                },
+                None => VertexMarker::Boundary {
+                    loop_index,
+                    piece: bent.pieces[bent.region.corners()[corner].piece_out],
+                    loop_param,
+                },
+            },
+        };
+    }
 }
 
 /// The largest mesh [`Mesher::mesh_parts`] checks for conformity before returning it (the

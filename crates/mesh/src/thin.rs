@@ -1,7 +1,7 @@
 //! Features thinner than the spacing: where the region is narrower than the edges a request
 //! asks for, no triangle fits across and the mesh there is slivers. Found before any work, so
 //! that the user learns the size that would resolve it.
-use crate::{parts, MeshRequest};
+use crate::MeshRequest;
 use geometry::{DVec2, Region};
 use std::fmt;
 
@@ -109,21 +109,7 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
     let perimeter: f64 = lengths.iter().sum();
     let samples = MAX_SAMPLES.min(MAX_TESTS / nseg).max(1);
     let step = (perimeter / samples as f64).max(f64::MIN_POSITIVE);
-    // Local spacing: mean spacing × (ρ̄ / ρ)^(1/4), ρ̄^(1/2) = ∫ρ^(1/2) / |Ω|.
-    let graded = !request.density.is_uniform();
-    let mean_root = if graded {
-        parts::weight(region, &request.density) / region.area()
-    } else {
-        1.0
-    };
-    let spacing_at = |p: DVec2| {
-        if graded {
-            let root = request.density.at(p).max(1e-300).sqrt();
-            mean_spacing * (mean_root / root).sqrt()
-        } else {
-            mean_spacing
-        }
-    };
+    let spacing_at = request.spacing_at(region);
     // Hits closer than rounding at the region's coordinates are the ray's own segment.
     let (lo, hi) = region.bbox();
     let magnitude = lo.abs().max(hi.abs()).max_element();

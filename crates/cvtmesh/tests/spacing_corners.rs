@@ -1,0 +1,143 @@
+//! Regions whose boundary is finer than the mesh: an airfoil in a box and digitized coastlines
+//! at spacings far above their vertex spacing. `Mesher::mesh_parts` adds the corners the
+//! spacing needs (`Region::with_spacing_corners`) and hands back a mesh whose markers speak of
+//! the region as given.
+use cvtmesh::geometry::{LoopRole, Rng};
+use cvtmesh::{check_conforming, DVec2, Mesh, MeshRequest, Method, Region, VertexMarker};
+use std::f64::consts::TAU;
+
+/// NACA 0012 (chord 1, 201 points, cosine spacing, a sharp trailing edge) as a hole in the box
+/// [-2, 3] × [-2, 2], with the default corners: the box's four and the trailing edge.
+fn airfoil_in_a_box() -> Region {
+    let m = 100;
+    let half: Vec<DVec2> = (0..=m)
+        .map(|i| {
+            let x = 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / m as f64).cos());
+            let t = 0.6
+                * (0.2969 * x.sqrt() - 0.1260 * x - 0.3516 * x * x + 0.2843 * x.powi(3)
+                    - 0.1036 * x.powi(4));
+            DVec2::new(x, t)
+        })
+        .collect();
+    let mut foil: Vec<DVec2> = half.iter().rev().copied().collect();
+    foil.extend(half[1..m].iter().map(|p| DVec2::new(p.x, -p.y)));
+    let bx = [(-2.0, -2.0), (3.0, -2.0), (3.0, 2.0), (-2.0, 2.0)].map(|(x, y)| DVec2::new(x, y));
+    Region::from_loops(
+        "naca0012",
+        vec![(LoopRole::Outer, bx.to_vec()), (LoopRole::Hole, foil)],
+    )
+    .unwrap()
+    .with_default_corners()
+}
+
+/// A star-shaped coastline of `n` vertices, radius 10 ± 30 %, with fractal noise whose
+/// harmonic k has amplitude k^`exponent` (-1.5 is a natural coastline's roughness, -0.9 is
+/// rough at every scale).
+fn coastline(n: usize, exponent: f64) -> Region {
+    let kmax = n / 2 - 1;
+    let mut rng = Rng::new(7);
+    let phases: Vec<f64> = (0..kmax).map(|_| rng.range(0.0, TAU)).collect();
+    let noise: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = TAU * i as f64 / n as f64;
+            (1..=kmax)
+                .map(|k| (k as f64).powf(exponent) * (k as f64 * t + phases[k - 1]).sin())
+                .sum()
+        })
+        .collect();
+    let top = noise.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let pts = noise
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let t = TAU * i as f64 / n as f64;
+            10.0 * (1.0 + 0.3 * v / top) * DVec2::new(t.cos(), t.sin())
+        })
+        .collect();
+    Region::from_loops("coast", vec![(LoopRole::Outer, pts)])
+        .unwrap()
+        .with_default_corners()
+}
+
+/// The mesh conforms to `region` as given, and its markers speak of it: corner markers name
+/// its corners, boundary markers a piece of the right loop that the vertex lies on.
+fn assert_speaks_of(mesh: &Mesh, region: &Region) {
+    check_conforming(mesh, region).unwrap();
+    let mut corners = vec![0; region.corners().len()];
+    for (p, m) in mesh.points.iter().zip(&mesh.markers) {
+        match *m {
+            VertexMarker::Interior => {}
+            VertexMarker::Corner { corner, .. } => {
+                assert_eq!(region.corners()[corner].pos, *p);
+                corners[corner] += 1;
+            }
+            VertexMarker::Boundary {
+                loop_index, piece, ..
+            } => {
+                assert_eq!(region.piece_loop(piece), loop_index);
+                let (foot, _) = region.pieces()[piece].closest_point(*p);
+                assert!(foot.distance(*p) < 1e-9 * region.diameter(), "{p}");
+            }
+        }
+    }
+    assert!(corners.iter().all(|&n| n == 1), "{corners:?}");
+}
+
+fn added_corners(notes: &[String]) -> bool {
+    notes.iter().any(|n| n.starts_with("corners: "))
+}
+
+#[test]
+fn an_airfoil_meshes_at_spacings_near_its_thickness_by_every_method() {
+    let foil = airfoil_in_a_box();
+    assert_eq!(foil.corners().len(), 5);
+    // At K = 1000 the spacing (0.15) exceeds the airfoil's thickness (0.12): without corners
+    // along its trailing half and on its nose, the default method was refused.
+    for m in Method::ALL {
+        let request = MeshRequest::points(1000).max_iter(2000);
+        let r = m
+            .run(&foil, &request)
+            .unwrap_or_else(|e| panic!("{m}: {e}"));
+        assert_speaks_of(&r.mesh, &foil);
+        assert!(added_corners(&r.notes), "{m}: {:?}", r.notes);
+    }
+    let r = Method::Ccvt.run(&foil, &MeshRequest::points(3000)).unwrap();
+    assert_speaks_of(&r.mesh, &foil);
+    assert!(r.mesh.min_angle_deg() > 5.0, "{}", r.mesh.min_angle_deg());
+}
+
+#[test]
+fn a_natural_coastline_meshes_at_every_spacing() {
+    let coast = coastline(5000, -1.5);
+    assert!(coast.corners().len() < 200, "{}", coast.corners().len());
+    for k in [300, 3000] {
+        let r = Method::Ccvt
+            .run(&coast, &MeshRequest::points(k))
+            .unwrap_or_else(|e| panic!("K = {k}: {e}"));
+        assert_speaks_of(&r.mesh, &coast);
+        assert_eq!(r.mesh.num_vertices(), k);
+    }
+}
+
+#[test]
+fn corners_far_denser_than_the_spacing_each_get_a_vertex() {
+    // Rough at every scale: most vertices turn by more than 30°, about 1300 corners on a
+    // boundary that K = 3000 spaces at only about 350 vertices.
+    let coast = coastline(2000, -0.9);
+    assert!(coast.corners().len() > 1000, "{}", coast.corners().len());
+    let r = Method::Ccvt
+        .run(&coast, &MeshRequest::points(3000))
+        .unwrap();
+    assert_speaks_of(&r.mesh, &coast);
+}
+
+#[test]
+fn regions_without_polyline_pieces_are_meshed_as_they_are() {
+    for name in ["circle", "annulus", "superellipse"] {
+        let region = Region::builtin(name).unwrap();
+        let r = Method::Ccvt
+            .run(&region, &MeshRequest::points(300))
+            .unwrap();
+        assert!(!added_corners(&r.notes), "{name}: {:?}", r.notes);
+    }
+}
