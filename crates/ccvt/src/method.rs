@@ -367,8 +367,10 @@ impl Ccvt {
             Run::Paper(Algorithm::Two) => {
                 // Steps 1–3: ordinary CVTs of Ω_ε with ε updated until it settles.
                 let (mut eps, mut domain) = (self.eps_start * spacing, omega);
+                // Each ε that closed a hole, for one note.
+                let mut closing: Vec<f64> = Vec::new();
                 if eps > 0.0 {
-                    domain = expanded(region, &mut eps, tol_poly, &mut notes);
+                    domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 let mut settled = false;
                 for _ in 0..self.max_eps_updates {
@@ -399,9 +401,16 @@ impl Ccvt {
                         break;
                     }
                     eps = eps_new;
-                    domain = expanded(region, &mut eps, tol_poly, &mut notes);
+                    domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 tally.converged &= settled;
+                if let Some(widest) = closing.iter().copied().reduce(f64::max) {
+                    notes.push(format!(
+                        "epsilon reduced by a fifth {} times where Omega_epsilon closed a hole \
+                         (the largest that did: {widest:.4e})",
+                        closing.len()
+                    ));
+                }
                 notes.push(format!(
                     "epsilon = {eps:.6e} ({:.4} of the spacing){}",
                     eps / spacing,
@@ -544,23 +553,14 @@ impl Mesher for Ccvt {
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
-/// meshed); the reduction is reported.
-fn expanded(
-    region: &Region,
-    eps: &mut f64,
-    tol: f64,
-    notes: &mut Vec<String>,
-) -> geometry::Polygon {
+/// meshed); each ε that closed one is pushed to `closing`, for a note.
+fn expanded(region: &Region, eps: &mut f64, tol: f64, closing: &mut Vec<f64>) -> geometry::Polygon {
     loop {
         let poly = region.expand(*eps, tol);
         if poly.rings.len() == region.loops().len() {
             return poly;
         }
-        let reduced = *eps * 0.8;
-        notes.push(format!(
-            "epsilon {:.4e} closes a hole; reduced to {reduced:.4e}",
-            *eps
-        ));
-        *eps = reduced;
+        closing.push(*eps);
+        *eps *= 0.8;
     }
 }

@@ -219,16 +219,21 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         energy,
         if result.converged {
             "converged"
-        } else {
+        } else if result.iterations >= a.max_iter {
             "NOT CONVERGED (iteration cap reached)"
+        } else {
+            // The method stopped on a rule of its own (CCVT: ε did not settle; refinement:
+            // the area-bound search was capped), which its notes name.
+            "NOT CONVERGED (see the notes)"
         },
         seconds,
         a.output.display()
     );
     if a.strict && !result.converged {
         bail!(
-            "--strict: {} did not converge within {} iterations (mesh written anyway)",
+            "--strict: {} did not converge ({} iterations, cap {}; see the notes; mesh written anyway)",
             method.name(),
+            result.iterations,
             a.max_iter
         );
     }

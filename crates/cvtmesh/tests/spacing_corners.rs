@@ -141,3 +141,26 @@ fn regions_without_polyline_pieces_are_meshed_as_they_are() {
         assert!(!added_corners(&r.notes), "{name}: {:?}", r.notes);
     }
 }
+
+#[test]
+fn a_small_polygonal_hole_is_followed_across_its_start() {
+    // A 24-gon of radius 0.2 in the square [-1, 1]²: no vertex turns by 30°, so the hole is
+    // one closed chain starting at (0.2, 0). At K = 60 and 100 chords span 60° of it, and the
+    // one across its start, which no stretch of the chain examined, left the region.
+    let mut text = String::from("-1 -1\n1 -1\n1 1\n-1 1\n\n");
+    for i in 0..24 {
+        let p = 0.2 * DVec2::from_angle(TAU * i as f64 / 24.0);
+        text += &format!("{} {}\n", p.x, p.y);
+    }
+    let region = cvtmesh::geometry::formats::loops_from_str(&text, "ring", "ring")
+        .unwrap()
+        .with_default_corners();
+    assert_eq!(region.corners().len(), 4);
+    for k in [60, 100] {
+        let r = Method::Ccvt
+            .run(&region, &MeshRequest::points(k))
+            .unwrap_or_else(|e| panic!("K = {k}: {e}"));
+        assert_speaks_of(&r.mesh, &region);
+        assert!(added_corners(&r.notes), "{:?}", r.notes);
+    }
+}

@@ -128,9 +128,14 @@ impl Region {
                 let (pts, cuts) = match &self.pieces[p] {
                     Piece::Chain(pts) => {
                         let gaps = gap_cuts(self, pts, spacing);
-                        let cuts = bends(pts, &gaps, spacing);
+                        // A whole loop from its only corner back to it: the corner is a cut.
+                        let mut seed = gaps.clone();
+                        if corner.is_some() && pts.first() == pts.last() {
+                            seed.insert(0, 0);
+                        }
+                        let cuts = bends(pts, &seed, spacing);
                         gaps_added += gaps.len();
-                        bends_added += cuts.len() - gaps.len();
+                        bends_added += cuts.len() - seed.len();
                         (pts.clone(), cuts)
                     }
                     &Piece::Line { a, b } => {
@@ -150,8 +155,10 @@ impl Region {
                     }
                     continue;
                 }
+                // A cut at 0 (a closed chain's start) makes the loop's start a corner.
+                let start_cut = cuts.first() == Some(&0);
                 let mut bounds = vec![0];
-                bounds.extend(&cuts);
+                bounds.extend(cuts.iter().filter(|&&c| c != 0));
                 bounds.push(pts.len() - 1);
                 for (k, w) in bounds.windows(2).enumerate() {
                     let sub = &pts[w[0]..=w[1]];
@@ -163,7 +170,7 @@ impl Region {
                     } else {
                         Piece::Chain(sub.to_vec())
                     });
-                    let is_corner = k > 0 || corner.is_some();
+                    let is_corner = k > 0 || corner.is_some() || start_cut;
                     f.push(is_corner);
                     origin_piece.push(p);
                     if is_corner {
@@ -309,13 +316,20 @@ fn line_gap_points(
     out
 }
 
-/// Indices of the vertices of the chain `pts` (strictly between its ends, increasing) that
-/// become corners at local spacing `spacing`: `seed` (increasing) and the bends between them.
+/// Indices of the vertices of the chain `pts` that become corners at local spacing `spacing`
+/// (increasing): `seed` (increasing; strictly between the ends, or 0 for a closed chain's
+/// corner) and the bends. An open chain
+/// runs from corner to corner and its ends are not returned; a closed chain (first point =
+/// last, a whole loop without corners) is examined around its start too, and its start, 0,
+/// may be returned.
 fn bends(pts: &[DVec2], seed: &[usize], spacing: &dyn Fn(DVec2) -> f64) -> Vec<usize> {
     let n = pts.len();
     if n < 3 {
         return seed.to_vec();
     }
+    let closed = n > 3 && pts[0] == pts[n - 1];
+    // Distinct vertices; in a closed chain, vertex n − 1 is vertex 0.
+    let m = if closed { n - 1 } else { n };
     let mut arc = Vec::with_capacity(n);
     let mut s = 0.0;
     arc.push(0.0);
@@ -323,41 +337,80 @@ fn bends(pts: &[DVec2], seed: &[usize], spacing: &dyn Fn(DVec2) -> f64) -> Vec<u
         s += w[0].distance(w[1]);
         arc.push(s);
     }
-    let mut cuts: Vec<usize> = vec![0];
-    cuts.extend(seed);
-    cuts.push(n - 1);
+    let length = s;
+    let mut is_cut = vec![false; m];
+    for &c in seed {
+        is_cut[c % m] = true;
+    }
+    if !closed {
+        is_cut[0] = true;
+        is_cut[m - 1] = true;
+    }
     for _ in 0..MAX_ROUNDS {
+        // Runs between cuts, as ranges of vertex numbers taken modulo m: a closed chain
+        // without cuts is examined twice, from its start and from halfway, so that no stretch
+        // is missed for crossing a run's end.
+        let cuts: Vec<usize> = (0..m).filter(|&i| is_cut[i]).collect();
+        let runs: Vec<(usize, usize)> = if cuts.is_empty() {
+            vec![(0, m), (m / 2, m / 2 + m)]
+        } else if closed {
+            (0..cuts.len())
+                .map(|k| (cuts[k], cuts.get(k + 1).copied().unwrap_or(cuts[0] + m)))
+                .collect()
+        } else {
+            cuts.windows(2).map(|w| (w[0], w[1])).collect()
+        };
         // The worst stretch's score and farthest vertex, per vertex.
-        let mut score = vec![0.0f64; n];
-        for run in cuts.windows(2) {
-            worst_in_run(pts, &arc, run[0], run[1], spacing, &mut score);
+        let mut score = vec![0.0f64; m];
+        for (a, b) in runs {
+            let index: Vec<usize> = (a..=b).map(|i| i % m).collect();
+            let run: Vec<DVec2> = index.iter().map(|&i| pts[i]).collect();
+            let mut run_arc = Vec::with_capacity(run.len());
+            let mut s = 0.0;
+            run_arc.push(0.0);
+            for w in run.windows(2) {
+                s += w[0].distance(w[1]);
+                run_arc.push(s);
+            }
+            let mut run_score = vec![0.0f64; run.len()];
+            worst_in_run(&run, &run_arc, 0, run.len() - 1, spacing, &mut run_score);
+            for (&i, &r) in index.iter().zip(&run_score) {
+                score[i] = score[i].max(r);
+            }
         }
-        let mut is_cut = vec![false; n];
-        for &c in &cuts {
-            is_cut[c] = true;
-        }
-        let mut candidates: Vec<usize> = (0..n)
+        let mut candidates: Vec<usize> = (0..m)
             .filter(|&i| score[i] > BEND_TOLERANCE && !is_cut[i])
             .collect();
         if candidates.is_empty() {
             break;
         }
         candidates.sort_by(|&a, &b| score[b].total_cmp(&score[a]).then(a.cmp(&b)));
-        // One corner per bend and round: a candidate within a quarter of the longest chord of a corner
-        // taken this round waits for the next round, which sees the split pieces.
+        // One corner per bend and round: a candidate within a quarter of the longest chord of
+        // a corner taken this round waits for the next round, which sees the split pieces.
+        let along = |a: usize, b: usize| {
+            let d = (arc[a] - arc[b]).abs();
+            if closed {
+                d.min(length - d)
+            } else {
+                d
+            }
+        };
         let mut taken: Vec<usize> = Vec::new();
         for i in candidates {
             let near = 0.25 * CHORDS[CHORDS.len() - 1] * spacing(pts[i]);
-            if taken.iter().all(|&t| (arc[t] - arc[i]).abs() > near) {
+            if taken.iter().all(|&t| along(t, i) > near) {
                 taken.push(i);
             }
         }
-        cuts.extend(taken);
-        cuts.sort_unstable();
-        cuts.dedup();
+        for i in taken {
+            is_cut[i] = true;
+        }
     }
-    cuts.retain(|&i| i != 0 && i != n - 1);
-    cuts
+    if !closed {
+        is_cut[0] = false;
+        is_cut[m - 1] = false;
+    }
+    (0..m).filter(|&i| is_cut[i]).collect()
 }
 
 /// For the stretches of the run of `pts` from vertex `a` to vertex `b`, raise `score` at each
@@ -522,6 +575,36 @@ mod tests {
         for w in ends.windows(2) {
             assert!(w[1] - w[0] <= 50, "{ends:?}");
         }
+    }
+
+    #[test]
+    fn a_closed_chain_is_examined_across_its_start() {
+        // A 24-gon of radius 0.2 (turns of 15°) closed at (0.2, 0): at spacing 0.2 a chord
+        // strays more than the tolerance wherever it is, the start included.
+        let mut pts: Vec<DVec2> = (0..24)
+            .map(|i| 0.2 * DVec2::from_angle(std::f64::consts::TAU * i as f64 / 24.0))
+            .collect();
+        pts.push(pts[0]);
+        let cuts = bends(&pts, &[], &|_| 0.2);
+        assert!(cuts.len() >= 6, "{cuts:?}");
+        // No stretch of more than 60° (4 sides) between corners, across the start too.
+        let mut gaps: Vec<usize> = cuts.windows(2).map(|w| w[1] - w[0]).collect();
+        gaps.push(cuts[0] + 24 - cuts[cuts.len() - 1]);
+        assert!(gaps.iter().all(|&g| g <= 4), "{cuts:?}");
+        // As a hole in a square, meshed at that spacing: its start is a corner of its own.
+        let square = [v(-1.0, -1.0), v(1.0, -1.0), v(1.0, 1.0), v(-1.0, 1.0)];
+        let hole: Vec<DVec2> = pts[..24].to_vec();
+        let region = Region::from_loops(
+            "ring",
+            vec![(LoopRole::Outer, square.to_vec()), (LoopRole::Hole, hole)],
+        )
+        .unwrap()
+        .with_default_corners();
+        assert_eq!(region.corners().len(), 4);
+        let fitted = region.with_spacing_corners(&|_| 0.2);
+        assert_eq!(fitted.region.corners().len(), 4 + fitted.bends);
+        assert!((fitted.region.area() - region.area()).abs() < 1e-12);
+        assert!((fitted.region.loops()[1].length - region.loops()[1].length).abs() < 1e-12);
     }
 
     #[test]
