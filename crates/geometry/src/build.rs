@@ -350,16 +350,32 @@ pub(crate) fn new_region(
         Some(list) => {
             let mut flags: Vec<Vec<bool>> =
                 lps.iter().map(|(_, ps)| vec![false; ps.len()]).collect();
-            for c in list {
-                let mut best = (f64::INFINITY, 0, 0);
-                for (l, (_, ps)) in lps.iter().enumerate() {
-                    for (k, p) in ps.iter().enumerate() {
-                        let d = p.start().distance(c);
-                        if d < best.0 {
-                            best = (d, l, k);
-                        }
-                    }
+            // Junctions by exact position: a polygon file lists its vertices as corners, and
+            // a search of every junction per corner is quadratic (30 s at 10⁵ vertices).
+            let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+            let mut at: std::collections::HashMap<(u64, u64), (usize, usize)> =
+                std::collections::HashMap::new();
+            for (l, (_, ps)) in lps.iter().enumerate() {
+                for (k, p) in ps.iter().enumerate() {
+                    at.entry(key(p.start())).or_insert((l, k));
                 }
+            }
+            for c in list {
+                let best = match at.get(&key(c)) {
+                    Some(&(l, k)) => (0.0, l, k),
+                    None => {
+                        let mut best = (f64::INFINITY, 0, 0);
+                        for (l, (_, ps)) in lps.iter().enumerate() {
+                            for (k, p) in ps.iter().enumerate() {
+                                let d = p.start().distance(c);
+                                if d < best.0 {
+                                    best = (d, l, k);
+                                }
+                            }
+                        }
+                        best
+                    }
+                };
                 let (d, l, k) = best;
                 if d > SNAP * 10.0 * diam {
                     let j = lps[l].1[k].start();

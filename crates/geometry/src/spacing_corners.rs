@@ -48,6 +48,9 @@ const MAX_ROUNDS: usize = 64;
 /// Points per local spacing at which a line is tested for a gap.
 const GAP_SAMPLES: f64 = 4.0;
 
+/// Most points at which one line is tested for a gap (and so most corners added on it).
+const MAX_LINE_SAMPLES: f64 = 100_000.0;
+
 /// Distances, as shares of the gap, tested along the outward normal.
 const GAP_PROBES: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 
@@ -247,7 +250,8 @@ fn gap_cuts(region: &Region, pts: &[DVec2], spacing: &dyn Fn(DVec2) -> f64) -> V
         // nearest vertex, none at the chain's ends.
         let (s0, s1) = (arc[start], arc[i]);
         let h = spacing(pts[(start + i) / 2]);
-        let count = ((s1 - s0) / h).round().max(1.0) as usize;
+        // No more corners than the run has vertices (a spacing far below the vertex spacing).
+        let count = ((s1 - s0) / h).round().clamp(1.0, (i - start + 1) as f64) as usize;
         let mut v = start;
         for k in 0..count {
             let target = s0 + (s1 - s0) * (k as f64 + 0.5) / count as f64;
@@ -283,7 +287,7 @@ fn line_gap_points(
     }
     let d = (b - a) / len;
     let normal = DVec2::new(d.y, -d.x);
-    let samples = ((len / h) * GAP_SAMPLES).ceil().min(1e6) as usize;
+    let samples = ((len / h) * GAP_SAMPLES).ceil().min(MAX_LINE_SAMPLES) as usize;
     let facing: Vec<bool> = (0..=samples)
         .map(|k| {
             let x = a.lerp(b, k as f64 / samples as f64);
@@ -302,7 +306,9 @@ fn line_gap_points(
             i += 1;
         }
         let (t0, t1) = (start as f64 / samples as f64, i as f64 / samples as f64);
-        let count = ((t1 - t0) * len / h).round().max(1.0) as usize;
+        let count = ((t1 - t0) * len / h)
+            .round()
+            .clamp(1.0, (i - start + 1) as f64) as usize;
         for k in 0..count {
             let t = t0 + (t1 - t0) * (k as f64 + 0.5) / count as f64;
             // Not within half a spacing of either end (a corner or junction is there).
@@ -346,6 +352,11 @@ fn bends(pts: &[DVec2], seed: &[usize], spacing: &dyn Fn(DVec2) -> f64) -> Vec<u
         is_cut[0] = true;
         is_cut[m - 1] = true;
     }
+    // Cuts taken in the last round: only the runs they end are examined again; the others
+    // keep their scores (a candidate held back by a corner nearby stays a candidate).
+    let mut fresh = vec![true; m];
+    // The worst stretch's score and farthest vertex, per vertex.
+    let mut score = vec![0.0f64; m];
     for _ in 0..MAX_ROUNDS {
         // Runs between cuts, as ranges of vertex numbers taken modulo m: a closed chain
         // without cuts is examined twice, from its start and from halfway, so that no stretch
@@ -360,8 +371,15 @@ fn bends(pts: &[DVec2], seed: &[usize], spacing: &dyn Fn(DVec2) -> f64) -> Vec<u
         } else {
             cuts.windows(2).map(|w| (w[0], w[1])).collect()
         };
-        // The worst stretch's score and farthest vertex, per vertex.
-        let mut score = vec![0.0f64; m];
+        let runs: Vec<(usize, usize)> = runs
+            .into_iter()
+            .filter(|&(a, b)| cuts.is_empty() || fresh[a % m] || fresh[b % m])
+            .collect();
+        for &(a, b) in &runs {
+            for i in a..=b {
+                score[i % m] = 0.0;
+            }
+        }
         for (a, b) in runs {
             let index: Vec<usize> = (a..=b).map(|i| i % m).collect();
             let run: Vec<DVec2> = index.iter().map(|&i| pts[i]).collect();
@@ -402,8 +420,10 @@ fn bends(pts: &[DVec2], seed: &[usize], spacing: &dyn Fn(DVec2) -> f64) -> Vec<u
                 taken.push(i);
             }
         }
+        fresh.fill(false);
         for i in taken {
             is_cut[i] = true;
+            fresh[i] = true;
         }
     }
     if !closed {
@@ -517,6 +537,13 @@ fn worst_in_run(
             }
         }
         start += shortest * h / WINDOW_STEPS;
+        // Where the spacing is far below the vertex spacing, stretches that hold no vertex are
+        // skipped: the next one examined reaches the next vertex.
+        let mut next_vertex = i0;
+        while next_vertex < b && arc[next_vertex] <= start {
+            next_vertex += 1;
+        }
+        start = start.max(arc[next_vertex] - MAX_ARC * longest * h);
     }
 }
 
