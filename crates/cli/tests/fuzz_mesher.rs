@@ -53,7 +53,7 @@ proptest! {
         seed in 0u64..1000,
     ) {
         let Some(region) = region(&radii, hole) else { return Ok(()) };
-        let k = region.corners().len() + 3 * region.loops().len() + extra;
+        let k = cvtmesh::boundary_points_needed(&region) + extra;
         for m in methods() {
             let req = MeshRequest::points(k).seed(seed).max_iter(400);
             if let Ok(r) = m.mesh(&region, &req, &mut |_| {}) {

@@ -59,9 +59,10 @@ pub use vtm;
 pub use ::mesh::io;
 
 pub use ::mesh::{
-    check_conforming, memory_estimate, short_coverage, thin_feature, total_memory, BoundaryEdge,
-    ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, Size, ThinFeature,
-    VertexMarker, BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT, MAX_POINTS,
+    boundary_points_needed, check_conforming, memory_estimate, short_coverage, thin_feature,
+    total_memory, BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
+    Progress, Size, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT,
+    MAX_POINTS,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

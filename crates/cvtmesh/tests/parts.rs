@@ -124,8 +124,9 @@ fn a_geojson_multipolygon_is_meshed_whole() {
 
 #[test]
 fn too_few_points_for_all_parts_is_refused_before_any_work() {
-    let e = cvtmesh::mesh(&three_parts(), 20).unwrap_err();
-    assert!(e.to_string().contains("at least 28 vertices"), "{e}");
+    // Every loop a square: its 4 corners each.
+    let e = cvtmesh::mesh(&three_parts(), 15).unwrap_err();
+    assert!(e.to_string().contains("at least 16 vertices"), "{e}");
     // A method on its own refuses several parts rather than mesh one.
     let e = cvtmesh::Ccvt::fast()
         .mesh(&three_parts(), &MeshRequest::points(300), &mut |_| {})

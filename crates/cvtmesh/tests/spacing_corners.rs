@@ -164,3 +164,32 @@ fn a_small_polygonal_hole_is_followed_across_its_start() {
         assert!(added_corners(&r.notes), "{:?}", r.notes);
     }
 }
+
+#[test]
+fn holes_too_many_for_k_say_how_many_vertices_their_bends_need() {
+    // 25 holes of radius 0.02 (16-gons) in the unit square: at K = 120 (spacing 0.1) each
+    // needs about eight corners to be followed, 204 boundary vertices in all.
+    let mut text = String::from("0 0\n1 0\n1 1\n0 1\n");
+    for i in 0..5 {
+        for j in 0..5 {
+            text += "\n";
+            let c = DVec2::new(0.1 + 0.2 * i as f64, 0.1 + 0.2 * j as f64);
+            for k in 0..16 {
+                let p = c + 0.02 * DVec2::from_angle(TAU * k as f64 / 16.0);
+                text += &format!("{} {}\n", p.x, p.y);
+            }
+        }
+    }
+    let region = cvtmesh::geometry::formats::loops_from_str(&text, "holes", "holes")
+        .unwrap()
+        .with_default_corners();
+    let e = Method::Ccvt
+        .run(&region, &MeshRequest::points(120))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("bends and gaps need"), "{e}");
+    let r = Method::Ccvt
+        .run(&region, &MeshRequest::points(400))
+        .unwrap();
+    assert_speaks_of(&r.mesh, &region);
+}

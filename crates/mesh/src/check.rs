@@ -78,7 +78,11 @@ pub enum ConformityError {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityError> {
-    let eps = 1e-9 * region.diameter();
+    // Relative to the region's size, and to its coordinates' rounding: a region 0.03 across at
+    // (10⁶, 10⁶) has vertices one rounding step (1.2e-10) off its boundary.
+    let (lo, hi) = region.bbox();
+    let magnitude = lo.abs().max(hi.abs()).max_element();
+    let eps = 1e-9 * region.diameter() + 16.0 * f64::EPSILON * magnitude;
     if mesh.markers.len() != mesh.points.len() {
         return Err(ConformityError::MarkerCount(
             mesh.markers.len(),

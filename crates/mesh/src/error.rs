@@ -14,7 +14,7 @@ use thiserror::Error;
 /// let region = Region::builtin("hex_hole")?; // 12 corners on 2 loops
 /// match MeshRequest::points(8).validate(&region) {
 ///     Err(MeshError::TooFewPoints { needed, corners, .. }) => {
-///         assert_eq!((needed, corners), (18, 12));
+///         assert_eq!((needed, corners), (12, 12));
 ///     }
 ///     other => panic!("expected TooFewPoints, got {other:?}"),
 /// }
@@ -24,14 +24,14 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum MeshError {
     /// K is below what the region's boundary needs: a vertex on every corner and at least three
-    /// on every boundary loop.
+    /// on every boundary loop ([`crate::boundary_points_needed`]).
     #[error("{}", too_few_points(.region, *.requested, *.needed, *.corners, *.loops, *.edge_length))]
     TooFewPoints {
         /// The region's name.
         region: String,
         /// The K asked for (derived from the edge length if one was given).
         requested: usize,
-        /// The smallest K accepted: `corners + 3 · loops`.
+        /// The smallest K accepted: each loop's corners, and at least three on every loop.
         needed: usize,
         /// Number of corners of the region.
         corners: usize,
@@ -266,7 +266,7 @@ fn too_few_points(
     let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     let mut s = format!(
         "K = {requested} is too small for region '{region}': it has {} and {}, so at least \
-         {needed} vertices are needed (one on every corner, three on every loop)",
+         {needed} vertices are needed (one on every corner, and at least three on every loop)",
         plural(corners, "corner"),
         plural(loops, "boundary loop"),
     );

@@ -15,8 +15,8 @@ mod types;
 pub use check::{check_conforming, short_coverage, ConformityError, ShortCoverage, MIN_COVERAGE};
 pub use error::MeshError;
 pub use mesher::{
-    memory_estimate, total_memory, MeshRequest, MeshResult, Mesher, Progress, Size,
-    BYTES_PER_VERTEX, MAX_POINTS,
+    boundary_points_needed, memory_estimate, total_memory, MeshRequest, MeshResult, Mesher,
+    Progress, Size, BYTES_PER_VERTEX, MAX_POINTS,
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use thin::{thin_feature, ThinFeature};

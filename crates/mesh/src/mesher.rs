@@ -217,8 +217,8 @@ impl MeshRequest {
     /// Check the request against `region` before any work is done, and return K.
     ///
     /// Refused, in this order: an edge length that is not a positive finite number
-    /// ([`MeshError::InvalidEdgeLength`]); K below `corners + 3 · loops`, a vertex on every
-    /// corner and three on every boundary loop ([`MeshError::TooFewPoints`]); K above
+    /// ([`MeshError::InvalidEdgeLength`]); K below [`boundary_points_needed`], a vertex on every
+    /// corner and at least three on every boundary loop ([`MeshError::TooFewPoints`]); K above
     /// [`MAX_POINTS`] ([`MeshError::TooManyPoints`]); a tolerance that
     /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
     /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
@@ -251,7 +251,7 @@ impl MeshRequest {
         };
         let k = self.size.points(region);
         let (corners, loops) = (region.corners().len(), region.loops().len());
-        let needed = corners + 3 * loops;
+        let needed = boundary_points_needed(region);
         if k < needed {
             return Err(MeshError::TooFewPoints {
                 region: region.name().to_string(),
@@ -332,6 +332,27 @@ impl MeshRequest {
             }
         }
     }
+}
+
+/// The fewest vertices a mesh of `region` can have: one on every corner, and at least three on
+/// every boundary loop (a loop with fewer corners needs boundary vertices besides them).
+///
+/// ```
+/// use cvtmesh_mesh::boundary_points_needed;
+/// use geometry::Region;
+/// // The disc: three on its circle; the square with a round hole: its 4 corners and three on
+/// // the hole; the hexagon with a hexagonal hole: its 12 corners.
+/// assert_eq!(boundary_points_needed(&Region::builtin("circle")?), 3);
+/// assert_eq!(boundary_points_needed(&Region::builtin("square_hole")?), 7);
+/// assert_eq!(boundary_points_needed(&Region::builtin("hex_hole")?), 12);
+/// # Ok::<(), geometry::GeometryError>(())
+/// ```
+pub fn boundary_points_needed(region: &Region) -> usize {
+    let mut per_loop = vec![0usize; region.loops().len()];
+    for c in region.corners() {
+        per_loop[c.loop_index] += 1;
+    }
+    per_loop.into_iter().map(|c| c.max(3)).sum()
 }
 
 /// Peak bytes per vertex assumed by [`memory_estimate`]: a CCVT run at 10⁶ vertices peaks at
@@ -501,9 +522,9 @@ pub struct MeshResult {
 /// assert_eq!(reports, result.iterations);
 /// check_conforming(&result.mesh, &triangle)?;
 /// assert!((result.mesh.min_angle_deg() - 60.0).abs() < 1e-9);
-/// // 3 corners on 1 loop need K ≥ 6: refused by `validate` before any work.
-/// let e = mesher.mesh(&triangle, &MeshRequest::points(5), &mut |_| {}).unwrap_err();
-/// assert!(matches!(e, MeshError::TooFewPoints { needed: 6, .. }));
+/// // K below the 3 corners: refused by `validate` before any work.
+/// let e = mesher.mesh(&triangle, &MeshRequest::points(2), &mut |_| {}).unwrap_err();
+/// assert!(matches!(e, MeshError::TooFewPoints { needed: 3, .. }));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub trait Mesher: Sync {
@@ -603,7 +624,8 @@ mod tests {
     fn too_few_points_names_the_corners_and_the_flag() {
         let r = region("hex_hole");
         let (corners, loops) = (r.corners().len(), r.loops().len());
-        let needed = corners + 3 * loops;
+        let needed = boundary_points_needed(&r);
+        assert_eq!(needed, corners);
         let e = MeshRequest::points(needed - 1).validate(&r).unwrap_err();
         match &e {
             MeshError::TooFewPoints {

@@ -13,12 +13,34 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     request: &MeshRequest,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<MeshResult, MeshError> {
-    let bent = with_spacing_corners(region, request);
+    let (bent, unfitted) = match with_spacing_corners(region, request) {
+        Fit::Added(b) => (Some(*b), None),
+        Fit::TooMany { needed } => (None, Some(needed)),
+        Fit::None => (None, None),
+    };
     let work = bent.as_ref().map_or(region, |b| &b.region);
-    let mut result = if work.num_parts() <= 1 {
-        mesher.mesh(work, request, progress)?
+    // Where the corners did not fit, a failure says how many points would have given them room.
+    let unfitted_hint = |needed: usize| {
+        format!(
+            "at this spacing the boundary's bends and gaps need {needed} boundary vertices, more \
+             than K = {}: a larger K would follow them",
+            request.size.points(region)
+        )
+    };
+    let run = if work.num_parts() <= 1 {
+        mesher.mesh(work, request, progress)
     } else {
-        mesh_each_part(mesher, work, request, progress)?
+        mesh_each_part(mesher, work, request, progress)
+    };
+    let mut result = match (run, unfitted) {
+        (Ok(r), _) => r,
+        (Err(MeshError::BadRequest(m)), Some(needed)) => {
+            return Err(MeshError::BadRequest(format!(
+                "{m}; {}",
+                unfitted_hint(needed)
+            )))
+        }
+        (Err(e), _) => return Err(e),
     };
     if let Some(bent) = &bent {
         unbend(&mut result.mesh, bent, region);
@@ -35,9 +57,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // than the spacing; the caller gets an error naming the place instead.
     if result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {
         if let Err(cause) = check_conforming(&result.mesh, region) {
-            let hint = match thin_feature(region, request) {
-                Some(thin) => thin.to_string(),
-                None => "try a larger K, or keep every corner (--corner-angle 0)".into(),
+            let hint = match (thin_feature(region, request), unfitted) {
+                (Some(thin), _) => thin.to_string(),
+                (None, Some(needed)) => unfitted_hint(needed),
+                (None, None) => "try a larger K, or keep every corner (--corner-angle 0)".into(),
             };
             return Err(MeshError::NotConforming {
                 method: mesher.name().to_string(),
@@ -49,22 +72,37 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     Ok(result)
 }
 
-/// `region` with corners at its bends at the spacing `request` asks for
-/// ([`Region::with_bends`]), or `None` where it has none, or where so many that K could not
-/// give each a vertex and still have half its points left (the conformity check then says
-/// where the boundary is not followed).
-fn with_spacing_corners(region: &Region, request: &MeshRequest) -> Option<SpacingCorners> {
+/// What [`with_spacing_corners`] found.
+enum Fit {
+    /// Corners added.
+    Added(Box<SpacingCorners>),
+    /// Corners needed, but with them the boundary would need `needed` vertices, more than K.
+    TooMany { needed: usize },
+    /// No corner needed (or no polyline piece to add one to).
+    None,
+}
+
+/// `region` with the corners the spacing `request` asks for needs
+/// ([`Region::with_spacing_corners`]), unless there are none or K could not give each a
+/// vertex.
+fn with_spacing_corners(region: &Region, request: &MeshRequest) -> Fit {
     if !region
         .pieces()
         .iter()
         .any(|p| matches!(p, Piece::Chain(_) | Piece::Line { .. }))
     {
-        return None;
+        return Fit::None;
     }
     let k = request.size.points(region);
     let bent = region.with_spacing_corners(&request.spacing_at(region));
-    let needed = bent.region.corners().len() + 3 * region.loops().len();
-    (bent.added() > 0 && needed <= k).then_some(bent)
+    let needed = crate::boundary_points_needed(&bent.region);
+    if bent.added() == 0 {
+        Fit::None
+    } else if needed > k {
+        Fit::TooMany { needed }
+    } else {
+        Fit::Added(Box::new(bent))
+    }
 }
 
 /// Markers of a mesh of `bent.region` renumbered to speak of `region`: an added corner
@@ -197,7 +235,7 @@ pub(crate) fn shares(k: usize, parts: &[Part], density: &Density) -> Vec<usize> 
     let weights: Vec<f64> = parts.iter().map(|p| weight(&p.region, density)).collect();
     let needs: Vec<usize> = parts
         .iter()
-        .map(|p| p.region.corners().len() + 3 * p.region.loops().len())
+        .map(|p| crate::boundary_points_needed(&p.region))
         .collect();
     allocate(k, &weights, &needs)
 }

@@ -127,3 +127,38 @@ fn the_reported_problem_does_not_depend_on_hash_order() {
         assert_eq!(check_conforming(&m, &frame_region()).unwrap_err(), first);
     }
 }
+
+#[test]
+fn rounding_at_large_coordinates_is_not_a_vertex_outside() {
+    // The frame shrunk to 0.04 across and moved to (10⁶, 10⁶): a vertex one rounding step
+    // (1.2e-10) outside its boundary, where 1e-9 of the diameter is 5.7e-11.
+    let at = |p: DVec2| DVec2::splat(1e6) + 0.01 * p;
+    let mut hole = square(1.0, 3.0);
+    hole.reverse();
+    let outer: Vec<DVec2> = square(0.0, 4.0).into_iter().map(at).collect();
+    let hole: Vec<DVec2> = hole.into_iter().map(at).collect();
+    let region = Region::new(
+        "far",
+        vec![
+            (LoopRole::Outer, lines(&outer)),
+            (LoopRole::Hole, lines(&hole)),
+        ],
+        None,
+    )
+    .unwrap();
+    let mut mesh = frame_mesh();
+    for p in &mut mesh.points {
+        *p = at(*p);
+    }
+    check_conforming(&mesh, &region).unwrap();
+    let ulp = 1e6f64.next_up() - 1e6;
+    mesh.points[0].x -= ulp;
+    assert!(region.signed_distance(mesh.points[0]) > 1e-9 * region.diameter());
+    check_conforming(&mesh, &region).unwrap();
+    // A real excursion is still caught.
+    mesh.points[0].x -= 1e-6;
+    assert!(matches!(
+        check_conforming(&mesh, &region),
+        Err(ConformityError::VertexOutside(0, ..))
+    ));
+}

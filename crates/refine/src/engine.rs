@@ -21,7 +21,7 @@
 use crate::boundary::{is_curved, Pslg, VKind};
 use crate::grid::{SegGrid, SegKey};
 use geometry::predicates::{circumcenter, segment_distance, triangle_signed_area};
-use geometry::{DVec2, Density, PieceId, Region};
+use geometry::{DVec2, Density, Piece, PieceId, Region};
 use mesh::MeshError;
 use robust::Coord;
 use spade::handles::FixedVertexHandle;
@@ -730,7 +730,15 @@ impl Engine<'_> {
             }
         }
         let piece = &self.region.pieces()[s.piece];
-        let m = if !is_curved(piece) {
+        let bend = match piece {
+            Piece::Chain(pts) => farthest_between(pts, pa, pb)
+                .filter(|&(_, d)| d > CHAIN_BEND * len)
+                .map(|(v, _)| v),
+            _ => None,
+        };
+        let m = if let Some(v) = bend {
+            v
+        } else if !is_curved(piece) {
             pa.lerp(pb, split)
         } else if split == 0.5 {
             self.region
@@ -896,8 +904,82 @@ fn canonical(f: [u32; 3]) -> [u32; 3] {
     [f[i], f[(i + 1) % 3], f[(i + 2) % 3]]
 }
 
+/// A chord of a polyline piece farther than this share of its length from the polyline is
+/// split at the polyline's farthest vertex rather than at its midpoint: a digitized
+/// coastline's dent between two boundary vertices is kept under the 0.13 a conforming mesh's
+/// boundary edge may stray (halving a chord without looking doubles the dent's share).
+const CHAIN_BEND: f64 = 0.1;
+
+/// The vertex of the chain `pts` strictly between its points `a` and `b` (both on it, `a`
+/// first along it) that lies farthest from the chord `ab`, with that distance.
+fn farthest_between(pts: &[DVec2], a: DVec2, b: DVec2) -> Option<(DVec2, f64)> {
+    let param = |p: DVec2| {
+        // Arc length of the chain's nearest point to p.
+        let (mut best, mut at, mut s) = (f64::INFINITY, 0.0, 0.0);
+        for w in pts.windows(2) {
+            let (u, v) = (w[0], w[1]);
+            let len = u.distance(v);
+            let t = if len > 0.0 {
+                ((p - u).dot(v - u) / (len * len)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d = p.distance(u.lerp(v, t));
+            if d < best {
+                (best, at) = (d, s + t * len);
+            }
+            s += len;
+        }
+        at
+    };
+    let (sa, sb) = (param(a), param(b));
+    let (lo, hi) = (sa.min(sb), sa.max(sb));
+    let chord = b - a;
+    let len = chord.length();
+    if len <= 0.0 {
+        return None;
+    }
+    let mut s = 0.0;
+    let mut best: Option<(DVec2, f64)> = None;
+    for (i, &v) in pts.iter().enumerate() {
+        if i > 0 {
+            s += pts[i - 1].distance(v);
+        }
+        if s <= lo || s >= hi {
+            continue;
+        }
+        let d = chord.perp_dot(v - a).abs() / len;
+        if best.is_none_or(|(_, bd)| d > bd) {
+            best = Some((v, d));
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_chord_over_a_dent_is_split_at_the_dent() {
+        // A straight chain with a dent of depth 0.2 at x = 0.3: the chord from (0, 0) to
+        // (1, 0) is split at the dent's tip, not at its midpoint.
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let pts = vec![
+            v(0.0, 0.0),
+            v(0.2, 0.0),
+            v(0.3, 0.2),
+            v(0.4, 0.0),
+            v(1.0, 0.0),
+        ];
+        let (at, d) = farthest_between(&pts, v(0.0, 0.0), v(1.0, 0.0)).unwrap();
+        assert_eq!(at, v(0.3, 0.2));
+        assert!((d - 0.2).abs() < 1e-12);
+        // Between (0.4, 0) and (1, 0) there is no vertex.
+        assert!(farthest_between(&pts, v(0.4, 0.0), v(1.0, 0.0)).is_none());
+        // Only vertices strictly between the two points count.
+        let (at, _) = farthest_between(&pts, v(0.25, 0.1), v(1.0, 0.0)).unwrap();
+        assert_eq!(at, v(0.3, 0.2));
+    }
+
     use super::*;
 
     #[test]
