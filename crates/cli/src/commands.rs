@@ -87,6 +87,13 @@ pub struct MeshArgs {
     /// region lists].
     #[arg(long)]
     corner_angle: Option<f64>,
+    /// Simplify a digitized boundary first (Douglas–Peucker): drop the vertices that lie within
+    /// TOL of the simplified boundary, so that a coastline with more corners than the mesh has
+    /// vertices can be meshed coarsely; `auto` is a tenth of the spacing. The mesh is of the
+    /// simplified region, which stays within the printed distance of the original [default:
+    /// none, the boundary as given].
+    #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
+    simplify: Option<String>,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence, and
     /// refuse (before any work) a region narrower than half the spacing somewhere.
     #[arg(long)]
@@ -116,34 +123,24 @@ fn method_help() -> String {
     )
 }
 
-/// `cvtmesh mesh`: mesh, report, write.
-pub fn mesh(a: MeshArgs) -> Result<()> {
-    inputs::output_kind(&a.output)?;
-    let method = inputs::method(&a.method)?;
-    let (region, corners) = inputs::region_with_corners(&a.region, a.corner_angle)?;
-    eprintln!("{corners}");
-    if region.num_parts() > 1 {
-        eprintln!(
-            "region: {} disjoint parts, meshed one by one with K shared by area",
-            region.num_parts()
-        );
-    }
+/// The request `a` makes of `region`, and for a size field a line saying the K it gives.
+fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>)> {
     let graded = inputs::graded_field(
         a.size_field.as_deref(),
         &a.size_toward,
         a.size_threshold.as_deref(),
-        &region,
+        region,
     )?;
-    let request = match graded {
+    let (request, line) = match graded {
         Some(field) => {
-            let field = field.bounded(&region, a.size_min, a.size_max, Some(a.gradation))?;
-            let r = MeshRequest::size_field(&field, &region, a.points)?;
-            eprintln!(
+            let field = field.bounded(region, a.size_min, a.size_max, Some(a.gradation))?;
+            let r = MeshRequest::size_field(&field, region, a.points)?;
+            let line = format!(
                 "size field: K = {} ({:.0} asked for by the field)",
-                r.size.points(&region),
-                field.predicted_points(&region)
+                r.size.points(region),
+                field.predicted_points(region)
             );
-            r
+            (r, Some(line))
         }
         None => {
             let size = match (a.points, a.size) {
@@ -151,16 +148,43 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
                 (None, Some(h)) => Size::EdgeLength(h),
                 (None, None) => bail!("give --points K, --size H or --size-field EXPR"),
             };
-            MeshRequest {
+            let r = MeshRequest {
                 size,
                 density: inputs::density(a.density.as_deref())?,
                 ..MeshRequest::points(0)
-            }
+            };
+            (r, None)
         }
+    };
+    Ok((request.seed(a.seed).tol(a.tol).max_iter(a.max_iter), line))
+}
+
+/// `cvtmesh mesh`: mesh, report, write.
+pub fn mesh(a: MeshArgs) -> Result<()> {
+    inputs::output_kind(&a.output)?;
+    let method = inputs::method(&a.method)?;
+    let raw = inputs::region(&a.region, None)?;
+    let (mut region, mut corners) = inputs::with_corners(raw.clone(), a.corner_angle)?;
+    if let Some(spec) = &a.simplify {
+        let tol = match spec.as_str() {
+            "auto" => request(&a, &region)?.0.simplify_tolerance(&region),
+            t => inputs::positive("--simplify", t)?,
+        };
+        let s = raw.simplified(tol)?;
+        eprintln!("{s}");
+        (region, corners) = inputs::with_corners(s.region, a.corner_angle)?;
     }
-    .seed(a.seed)
-    .tol(a.tol)
-    .max_iter(a.max_iter);
+    eprintln!("{corners}");
+    if region.num_parts() > 1 {
+        eprintln!(
+            "region: {} disjoint parts, meshed one by one with K shared by area",
+            region.num_parts()
+        );
+    }
+    let (request, field_line) = request(&a, &region)?;
+    if let Some(line) = field_line {
+        eprintln!("{line}");
+    }
     let k = request.validate_whole(&region)?;
     if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
         if a.strict {

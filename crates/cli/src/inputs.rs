@@ -8,11 +8,10 @@ use std::path::Path;
 /// Pixels spanned by the longer side of a picture's bounding box, unless `show --px` says.
 pub const PICTURE_PX: u32 = 1200;
 
-/// The region to mesh and a line saying how many corners were kept: `corner_angle` keeps
+/// `raw` with its corners chosen, and a line saying how many were kept: `corner_angle` keeps
 /// only corners turning more than that many degrees; without it a region whose corners were
 /// computed keeps those turning more than the default ([`Region::with_default_corners`]).
-pub fn region_with_corners(spec: &str, corner_angle: Option<f64>) -> Result<(Region, String)> {
-    let raw = region(spec, None)?;
+pub fn with_corners(raw: Region, corner_angle: Option<f64>) -> Result<(Region, String)> {
     let all = raw.corners().len();
     let region = match corner_angle {
         Some(deg) => with_corner_angle(raw, deg)?,
@@ -29,6 +28,14 @@ pub fn region_with_corners(spec: &str, corner_angle: Option<f64>) -> Result<(Reg
         (None, None) => format!("corners: {kept} (as the region lists them)"),
     };
     Ok((region, line))
+}
+
+/// A positive, finite number given to `flag`.
+pub fn positive(flag: &str, word: &str) -> Result<f64> {
+    match word.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => bail!("{flag} needs a positive number or `auto`, got '{word}'"),
+    }
 }
 
 /// A region from a file (any supported format) or, if no such file exists, a built-in name.

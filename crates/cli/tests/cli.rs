@@ -110,6 +110,7 @@ fn help_names_every_default() {
         ("max-iter", "10000"),
         ("density", "1, a uniform mesh"),
         ("corner-angle", "30, or the corners the region lists"),
+        ("simplify", "none, the boundary as given"),
     ] {
         let line = option_line(&mesh, option);
         assert!(
@@ -884,6 +885,41 @@ fn a_coastline_meshes_far_below_its_vertex_count() {
     ]);
     assert!(!o.status.success());
     assert!(text(&o).contains("at least 3000 vertices"), "{}", text(&o));
+    assert!(text(&o).contains("--simplify auto"), "{}", text(&o));
+    // Simplified to a quarter of the spacing, every vertex left may stay a corner.
+    let simplified = |tol: &str| {
+        cvtmesh(&[
+            "mesh",
+            s(&input),
+            "-n",
+            "300",
+            "--corner-angle",
+            "0",
+            "--simplify",
+            tol,
+            "-q",
+            "-o",
+            s(&out),
+        ])
+    };
+    let o = simplified("auto");
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("boundary: simplified from 3000 to ")
+            && text(&o).contains("the mesh's boundary stays within"),
+        "{}",
+        text(&o)
+    );
+    for bad in ["0", "-1", "nan", "coarse"] {
+        std::fs::remove_file(&out).unwrap_or(());
+        let o = simplified(bad);
+        assert!(!o.status.success() && !out.exists(), "{bad}");
+        assert!(
+            text(&o).contains("--simplify needs a positive number or `auto`"),
+            "{}",
+            text(&o)
+        );
+    }
     // Listed corners are kept: the square's four.
     let o = cvtmesh(&["mesh", "square_hole", "-n", "200", "-q", "-o", s(&out)]);
     assert!(

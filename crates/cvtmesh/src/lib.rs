@@ -62,11 +62,11 @@ pub use ::mesh::{
     boundary_points_needed, check_conforming, memory_estimate, short_coverage, thin_feature,
     total_memory, BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
     Progress, Size, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT,
-    MAX_POINTS,
+    MAX_POINTS, SIMPLIFY_SPACINGS,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;
-pub use geometry::{DVec2, Density, GeometryError, Region, SizeField, SizeFieldError};
+pub use geometry::{DVec2, Density, GeometryError, Region, Simplified, SizeField, SizeFieldError};
 pub use meshgen::Meshgen;
 pub use metrics::{measures, sampled_measures, Measures, MetricsError};
 pub use refine::Refine;

@@ -193,3 +193,41 @@ fn holes_too_many_for_k_say_how_many_vertices_their_bends_need() {
         .unwrap();
     assert_speaks_of(&r.mesh, &region);
 }
+
+#[test]
+fn a_rough_coastline_simplified_to_the_spacing_meshes_far_below_its_corner_count() {
+    // About 1300 corners: K = 300 is refused, and the refusal names the way out.
+    let coast = coastline(2000, -0.9);
+    let request = MeshRequest::points(300).max_iter(2000);
+    let refused = Method::Ccvt.run(&coast, &request).unwrap_err().to_string();
+    assert!(refused.contains("--simplify auto"), "{refused}");
+    let tol = request.simplify_tolerance(&coast);
+    let s = coast.simplified(tol).unwrap();
+    assert!(s.deviation <= tol, "{s:?}");
+    assert!(
+        s.vertices.0 == 2000 && s.vertices.1 < 200,
+        "{:?}",
+        s.vertices
+    );
+    assert!(s.to_string().contains("stays within"), "{s}");
+    let simple = s.region.with_default_corners();
+    // The simplified region differs from the given one only in a band as wide as the
+    // deviation along the boundary.
+    assert!((simple.area() - coast.area()).abs() <= s.deviation * coast.perimeter());
+    for m in Method::ALL {
+        let r = m
+            .run(&simple, &request)
+            .unwrap_or_else(|e| panic!("{m}: {e}"));
+        assert_speaks_of(&r.mesh, &simple);
+        // Refinement inserts vertices until its triangles are small enough: K is approximate.
+        let k = r.mesh.num_vertices();
+        assert!(
+            k == 300 || (m.name() == "refine" && k.abs_diff(300) < 60),
+            "{m}: {k}"
+        );
+        for p in &r.mesh.points {
+            let d = coast.signed_distance(*p);
+            assert!(d <= s.deviation * (1.0 + 1e-9), "{m}: {p} is {d} outside");
+        }
+    }
+}

@@ -1,5 +1,6 @@
 //! Property tests on random star-shaped regions (with an optional circular hole and an
-//! optional arc edge): rigid-motion invariance, sign and projection consistency, Ω_ε.
+//! optional arc edge): rigid-motion invariance, sign and projection consistency, Ω_ε,
+//! simplification.
 use cvtmesh_geometry::predicates::segments_cross;
 use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region};
 use proptest::prelude::*;
@@ -162,6 +163,32 @@ proptest! {
             }
         }
         prop_assert!(r.distance_where(DVec2::ZERO, |_| false).is_infinite());
+    }
+
+    #[test]
+    fn simplification_stays_within_its_deviation(s in shape(), tol in 0.001f64..0.5) {
+        let r = build(&s, 0.3, DVec2::new(2.0, -1.0));
+        prop_assume!(r.is_some());
+        let r = r.unwrap();
+        let simple = r.simplified(tol).unwrap();
+        let t = &simple.region;
+        prop_assert!(simple.tolerance <= tol && simple.deviation <= simple.tolerance);
+        prop_assert!(simple.vertices.1 <= simple.vertices.0);
+        prop_assert_eq!(t.loops().len(), r.loops().len());
+        let slack = 1e-12 * r.diameter();
+        // Each boundary within the deviation of the other: the given one's vertices near the
+        // simplified boundary, the simplified one's vertices on the given boundary.
+        for ring in r.polygonize(1e-4).rings {
+            for v in ring.points {
+                prop_assert!(t.signed_distance(v).abs() <= simple.deviation + 1e-4 + slack);
+            }
+        }
+        for ring in t.polygonize(1e-4).rings {
+            for v in ring.points {
+                prop_assert!(r.signed_distance(v).abs() <= 1e-4 + slack);
+            }
+        }
+        prop_assert!((t.area() - r.area()).abs() <= simple.deviation * r.perimeter() + slack);
     }
 
     #[test]

@@ -275,7 +275,8 @@ fn too_few_points(
         None => s += "; ask for more points",
     }
     if corners > 0 {
-        s += ", or keep only the sharper corners with --corner-angle";
+        s += ", keep only the sharper corners with --corner-angle, or simplify a digitized \
+              boundary to the mesh's scale with --simplify auto";
     }
     s
 }

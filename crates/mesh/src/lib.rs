@@ -16,7 +16,7 @@ pub use check::{check_conforming, short_coverage, ConformityError, ShortCoverage
 pub use error::MeshError;
 pub use mesher::{
     boundary_points_needed, memory_estimate, total_memory, MeshRequest, MeshResult, Mesher,
-    Progress, Size, BYTES_PER_VERTEX, MAX_POINTS,
+    Progress, Size, BYTES_PER_VERTEX, MAX_POINTS, SIMPLIFY_SPACINGS,
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use thin::{thin_feature, ThinFeature};

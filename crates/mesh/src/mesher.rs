@@ -8,6 +8,12 @@ use std::sync::Arc;
 /// exponent), refused by [`MeshRequest::validate`] before any work.
 pub const MAX_POINTS: usize = 50_000_000;
 
+/// The boundary tolerance of an automatic simplification, in spacings
+/// ([`MeshRequest::simplify_tolerance`]): a tenth of the local spacing, below the 0.12 of a
+/// chord by which a boundary may bend before it needs a corner of its own, so what is dropped
+/// is what a mesh of this size could not follow anyway.
+pub const SIMPLIFY_SPACINGS: f64 = 0.25;
+
 /// How fine the mesh should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Size {
@@ -331,6 +337,35 @@ impl MeshRequest {
                 mean_spacing
             }
         }
+    }
+
+    /// The tolerance to simplify `region`'s boundary to for this request
+    /// ([`Region::simplified`]): [`SIMPLIFY_SPACINGS`] of the smallest spacing the request
+    /// asks for along the boundary (the spacing itself for a uniform mesh).
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{MeshRequest, SIMPLIFY_SPACINGS};
+    /// use geometry::Region;
+    /// let region = Region::builtin("square_hole")?;
+    /// let request = MeshRequest::points(1000);
+    /// let tol = request.simplify_tolerance(&region);
+    /// assert!((tol - SIMPLIFY_SPACINGS * request.spacing(&region)).abs() < 1e-15);
+    /// # Ok::<(), geometry::GeometryError>(())
+    /// ```
+    pub fn simplify_tolerance(&self, region: &Region) -> f64 {
+        let spacing = self.spacing_at(region);
+        let smallest = if self.density.is_uniform() {
+            spacing(DVec2::ZERO)
+        } else {
+            region
+                .polygonize(1e-4 * region.diameter())
+                .rings
+                .iter()
+                .flat_map(|r| r.points.iter())
+                .map(|&p| spacing(p))
+                .fold(f64::INFINITY, f64::min)
+        };
+        SIMPLIFY_SPACINGS * smallest
     }
 }
 

@@ -157,6 +157,20 @@ impl PyRegion {
         })
     }
 
+    /// The same region with every straight-edged loop simplified (Douglas–Peucker) so that
+    /// each dropped vertex lies within `tolerance` of the result; returns the region and the
+    /// largest distance between the given boundary and the simplified one. The corner angle
+    /// applied to this region applies to the result.
+    fn simplified(&self, tolerance: f64) -> PyResult<(PyRegion, f64)> {
+        let s = self.inner.simplified(tolerance).map_err(err)?;
+        Ok((
+            PyRegion {
+                inner: Arc::new(s.region.with_default_corners()),
+            },
+            s.deviation,
+        ))
+    }
+
     /// The same region with the default corners: where its corners were computed (polygon
     /// files, arrays), only those turning by more than 30°; listed corners are kept.
     fn with_default_corners(&self) -> PyRegion {
@@ -471,7 +485,7 @@ fn scalar_field(
 #[pyfunction]
 #[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
     max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
-    gradation = 0.3, size_toward = Vec::new(), size_threshold = None))]
+    gradation = 0.3, size_toward = Vec::new(), size_threshold = None, simplify = None))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
@@ -488,6 +502,7 @@ fn mesh(
     gradation: Option<f64>,
     size_toward: Vec<String>,
     size_threshold: Option<(f64, f64, f64, f64)>,
+    simplify: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyMesh> {
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
@@ -524,6 +539,17 @@ fn mesh(
         (None, None) => MeshRequest::points(
             n.ok_or_else(|| err("give n (the number of vertices) or size (an edge length)"))?,
         ),
+    };
+    let (region, simplified) = match simplify {
+        None => (region, None),
+        Some(s) => {
+            let tol = simplify_tolerance(s, &region, &request)?;
+            let s = region.simplified(tol).map_err(err)?;
+            (
+                Arc::new(s.region.with_default_corners()),
+                Some(s.to_string()),
+            )
+        }
     };
     // A region narrower than half the spacing somewhere meshes into slivers there: say where,
     // and what K would resolve it, as the command line does.
@@ -564,7 +590,8 @@ fn mesh(
     if let Some(e) = stopped {
         return Err(e);
     }
-    let r = result.map_err(err)?;
+    let mut r = result.map_err(err)?;
+    r.notes.splice(0..0, simplified);
     // A mesh that leaves out a band along a curved boundary: say so, as the command line does.
     if let Some(short) = cvtmesh::short_coverage(&r.mesh, &region) {
         let warnings = py.import("warnings")?;
@@ -580,6 +607,29 @@ fn mesh(
         r.notes,
         r.energy_history,
     )
+}
+
+/// The tolerance `simplify=` asks for: a positive number, or `"auto"` for the request's own.
+fn simplify_tolerance(
+    s: &Bound<'_, PyAny>,
+    region: &Region,
+    request: &MeshRequest,
+) -> PyResult<f64> {
+    if let Ok(word) = s.extract::<String>() {
+        if word == "auto" {
+            return Ok(request.simplify_tolerance(region));
+        }
+        return Err(err(format!(
+            "simplify must be a positive number or \"auto\", got {word:?}"
+        )));
+    }
+    match s.extract::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(err(format!(
+            "simplify must be a positive number or \"auto\", got {}",
+            s.repr()?
+        ))),
+    }
 }
 
 /// A density given as a field; the request's validation checks it on the region.

@@ -214,6 +214,8 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region=[[0, 0], [1, 0], [float("nan"), 1]], n=50), "non-finite"),
         (dict(region=[0, 1, 2], n=50), "shape"),
         (dict(region="circle", n=100, corner_angle=200), "corner_angle"),
+        (dict(region="circle", n=100, simplify="coarse"), "simplify"),
+        (dict(region="circle", n=100, simplify=-1.0), "simplify"),
     ],
 )
 def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):
@@ -375,6 +377,17 @@ def test_a_coastline_keeps_only_its_real_corners():
     assert len(m.points) == 300
     with pytest.raises(MeshError, match="at least 3000"):
         cvtmesh.mesh(coast, n=300, corner_angle=0)
+    # Simplified to the mesh's scale, the vertices left may all be corners.
+    m = cvtmesh.mesh(coast, n=300, corner_angle=0, simplify="auto")
+    assert len(m.points) == 300
+    assert m.notes[0].startswith("boundary: simplified from 3000 to ")
+    given = Region.from_loops(coast)
+    simple, deviation = given.simplified(0.01)
+    assert 0 < deviation <= 0.01
+    assert len(simple.corners) == 0  # smooth at this scale: the default corner angle applies
+    assert 3 <= len(simple.polygonize(1e-9)[0]) < 300
+    m = cvtmesh.mesh(simple, n=300)
+    assert (given.signed_distance(m.points) <= deviation * (1 + 1e-9)).all()
 
 
 def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():

@@ -78,6 +78,7 @@ def mesh(
     gradation: Optional[float] = 0.3,
     size_toward: Sequence[str] = (),
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
+    simplify: Union[None, float, str] = None,
 ) -> Mesh:
     """Mesh a planar region.
 
@@ -126,6 +127,12 @@ def mesh(
         holes) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
         to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
         well, the smaller of the two is used.
+    simplify
+        Simplify a digitized boundary first (Douglas–Peucker): drop the vertices within this
+        distance of the simplified boundary, so that a coastline with more corners than the
+        mesh has vertices can be meshed coarsely; ``"auto"`` is a quarter of the spacing. The
+        mesh is of the simplified region; its first note says how far that is from the given
+        boundary. Default: the boundary as given.
 
     Raises
     ------
@@ -150,6 +157,7 @@ def mesh(
         size_toward=list(size_toward),
         size_threshold=size_threshold,
         gradation=gradation,
+        simplify=simplify,
     )
 
 

@@ -31,5 +31,6 @@ def mesh(
     gradation: Optional[float] = 0.3,
     size_toward: Sequence[str] = ...,
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
+    simplify: Union[None, float, str] = None,
 ) -> Mesh: ...
 def measures(points: npt.ArrayLike, triangles: npt.ArrayLike, region: RegionLike) -> dict[str, float]: ...

@@ -1,0 +1,340 @@
+//! Simplifying a digitized boundary to a stated tolerance, so that a region drawn with more
+//! vertices (and corners) than the mesh has can be meshed coarsely.
+use crate::error::GeometryError;
+use crate::piece::{douglas_peucker, Piece};
+use crate::predicates::closest_on_segment;
+use crate::region::Region;
+use glam::DVec2;
+
+impl std::fmt::Display for Simplified {
+    /// One line for a user: what was simplified, at which tolerance, and how far the new
+    /// boundary is from the given one.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (before, after) = self.vertices;
+        if before == after {
+            return write!(
+                f,
+                "boundary: as given (no straight-edged loop has a vertex within {:.3e} of the rest)",
+                self.asked
+            );
+        }
+        write!(
+            f,
+            "boundary: simplified from {before} to {after} vertices at tolerance {:.3e}",
+            self.tolerance
+        )?;
+        if self.tolerance < self.asked {
+            write!(
+                f,
+                " (lowered from {:.3e}, where loops would have crossed)",
+                self.asked
+            )?;
+        }
+        write!(
+            f,
+            "; the mesh's boundary stays within {:.3e} of the given one",
+            self.deviation
+        )
+    }
+}
+
+/// Halvings of the tolerance tried when a simplified boundary crosses itself or another loop.
+const RETRIES: usize = 12;
+
+/// A region whose straight-edged loops were simplified ([`Region::simplified`]).
+#[derive(Clone, Debug)]
+pub struct Simplified {
+    /// The simplified region; its corners are computed afresh, so
+    /// [`Region::with_default_corners`] and [`Region::with_corner_angle`] apply to it.
+    pub region: Region,
+    /// The tolerance asked for.
+    pub asked: f64,
+    /// The tolerance used: the one asked for, or a smaller one where that made loops cross.
+    pub tolerance: f64,
+    /// The largest distance from a dropped vertex to the simplified boundary; the simplified
+    /// boundary lies within this distance of the original, and the original within it of the
+    /// simplified one (Hausdorff distance).
+    pub deviation: f64,
+    /// Boundary vertices before and after, over the simplified loops.
+    pub vertices: (usize, usize),
+}
+
+impl Region {
+    /// The region with every loop made only of straight pieces (lines and chains: what
+    /// polygon files give) simplified by Douglas–Peucker: each loop keeps the fewest of its
+    /// own vertices such that every dropped vertex lies within `tolerance` of the result, and
+    /// at least three. Loops with curved pieces are kept as they are.
+    ///
+    /// The result is validated like any region: where the simplification made a loop cross
+    /// itself or another loop, the tolerance is halved (up to 12 times) and
+    /// [`Simplified::tolerance`] says which one was used. A region with nothing to simplify
+    /// comes back unchanged. The simplified region's corners are computed afresh: with this
+    /// region's corner angle if one was applied, otherwise at every vertex where it turns, so
+    /// that [`Region::with_default_corners`] applies to it.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
+    /// use std::f64::consts::TAU;
+    /// // A unit square whose bottom side wiggles by ±0.002 over 400 points.
+    /// let mut pts: Vec<DVec2> = (0..400)
+    ///     .map(|i| DVec2::new(i as f64 / 400.0, 0.002 * (TAU * i as f64 / 7.0).sin()))
+    ///     .collect();
+    /// pts.extend([DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)]);
+    /// let raw = Region::from_loops("wiggly", vec![(LoopRole::Outer, pts)])?;
+    /// let s = raw.simplified(0.01)?;
+    /// assert_eq!(s.vertices, (403, 4));
+    /// assert!(s.deviation <= 0.002 + 1e-12);
+    /// assert_eq!(s.region.with_default_corners().corners().len(), 4);
+    /// assert!((s.region.area() - raw.area()).abs() < 0.002);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn simplified(&self, tolerance: f64) -> Result<Simplified, GeometryError> {
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(GeometryError::Invalid {
+                region: self.name.clone(),
+                message: format!(
+                    "the simplification tolerance must be finite and not negative, got {tolerance}"
+                ),
+            });
+        }
+        let rings: Vec<Option<Vec<DVec2>>> = (0..self.loops.len())
+            .map(|l| self.straight_ring(l))
+            .collect();
+        let before: usize = rings.iter().flatten().map(Vec::len).sum();
+        let unchanged = Simplified {
+            region: self.clone(),
+            asked: tolerance,
+            tolerance: 0.0,
+            deviation: 0.0,
+            vertices: (before, before),
+        };
+        if tolerance == 0.0 || before == 0 {
+            return Ok(unchanged);
+        }
+        let mut tol = tolerance;
+        for _ in 0..=RETRIES {
+            let mut loops = Vec::with_capacity(self.loops.len());
+            let (mut after, mut deviation) = (0, 0.0f64);
+            for (l, ring) in rings.iter().enumerate() {
+                let lp = &self.loops[l];
+                let pieces = match ring {
+                    Some(ring) => {
+                        let kept = simplify_ring(ring, tol);
+                        after += kept.len();
+                        deviation = deviation.max(ring_deviation(ring, &kept));
+                        (0..kept.len())
+                            .map(|i| Piece::Line {
+                                a: kept[i],
+                                b: kept[(i + 1) % kept.len()],
+                            })
+                            .collect()
+                    }
+                    None => lp.pieces.iter().map(|&p| self.pieces[p].clone()).collect(),
+                };
+                loops.push((lp.role, pieces));
+            }
+            if after == before {
+                return Ok(unchanged);
+            }
+            if let Ok(mut region) = Region::new(&self.name, loops, None) {
+                region.corners_computed = true;
+                if let Some(degrees) = self.corner_threshold {
+                    region = region.with_corner_angle(degrees);
+                }
+                return Ok(Simplified {
+                    region,
+                    asked: tolerance,
+                    tolerance: tol,
+                    deviation,
+                    vertices: (before, after),
+                });
+            }
+            tol *= 0.5;
+        }
+        Ok(unchanged)
+    }
+
+    /// Loop `l`'s vertices in order, if it is made of lines and chains only.
+    fn straight_ring(&self, l: usize) -> Option<Vec<DVec2>> {
+        let mut ring = Vec::new();
+        for &p in &self.loops[l].pieces {
+            match &self.pieces[p] {
+                Piece::Line { a, .. } => ring.push(*a),
+                Piece::Chain(c) => ring.extend_from_slice(&c[..c.len() - 1]),
+                _ => return None,
+            }
+        }
+        // A single closed chain repeats its start at its end: drop the repeat.
+        if ring.len() > 1 && ring[0] == *ring.last().expect("not empty") {
+            ring.pop();
+        }
+        Some(ring)
+    }
+}
+
+/// Douglas–Peucker on a closed ring, started from the vertex farthest from the first one's
+/// farthest vertex (two vertices on the ring's "diameter" are always kept), keeping at least
+/// three vertices.
+fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
+    let n = ring.len();
+    if n <= 3 {
+        return ring.to_vec();
+    }
+    let farthest = |from: DVec2| {
+        (0..n)
+            .max_by(|&i, &j| {
+                (ring[i] - from)
+                    .length_squared()
+                    .total_cmp(&(ring[j] - from).length_squared())
+            })
+            .expect("not empty")
+    };
+    let a = farthest(ring[0]);
+    let b = farthest(ring[a]);
+    let (a, b) = (a.min(b), a.max(b));
+    let first: Vec<DVec2> = ring[a..=b].to_vec();
+    let second: Vec<DVec2> = ring[b..].iter().chain(&ring[..=a]).copied().collect();
+    let mut kept = douglas_peucker(&first, tol);
+    let rest = douglas_peucker(&second, tol);
+    kept.extend_from_slice(&rest[1..rest.len() - 1]);
+    if kept.len() < 3 {
+        // Both halves collapsed to their chord: keep the vertex farthest from it.
+        let (p, q) = (ring[a], ring[b]);
+        let c = (0..n)
+            .max_by(|&i, &j| {
+                closest_on_segment(p, q, ring[i])
+                    .2
+                    .total_cmp(&closest_on_segment(p, q, ring[j]).2)
+            })
+            .expect("not empty");
+        kept = if c > a && c < b {
+            vec![p, ring[c], q]
+        } else {
+            vec![p, q, ring[c]]
+        };
+    }
+    kept
+}
+
+/// The largest distance from a vertex of `ring` to the closed polyline `kept`.
+fn ring_deviation(ring: &[DVec2], kept: &[DVec2]) -> f64 {
+    // Both are in the same order and `kept` is a subsequence of `ring`, so each vertex is
+    // measured against the kept edge that spans it.
+    let (n, m) = (ring.len(), kept.len());
+    let mut worst = 0.0f64;
+    let mut j = ring
+        .iter()
+        .position(|p| *p == kept[0])
+        .expect("kept vertices come from the ring");
+    for k in 0..m {
+        let (p, q) = (kept[k], kept[(k + 1) % m]);
+        j = (j + 1) % n;
+        for _ in 0..n {
+            if ring[j] == q {
+                break;
+            }
+            worst = worst.max(closest_on_segment(p, q, ring[j]).2.sqrt());
+            j = (j + 1) % n;
+        }
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::types::LoopRole;
+    use std::f64::consts::TAU;
+
+    fn roles(r: &Region) -> Vec<LoopRole> {
+        r.loops().iter().map(|l| l.role).collect()
+    }
+
+    fn wiggly_circle(n: usize, amp: f64) -> Vec<DVec2> {
+        (0..n)
+            .map(|i| {
+                let t = TAU * i as f64 / n as f64;
+                (1.0 + amp * (37.0 * t).sin()) * DVec2::new(t.cos(), t.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn deviation_bounds_every_dropped_vertex() {
+        let ring = wiggly_circle(2000, 0.01);
+        let kept = simplify_ring(&ring, 0.03);
+        assert!(kept.len() < 200, "{}", kept.len());
+        let dev = ring_deviation(&ring, &kept);
+        assert!(dev <= 0.03, "{dev}");
+        // Brute force: every original vertex against every kept edge.
+        for p in &ring {
+            let d = (0..kept.len())
+                .map(|k| closest_on_segment(kept[k], kept[(k + 1) % kept.len()], *p).2)
+                .fold(f64::INFINITY, f64::min)
+                .sqrt();
+            assert!(d <= dev + 1e-12, "{d} > {dev}");
+        }
+    }
+
+    #[test]
+    fn a_tiny_hole_keeps_three_vertices_and_its_role() {
+        let outer = wiggly_circle(500, 0.02);
+        let hole: Vec<DVec2> = (0..40)
+            .map(|i| {
+                let t = TAU * i as f64 / 40.0;
+                DVec2::new(0.3, 0.2) + 0.001 * DVec2::new(t.cos(), t.sin())
+            })
+            .collect();
+        let raw = Region::from_loops("r", vec![(LoopRole::Outer, outer), (LoopRole::Hole, hole)])
+            .unwrap();
+        let s = raw.simplified(0.05).unwrap();
+        assert_eq!(roles(&s.region), vec![LoopRole::Outer, LoopRole::Hole]);
+        let hole_pieces = s.region.loops()[1].pieces.len();
+        assert_eq!(hole_pieces, 3);
+        assert!(s.deviation <= 0.05);
+    }
+
+    #[test]
+    fn crossings_halve_the_tolerance() {
+        // A peninsula 0.3 long holds a hole: simplifying at 0.5 would cut the peninsula off
+        // and leave the hole outside; at 0.25 the peninsula stays.
+        let v = DVec2::new;
+        let outer = vec![
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 1.0),
+            v(0.6, 1.0),
+            v(0.6, 1.3),
+            v(0.5, 1.3),
+            v(0.5, 1.0),
+            v(0.0, 1.0),
+        ];
+        let hole = vec![v(0.53, 1.1), v(0.57, 1.1), v(0.57, 1.2), v(0.53, 1.2)];
+        let raw = Region::from_loops(
+            "peninsula",
+            vec![(LoopRole::Outer, outer), (LoopRole::Hole, hole)],
+        )
+        .unwrap();
+        let s = raw.simplified(0.5).unwrap();
+        assert_eq!(s.tolerance, 0.25);
+        assert!(s.deviation <= s.tolerance && s.vertices.1 < 12, "{s:?}");
+        assert_eq!(s.region.loops().len(), 2);
+    }
+
+    #[test]
+    fn curved_regions_are_unchanged() {
+        let circle = Region::builtin("circle").unwrap();
+        let s = circle.simplified(0.1).unwrap();
+        assert_eq!(s.vertices, (0, 0));
+        assert_eq!(s.region.pieces().len(), circle.pieces().len());
+    }
+
+    #[test]
+    fn bad_tolerances_are_errors() {
+        let circle = Region::builtin("circle").unwrap();
+        for t in [f64::NAN, -1.0, f64::INFINITY] {
+            let e = circle.simplified(t).unwrap_err().to_string();
+            assert!(e.contains("simplification tolerance"), "{e}");
+        }
+    }
+}
