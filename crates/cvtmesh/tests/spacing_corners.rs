@@ -231,3 +231,16 @@ fn a_rough_coastline_simplified_to_the_spacing_meshes_far_below_its_corner_count
         }
     }
 }
+
+#[test]
+fn refinement_keeps_its_boundary_edges_on_a_coastlines_dents() {
+    // Halving a chord that hugs a digitized shore can leave a half over a dent deeper than a
+    // boundary edge may stray; such halves are split at the dent.
+    for (n, exponent) in [(2000, -1.2), (4000, -1.5)] {
+        let coast = coastline(n, exponent);
+        let r = Method::Refine
+            .run(&coast, &MeshRequest::points(1000))
+            .unwrap_or_else(|e| panic!("{n} vertices, exponent {exponent}: {e}"));
+        assert_speaks_of(&r.mesh, &coast);
+    }
+}

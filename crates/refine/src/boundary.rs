@@ -55,7 +55,11 @@ pub(crate) fn build(region: &Region, spacing: f64, density: &Density) -> Result<
                 .push(corner.map_or(VKind::Boundary(pid), VKind::Corner));
             piece_of.push(pid);
             if is_curved(piece) {
-                for p in split_curve(region, pid, spacing, density) {
+                let mut split = split_curve(region, pid, spacing, density);
+                if let Piece::Chain(chain) = piece {
+                    split = follow_bends(chain, split);
+                }
+                for p in split {
                     pslg.points.push(p);
                     pslg.kinds.push(VKind::Boundary(pid));
                     piece_of.push(pid);
@@ -74,6 +78,36 @@ pub(crate) fn build(region: &Region, spacing: f64, density: &Density) -> Result<
         }
     }
     Ok(pslg)
+}
+
+/// `split` (a chain's interior split points, in order) with the chain's vertices added where
+/// a chord would stray more than [`CHAIN_BEND`] of its length from it, each at the farthest
+/// vertex, until none does: the mesh's boundary edges then follow the chain's dents as the
+/// conformity check asks, whether or not the refinement later splits them.
+fn follow_bends(chain: &[DVec2], split: Vec<DVec2>) -> Vec<DVec2> {
+    fn between(chain: &[DVec2], a: DVec2, b: DVec2, out: &mut Vec<DVec2>) {
+        let len = a.distance(b);
+        if let Some((v, d)) = farthest_between(chain, a, b) {
+            if d > CHAIN_BEND * len {
+                between(chain, a, v, out);
+                out.push(v);
+                between(chain, v, b, out);
+            }
+        }
+    }
+    let mut ends = Vec::with_capacity(split.len() + 2);
+    ends.push(chain[0]);
+    ends.extend(split);
+    ends.push(chain[chain.len() - 1]);
+    let mut out = vec![ends[0]];
+    for w in ends.windows(2) {
+        between(chain, w[0], w[1], &mut out);
+        out.push(w[1]);
+    }
+    // Interior points only: drop the chain's own ends again.
+    out.pop();
+    out.remove(0);
+    out
 }
 
 /// Interior split points of a curved piece (start and end excluded), at equal steps of
@@ -142,9 +176,124 @@ fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -
     }
 }
 
+/// A chord of a polyline piece farther than this share of its length from the polyline is
+/// split at the polyline's farthest vertex rather than at its midpoint: a digitized
+/// coastline's dent between two boundary vertices is kept under the 0.13 a conforming mesh's
+/// boundary edge may stray (halving a chord without looking doubles the dent's share).
+pub(crate) const CHAIN_BEND: f64 = 0.1;
+
+/// The vertex of the chain `pts` strictly between its points `a` and `b` (both on it, `a`
+/// first along it) that lies farthest from the chord `ab`, with that distance.
+pub(crate) fn farthest_between(pts: &[DVec2], a: DVec2, b: DVec2) -> Option<(DVec2, f64)> {
+    let param = |p: DVec2| {
+        // Arc length of the chain's nearest point to p.
+        let (mut best, mut at, mut s) = (f64::INFINITY, 0.0, 0.0);
+        for w in pts.windows(2) {
+            let (u, v) = (w[0], w[1]);
+            let len = u.distance(v);
+            let t = if len > 0.0 {
+                ((p - u).dot(v - u) / (len * len)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let d = p.distance(u.lerp(v, t));
+            if d < best {
+                (best, at) = (d, s + t * len);
+            }
+            s += len;
+        }
+        at
+    };
+    // The chain's own ends by position: a closed chain's end is its start, which the nearest
+    // point would put at arc length 0.
+    let total: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
+    let sa = if a == pts[0] { 0.0 } else { param(a) };
+    let sb = if b == pts[pts.len() - 1] {
+        total
+    } else {
+        param(b)
+    };
+    let (lo, hi) = (sa.min(sb), sa.max(sb));
+    let chord = b - a;
+    let len = chord.length();
+    if len <= 0.0 {
+        return None;
+    }
+    let mut s = 0.0;
+    let mut best: Option<(DVec2, f64)> = None;
+    for (i, &v) in pts.iter().enumerate() {
+        if i > 0 {
+            s += pts[i - 1].distance(v);
+        }
+        if s <= lo || s >= hi {
+            continue;
+        }
+        let d = chord.perp_dot(v - a).abs() / len;
+        if best.is_none_or(|(_, bd)| d > bd) {
+            best = Some((v, d));
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_chord_over_a_dent_is_split_at_the_dent() {
+        // A straight chain with a dent of depth 0.2 at x = 0.3: the chord from (0, 0) to
+        // (1, 0) is split at the dent's tip, not at its midpoint.
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let pts = vec![
+            v(0.0, 0.0),
+            v(0.2, 0.0),
+            v(0.3, 0.2),
+            v(0.4, 0.0),
+            v(1.0, 0.0),
+        ];
+        let (at, d) = farthest_between(&pts, v(0.0, 0.0), v(1.0, 0.0)).unwrap();
+        assert_eq!(at, v(0.3, 0.2));
+        assert!((d - 0.2).abs() < 1e-12);
+        // Between (0.4, 0) and (1, 0) there is no vertex.
+        assert!(farthest_between(&pts, v(0.4, 0.0), v(1.0, 0.0)).is_none());
+        // Only vertices strictly between the two points count.
+        let (at, _) = farthest_between(&pts, v(0.25, 0.1), v(1.0, 0.0)).unwrap();
+        assert_eq!(at, v(0.3, 0.2));
+    }
+
+    #[test]
+    fn chords_follow_a_chains_bends() {
+        // A straight chain with a dent of depth 0.2 at x = 0.3 and a split point at x = 0.6:
+        // the chord from the start to the split point strays 0.2 / 0.6 of its length, so the
+        // dent's tip is added; the chord from there to the end does not stray.
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let chain = vec![
+            v(0.0, 0.0),
+            v(0.3, 0.2),
+            v(0.6, 0.0),
+            v(0.8, 0.01),
+            v(1.0, 0.0),
+        ];
+        assert_eq!(
+            follow_bends(&chain, vec![v(0.6, 0.0)]),
+            vec![v(0.3, 0.2), v(0.6, 0.0)]
+        );
+        // A closed chain: its end is its start, and the chord back to it is examined too.
+        let ring = vec![
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 1.0),
+            v(0.5, 1.2),
+            v(0.0, 1.0),
+            v(0.0, 0.0),
+        ];
+        let split = follow_bends(&ring, vec![v(1.0, 1.0)]);
+        assert_eq!(
+            split,
+            vec![v(1.0, 0.0), v(1.0, 1.0), v(0.5, 1.2), v(0.0, 1.0)]
+        );
+    }
 
     #[test]
     fn curved_pieces_are_split_on_the_curve() {

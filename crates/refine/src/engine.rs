@@ -18,7 +18,7 @@
 //! The triangulation is spade's constrained Delaunay triangulation of the convex hull; faces
 //! outside Ω are told apart by the orientation of an adjacent subsegment or by an even-odd
 //! ray cast through the subsegment grid.
-use crate::boundary::{is_curved, Pslg, VKind};
+use crate::boundary::{farthest_between, is_curved, Pslg, VKind, CHAIN_BEND};
 use crate::grid::{SegGrid, SegKey};
 use geometry::predicates::{circumcenter, segment_distance, triangle_signed_area};
 use geometry::{DVec2, Density, Piece, PieceId, Region};
@@ -325,6 +325,20 @@ impl Engine<'_> {
             }
             None => false,
         }
+    }
+
+    /// Does subsegment `k` of a polyline piece stray from it by more than [`CHAIN_BEND`] of
+    /// its length? Halving a chord that hugs the polyline can double a dent's share, and such
+    /// a half is split at the dent whether or not anything encroaches on it.
+    fn strays(&self, k: SegKey) -> bool {
+        let Some(s) = self.segs.get(&k) else {
+            return false;
+        };
+        let Piece::Chain(pts) = &self.region.pieces()[s.piece] else {
+            return false;
+        };
+        let (a, b) = (self.pos(s.from), self.pos(s.to));
+        farthest_between(pts, a, b).is_some_and(|(_, d)| d > CHAIN_BEND * a.distance(b))
     }
 
     /// Apex of the triangle left of the subsegment (inside the domain).
@@ -832,7 +846,9 @@ impl Engine<'_> {
             self.grid.insert(key(x, y), self.pos(x), self.pos(y));
         }
         for kk in [key(a, vi), key(vi, b)] {
-            if self.encroached(kk) {
+            if self.strays(kk) {
+                self.enc.push_back((kk, true));
+            } else if self.encroached(kk) {
                 self.enc.push_back((kk, false));
             }
         }
@@ -904,82 +920,8 @@ fn canonical(f: [u32; 3]) -> [u32; 3] {
     [f[i], f[(i + 1) % 3], f[(i + 2) % 3]]
 }
 
-/// A chord of a polyline piece farther than this share of its length from the polyline is
-/// split at the polyline's farthest vertex rather than at its midpoint: a digitized
-/// coastline's dent between two boundary vertices is kept under the 0.13 a conforming mesh's
-/// boundary edge may stray (halving a chord without looking doubles the dent's share).
-const CHAIN_BEND: f64 = 0.1;
-
-/// The vertex of the chain `pts` strictly between its points `a` and `b` (both on it, `a`
-/// first along it) that lies farthest from the chord `ab`, with that distance.
-fn farthest_between(pts: &[DVec2], a: DVec2, b: DVec2) -> Option<(DVec2, f64)> {
-    let param = |p: DVec2| {
-        // Arc length of the chain's nearest point to p.
-        let (mut best, mut at, mut s) = (f64::INFINITY, 0.0, 0.0);
-        for w in pts.windows(2) {
-            let (u, v) = (w[0], w[1]);
-            let len = u.distance(v);
-            let t = if len > 0.0 {
-                ((p - u).dot(v - u) / (len * len)).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let d = p.distance(u.lerp(v, t));
-            if d < best {
-                (best, at) = (d, s + t * len);
-            }
-            s += len;
-        }
-        at
-    };
-    let (sa, sb) = (param(a), param(b));
-    let (lo, hi) = (sa.min(sb), sa.max(sb));
-    let chord = b - a;
-    let len = chord.length();
-    if len <= 0.0 {
-        return None;
-    }
-    let mut s = 0.0;
-    let mut best: Option<(DVec2, f64)> = None;
-    for (i, &v) in pts.iter().enumerate() {
-        if i > 0 {
-            s += pts[i - 1].distance(v);
-        }
-        if s <= lo || s >= hi {
-            continue;
-        }
-        let d = chord.perp_dot(v - a).abs() / len;
-        if best.is_none_or(|(_, bd)| d > bd) {
-            best = Some((v, d));
-        }
-    }
-    best
-}
-
 #[cfg(test)]
 mod tests {
-    #[test]
-    fn a_chord_over_a_dent_is_split_at_the_dent() {
-        // A straight chain with a dent of depth 0.2 at x = 0.3: the chord from (0, 0) to
-        // (1, 0) is split at the dent's tip, not at its midpoint.
-        let v = |x: f64, y: f64| DVec2::new(x, y);
-        let pts = vec![
-            v(0.0, 0.0),
-            v(0.2, 0.0),
-            v(0.3, 0.2),
-            v(0.4, 0.0),
-            v(1.0, 0.0),
-        ];
-        let (at, d) = farthest_between(&pts, v(0.0, 0.0), v(1.0, 0.0)).unwrap();
-        assert_eq!(at, v(0.3, 0.2));
-        assert!((d - 0.2).abs() < 1e-12);
-        // Between (0.4, 0) and (1, 0) there is no vertex.
-        assert!(farthest_between(&pts, v(0.4, 0.0), v(1.0, 0.0)).is_none());
-        // Only vertices strictly between the two points count.
-        let (at, _) = farthest_between(&pts, v(0.25, 0.1), v(1.0, 0.0)).unwrap();
-        assert_eq!(at, v(0.3, 0.2));
-    }
-
     use super::*;
 
     #[test]
