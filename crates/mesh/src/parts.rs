@@ -23,7 +23,8 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     let unfitted_hint = |needed: usize| {
         format!(
             "at this spacing the boundary's bends and gaps need {needed} boundary vertices, more \
-             than K = {}: a larger K would follow them",
+             than K = {}: a larger K would follow them, or a boundary simplified to the mesh's \
+             scale (--simplify auto) would need fewer",
             request.size.points(region)
         )
     };
