@@ -9,7 +9,8 @@
 //! 2. Loop: retriangulate (Delaunay; keep triangles whose centroid has d < −geps) whenever a
 //!    point moved more than ttol·h0 since the last triangulation; bar forces
 //!    F = max(L0 − L, 0) with L0 = h·Fscale·√(ΣL²/Σh²); p += Δt·Ftot; points with d > 0 go back
-//!    to the boundary by p −= d·∇d/|∇d|² (∇d by forward differences, deps = √ε·h0); stop when
+//!    to the boundary by p −= d·∇d/|∇d|² (∇d by forward differences, deps = √ε·h0, or a
+//!    thousand rounding steps of the largest coordinate if that is more); stop when
 //!    every interior point (d < −geps) moved less than dptol·h0.
 //!    Fscale = 1.2, Δt = 0.2, geps = 0.001·h0, ttol = 0.1, dptol = 0.001.
 //! 3. K: the count is fixed by the initial grid, so h0 is bisected until #grid + #pfix = K; if
@@ -279,7 +280,12 @@ impl Mesher for DistMesh {
         }
         let n = p.len();
         let geps = self.geps * h0;
-        let deps = f64::EPSILON.sqrt() * h0;
+        // √ε·h0 is below the coordinates' rounding for a small region far from the origin (a
+        // diameter of 0.03 at 10⁶), where every difference quotient would be noise: the step
+        // stays a thousand rounding steps of the largest coordinate at least.
+        let (lo, hi) = region.bbox();
+        let reach = lo.abs().max(hi.abs()).max_element();
+        let deps = (f64::EPSILON.sqrt() * h0).max(1e3 * f64::EPSILON * reach);
         let mut pold = vec![DVec2::splat(f64::INFINITY); n];
         let mut bars: Vec<(usize, usize)> = Vec::new();
         let mut move_history = Vec::new();

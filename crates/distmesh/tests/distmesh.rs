@@ -224,3 +224,43 @@ fn all_paper_regions() {
         );
     }
 }
+
+#[test]
+fn a_small_region_far_from_the_origin_meshes_as_at_the_origin() {
+    // A 0.03-wide hexagon with a square hole, at the origin and at (10⁶, 10⁶): there √ε·h0 is
+    // a tenth of the coordinates' rounding step, and the boundary gradient was noise.
+    let shape = |at: geometry::DVec2| {
+        let hex = (0..6)
+            .map(|k| {
+                at + 0.015 * geometry::DVec2::from_angle(k as f64 * std::f64::consts::TAU / 6.0)
+            })
+            .collect();
+        let hole = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(x, y)| at + 0.004 * geometry::DVec2::new(x, y))
+            .to_vec();
+        Region::from_loops(
+            "far",
+            vec![
+                (geometry::LoopRole::Outer, hex),
+                (geometry::LoopRole::Hole, hole),
+            ],
+        )
+        .unwrap()
+    };
+    let request = MeshRequest::points(300);
+    let mut angles = Vec::new();
+    for at in [geometry::DVec2::ZERO, geometry::DVec2::splat(1e6)] {
+        let region = shape(at);
+        let r = DistMesh::default()
+            .mesh(&region, &request, &mut |_| {})
+            .unwrap();
+        check_conforming(&r.mesh, &region).unwrap();
+        assert_eq!(r.mesh.num_vertices(), 300);
+        assert!(r.converged, "at {at}: {:?}", r.notes);
+        angles.push(r.mesh.min_angle_deg());
+    }
+    assert!(
+        angles[1] > 20.0 && (angles[0] - angles[1]).abs() < 5.0,
+        "{angles:?}"
+    );
+}

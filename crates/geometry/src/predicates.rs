@@ -67,8 +67,9 @@ pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
 }
 
 /// Signed area of a closed ring of points (the last point joins the first), by the shoelace
-/// formula `½ Σᵢ pᵢ × pᵢ₊₁`: positive for a counter-clockwise ring, negative for a clockwise
-/// one, 0 for fewer than three points.
+/// formula `½ Σᵢ pᵢ × pᵢ₊₁` (about the first point, so that a small ring far from the origin
+/// keeps its precision): positive for a counter-clockwise ring, negative for a clockwise one,
+/// 0 for fewer than three points.
 ///
 /// ```
 /// use cvtmesh_geometry::{predicates::ring_signed_area, DVec2};
@@ -79,9 +80,12 @@ pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
 /// assert_eq!(ring_signed_area(&clockwise), -1.0);
 /// ```
 pub fn ring_signed_area(points: &[DVec2]) -> f64 {
+    let Some(&o) = points.first() else {
+        return 0.0;
+    };
     let n = points.len();
     (0..n)
-        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
+        .map(|i| (points[i] - o).perp_dot(points[(i + 1) % n] - o))
         .sum::<f64>()
         * 0.5
 }

@@ -70,8 +70,9 @@ const MAX_ATTEMPTS: usize = 8;
 /// - duplicates of an earlier point (a boundary point is kept in preference to an interior one);
 /// - interior points outside the polygon of boundary chords (between a chord and a convex piece
 ///   of the boundary, or in a hole), which no inside triangle could use;
-/// - interior points lying on a boundary chord or forming a degenerate (near zero-area)
-///   triangle with one.
+/// - of each degenerate (near zero-area) triangle, the point at its widest angle unless it is a
+///   corner (an interior point on a boundary chord, one of two points within rounding of each
+///   other, the middle one of three nearly collinear points), else its interior points.
 ///
 /// Points are never moved. (Nearly collinear boundary points make no slivers: spade's exact
 /// Delaunay predicates flip them away.)
@@ -81,7 +82,7 @@ const MAX_ATTEMPTS: usize = 8;
 /// that would cross (boundary vertices too coarse for the boundary's curvature, or loops too
 /// close), a constraint edge that leaves the region (a skipped corner), a boundary vertex that
 /// does not end up joined to exactly two boundary neighbours, or a degenerate triangle of three
-/// boundary vertices (a region thinner than the rounding of its boundary points).
+/// boundary vertices whose widest angle is at a corner.
 pub fn conforming_mesh(
     points: &[DVec2],
     markers: &[VertexMarker],
@@ -129,7 +130,7 @@ pub fn conforming_mesh(
 
 enum Attempt {
     Done(Mesh),
-    /// Drop these interior points, then try again.
+    /// Drop these points, then try again.
     Retry {
         drop: Vec<usize>,
     },
@@ -254,6 +255,21 @@ fn attempt(
         if area > DEGENERATE * mean_area {
             continue;
         }
+        // The vertex at the widest angle goes, unless it is a corner: an interior point on a
+        // chord, or one of two points within rounding of each other (a method may put two
+        // boundary points there), or the middle one of three nearly collinear boundary points.
+        let angle = |k: usize| {
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            a.angle_to(b).abs()
+        };
+        let widest = (0..3)
+            .max_by(|&x, &y| angle(x).total_cmp(&angle(y)))
+            .expect("three vertices");
+        let w = owner[vs[widest]];
+        if !matches!(markers[w], VertexMarker::Corner { .. }) {
+            drop.push(w);
+            continue;
+        }
         let interior: Vec<usize> = vs
             .iter()
             .map(|&v| owner[v])
@@ -263,8 +279,6 @@ fn attempt(
             drop.extend(interior);
             continue;
         }
-        // Three boundary vertices: Delaunay avoids such slivers unless the region itself is
-        // thinner than the rounding of its boundary points.
         return bad(format!(
             "boundary vertices {}, {} and {} near ({}, {}) form a degenerate triangle (area {area:e}): the region \
              is too thin there for these boundary vertices",

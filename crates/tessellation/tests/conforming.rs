@@ -272,3 +272,31 @@ fn bad_requests_are_errors() {
     pts[5] = DVec2::NAN;
     assert!(conforming_mesh(&pts, &markers, &region).is_err());
 }
+
+#[test]
+fn a_boundary_point_within_rounding_of_another_is_dropped() {
+    // The unit square's bottom side carries (0.5, 0) and a second point 1e-12 to its right:
+    // every triangle on the pair is a sliver. Dropping the interior points it meets, one after
+    // another, never ended; one of the pair goes instead.
+    let pieces = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
+    let region = Region::new(
+        "square",
+        vec![(
+            LoopRole::Outer,
+            (0..4)
+                .map(|i| Piece::Line {
+                    a: pieces[i],
+                    b: pieces[(i + 1) % 4],
+                })
+                .collect(),
+        )],
+        None,
+    )
+    .unwrap();
+    let mut pts = sample(&region, 0.1, 0.3);
+    assert!(pts.contains(&DVec2::new(0.5, 0.0)));
+    pts.push(DVec2::new(0.5 + 1e-12, 0.0));
+    let mesh = mesh_and_check(&region, &pts);
+    assert_eq!(mesh.num_vertices(), pts.len() - 1);
+    assert!((mesh.area() - 1.0).abs() < 1e-12);
+}
