@@ -235,6 +235,7 @@ mod tests {
             scale: crate::scale::LocalScale::new(&region, &density, spacing),
             active_from: 0,
             cancel: None,
+            deadline: None,
         };
         let mut z = initial_points(&region, k, Init::Lattice, 1);
         let mut prof = Profile::default();

@@ -47,7 +47,11 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
         }
         let mv = record(phase, &s, &z, iterations, trace);
         let mut t = Instant::now();
-        if mv < phase.tol || iterations >= phase.max_iter || phase.cancelled() {
+        if mv < phase.tol
+            || iterations >= phase.max_iter
+            || phase.cancelled()
+            || phase.out_of_time()
+        {
             let converged = mv < phase.tol;
             let Step { roles, targets, .. } = s;
             return PhaseResult {

@@ -169,12 +169,19 @@ pub struct Phase<'a> {
     pub active_from: usize,
     /// The request's cancel flag: a phase stops at its next evaluation once it is set.
     pub cancel: Option<&'a AtomicBool>,
+    /// The request's deadline: a phase stops at its next evaluation once it has passed, as
+    /// at the iteration cap.
+    pub deadline: Option<Instant>,
 }
 
 impl Phase<'_> {
     /// True once the request's cancel flag is set.
     pub fn cancelled(&self) -> bool {
         self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+    /// True once the request's deadline has passed.
+    pub fn out_of_time(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
     }
 }
 

@@ -348,6 +348,7 @@ impl Ccvt {
                 scale,
                 active_from,
                 cancel: request.cancel.as_deref(),
+                deadline: request.deadline,
             }
         }
         let final_domain = match run {
@@ -398,6 +399,9 @@ impl Ccvt {
                     let eps_new = boundary.iter().sum::<f64>() / boundary.len().max(1) as f64;
                     if (eps_new - eps).abs() < self.eps_tol * spacing {
                         settled = true;
+                        break;
+                    }
+                    if request.out_of_time() {
                         break;
                     }
                     eps = eps_new;

@@ -171,7 +171,11 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     let mut cleanup: Option<(usize, usize)> = None;
     loop {
         let mv = record(phase, &s, &z, iterations, trace);
-        if mv < phase.tol || iterations >= phase.max_iter || phase.cancelled() {
+        if mv < phase.tol
+            || iterations >= phase.max_iter
+            || phase.cancelled()
+            || phase.out_of_time()
+        {
             return PhaseResult {
                 z: s.targets,
                 roles: s.roles,

@@ -6,7 +6,7 @@ use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 const DEFAULT_TOL: f64 = 1e-4;
 /// The default gradation limit of size fields: mmg's default ratio of 1.3 between adjacent
@@ -81,6 +81,10 @@ pub struct MeshArgs {
     /// Iteration cap.
     #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
     max_iter: usize,
+    /// Stop iterating after this many seconds and write the mesh reached, marked not
+    /// converged (every method; CCVT ends each phase with one more step) [default: none].
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    time_limit: Option<f64>,
     /// Keep only corners whose turning angle exceeds this (degrees); 0 keeps every vertex where
     /// the boundary turns. The default applies where the corners are computed (polygon files);
     /// built-in regions and JSON with "corners" keep theirs [default: 30, or the corners the
@@ -198,6 +202,11 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             method.name()
         );
     }
+    let request = match a.time_limit {
+        Some(s) if s.is_finite() && s >= 0.0 => request.time_limit(Duration::from_secs_f64(s)),
+        Some(s) => bail!("--time-limit needs a number of seconds (0 or more), got {s}"),
+        None => request,
+    };
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else {
@@ -245,6 +254,8 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             "converged"
         } else if result.iterations >= a.max_iter {
             "NOT CONVERGED (iteration cap reached)"
+        } else if request.out_of_time() {
+            "NOT CONVERGED (time limit reached)"
         } else {
             // The method stopped on a rule of its own (CCVT: ε did not settle; refinement:
             // the area-bound search was capped), which its notes name.

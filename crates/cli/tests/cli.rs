@@ -409,6 +409,43 @@ fn strict_turns_a_capped_run_into_an_error_but_keeps_the_mesh() {
     assert!(out.exists());
 }
 
+#[test]
+fn a_time_limit_writes_the_mesh_reached_marked_not_converged() {
+    let d = scratch("time_limit");
+    let out = d.join("m.msh");
+    let run = |limit: &str| {
+        cvtmesh(&[
+            "mesh",
+            "lake",
+            "-n",
+            "3000",
+            "--time-limit",
+            limit,
+            "-q",
+            "-o",
+            s(&out),
+        ])
+    };
+    let o = run("0");
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("NOT CONVERGED (time limit reached)")
+            && text(&o).contains("note: stopped at the time limit before converging"),
+        "{}",
+        text(&o)
+    );
+    let mesh = cvtmesh::io::read_mesh(&out).unwrap();
+    cvtmesh::check_conforming(&mesh, &cvtmesh::Region::builtin("lake").unwrap()).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    let o = run("-1");
+    assert!(!o.status.success() && !out.exists());
+    assert!(
+        text(&o).contains("--time-limit needs a number of seconds"),
+        "{}",
+        text(&o)
+    );
+}
+
 /// Bad input: clear message naming the problem, non-zero exit, no output file.
 fn assert_refused(args: &[&str], out: &std::path::Path, needle: &str) {
     let o = cvtmesh(args);

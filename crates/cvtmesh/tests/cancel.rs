@@ -1,9 +1,31 @@
 //! Every method stops within a few iterations of its request's cancel flag being set. (CCVT
 //! solves on rayon's pool and hands reports to the caller's thread through a channel, so the
-//! solve may be an iteration or two ahead of the report that sets the flag.)
-use cvtmesh::{MeshError, MeshRequest, Method, Region};
+//! solve may be an iteration or two ahead of the report that sets the flag.) A deadline stops
+//! every method too, with a conforming mesh marked not converged.
+use cvtmesh::{check_conforming, MeshError, MeshRequest, Method, Region};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
+
+#[test]
+fn every_method_hands_back_a_conforming_mesh_at_its_deadline() {
+    let region = Region::builtin("lake").unwrap();
+    for method in Method::ALL {
+        let request = MeshRequest::points(2000).time_limit(Duration::ZERO);
+        let r = method
+            .run(&region, &request)
+            .unwrap_or_else(|e| panic!("{method}: {e}"));
+        check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
+        assert!(!r.converged, "{method}");
+        // CCVT: one evaluation per phase (an ε-phase and the constrained one).
+        assert!(r.iterations <= 2, "{method}: {} iterations", r.iterations);
+        assert!(
+            r.notes.iter().any(|n| n.contains("time limit")),
+            "{method}: {:?}",
+            r.notes
+        );
+    }
+}
 
 #[test]
 fn every_method_stops_when_its_cancel_flag_is_set() {

@@ -293,7 +293,7 @@ impl Mesher for DistMesh {
         let mut retri = 0;
         let mut iterations = 0;
         let mut ftot = vec![DVec2::ZERO; n];
-        while iterations < request.max_iter {
+        while iterations < request.max_iter && !(iterations > 0 && request.out_of_time()) {
             iterations += 1;
             // 3. Retriangulate when anything moved more than ttol·h0.
             let moved = p
@@ -427,12 +427,14 @@ impl Mesher for DistMesh {
         if relocated > 0 {
             notes.push(format!("{relocated} boundary points had converged onto a corner and were moved h0/2 along the boundary"));
         }
+        let stopped_at = if iterations < request.max_iter {
+            "the time limit".to_string()
+        } else {
+            format!("max_iter = {}", request.max_iter)
+        };
         let capped = |e: String| MeshError::Failed {
             method: "distmesh".into(),
-            message: format!(
-                "stopped at max_iter = {} before the boundary was resolved: {e}",
-                request.max_iter
-            ),
+            message: format!("stopped at {stopped_at} before the boundary was resolved: {e}"),
         };
         let mesh = match tessellation::conforming_mesh(&p, &markers, region) {
             Ok(m) => m,
@@ -445,9 +447,8 @@ impl Mesher for DistMesh {
                 method: "distmesh".into(),
                 cause,
                 hint: format!(
-                    "the run stopped at max_iter = {} before the boundary was resolved; allow \
-                     more iterations",
-                    request.max_iter
+                    "the run stopped at {stopped_at} before the boundary was resolved; allow \
+                     more iterations or time"
                 ),
             })?;
         }
@@ -462,7 +463,7 @@ impl Mesher for DistMesh {
             if converged {
                 "converged (max interior move < dptol·h0)".to_string()
             } else {
-                format!("stopped at max_iter = {}", request.max_iter)
+                format!("stopped at {stopped_at}")
             }
         ));
         Ok(MeshResult {

@@ -2,6 +2,7 @@ use crate::{Mesh, MeshError};
 use geometry::{DVec2, Density, Region, SizeField};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// The most vertices a request may ask for. A CCVT mesh of 10⁶ vertices peaks below 1 GiB, so
 /// this many would need about 45 GiB: a request above it is a mistake in the size (a unit, an
@@ -79,6 +80,10 @@ pub struct MeshRequest {
     /// stop a run: every method checks it once per iteration and then returns
     /// [`MeshError::Cancelled`].
     pub cancel: Option<Arc<AtomicBool>>,
+    /// When to stop iterating: every method checks it where it checks the iteration cap, and
+    /// a run that reaches it hands back its mesh marked not converged (CCVT finishes each of
+    /// its phases with one step more, so the mesh conforms).
+    pub deadline: Option<Instant>,
 }
 
 impl MeshRequest {
@@ -91,6 +96,7 @@ impl MeshRequest {
             max_iter: 10_000,
             density: Density::Uniform,
             cancel: None,
+            deadline: None,
         }
     }
     /// A request for a target edge length `h` (K from the region's area, see
@@ -202,6 +208,23 @@ impl MeshRequest {
     pub fn cancel_flag(mut self, flag: Arc<AtomicBool>) -> Self {
         self.cancel = Some(flag);
         self
+    }
+    /// Builder: stop iterating `limit` from now (see [`MeshRequest::deadline`]).
+    ///
+    /// ```
+    /// use cvtmesh_mesh::MeshRequest;
+    /// use std::time::Duration;
+    /// let request = MeshRequest::points(100).time_limit(Duration::ZERO);
+    /// assert!(request.out_of_time());
+    /// assert!(!MeshRequest::points(100).out_of_time());
+    /// ```
+    pub fn time_limit(mut self, limit: Duration) -> Self {
+        self.deadline = Instant::now().checked_add(limit);
+        self
+    }
+    /// True once the deadline has passed.
+    pub fn out_of_time(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
     }
     /// True once the cancel flag is set.
     pub fn cancelled(&self) -> bool {

@@ -43,6 +43,11 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         }
         (Err(e), _) => return Err(e),
     };
+    if !result.converged && request.out_of_time() {
+        result
+            .notes
+            .push("stopped at the time limit before converging".into());
+    }
     if let Some(bent) = &bent {
         unbend(&mut result.mesh, bent, region);
         result.notes.push(format!(

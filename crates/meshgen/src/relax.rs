@@ -1039,6 +1039,9 @@ pub fn relax(
             result.converged = true;
             break;
         }
+        if request.out_of_time() {
+            break;
+        }
     }
     if !result.converged {
         let last = result.move_history.last().copied().unwrap_or(f64::NAN);

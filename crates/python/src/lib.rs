@@ -19,6 +19,7 @@ use pyo3::types::{PyDict, PyString};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 create_exception!(
     _cvtmesh,
@@ -485,7 +486,8 @@ fn scalar_field(
 #[pyfunction]
 #[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
     max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
-    gradation = 0.3, size_toward = Vec::new(), size_threshold = None, simplify = None))]
+    gradation = 0.3, size_toward = Vec::new(), size_threshold = None, simplify = None,
+    time_limit = None))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
@@ -503,6 +505,7 @@ fn mesh(
     size_toward: Vec<String>,
     size_threshold: Option<(f64, f64, f64, f64)>,
     simplify: Option<&Bound<'_, PyAny>>,
+    time_limit: Option<f64>,
 ) -> PyResult<PyMesh> {
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
@@ -564,6 +567,15 @@ fn mesh(
         .tol(tol)
         .max_iter(max_iter)
         .cancel_flag(cancel.clone());
+    let request = match time_limit {
+        None => request,
+        Some(s) if s.is_finite() && s >= 0.0 => request.time_limit(Duration::from_secs_f64(s)),
+        Some(s) => {
+            return Err(err(format!(
+                "time_limit must be a number of seconds (0 or more), got {s}"
+            )))
+        }
+    };
     let mut stopped: Option<PyErr> = None;
     let result = {
         let region = region.clone();

@@ -216,6 +216,8 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, corner_angle=200), "corner_angle"),
         (dict(region="circle", n=100, simplify="coarse"), "simplify"),
         (dict(region="circle", n=100, simplify=-1.0), "simplify"),
+        (dict(region="circle", n=100, time_limit=-1.0), "time_limit"),
+        (dict(region="circle", n=100, time_limit=float("nan")), "time_limit"),
     ],
 )
 def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):
@@ -388,6 +390,13 @@ def test_a_coastline_keeps_only_its_real_corners():
     assert 3 <= len(simple.polygonize(1e-9)[0]) < 300
     m = cvtmesh.mesh(simple, n=300)
     assert (given.signed_distance(m.points) <= deviation * (1 + 1e-9)).all()
+
+
+def test_a_time_limit_returns_the_mesh_reached_not_converged():
+    m = cvtmesh.mesh("lake", n=3000, time_limit=0)
+    assert not m.converged and m.iterations <= 2
+    assert "stopped at the time limit before converging" in m.notes
+    assert len(m.points) == 3000
 
 
 def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():

@@ -296,6 +296,9 @@ impl Mesher for Refine {
                 converged = true;
                 break;
             }
+            if request.out_of_time() && best.is_some() {
+                break;
+            }
             if got > k {
                 small = Some((a, got));
             } else {

@@ -79,6 +79,7 @@ def mesh(
     size_toward: Sequence[str] = (),
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
+    time_limit: Optional[float] = None,
 ) -> Mesh:
     """Mesh a planar region.
 
@@ -133,6 +134,10 @@ def mesh(
         mesh has vertices can be meshed coarsely; ``"auto"`` is a quarter of the spacing. The
         mesh is of the simplified region; its first note says how far that is from the given
         boundary. Default: the boundary as given.
+    time_limit
+        Stop iterating after this many seconds and return the mesh reached, with
+        ``converged = False`` and a note (every method; CCVT ends each phase with one more
+        step, so the mesh conforms). Default: none.
 
     Raises
     ------
@@ -158,6 +163,7 @@ def mesh(
         size_threshold=size_threshold,
         gradation=gradation,
         simplify=simplify,
+        time_limit=time_limit,
     )
 
 

@@ -32,5 +32,6 @@ def mesh(
     size_toward: Sequence[str] = ...,
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
+    time_limit: Optional[float] = None,
 ) -> Mesh: ...
 def measures(points: npt.ArrayLike, triangles: npt.ArrayLike, region: RegionLike) -> dict[str, float]: ...

@@ -79,6 +79,7 @@ def mesh(
     size_toward: Sequence[str] = ...,
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
+    time_limit: Optional[float] = None,
 ) -> Mesh: ...
 def measures(
     points: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], region: Region
