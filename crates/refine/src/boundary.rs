@@ -85,28 +85,27 @@ pub(crate) fn build(region: &Region, spacing: f64, density: &Density) -> Result<
 /// vertex, until none does: the mesh's boundary edges then follow the chain's dents as the
 /// conformity check asks, whether or not the refinement later splits them.
 fn follow_bends(chain: &[DVec2], split: Vec<DVec2>) -> Vec<DVec2> {
-    fn between(chain: &[DVec2], a: DVec2, b: DVec2, out: &mut Vec<DVec2>) {
-        let len = a.distance(b);
-        if let Some((v, d)) = farthest_between(chain, a, b) {
-            if d > CHAIN_BEND * len {
-                between(chain, a, v, out);
-                out.push(v);
-                between(chain, v, b, out);
-            }
-        }
-    }
     let mut ends = Vec::with_capacity(split.len() + 2);
     ends.push(chain[0]);
     ends.extend(split);
     ends.push(chain[chain.len() - 1]);
-    let mut out = vec![ends[0]];
+    let mut out = Vec::with_capacity(ends.len());
     for w in ends.windows(2) {
-        between(chain, w[0], w[1], &mut out);
-        out.push(w[1]);
+        // Depth first with a stack of its own (a long spiral could nest as deep as it has
+        // vertices): the chord's right half waits while the left one is followed.
+        let mut todo = vec![(w[0], w[1])];
+        while let Some((a, b)) = todo.pop() {
+            match farthest_between(chain, a, b).filter(|&(_, d)| d > CHAIN_BEND * a.distance(b)) {
+                Some((v, _)) => {
+                    todo.push((v, b));
+                    todo.push((a, v));
+                }
+                None => out.push(b),
+            }
+        }
     }
-    // Interior points only: drop the chain's own ends again.
+    // Interior points only: the last one pushed is the chain's end.
     out.pop();
-    out.remove(0);
     out
 }
 
