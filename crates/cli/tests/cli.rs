@@ -9,6 +9,14 @@ fn cvtmesh(args: &[&str]) -> Output {
         .expect("run cvtmesh")
 }
 
+/// `cvtmesh mesh REGION -n K EXTRA... -q -o OUT`.
+fn quiet_mesh(region: &str, k: &str, extra: &[&str], out: &std::path::Path) -> Output {
+    let mut args = vec!["mesh", region, "-n", k];
+    args.extend_from_slice(extra);
+    args.extend(["-q", "-o", s(out)]);
+    cvtmesh(&args)
+}
+
 fn text(o: &Output) -> String {
     format!(
         "{}{}",
@@ -413,19 +421,7 @@ fn strict_turns_a_capped_run_into_an_error_but_keeps_the_mesh() {
 fn a_time_limit_writes_the_mesh_reached_marked_not_converged() {
     let d = scratch("time_limit");
     let out = d.join("m.msh");
-    let run = |limit: &str| {
-        cvtmesh(&[
-            "mesh",
-            "lake",
-            "-n",
-            "3000",
-            "--time-limit",
-            limit,
-            "-q",
-            "-o",
-            s(&out),
-        ])
-    };
+    let run = |limit: &str| quiet_mesh("lake", "3000", &["--time-limit", limit], &out);
     let o = run("0");
     assert!(o.status.success(), "{}", text(&o));
     assert!(
@@ -925,19 +921,12 @@ fn a_coastline_meshes_far_below_its_vertex_count() {
     assert!(text(&o).contains("--simplify auto"), "{}", text(&o));
     // Simplified to a quarter of the spacing, every vertex left may stay a corner.
     let simplified = |tol: &str| {
-        cvtmesh(&[
-            "mesh",
+        quiet_mesh(
             s(&input),
-            "-n",
             "300",
-            "--corner-angle",
-            "0",
-            "--simplify",
-            tol,
-            "-q",
-            "-o",
-            s(&out),
-        ])
+            &["--corner-angle", "0", "--simplify", tol],
+            &out,
+        )
     };
     let o = simplified("auto");
     assert!(o.status.success(), "{}", text(&o));
