@@ -2,8 +2,9 @@
 //! crossing loops common) and meshed at small K by every method: a conforming mesh or an
 //! error, never a panic.
 //!
-//! The first byte picks the method and K (8–39), the second the iteration cap (1–8), the rest
-//! are the loops. A small cap is the point: robustness, not convergence, is under test, and a
+//! The first byte picks the method and K (8–39), the second the iteration cap (1–8) and,
+//! with its high bit, a simplification of the loops (`Region::simplified`), the rest are the
+//! loops. A small cap is the point: robustness, not convergence, is under test, and a
 //! method stopped after one or two iterations must still hand back a conforming mesh. CCVT
 //! applies the cap per phase: a Newton step needs a cap of 3 or more, an active-set step 4,
 //! and the range covers them as well as the single Lloyd step of a cap of 1.
@@ -45,6 +46,17 @@ fuzz_target!(
         let k = 8 + (*head as usize / 8) % 32;
         let max_iter = 1 + *cap as usize % 8;
         let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
+        // The high bit simplifies the loops first, at 0 to 7.5 grid steps.
+        let region = if cap & 0x80 != 0 {
+            let tol = ((cap >> 3) & 0x0f) as f64 * 0.5;
+            let Ok(simple) = region.simplified(tol) else {
+                return;
+            };
+            assert!(simple.deviation <= tol, "deviation {} > {tol}", simple.deviation);
+            simple.region
+        } else {
+            region
+        };
         if let Ok(result) = method.run(&region.with_default_corners(), &request) {
             if let Err(e) = check_conforming(&result.mesh, &region) {
                 panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");

@@ -1,13 +1,14 @@
-//! Run CCVT on a built-in region and print iterations per phase, energy and where the time went:
+//! Run CCVT on a region (a built-in name or a region file, with the default corners) and print
+//! iterations per phase, energy and where the time went:
 //! `cargo run --release -p cvtmesh-tools --bin solve -- REGION K [ccvt1|ccvt2|fast|fast1|anderson] [seed]`.
 use ccvt::Ccvt;
-use geometry::Region;
 use mesh::MeshRequest;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let region =
-        Region::builtin(args.get(1).map(String::as_str).unwrap_or("circle")).expect("region");
+    let region = cvtmesh::load_region(args.get(1).map(String::as_str).unwrap_or("circle"))
+        .expect("region")
+        .with_default_corners();
     let k: usize = args
         .get(2)
         .and_then(|s| s.parse::<f64>().ok())
