@@ -172,46 +172,39 @@ impl Region {
     }
 }
 
-/// Douglas–Peucker on a closed ring, started from the vertex farthest from the first one's
-/// farthest vertex (two vertices on the ring's "diameter" are always kept), keeping at least
-/// three vertices.
+/// Douglas–Peucker on a closed ring, anchored at three of its vertices that are always kept:
+/// the vertex farthest from the first one's farthest vertex, that vertex, and the vertex
+/// farthest from the chord between them (so at least three are kept, and every dropped vertex
+/// lies within `tol` of the arc of kept vertices that spans it).
 fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
     let n = ring.len();
     if n <= 3 {
         return ring.to_vec();
     }
-    let farthest = |from: DVec2| {
+    let farthest_by = |key: &dyn Fn(DVec2) -> f64| {
         (0..n)
-            .max_by(|&i, &j| {
-                (ring[i] - from)
-                    .length_squared()
-                    .total_cmp(&(ring[j] - from).length_squared())
-            })
+            .max_by(|&i, &j| key(ring[i]).total_cmp(&key(ring[j])))
             .expect("not empty")
     };
-    let a = farthest(ring[0]);
-    let b = farthest(ring[a]);
-    let (a, b) = (a.min(b), a.max(b));
-    let first: Vec<DVec2> = ring[a..=b].to_vec();
-    let second: Vec<DVec2> = ring[b..].iter().chain(&ring[..=a]).copied().collect();
-    let mut kept = douglas_peucker(&first, tol);
-    let rest = douglas_peucker(&second, tol);
-    kept.extend_from_slice(&rest[1..rest.len() - 1]);
-    if kept.len() < 3 {
-        // Both halves collapsed to their chord: keep the vertex farthest from it.
-        let (p, q) = (ring[a], ring[b]);
-        let c = (0..n)
-            .max_by(|&i, &j| {
-                closest_on_segment(p, q, ring[i])
-                    .2
-                    .total_cmp(&closest_on_segment(p, q, ring[j]).2)
-            })
-            .expect("not empty");
-        kept = if c > a && c < b {
-            vec![p, ring[c], q]
+    let a = farthest_by(&|p| (p - ring[0]).length_squared());
+    let b = farthest_by(&|p| (p - ring[a]).length_squared());
+    let mut c = farthest_by(&|p| closest_on_segment(ring[a], ring[b], p).2);
+    if c == a || c == b {
+        // Only a degenerate ring has nothing off the chord; any third vertex will do.
+        c = (0..n).find(|&i| i != a && i != b).expect("n > 3");
+    }
+    let mut anchors = [a, b, c];
+    anchors.sort_unstable();
+    let mut kept = Vec::with_capacity(n);
+    for k in 0..3 {
+        let (from, to) = (anchors[k], anchors[(k + 1) % 3]);
+        let arc: Vec<DVec2> = if from < to {
+            ring[from..=to].to_vec()
         } else {
-            vec![p, q, ring[c]]
+            ring[from..].iter().chain(&ring[..=to]).copied().collect()
         };
+        let part = douglas_peucker(&arc, tol);
+        kept.extend_from_slice(&part[..part.len() - 1]);
     }
     kept
 }
@@ -274,6 +267,19 @@ mod tests {
                 .sqrt();
             assert!(d <= dev + 1e-12, "{d} > {dev}");
         }
+    }
+
+    #[test]
+    fn every_vertex_stays_within_the_tolerance_when_only_three_are_kept() {
+        // Found by the `mesh_loops` fuzz target: a hexagon whose two halves both collapse to
+        // their chord at 7.5. A third vertex used to be added afterwards, and the vertices on
+        // its side were measured against the two new edges only: 7.62 from the result.
+        let ring: Vec<DVec2> = [(15, 15), (3, 0), (0, 0), (9, 11), (0, 5), (2, 8)]
+            .map(|(x, y)| DVec2::new(x as f64, y as f64))
+            .to_vec();
+        let region = Region::from_loops("hexagon", vec![(LoopRole::Outer, ring)]).unwrap();
+        let s = region.simplified(7.5).unwrap();
+        assert!(s.deviation <= s.tolerance, "{s:?}");
     }
 
     #[test]
