@@ -70,9 +70,10 @@ const MAX_ATTEMPTS: usize = 8;
 /// - duplicates of an earlier point (a boundary point is kept in preference to an interior one);
 /// - interior points outside the polygon of boundary chords (between a chord and a convex piece
 ///   of the boundary, or in a hole), which no inside triangle could use;
-/// - of each degenerate (near zero-area) triangle, the point at its widest angle unless it is a
-///   corner (an interior point on a boundary chord, one of two points within rounding of each
-///   other, the middle one of three nearly collinear points), else its interior points.
+/// - interior points lying on a boundary chord or forming a degenerate (near zero-area)
+///   triangle with one;
+/// - one of two boundary points within rounding of each other, and the middle one of three
+///   nearly collinear boundary points (never a corner).
 ///
 /// Points are never moved. (Nearly collinear boundary points make no slivers: spade's exact
 /// Delaunay predicates flip them away.)
@@ -255,9 +256,10 @@ fn attempt(
         if area > DEGENERATE * mean_area {
             continue;
         }
-        // The vertex at the widest angle goes, unless it is a corner: an interior point on a
-        // chord, or one of two points within rounding of each other (a method may put two
-        // boundary points there), or the middle one of three nearly collinear boundary points.
+        // Interior points of a degenerate triangle go (one on a chord, or hugging one), except
+        // where two boundary points lie within rounding of each other (a method may put them
+        // there): then one of the pair, the one at the wider angle, goes, and so does the
+        // middle one of three nearly collinear boundary points. Corners stay.
         let angle = |k: usize| {
             let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
             a.angle_to(b).abs()
@@ -266,15 +268,28 @@ fn attempt(
             .max_by(|&x, &y| angle(x).total_cmp(&angle(y)))
             .expect("three vertices");
         let w = owner[vs[widest]];
-        if !matches!(markers[w], VertexMarker::Corner { .. }) {
-            drop.push(w);
-            continue;
-        }
+        let side = |k: usize| p[(k + 1) % 3].distance(p[(k + 2) % 3]);
+        let (shortest, longest) = (0..3).fold((f64::INFINITY, 0.0f64), |(lo, hi), k| {
+            (lo.min(side(k)), hi.max(side(k)))
+        });
+        // The pair: the widest angle sits at one end of the shortest side, whose other end is a
+        // boundary point too.
+        let pair = (0..3).any(|k| {
+            k != widest
+                && markers[owner[vs[k]]].on_boundary()
+                && p[k].distance(p[widest]) == shortest
+                && shortest < 1e-6 * longest
+        });
         let interior: Vec<usize> = vs
             .iter()
             .map(|&v| owner[v])
             .filter(|&i| !markers[i].on_boundary())
             .collect();
+        let droppable = matches!(markers[w], VertexMarker::Boundary { .. });
+        if droppable && (pair || interior.is_empty()) {
+            drop.push(w);
+            continue;
+        }
         if !interior.is_empty() {
             drop.extend(interior);
             continue;
