@@ -39,5 +39,5 @@ pub use region::{Part, Region};
 pub use rng::Rng;
 pub use simplify::Simplified;
 pub use size::{SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward};
-pub use spacing_corners::{SpacingCorners, BEND_TOLERANCE, CHORDS, GAP_SPACINGS, NARROW_SPACINGS};
+pub use spacing_corners::{SpacingCorners, BEND_TOLERANCE, CHORDS, GAP_SPACINGS};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

@@ -6,10 +6,9 @@
 //! - **bends**: an airfoil's nose or a coastline's headland is skipped by a chord one spacing
 //!   long. A corner at the bend puts a vertex on it;
 //! - **gaps**: across a hole or an inlet thinner than the spacing (an airfoil's trailing
-//!   half), or a channel about one spacing wide, the Voronoi cells of boundary vertices on one
-//!   side reach over to the other, and the vertices of one side drift off it. Corners one
-//!   spacing apart along such a stretch hold its vertices in place, as Triangle and Gmsh hold
-//!   every boundary vertex.
+//!   half), the Voronoi cells of boundary vertices on one side reach over to the other, and the
+//!   vertices of one side drift off it. Corners one spacing apart along such a stretch hold
+//!   its vertices in place, as Triangle and Gmsh hold every boundary vertex.
 //!
 //! Only polyline pieces (chains and lines) get corners: arcs and closed curves are followed
 //! by construction.
@@ -38,16 +37,6 @@ pub const GAP_SPACINGS: f64 = 1.5;
 
 /// Longest stretch examined, in longest chords of arc length.
 const MAX_ARC: f64 = 4.0;
-
-/// A boundary point lies across a narrow part of the region when the region ends within this
-/// many local spacings along its inward normal: in a channel about one spacing wide, boundary
-/// vertices on either side alternate and drift (a spiral 0.03 wide at spacing 0.032 had two
-/// of them 2.6 spacings apart), and corners one spacing apart hold them.
-pub const NARROW_SPACINGS: f64 = 1.0;
-
-/// Arc length, in local spacings, from a piece's ends within which a narrowing is taken for
-/// the corner's wedge (a 30° wedge is one spacing wide 1.9 spacings from its tip).
-const WEDGE_SPACINGS: f64 = 2.0;
 
 /// Stretches per shortest chord: they start every 1/8 of it along a piece.
 const WINDOW_STEPS: f64 = 8.0;
@@ -92,8 +81,7 @@ impl Region {
     /// The region with the corners a mesh of local spacing `spacing(x)` needs to follow its
     /// polyline pieces (chains and lines):
     /// - along a stretch whose outward normal meets the region again within
-    ///   [`GAP_SPACINGS`] spacings (a thin hole or inlet), or whose inward normal leaves it
-    ///   within [`NARROW_SPACINGS`] (a narrow channel), corners about one spacing apart;
+    ///   [`GAP_SPACINGS`] spacings (a thin hole or inlet), corners about one spacing apart;
     /// - where a stretch of a chain whose chord is 0.75 to 1.5 spacings long ([`CHORDS`])
     ///   strays from it by more than [`BEND_TOLERANCE`] of the chord's length, a corner at the
     ///   vertex farthest from the chord, until no such stretch is left between corners.
@@ -218,23 +206,14 @@ impl Region {
 }
 
 /// True where the region comes back within [`GAP_SPACINGS`] local spacings of boundary point
-/// `x` along its outward normal `normal` (unit), or, if `narrow` is asked about, ends within
-/// [`NARROW_SPACINGS`] along the inward normal.
-fn faces_gap(region: &Region, x: DVec2, normal: DVec2, spacing: f64, narrow: bool) -> bool {
-    let (gap, across) = (GAP_SPACINGS * spacing, NARROW_SPACINGS * spacing);
+/// `x` along its outward normal `normal` (unit).
+fn faces_gap(region: &Region, x: DVec2, normal: DVec2, spacing: f64) -> bool {
+    let gap = GAP_SPACINGS * spacing;
     gap.is_finite()
         && gap > 0.0
-        && GAP_PROBES.iter().any(|&t| {
-            region.contains(x + normal * (t * gap))
-                || (narrow && !region.contains(x - normal * (t * across)))
-        })
-}
-
-/// Whether a boundary point this far (arc length) from the ends of its piece is asked about a
-/// narrow part: within [`WEDGE_SPACINGS`] of a corner, the region narrows because the corner
-/// is a wedge, which its own vertex resolves.
-fn narrow_asked(from_start: f64, to_end: f64, spacing: f64) -> bool {
-    from_start.min(to_end) > WEDGE_SPACINGS * spacing
+        && GAP_PROBES
+            .iter()
+            .any(|&t| region.contains(x + normal * (t * gap)))
 }
 
 /// Corners about one local spacing apart along the stretches of the chain `pts` that face a
@@ -246,19 +225,16 @@ fn gap_cuts(region: &Region, pts: &[DVec2], spacing: &dyn Fn(DVec2) -> f64) -> V
     }
     // The interior lies left of every loop, so the outward normal is the direction turned
     // clockwise.
+    let facing: Vec<bool> = (0..n)
+        .map(|i| {
+            let d = (pts[(i + 1).min(n - 1)] - pts[i.saturating_sub(1)]).normalize_or_zero();
+            d != DVec2::ZERO && faces_gap(region, pts[i], DVec2::new(d.y, -d.x), spacing(pts[i]))
+        })
+        .collect();
     let mut arc = vec![0.0; n];
     for i in 1..n {
         arc[i] = arc[i - 1] + pts[i - 1].distance(pts[i]);
     }
-    let closed = pts[0] == pts[n - 1];
-    let facing: Vec<bool> = (0..n)
-        .map(|i| {
-            let d = (pts[(i + 1).min(n - 1)] - pts[i.saturating_sub(1)]).normalize_or_zero();
-            let h = spacing(pts[i]);
-            let narrow = closed || narrow_asked(arc[i], arc[n - 1] - arc[i], h);
-            d != DVec2::ZERO && faces_gap(region, pts[i], DVec2::new(d.y, -d.x), h, narrow)
-        })
-        .collect();
     let mut cuts = Vec::new();
     let mut i = 0;
     while i < n {
@@ -314,16 +290,8 @@ fn line_gap_points(
     let samples = ((len / h) * GAP_SAMPLES).ceil().min(MAX_LINE_SAMPLES) as usize;
     let facing: Vec<bool> = (0..=samples)
         .map(|k| {
-            let t = k as f64 / samples as f64;
-            let x = a.lerp(b, t);
-            let h = spacing(x);
-            faces_gap(
-                region,
-                x,
-                normal,
-                h,
-                narrow_asked(t * len, (1.0 - t) * len, h),
-            )
+            let x = a.lerp(b, k as f64 / samples as f64);
+            faces_gap(region, x, normal, spacing(x))
         })
         .collect();
     let mut out = vec![a];
@@ -664,32 +632,6 @@ mod tests {
         assert_eq!(fitted.region.corners().len(), 4 + fitted.bends);
         assert!((fitted.region.area() - region.area()).abs() < 1e-12);
         assert!((fitted.region.loops()[1].length - region.loops()[1].length).abs() < 1e-12);
-    }
-
-    #[test]
-    fn a_channel_about_one_spacing_wide_gets_corners_along_it() {
-        // A 4 × 0.05 channel whose long sides are digitized every 0.01 with a wobble of 1e-5:
-        // corners along them at spacing 0.06 (one spacing apart, none within two spacings of
-        // the ends), none at 0.02.
-        let wobble = |i: usize| 1e-5 * (i % 2) as f64;
-        let mut bottom: Vec<DVec2> = (0..=400).map(|i| v(i as f64 * 0.01, wobble(i))).collect();
-        let top: Vec<DVec2> = (0..=400)
-            .rev()
-            .map(|i| v(i as f64 * 0.01, 0.05 + wobble(i)))
-            .collect();
-        bottom.extend(top);
-        let region = Region::from_loops("channel", vec![(LoopRole::Outer, bottom)])
-            .unwrap()
-            .with_default_corners();
-        assert_eq!(region.corners().len(), 4);
-        let fitted = region.with_spacing_corners(&|_| 0.06);
-        assert_eq!(fitted.bends, 0);
-        // (4 − 2·0.12) / 0.06 ≈ 63 per side.
-        assert!((110..=140).contains(&fitted.gaps), "{}", fitted.gaps);
-        for c in fitted.region.corners() {
-            assert!(c.pos.x >= 0.0 && c.pos.x <= 4.0);
-        }
-        assert_eq!(region.with_spacing_corners(&|_| 0.02).added(), 0);
     }
 
     #[test]

@@ -52,13 +52,11 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         unbend(&mut result.mesh, bent, region);
         result.notes.push(format!(
             "corners: {} added where a boundary edge of the local spacing would stray more than \
-             {} of its length from a bend, {} along holes or inlets narrower than {} spacings and \
-             channels narrower than {}",
+             {} of its length from a bend, {} along gaps narrower than {} spacings",
             bent.bends,
             geometry::BEND_TOLERANCE,
             bent.gaps,
-            geometry::GAP_SPACINGS,
-            geometry::NARROW_SPACINGS
+            geometry::GAP_SPACINGS
         ));
     }
     // A method may hand back a mesh that leaves the region where the region is far thinner
