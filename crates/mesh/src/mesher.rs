@@ -10,9 +10,10 @@ use std::time::{Duration, Instant};
 pub const MAX_POINTS: usize = 50_000_000;
 
 /// The boundary tolerance of an automatic simplification, in spacings
-/// ([`MeshRequest::simplify_tolerance`]): a tenth of the local spacing, below the 0.12 of a
-/// chord by which a boundary may bend before it needs a corner of its own, so what is dropped
-/// is what a mesh of this size could not follow anyway.
+/// ([`MeshRequest::simplify_tolerance`]): a quarter of the local spacing. A rough coastline
+/// simplified to a tenth kept nearly every vertex left as a corner (941 of 958 at K = 1000,
+/// for 8000 given); at a quarter it keeps 399, about one per spacing along the shore, which is
+/// what a mesh of this size can follow.
 pub const SIMPLIFY_SPACINGS: f64 = 0.25;
 
 /// How fine the mesh should be.
