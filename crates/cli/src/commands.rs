@@ -93,7 +93,7 @@ pub struct MeshArgs {
     corner_angle: Option<f64>,
     /// Simplify a digitized boundary first (Douglas–Peucker): drop the vertices that lie within
     /// TOL of the simplified boundary, so that a coastline with more corners than the mesh has
-    /// vertices can be meshed coarsely; `auto` is a tenth of the spacing. The mesh is of the
+    /// vertices can be meshed coarsely; `auto` is a quarter of the spacing. The mesh is of the
     /// simplified region, which stays within the printed distance of the original [default:
     /// none, the boundary as given].
     #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
