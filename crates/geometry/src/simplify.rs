@@ -156,6 +156,8 @@ impl Region {
 
     /// Loop `l`'s vertices in order, if it is made of lines and chains only.
     fn straight_ring(&self, l: usize) -> Option<Vec<DVec2>> {
+        // Each piece gives every point but its end, which starts the next piece (a single
+        // closed chain ends where it starts).
         let mut ring = Vec::new();
         for &p in &self.loops[l].pieces {
             match &self.pieces[p] {
@@ -163,10 +165,6 @@ impl Region {
                 Piece::Chain(c) => ring.extend_from_slice(&c[..c.len() - 1]),
                 _ => return None,
             }
-        }
-        // A single closed chain repeats its start at its end: drop the repeat.
-        if ring.len() > 1 && ring[0] == *ring.last().expect("not empty") {
-            ring.pop();
         }
         Some(ring)
     }
