@@ -291,10 +291,12 @@ pub fn render_fidelity(
          length scale the paper's circle and annulus tables use (coordinates halved: τ × ¼, \
          d × 1/16; every other measure is scale-free), the closest model of the paper's numbers \
          found; **paper-style** is our 10⁴-sample estimate at that scale; **exact** is the exact \
-         measures as the tables print them. TRIANGLE (our `refine`) does not depend on the seed, \
-         and DISTMESH only where it removes surplus grid points at random, so their ranges are \
-         mostly a single value (last column; with one seed every range is) and \"in range\" \
-         would mean equal: judge them by \"near\". See docs/study-statistics.md for what \
+         measures as the tables print them. Each seed draws every method's free choices: the \
+         random-start methods' initial points, where DISTMESH's grid starts, and where \
+         TRIANGLE's polygon of a closed curve starts; TRIANGLE has no such choice on a region \
+         without a closed curve (hex_hole, horn, bike_seat, square_two_hex, lake), where its \
+         range is a single value (last column; with one seed every range is) and \"in range\" \
+         would mean equal: judge those by \"near\". See docs/study-statistics.md for what \
          explains the gaps.\n",
         NEAR * 100.0
     );

@@ -1,6 +1,8 @@
 //! The compared methods: the paper's six columns plus our accelerated CCVT.
 use crate::StudyError;
-use cvtmesh::{Mesher, Method, Refine};
+use cvtmesh::distmesh::GridOrigin;
+use cvtmesh::refine::CurveStart;
+use cvtmesh::{DistMesh, Mesher, Method, Refine};
 
 /// The minimum-angle bound (degrees) of the TRIANGLE column, Triangle's `-q` switch. The paper
 /// does not give it. Its TRIANGLE β clusters at 1.00 (a smallest angle of 30°) and never
@@ -144,13 +146,22 @@ impl MethodId {
         names.join(", ")
     }
 
-    /// The mesher with the settings used in the study: each method's defaults, except the
-    /// angle bound of TRIANGLE ([`TRIANGLE_MIN_ANGLE_DEG`]).
+    /// The mesher with the settings used in the study: each method's defaults, except
+    /// TRIANGLE's angle bound ([`TRIANGLE_MIN_ANGLE_DEG`]) and two choices the paper leaves to
+    /// its user, which each seed draws as the random-start methods draw their initial points:
+    /// where DISTMESH's grid starts (the bounding box it was laid from,
+    /// [`GridOrigin::Seeded`]) and where TRIANGLE's polygon of a closed curve starts
+    /// ([`CurveStart::Seeded`]).
     pub fn mesher(self) -> Box<dyn Mesher> {
         match self {
             MethodId::Triangle => Box::new(Refine {
                 min_angle_deg: TRIANGLE_MIN_ANGLE_DEG,
+                curve_start: CurveStart::Seeded,
                 ..Refine::default()
+            }),
+            MethodId::Distmesh => Box::new(DistMesh {
+                grid_origin: GridOrigin::Seeded,
+                ..DistMesh::default()
             }),
             _ => self.method().mesher(),
         }
@@ -195,6 +206,24 @@ mod tests {
             "{e}"
         );
         assert!(MethodId::parse_list(" , ").is_err());
+    }
+
+    #[test]
+    fn the_seed_draws_distmesh_grid_and_triangle_curve_start() {
+        use cvtmesh::{MeshRequest, Region};
+        // The annulus: two circles, whose relative start changes TRIANGLE's polygon.
+        let region = Region::builtin("annulus").unwrap();
+        for m in [MethodId::Triangle, MethodId::Distmesh] {
+            let points = |seed| {
+                m.mesher()
+                    .mesh(&region, &MeshRequest::points(303).seed(seed), &mut |_| {})
+                    .unwrap()
+                    .mesh
+                    .points
+            };
+            assert_ne!(points(1), points(2), "{}", m.column());
+            assert_eq!(points(3), points(3), "{}", m.column());
+        }
     }
 
     #[test]

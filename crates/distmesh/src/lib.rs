@@ -2,7 +2,8 @@
 //! truss of Delaunay bars with repulsive forces in equilibrium, with the original constants.
 //!
 //! 1. Initial points on an equilateral grid of spacing h0 over the region's bounding box (rows
-//!    h0·√3/2 apart, every other row offset by h0/2), kept where d < geps (d =
+//!    h0·√3/2 apart, every other row offset by h0/2; from the box's lower-left corner, or from
+//!    a seeded shift of it with [`GridOrigin::Seeded`]), kept where d < geps (d =
 //!    `Region::signed_distance`, exact); for a non-uniform density each is kept with
 //!    probability r0/max r0, r0 = 1/h², h = ρ^(-1/4) (the CVT spacing law in 2D). The region's
 //!    corners are the fixed points pfix (listed first; they never move).
@@ -65,6 +66,39 @@ pub struct DistMesh {
     pub ttol: f64,
     /// Termination tolerance dptol (0.001).
     pub dptol: f64,
+    /// Where the initial grid starts ([`GridOrigin::BoxCorner`], the original's).
+    pub grid_origin: GridOrigin,
+}
+
+/// Where the initial equilateral grid is anchored.
+///
+/// `distmesh2d` lays its grid from the lower-left corner of the bounding box its caller
+/// passes, so the same region meshed with another (equally valid) box gets another grid, and
+/// another mesh: the placement is a free choice of the user, not of the method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GridOrigin {
+    /// At the lower-left corner of the region's own bounding box: the same points for every
+    /// seed.
+    #[default]
+    BoxCorner,
+    /// Shifted from that corner by a random fraction of one period of the grid in x (h0) and
+    /// in y (two rows), drawn from the request's seed: the grids of all bounding boxes, each
+    /// seed one of them.
+    Seeded,
+}
+
+impl GridOrigin {
+    /// The shift as fractions of one grid period in x and y, in [0, 1)².
+    pub fn shift(self, seed: u64) -> DVec2 {
+        match self {
+            GridOrigin::BoxCorner => DVec2::ZERO,
+            GridOrigin::Seeded => {
+                // A stream of its own, so the surplus removal (seeded too) stays independent.
+                let mut rng = Rng::new(seed ^ 0x6772_6964_6f72_6967);
+                DVec2::new(rng.uniform(), rng.uniform())
+            }
+        }
+    }
 }
 
 impl DistMesh {
@@ -92,6 +126,7 @@ impl Default for DistMesh {
             geps: 0.001,
             ttol: 0.1,
             dptol: 0.001,
+            grid_origin: GridOrigin::BoxCorner,
         }
     }
 }
@@ -106,25 +141,30 @@ fn size_fn(density: &Density, p: DVec2) -> f64 {
 }
 
 /// The initial DistMesh point set for spacing `h0`: the fixed points (the corners), then the
-/// equilateral-grid points with d < geps·h0 (rejection-sampled by the density, seeded).
+/// equilateral-grid points with d < geps·h0 (rejection-sampled by the density, seeded). The
+/// grid starts at the bounding box's lower-left corner moved back by `shift` (fractions of one
+/// period: h0 in x, two rows in y; see [`GridOrigin::shift`]).
 pub fn initial_points(
     region: &Region,
     h0: f64,
     geps: f64,
     density: &Density,
     seed: u64,
+    shift: DVec2,
 ) -> Vec<DVec2> {
     let pfix: Vec<DVec2> = region.corners().iter().map(|c| c.pos).collect();
     let (lo, hi) = region.bbox();
     let dy = h0 * 3f64.sqrt() / 2.0;
-    let ny = ((hi.y - lo.y) / dy + 1e-9).floor() as usize + 1;
-    let nx = ((hi.x - lo.x) / h0 + 1e-9).floor() as usize + 1;
+    // A shifted grid starts up to one period before the box, so it needs that much more.
+    let start = lo - DVec2::new(shift.x * h0, shift.y * 2.0 * dy);
+    let ny = ((hi.y - start.y) / dy + 1e-9).floor() as usize + 1;
+    let nx = ((hi.x - start.x) / h0 + 1e-9).floor() as usize + 1;
     let mut grid = Vec::new();
     for j in 0..ny {
-        let y = lo.y + j as f64 * dy;
-        let shift = if j % 2 == 1 { h0 / 2.0 } else { 0.0 };
+        let y = start.y + j as f64 * dy;
+        let offset = if j % 2 == 1 { h0 / 2.0 } else { 0.0 };
         for i in 0..nx {
-            let p = DVec2::new(lo.x + i as f64 * h0 + shift, y);
+            let p = DVec2::new(start.x + i as f64 * h0 + offset, y);
             // setdiff(p, pfix) of the original, with a tolerance: a grid point within geps of a
             // fixed point is the same point (corner coordinates carry rounding).
             if region.signed_distance(p) < geps * h0
@@ -158,9 +198,10 @@ fn choose_h0(
     geps: f64,
     density: &Density,
     seed: u64,
+    shift: DVec2,
     h_start: f64,
 ) -> Result<(f64, Vec<DVec2>, usize), MeshError> {
-    let count = |h: f64| initial_points(region, h, geps, density, seed);
+    let count = |h: f64| initial_points(region, h, geps, density, seed, shift);
     let mut evals = 0;
     let mut h = h_start;
     // Bracket: h_lo with ≥ K points, h_hi with < K.
@@ -256,15 +297,23 @@ impl Mesher for DistMesh {
         let nfix = region.corners().len();
         let density = &request.density;
         let fd = |q: DVec2| region.signed_distance(q);
+        let shift = self.grid_origin.shift(request.seed);
         let (h0, mut p, evals) = choose_h0(
             region,
             k,
             self.geps,
             density,
             request.seed,
+            shift,
             request.spacing(region),
         )?;
         let mut notes = vec![format!("h0 = {h0:.6e} ({evals} grid counts)")];
+        if self.grid_origin == GridOrigin::Seeded {
+            notes.push(format!(
+                "grid shifted by ({:.4}, {:.4}) of a period (seed {})",
+                shift.x, shift.y, request.seed
+            ));
+        }
         if p.len() > k {
             let surplus = p.len() - k;
             notes.push(format!(

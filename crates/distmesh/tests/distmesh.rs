@@ -1,6 +1,6 @@
 //! End-to-end tests of DistMesh.
-use cvtmesh_distmesh::{initial_points, DistMesh};
-use geometry::{Density, Region};
+use cvtmesh_distmesh::{initial_points, DistMesh, GridOrigin};
+use geometry::{DVec2, Density, Region};
 use mesh::{check_conforming, MeshError, MeshRequest, MeshResult, Mesher};
 
 fn run(name: &str, k: usize, req: MeshRequest) -> (Region, MeshResult) {
@@ -122,7 +122,7 @@ fn progress_once_per_iteration() {
 fn initial_grid_is_equilateral_and_inside() {
     let region = Region::builtin("square_hole").unwrap();
     let h0 = 0.2;
-    let p = initial_points(&region, h0, 0.001, &Density::Uniform, 1);
+    let p = initial_points(&region, h0, 0.001, &Density::Uniform, 1, DVec2::ZERO);
     let nfix = region.corners().len();
     assert_eq!(
         &p[..nfix],
@@ -146,6 +146,76 @@ fn initial_grid_is_equilateral_and_inside() {
         "{} vs {expect}",
         g.len()
     );
+}
+
+#[test]
+fn a_shifted_grid_is_the_same_lattice_moved() {
+    let region = Region::builtin("circle").unwrap();
+    let h0 = 0.1;
+    let plain = initial_points(&region, h0, 0.001, &Density::Uniform, 1, DVec2::ZERO);
+    let shift = GridOrigin::Seeded.shift(7);
+    assert!(shift.x > 0.0 && shift.x < 1.0 && shift.y > 0.0 && shift.y < 1.0);
+    assert_eq!(
+        GridOrigin::Seeded.shift(7),
+        shift,
+        "the shift is a function of the seed"
+    );
+    assert_ne!(GridOrigin::Seeded.shift(8), shift);
+    assert_eq!(GridOrigin::BoxCorner.shift(7), DVec2::ZERO);
+    let moved = initial_points(&region, h0, 0.001, &Density::Uniform, 1, shift);
+    // Every point of the shifted grid is a point of the plain lattice moved by the shift
+    // (modulo one period), so it is the same lattice translated; and it still covers Ω.
+    let (lo, _) = region.bbox();
+    let dy = h0 * 3f64.sqrt() / 2.0;
+    let t = DVec2::new(shift.x * h0, shift.y * 2.0 * dy);
+    for q in &moved {
+        let j = ((q.y - (lo.y - t.y)) / dy).round();
+        assert!(
+            ((q.y - (lo.y - t.y)) / dy - j).abs() < 1e-9,
+            "{q} is off the rows"
+        );
+        let x0 = lo.x - t.x + if j as i64 % 2 == 1 { h0 / 2.0 } else { 0.0 };
+        let i = (q.x - x0) / h0;
+        assert!((i - i.round()).abs() < 1e-9, "{q} is off its row's points");
+        assert!(region.signed_distance(*q) < 0.001 * h0);
+    }
+    let expect = region.area() / (3f64.sqrt() / 2.0 * h0 * h0);
+    for p in [&plain, &moved] {
+        assert!(
+            (p.len() as f64 - expect).abs() < 0.05 * expect,
+            "{}",
+            p.len()
+        );
+    }
+    assert_ne!(plain, moved);
+}
+
+#[test]
+fn a_seeded_grid_origin_varies_the_mesh_by_seed_only() {
+    let region = Region::builtin("circle").unwrap();
+    let seeded = DistMesh {
+        grid_origin: GridOrigin::Seeded,
+        ..DistMesh::default()
+    };
+    let mesh = |m: &DistMesh, seed| {
+        let r = m
+            .mesh(&region, &MeshRequest::points(88).seed(seed), &mut |_| {})
+            .unwrap();
+        assert!(r.converged);
+        assert_eq!(r.mesh.num_vertices(), 88);
+        check_conforming(&r.mesh, &region).unwrap();
+        r.mesh
+    };
+    let (a, b) = (mesh(&seeded, 1), mesh(&seeded, 2));
+    assert_ne!(a.points, b.points, "another seed, another grid");
+    assert_eq!(
+        mesh(&seeded, 1).points,
+        a.points,
+        "the same seed, the same mesh"
+    );
+    // The original's grid does not depend on the seed when no surplus point is removed.
+    let plain = DistMesh::default();
+    assert_eq!(mesh(&plain, 1).points, mesh(&plain, 2).points);
 }
 
 #[test]

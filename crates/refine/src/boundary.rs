@@ -33,18 +33,35 @@ pub(crate) fn is_curved(piece: &Piece) -> bool {
 /// Build the PSLG: straight pieces enter as single segments (Triangle's input; the refinement
 /// splits them when encroached), curved pieces are pre-split into chords of length ≈ `spacing`
 /// (locally `spacing · ρ^(-1/4)`), every split point projected onto the exact curve.
-pub(crate) fn build(region: &Region, spacing: f64, density: &Density) -> Result<Pslg, MeshError> {
+/// `phases[i]` (a fraction of one chord, in [0, 1)) moves where the split of loop `i` starts
+/// when that loop is one closed curve (a circle, a super-ellipse), which has no corner to
+/// start from; missing entries are 0, a split from the piece's own start.
+pub(crate) fn build(
+    region: &Region,
+    spacing: f64,
+    density: &Density,
+    phases: &[f64],
+) -> Result<Pslg, MeshError> {
     let diam = region.diameter();
     let mut pslg = Pslg {
         points: Vec::new(),
         kinds: Vec::new(),
         segments: Vec::new(),
     };
-    for lp in region.loops() {
+    for (li, lp) in region.loops().iter().enumerate() {
         let first = pslg.points.len();
         let mut piece_of = Vec::new();
+        let phase = phases.get(li).copied().unwrap_or(0.0);
         for &pid in &lp.pieces {
             let piece = &region.pieces()[pid];
+            if piece.is_closed() && phase > 0.0 {
+                for p in split_closed(region, pid, spacing, density, phase) {
+                    pslg.points.push(p);
+                    pslg.kinds.push(VKind::Boundary(pid));
+                    piece_of.push(pid);
+                }
+                continue;
+            }
             let start = piece.start();
             let corner = region
                 .corners()
@@ -114,6 +131,35 @@ fn follow_bends(chain: &[DVec2], split: Vec<DVec2>) -> Vec<DVec2> {
 /// within a quarter of its length of the curve, so each curve arc lies inside its chord's
 /// diametral circle (the refinement relies on that to keep Steiner points inside Ω).
 fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -> Vec<DVec2> {
+    let mut pts = split_at(region, pid, spacing, density, 0.0);
+    // The first point is the piece's start, which the caller adds as the loop's vertex.
+    pts.remove(0);
+    pts
+}
+
+/// Every split point of a closed piece, the first `phase` of a step past its start (one of
+/// the loop's vertices then sits at each step, none at the piece's start).
+fn split_closed(
+    region: &Region,
+    pid: PieceId,
+    spacing: f64,
+    density: &Density,
+    phase: f64,
+) -> Vec<DVec2> {
+    split_at(region, pid, spacing, density, phase)
+}
+
+/// The points at ∫ ρ^{1/4} ds = (k + `phase`) · total / n, k = 0 … n − 1, along the piece
+/// (with `phase` = 0 the first is the piece's start), n raised until every chord between
+/// consecutive points (and, for a closed piece, from the last back to the first) stays within
+/// a quarter of its length of the curve.
+fn split_at(
+    region: &Region,
+    pid: PieceId,
+    spacing: f64,
+    density: &Density,
+    phase: f64,
+) -> Vec<DVec2> {
     let piece = &region.pieces()[pid];
     let dense = piece.polygonize(
         (1e-3 * spacing)
@@ -131,17 +177,23 @@ fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -
         cum.push(cum.last().unwrap() + rho * (w[1] - w[0]).length());
     }
     let total = *cum.last().unwrap();
-    let min_n = if piece.is_closed() { 8 } else { 1 };
+    let closed = piece.is_closed();
+    let min_n = if closed { 8 } else { 1 };
     let mut n = ((total / spacing).round() as usize).max(min_n);
+    let last_seg = dense.len() - 2;
     loop {
-        let mut pts = Vec::with_capacity(n.saturating_sub(1));
-        // seg[k]: the dense segment holding split point k (k = 1..n-1).
-        let mut seg = Vec::with_capacity(n + 1);
-        seg.push(usize::MAX);
+        let mut pts = Vec::with_capacity(n);
+        // seg[k]: the dense segment holding point k (the piece's start: before segment 0).
+        let mut seg = Vec::with_capacity(n);
         let mut j = 0;
-        for k in 1..n {
-            let s = total * k as f64 / n as f64;
-            while j + 1 < cum.len() - 1 && cum[j + 1] < s {
+        for k in 0..n {
+            let s = total * (k as f64 + phase) / n as f64;
+            if k == 0 && phase == 0.0 {
+                pts.push(piece.start());
+                seg.push(usize::MAX);
+                continue;
+            }
+            while j < last_seg && cum[j + 1] < s {
                 j += 1;
             }
             let t = if cum[j + 1] > cum[j] {
@@ -153,20 +205,24 @@ fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -
             pts.push(region.project_onto_piece(q, pid).point);
             seg.push(j);
         }
-        // Chord check against the dense samples strictly between consecutive split points.
-        let mut ends = vec![piece.start()];
-        ends.extend(pts.iter().copied());
-        ends.push(piece.end());
+        // Dense samples strictly after point k's own segment start, up to and including the
+        // start of the segment holding point k + 1; the last chord runs to the piece's end and,
+        // when the first point is not the start, on from the start to it.
+        let after = |k: usize| if seg[k] == usize::MAX { 1 } else { seg[k] + 1 };
         let ok = (0..n).all(|k| {
-            let (a, b) = (ends[k], ends[k + 1]);
+            let a = pts[k];
+            if k + 1 < n {
+                let b = pts[k + 1];
+                let len = (b - a).length();
+                return (after(k)..=seg[k + 1])
+                    .all(|i| segment_distance(dense[i], a, b) <= 0.25 * len);
+            }
+            let b = if phase == 0.0 { piece.end() } else { pts[0] };
             let len = (b - a).length();
-            let first = if k == 0 { 1 } else { seg[k] + 1 };
-            let last = if k + 1 == n {
-                dense.len() - 2
-            } else {
-                seg[k + 1]
-            };
-            (first..=last).all(|i| segment_distance(dense[i], a, b) <= 0.25 * len)
+            let wrap = if phase == 0.0 { 0..0 } else { 0..seg[0] + 1 };
+            (after(k)..=last_seg)
+                .chain(wrap)
+                .all(|i| segment_distance(dense[i], a, b) <= 0.25 * len)
         });
         if ok || n > 1 << 16 {
             return pts;
@@ -298,7 +354,7 @@ mod tests {
     fn curved_pieces_are_split_on_the_curve() {
         let region = Region::builtin("horn").unwrap();
         let h = 0.05;
-        let g = build(&region, h, &Density::Uniform).unwrap();
+        let g = build(&region, h, &Density::Uniform, &[]).unwrap();
         assert_eq!(g.points.len(), g.segments.len());
         for p in &g.points {
             assert!(region.signed_distance(*p).abs() < 1e-12, "{p}");
@@ -336,8 +392,63 @@ mod tests {
     #[test]
     fn polygons_enter_unsplit() {
         let region = Region::builtin("square_two_hex").unwrap();
-        let g = build(&region, 0.01, &Density::Uniform).unwrap();
+        let g = build(&region, 0.01, &Density::Uniform, &[]).unwrap();
         assert_eq!(g.points.len(), region.corners().len());
         assert!(g.kinds.iter().all(|k| matches!(k, VKind::Corner(_))));
+    }
+
+    #[test]
+    fn a_phase_turns_a_closed_curves_chords_and_nothing_else() {
+        let region = Region::builtin("annulus").unwrap();
+        let h = 0.1;
+        let plain = build(&region, h, &Density::Uniform, &[]).unwrap();
+        let turned = build(&region, h, &Density::Uniform, &[0.3, 0.75]).unwrap();
+        // The same number of chords per loop, every vertex on the circles, the same chord
+        // length on each circle (equal steps of arc length), and no vertex at angle 0.
+        assert_eq!(plain.points.len(), turned.points.len());
+        assert_eq!(plain.segments.len(), turned.segments.len());
+        for g in [&plain, &turned] {
+            let mut by_piece = std::collections::BTreeMap::<usize, Vec<f64>>::new();
+            for &(a, b, piece) in &g.segments {
+                by_piece
+                    .entry(piece)
+                    .or_default()
+                    .push((g.points[b] - g.points[a]).length());
+            }
+            for lens in by_piece.values() {
+                let (lo, hi) = lens
+                    .iter()
+                    .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+                assert!(hi - lo < 1e-4 * hi, "{lo} .. {hi}");
+            }
+            for p in &g.points {
+                assert!(region.signed_distance(*p).abs() < 1e-12, "{p}");
+            }
+        }
+        // Each loop's first vertex sits at its phase of one step past angle 0 (the outer circle
+        // runs counter-clockwise from (1, 0), the hole clockwise from (0.4, 0)).
+        let outer = plain.segments.iter().filter(|s| s.2 == 0).count();
+        let step = std::f64::consts::TAU / outer as f64;
+        let first = turned.points[0];
+        assert!(
+            (first.y.atan2(first.x) - 0.3 * step).abs() < 1e-5 * step,
+            "{first}"
+        );
+        let inner_first = turned.points[outer];
+        let inner = turned.points.len() - outer;
+        let inner_step = std::f64::consts::TAU / inner as f64;
+        assert!(
+            (inner_first.y.atan2(inner_first.x) + 0.75 * inner_step).abs() < 1e-5 * inner_step,
+            "{inner_first}"
+        );
+        assert!(turned
+            .points
+            .iter()
+            .all(|p| p.y.abs() > 1e-3 || p.x.abs() < 0.3));
+        // A polygon has no phase: its loops are the same for any.
+        let square = Region::builtin("square_two_hex").unwrap();
+        let a = build(&square, 0.05, &Density::Uniform, &[]).unwrap();
+        let b = build(&square, 0.05, &Density::Uniform, &[0.5, 0.5, 0.5]).unwrap();
+        assert_eq!(a.points, b.points);
     }
 }

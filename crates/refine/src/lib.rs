@@ -11,6 +11,10 @@
 //!   is what a Triangle user does with a curved domain (the polygon is all Triangle sees), and it
 //!   keeps each arc inside its chord's diametral circle, so a Steiner point in the sliver between
 //!   chord and curve always encroaches that chord and is never inserted outside Ω.
+//!   A loop that is one closed curve (a circle, a super-ellipse) has no corner to start its
+//!   chords from: by default they start at the curve's own start, and with
+//!   [`CurveStart::Seeded`] at a seeded fraction of a chord past it, as a user's polygon of
+//!   the curve may start anywhere.
 //! * Refinement bounds: a minimum angle ([`Refine::min_angle_deg`], Triangle's default `-q` is
 //!   20°) and a maximum triangle area A (`-a`; for a non-uniform density the local bound is
 //!   A·ρ(centroid)^(-1/2), so the spacing goes like ρ^(-1/4) as for a CVT).
@@ -36,7 +40,7 @@ mod engine;
 mod grid;
 
 use boundary::VKind;
-use geometry::{Density, Region};
+use geometry::{Density, Region, Rng};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker};
 
 /// Boundary chord length as a multiple of the edge of an equilateral triangle of area A,
@@ -91,6 +95,37 @@ pub struct Refine {
     /// per vertex of the run's vertex budget, plus 1000. A run that reaches it stops with the
     /// mesh it has, reported as not converged.
     pub max_steps: Option<usize>,
+    /// Where the pre-split of a loop that is one closed curve starts
+    /// ([`CurveStart::PieceStart`] by default).
+    pub curve_start: CurveStart,
+}
+
+/// Where the chords of a loop that is one closed curve (a circle, a super-ellipse) start.
+///
+/// Such a loop has no corner to start from: the polygon a Triangle user writes for it starts
+/// wherever they chose, and the refined mesh depends on that choice (on a circle only through
+/// the ties of the Delaunay triangulation of its cocircular vertices; between two loops, as
+/// in an annulus, through their relative phase).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurveStart {
+    /// At the curve's own start (angle 0): the same mesh for every seed.
+    #[default]
+    PieceStart,
+    /// A seeded fraction of one chord past it, drawn per loop from the request's seed.
+    Seeded,
+}
+
+impl CurveStart {
+    /// The start of each loop's chords as a fraction of one chord, in [0, 1).
+    pub fn phases(self, region: &Region, seed: u64) -> Vec<f64> {
+        match self {
+            CurveStart::PieceStart => vec![0.0; region.loops().len()],
+            CurveStart::Seeded => {
+                let mut rng = Rng::new(seed ^ 0x6375_7276_6573_7461);
+                region.loops().iter().map(|_| rng.uniform()).collect()
+            }
+        }
+    }
 }
 
 impl Default for Refine {
@@ -101,6 +136,7 @@ impl Default for Refine {
             max_area: None,
             max_search_steps: 60,
             max_steps: None,
+            curve_start: CurveStart::PieceStart,
         }
     }
 }
@@ -121,7 +157,8 @@ pub struct Refinement {
 }
 
 impl Refine {
-    /// Refine `region` once with area bound `max_area` and vertex budget `max_vertices`.
+    /// Refine `region` once with area bound `max_area` and vertex budget `max_vertices`, closed
+    /// curves split from their own start ([`CurveStart::PieceStart`]).
     ///
     /// Refused with [`MeshError::Failed`] when the bound is so coarse that a chord of a curved
     /// piece, pre-split at the spacing it implies, crosses another piece of the boundary or
@@ -133,23 +170,19 @@ impl Refine {
         density: &Density,
         max_vertices: usize,
     ) -> Result<Refinement, MeshError> {
-        self.refine_once(region, max_area, density, max_vertices)?
-            .ok_or_else(|| MeshError::Failed {
-                method: "refine".into(),
-                message: format!(
-                    "area bound {max_area:.6e} too coarse: a boundary chord pre-split at its \
-                     spacing crosses another piece of the boundary or runs through its vertex"
-                ),
-            })
+        self.refine_once(region, max_area, density, max_vertices, &[])?
+            .ok_or_else(|| too_coarse(max_area))
     }
 
-    /// [`Refine::refine_with_area`], with `None` for a bound too coarse for the curved pieces.
+    /// [`Refine::refine_with_area`] with the closed curves' splits started at `phases` (see
+    /// [`CurveStart::phases`]), and `None` for a bound too coarse for the curved pieces.
     fn refine_once(
         &self,
         region: &Region,
         max_area: f64,
         density: &Density,
         max_vertices: usize,
+        phases: &[f64],
     ) -> Result<Option<Refinement>, MeshError> {
         if !(max_area.is_finite() && max_area > 0.0) {
             return Err(MeshError::BadRequest(format!(
@@ -157,7 +190,7 @@ impl Refine {
             )));
         }
         let spacing = BOUNDARY_FACTOR * (4.0 * max_area / 3f64.sqrt()).sqrt();
-        let pslg = boundary::build(region, spacing, density)?;
+        let pslg = boundary::build(region, spacing, density, phases)?;
         let bounds = engine::Bounds {
             min_angle_deg: self.min_angle_deg,
             max_area,
@@ -209,6 +242,17 @@ impl Refine {
     }
 }
 
+/// The refusal of an area bound whose pre-split chords would cross the boundary.
+fn too_coarse(max_area: f64) -> MeshError {
+    MeshError::Failed {
+        method: "refine".into(),
+        message: format!(
+            "area bound {max_area:.6e} too coarse: a boundary chord pre-split at its spacing \
+             crosses another piece of the boundary or runs through its vertex"
+        ),
+    }
+}
+
 impl Mesher for Refine {
     fn name(&self) -> &'static str {
         "refine"
@@ -225,16 +269,25 @@ impl Mesher for Refine {
         let k = request.validate(region)?;
         self.check()?;
         let budget = 10 * k + 1000;
-        let angle_note = format!(
+        let phases = self.curve_start.phases(region, request.seed);
+        let mut angle_note = format!(
             "minimum angle bound {}°, off-centers {}",
             self.min_angle_deg, self.off_centers
         );
+        if self.curve_start == CurveStart::Seeded {
+            angle_note += &format!(
+                "; closed curves split from a seeded start (seed {})",
+                request.seed
+            );
+        }
         if let Some(a) = self.max_area {
             // A fixed bound sets its own K: the vertex budget is what fits in memory.
             let budget = mesh::total_memory()
                 .map_or(mesh::MAX_POINTS, |m| (m / mesh::BYTES_PER_VERTEX) as usize)
                 .min(mesh::MAX_POINTS);
-            let r = self.refine_with_area(region, a, &request.density, budget)?;
+            let r = self
+                .refine_once(region, a, &request.density, budget, &phases)?
+                .ok_or_else(|| too_coarse(a))?;
             progress(Progress {
                 iteration: 1,
                 max_iter: 1,
@@ -274,7 +327,7 @@ impl Mesher for Refine {
             steps += 1;
             // A bound whose chords cross the boundary or run through its vertices is too
             // coarse: count it as too few vertices, so the search shrinks it.
-            let run = self.refine_once(region, a, &request.density, budget)?;
+            let run = self.refine_once(region, a, &request.density, budget, &phases)?;
             let got = match &run {
                 Some(r) if r.complete => r.mesh.num_vertices(),
                 Some(_) => usize::MAX,

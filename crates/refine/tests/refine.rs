@@ -1,5 +1,5 @@
 //! End-to-end tests of the Delaunay refinement (TRIANGLE) method.
-use cvtmesh_refine::Refine;
+use cvtmesh_refine::{CurveStart, Refine};
 use geometry::{Density, Region};
 use mesh::{
     check_conforming, triangle_min_angle_deg, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
@@ -133,6 +133,35 @@ fn deterministic() {
         .unwrap();
     assert_eq!(a.mesh, b.mesh);
     assert_eq!(a.notes, b.notes);
+}
+
+#[test]
+fn a_seeded_curve_start_varies_the_mesh_by_seed_only() {
+    let region = Region::builtin("annulus").unwrap();
+    let seeded = Refine {
+        curve_start: CurveStart::Seeded,
+        ..Refine::default()
+    };
+    let mesh = |seed| {
+        let r = seeded
+            .mesh(&region, &MeshRequest::points(303).seed(seed), &mut |_| {})
+            .unwrap();
+        assert_good(&region, &r, 303, 20.0);
+        assert!(r.notes.iter().any(|n| n.contains("seeded start")));
+        r.mesh
+    };
+    let (a, b) = (mesh(1), mesh(2));
+    assert_ne!(
+        a.points, b.points,
+        "another seed, another start of the circles' chords"
+    );
+    assert_eq!(mesh(1), a, "the same seed, the same mesh");
+    // The phases are a function of the seed, one per loop, in [0, 1).
+    let p = CurveStart::Seeded.phases(&region, 1);
+    assert_eq!(p.len(), 2);
+    assert!(p.iter().all(|x| (0.0..1.0).contains(x)));
+    assert_eq!(p, CurveStart::Seeded.phases(&region, 1));
+    assert_eq!(CurveStart::PieceStart.phases(&region, 1), vec![0.0, 0.0]);
 }
 
 #[test]
