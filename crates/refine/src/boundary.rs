@@ -55,7 +55,8 @@ pub(crate) fn build(
         for &pid in &lp.pieces {
             let piece = &region.pieces()[pid];
             if piece.is_closed() && phase > 0.0 {
-                for p in split_closed(region, pid, spacing, density, phase) {
+                // Every point of the split, none at the piece's start.
+                for p in split_at(region, pid, spacing, density, phase) {
                     pslg.points.push(p);
                     pslg.kinds.push(VKind::Boundary(pid));
                     piece_of.push(pid);
@@ -135,18 +136,6 @@ fn split_curve(region: &Region, pid: PieceId, spacing: f64, density: &Density) -
     // The first point is the piece's start, which the caller adds as the loop's vertex.
     pts.remove(0);
     pts
-}
-
-/// Every split point of a closed piece, the first `phase` of a step past its start (one of
-/// the loop's vertices then sits at each step, none at the piece's start).
-fn split_closed(
-    region: &Region,
-    pid: PieceId,
-    spacing: f64,
-    density: &Density,
-    phase: f64,
-) -> Vec<DVec2> {
-    split_at(region, pid, spacing, density, phase)
 }
 
 /// The points at ∫ ρ^{1/4} ds = (k + `phase`) · total / n, k = 0 … n − 1, along the piece
