@@ -89,6 +89,16 @@ pub enum GridOrigin {
 
 impl GridOrigin {
     /// The shift as fractions of one grid period in x and y, in [0, 1)².
+    ///
+    /// ```
+    /// use cvtmesh_distmesh::GridOrigin;
+    /// use geometry::DVec2;
+    ///
+    /// assert_eq!(GridOrigin::BoxCorner.shift(7), DVec2::ZERO);
+    /// let s = GridOrigin::Seeded.shift(7);
+    /// assert!((0.0..1.0).contains(&s.x) && (0.0..1.0).contains(&s.y));
+    /// assert_eq!(GridOrigin::Seeded.shift(7), s); // a function of the seed
+    /// ```
     pub fn shift(self, seed: u64) -> DVec2 {
         match self {
             GridOrigin::BoxCorner => DVec2::ZERO,

@@ -117,6 +117,24 @@ pub enum CurveStart {
 
 impl CurveStart {
     /// The start of each loop's chords as a fraction of one chord, in [0, 1).
+    ///
+    /// ```
+    /// use cvtmesh_refine::{CurveStart, Refine};
+    /// use geometry::Region;
+    /// use mesh::{check_conforming, MeshRequest, Mesher};
+    ///
+    /// let annulus = Region::builtin("annulus")?;
+    /// assert_eq!(CurveStart::PieceStart.phases(&annulus, 3), vec![0.0, 0.0]);
+    /// let phases = CurveStart::Seeded.phases(&annulus, 3);
+    /// assert!(phases.iter().all(|p| (0.0..1.0).contains(p)));
+    /// // Each seed meshes another (equally valid) polygon of the two circles.
+    /// let seeded = Refine { curve_start: CurveStart::Seeded, ..Refine::default() };
+    /// let mesh = |seed| seeded.mesh(&annulus, &MeshRequest::points(300).seed(seed), &mut |_| {});
+    /// let (a, b) = (mesh(1)?.mesh, mesh(2)?.mesh);
+    /// assert_ne!(a.points, b.points);
+    /// check_conforming(&a, &annulus)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn phases(self, region: &Region, seed: u64) -> Vec<f64> {
         match self {
             CurveStart::PieceStart => vec![0.0; region.loops().len()],
