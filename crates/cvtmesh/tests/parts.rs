@@ -170,3 +170,56 @@ fn a_coastline_meshes_at_k_far_below_its_vertex_count_by_every_method() {
         );
     }
 }
+
+/// A method that needs many boundary vertices on small parts: 40 on any part of area below 1.
+struct Greedy;
+
+impl Mesher for Greedy {
+    fn name(&self) -> &'static str {
+        "greedy"
+    }
+    fn mesh(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        progress: &mut dyn FnMut(cvtmesh::Progress),
+    ) -> Result<cvtmesh::MeshResult, cvtmesh::MeshError> {
+        let k = request.validate(region)?;
+        if k < self.min_boundary_points(region) {
+            return Err(cvtmesh::MeshError::BadRequest(format!(
+                "share {k} too small"
+            )));
+        }
+        Method::Ccvt.mesher().mesh(region, request, progress)
+    }
+    fn min_boundary_points(&self, region: &Region) -> usize {
+        if region.area() < 1.0 {
+            40
+        } else {
+            cvtmesh::boundary_points_needed(region)
+        }
+    }
+}
+
+#[test]
+fn a_part_gets_at_least_the_boundary_its_method_needs() {
+    // The island (area 0.16) would get 400 · 0.16 / 6.16 ≈ 10 by area; Greedy needs 40 there.
+    let region = three_parts();
+    let r = Greedy
+        .mesh_parts(&region, &MeshRequest::points(400), &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let n = per_part(&region, &r.mesh);
+    assert_eq!(n.iter().sum::<usize>(), 400);
+    assert_eq!(n[2], 40, "{n:?}");
+    // Below the parts' needs together, a refusal naming each, before any work (the others'
+    // needs include the corners their spacing adds at this K).
+    let e = Greedy
+        .mesh_parts(&region, &MeshRequest::points(51), &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("K = 51 is too small") && e.contains("with greedy") && e.contains(" + 40)"),
+        "{e}"
+    );
+}

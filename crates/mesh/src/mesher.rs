@@ -609,7 +609,8 @@ pub trait Mesher: Sync {
     /// Shares follow the count the density asks for in each part, ∫ ρ^(1/2) (its area for a
     /// uniform density), by largest remainders, so they add up to K and each is within one
     /// of K times the part's fraction; a part whose fraction is below what its boundary needs
-    /// (`corners + 3 · loops`) gets that, and the others share the rest. The merged mesh
+    /// ([`Mesher::min_boundary_points`]) gets that, and the others share the rest; a K below
+    /// the parts' needs together is refused. The merged mesh
     /// numbers the parts' vertices one part after another, its markers name the whole
     /// region's loops, pieces and corners, and it is converged only if every part is; the
     /// iterations add up, the histories follow one another and each part's notes are
@@ -654,6 +655,30 @@ pub trait Mesher: Sync {
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
         crate::parts::mesh_parts(self, region, request, progress)
+    }
+
+    /// The fewest boundary vertices this method puts on `region` at any K: the least share
+    /// of K [`Mesher::mesh_parts`] gives a part. By default [`boundary_points_needed`] (every
+    /// corner, at least three per loop); a method whose boundary needs more (MESHGEN and VTM
+    /// keep chords from cutting into concave curves) says so here.
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{boundary_points_needed, Mesher};
+    /// # use cvtmesh_mesh::{MeshError, MeshRequest, MeshResult, Progress};
+    /// # use geometry::Region;
+    /// # struct Any;
+    /// # impl Mesher for Any {
+    /// #     fn name(&self) -> &'static str { "any" }
+    /// #     fn mesh(&self, _: &Region, _: &MeshRequest, _: &mut dyn FnMut(Progress))
+    /// #         -> Result<MeshResult, MeshError> { unimplemented!() }
+    /// # }
+    /// let hex_hole = Region::builtin("hex_hole")?;
+    /// assert_eq!(Any.min_boundary_points(&hex_hole), boundary_points_needed(&hex_hole));
+    /// assert_eq!(Any.min_boundary_points(&hex_hole), 12); // two hexagons' corners
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn min_boundary_points(&self, region: &Region) -> usize {
+        boundary_points_needed(region)
     }
 }
 

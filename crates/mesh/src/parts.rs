@@ -162,7 +162,26 @@ fn mesh_each_part<M: Mesher + ?Sized>(
 ) -> Result<MeshResult, MeshError> {
     let k = request.validate_whole(region)?;
     let parts = region.parts();
-    let shares = shares(k, &parts, &request.density);
+    let needs: Vec<usize> = parts
+        .iter()
+        .map(|p| mesher.min_boundary_points(&p.region))
+        .collect();
+    let needed: usize = needs.iter().sum();
+    if needed > k {
+        return Err(MeshError::BadRequest(format!(
+            "K = {k} is too small for region '{}' with {}: its {} parts' boundaries need {needed} \
+             vertices ({})",
+            region.name(),
+            mesher.name(),
+            parts.len(),
+            needs
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        )));
+    }
+    let shares = shares(k, &parts, &request.density, &needs);
     let mut merged = MeshResult {
         mesh: Mesh::default(),
         iterations: 0,
@@ -235,15 +254,11 @@ fn merge(into: &mut Mesh, mesh: Mesh, part: &Part) -> Result<(), MeshError> {
 
 /// Each part's share of `k` vertices: in proportion to the count the density asks for there,
 /// ∫ ρ^(1/2) (spacing ∝ ρ^(-1/4), so vertices per area ∝ ρ^(1/2); its area for ρ ≡ 1), but at
-/// least what its boundary needs (`corners + 3 · loops`). The shares add up to `k`, which
-/// must be at least the parts' needs together (checked by the caller).
-pub(crate) fn shares(k: usize, parts: &[Part], density: &Density) -> Vec<usize> {
+/// least what its boundary needs (`needs`, from [`Mesher::min_boundary_points`](crate::Mesher::min_boundary_points)). The shares
+/// add up to `k`, which must be at least the parts' needs together (checked by the caller).
+pub(crate) fn shares(k: usize, parts: &[Part], density: &Density, needs: &[usize]) -> Vec<usize> {
     let weights: Vec<f64> = parts.iter().map(|p| weight(&p.region, density)).collect();
-    let needs: Vec<usize> = parts
-        .iter()
-        .map(|p| crate::boundary_points_needed(&p.region))
-        .collect();
-    allocate(k, &weights, &needs)
+    allocate(k, &weights, needs)
 }
 
 /// Largest-remainder apportionment of `k` by `weights`, each share at least its `need`.

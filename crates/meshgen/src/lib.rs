@@ -39,6 +39,11 @@ impl Mesher for Meshgen {
         "meshgen"
     }
 
+    /// The coarsest boundary of the shared relaxation ([`relax::min_boundary_points`]).
+    fn min_boundary_points(&self, region: &Region) -> usize {
+        relax::min_boundary_points(region)
+    }
+
     /// Relax from the shared initial points until the largest move is below `tol · h`.
     /// `energy_history` holds [`mixed_energy`], the CVT energy (4) with the approximate regions.
     fn mesh(

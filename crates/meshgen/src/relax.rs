@@ -840,10 +840,10 @@ fn initial_state(frame: &Frame, k: usize, h: f64, seed: u64) -> Result<(State, f
         }
         let outline = Outline::new(region, &rings);
         let interior = lattice(region, &outline, h0, seed);
-        (boundary, interior)
+        (boundary, interior, outline)
     };
     let count = |h0: f64| {
-        let (b, i) = layout(h0);
+        let (b, i, _) = layout(h0);
         b.len() + i.len()
     };
     let diameter = region.diameter();
@@ -885,15 +885,54 @@ fn initial_state(frame: &Frame, k: usize, h: f64, seed: u64) -> Result<(State, f
             hi = mid;
         }
     }
-    let (boundary, interior) = layout(lo);
-    let surplus = boundary.len() + interior.len() - k;
-    if surplus > interior.len() {
-        return Err(MeshError::BadRequest(format!(
-            "K = {k} is too small for region '{}': its boundary alone needs {} vertices",
-            region.name(),
-            boundary.len()
-        )));
+    let (mut boundary, mut interior, _) = layout(lo);
+    let mut h0 = lo;
+    if boundary.len() > k {
+        // At the spacing that gives K points the boundary alone has more than K (near the
+        // smallest K, or a part of a region meshed with its share of K): take the finest
+        // boundary that fits, and draw the points its coarser lattice lacks at random inside.
+        let fits = |h0: f64| frame.boundary_layout(h0).len() <= k;
+        let (mut fine, mut coarse) = (lo, 2.0 * lo);
+        while !fits(coarse) && coarse < 4.0 * diameter {
+            fine = coarse;
+            coarse *= 2.0;
+        }
+        if !fits(coarse) {
+            return Err(MeshError::BadRequest(format!(
+                "K = {k} is too small for region '{}': its boundary alone needs {} vertices",
+                region.name(),
+                frame.boundary_layout(coarse).len()
+            )));
+        }
+        for _ in 0..40 {
+            let mid = 0.5 * (fine + coarse);
+            if fits(mid) {
+                coarse = mid;
+            } else {
+                fine = mid;
+            }
+        }
+        let hi = coarse;
+        let (b, mut i, outline) = layout(hi);
+        let mut rng = Rng::new(seed ^ 0x7265_7374_6f66_6b21);
+        let (blo, bhi) = region.bbox();
+        let mut tries = 0usize;
+        while b.len() + i.len() < k {
+            tries += 1;
+            if tries > 1000 * k + 10_000 {
+                return Err(MeshError::Failed {
+                    method: "initial points".into(),
+                    message: format!("could not place {k} points in the region"),
+                });
+            }
+            let p = DVec2::new(rng.range(blo.x, bhi.x), rng.range(blo.y, bhi.y));
+            if outline.admits(region, p, INTERIOR_MARGIN * hi) {
+                i.push(p);
+            }
+        }
+        (boundary, interior, h0) = (b, i, hi);
     }
+    let surplus = boundary.len() + interior.len() - k;
     // Drop `surplus` distinct interior points chosen at random (partial Fisher–Yates).
     let mut rng = Rng::new(seed ^ 0xD1B5_4A32_D192_ED03);
     let m = interior.len();
@@ -912,7 +951,18 @@ fn initial_state(frame: &Frame, k: usize, h: f64, seed: u64) -> Result<(State, f
             .filter(|(_, d)| !d)
             .map(|(p, _)| (p, Slot::Interior)),
     );
-    Ok((State::new(frame, all), lo))
+    Ok((State::new(frame, all), h0))
+}
+
+/// The boundary vertices of the coarsest layout [`relax`] makes on `region`: every corner, at
+/// least three per loop, and more where a chord would cut into a concave curve or cross
+/// another side's chord. No K below it can be met; [`relax`] refuses it.
+pub fn min_boundary_points(region: &Region) -> usize {
+    let d = region.diameter();
+    match Frame::new(region, 1e-2 * d) {
+        Ok(frame) => frame.boundary_layout(4.0 * d).len(),
+        Err(_) => mesh::boundary_points_needed(region),
+    }
 }
 
 /// Jittered equilateral lattice of spacing `h0`, kept LATTICE_MARGIN·h0 inside the outline.

@@ -40,6 +40,11 @@ impl Mesher for Vtm {
         "vtm"
     }
 
+    /// The coarsest boundary of the shared relaxation ([`relax::min_boundary_points`]).
+    fn min_boundary_points(&self, region: &Region) -> usize {
+        relax::min_boundary_points(region)
+    }
+
     /// Relax from the shared initial points until the largest move is below `tol · h`.
     /// `energy_history` holds [`odt_energy`].
     fn mesh(

@@ -244,6 +244,32 @@ pub fn bad_requests_are_errors(method: &dyn Mesher) {
         .is_err());
 }
 
+/// K at the method's least boundary: where the spacing that gives K points puts more than K
+/// on the boundary, a coarser boundary that fits is taken and the interior drawn at random;
+/// below [`Mesher::min_boundary_points`] the refusal names it.
+pub fn least_boundary_is_met_or_named(method: &dyn Mesher) {
+    // The hole's chords may not cut into it: more than the 3 + 3 every method needs.
+    let annulus = Region::builtin("annulus").unwrap();
+    let least = method.min_boundary_points(&annulus);
+    assert!(least > mesh::boundary_points_needed(&annulus), "{least}");
+    let e = method
+        .mesh(&annulus, &MeshRequest::points(least - 1), &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(&format!("needs {least} vertices")), "{e}");
+    // hex_hole's twelve corners fit K = 14, although a boundary at the spacing of 14 points
+    // has 18.
+    let hex = Region::builtin("hex_hole").unwrap();
+    assert_eq!(method.min_boundary_points(&hex), 12);
+    for k in [13, 14, 16] {
+        let r = method
+            .mesh(&hex, &MeshRequest::points(k), &mut |_| {})
+            .unwrap_or_else(|e| panic!("K = {k}: {e}"));
+        assert_eq!(r.mesh.num_vertices(), k);
+        check_conforming(&r.mesh, &hex).unwrap();
+    }
+}
+
 /// A regular hexagonal patch: `rings` rings of equilateral triangles of side 1 around the
 /// origin (vertex 0), CCW, every vertex marked interior.
 pub fn hex_patch(rings: i32) -> Mesh {
@@ -376,6 +402,11 @@ macro_rules! relaxation_tests {
         #[test]
         fn impossible_requests() {
             bad_requests_are_errors(&$method);
+        }
+
+        #[test]
+        fn least_boundary() {
+            least_boundary_is_met_or_named(&$method);
         }
 
         /// Each built-in region at the paper's K (the largest where it has several).
