@@ -341,6 +341,8 @@ impl Mesher for Refine {
         let mut converged = false;
         let mut steps = 0;
         let dist = |r: &Refinement| r.mesh.num_vertices().abs_diff(k);
+        // The points of the last run that ran out of budget.
+        let mut stuck: Option<Vec<geometry::DVec2>> = None;
         while steps < cap {
             steps += 1;
             // A bound whose chords cross the boundary or run through its vertices is too
@@ -358,6 +360,14 @@ impl Mesher for Refine {
                 max_move: got.abs_diff(k) as f64 / k as f64,
             });
             request.check_cancel(self.name(), steps)?;
+            // A coarser bound that ran out of budget exactly as the last one did will keep
+            // doing so: the boundary's small angles, not the area, set the count there.
+            if let Some(r) = run.as_ref().filter(|r| !r.complete) {
+                if stuck.as_ref() == Some(&r.mesh.points) {
+                    break;
+                }
+                stuck = Some(r.mesh.points.clone());
+            }
             if let Some(r) = run.filter(|r| r.complete) {
                 if best.as_ref().is_none_or(|b| dist(&r) < dist(b)) {
                     best = Some(r);

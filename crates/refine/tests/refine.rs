@@ -304,3 +304,36 @@ fn a_chord_through_a_vertex_of_another_piece_is_too_coarse_not_refined_to_the_bu
         assert!(r.mesh.num_vertices() < 50, "{}", r.mesh.num_vertices());
     }
 }
+
+/// Found by fuzzing (`mesh_loops`, seed `refine_budget_twice.bin`): a 7° sliver of a triangle
+/// beside a larger one, K = 28 with a cap of 7 search steps. Coarser area bounds on the
+/// sliver's part all ran out of the vertex budget the same way, so the search spent its every
+/// step on identical 1040-vertex runs (13 s with debug assertions). The search now ends
+/// when a bound runs out of budget exactly as the previous one did.
+#[test]
+fn a_bound_that_runs_out_of_budget_as_the_last_one_did_ends_the_search() {
+    use geometry::{DVec2, LoopRole};
+    let v = |x: f64, y: f64| DVec2::new(x, y);
+    let region = Region::from_loops(
+        "sliver_and_triangle",
+        vec![
+            (
+                LoopRole::Outer,
+                vec![v(7.0, 13.0), v(3.0, 7.0), v(5.0, 11.0)],
+            ),
+            (
+                LoopRole::Outer,
+                vec![v(11.0, 3.0), v(11.0, 11.0), v(4.0, 8.0)],
+            ),
+        ],
+    )
+    .unwrap()
+    .with_default_corners();
+    let request = MeshRequest::points(28).max_iter(7);
+    let r = Refine::default()
+        .mesh_parts(&region, &request, &mut |_| {})
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    // Both parts' searches together had taken all 14 steps.
+    assert!(r.iterations < 14, "{} search steps", r.iterations);
+}
