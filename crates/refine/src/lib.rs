@@ -343,6 +343,7 @@ impl Mesher for Refine {
         let dist = |r: &Refinement| r.mesh.num_vertices().abs_diff(k);
         // The points of the last run that ran out of budget.
         let mut stuck: Option<Vec<geometry::DVec2>> = None;
+        let mut over_budget = false;
         while steps < cap {
             steps += 1;
             // A bound whose chords cross the boundary or run through its vertices is too
@@ -363,6 +364,7 @@ impl Mesher for Refine {
             // A coarser bound that ran out of budget exactly as the last one did will keep
             // doing so: the boundary's small angles, not the area, set the count there.
             if let Some(r) = run.as_ref().filter(|r| !r.complete) {
+                over_budget |= r.mesh.num_vertices() >= budget;
                 if stuck.as_ref() == Some(&r.mesh.points) {
                     break;
                 }
@@ -416,7 +418,17 @@ impl Mesher for Refine {
         }
         let best = best.ok_or_else(|| MeshError::Failed {
             method: "refine".into(),
-            message: format!("no complete refinement within {steps} search steps"),
+            message: if over_budget {
+                format!(
+                    "no area bound gave a refinement within the budget of {budget} vertices \
+                     ({steps} search steps): the {}° angle bound grades the mesh down to the \
+                     region's narrowest gaps and sharpest corners, which at K = {k} need more \
+                     vertices than that; a larger K would mesh it",
+                    self.min_angle_deg
+                )
+            } else {
+                format!("no complete refinement within {steps} search steps")
+            },
         })?;
         let reached = best.mesh.num_vertices();
         Ok(MeshResult {

@@ -337,3 +337,36 @@ fn a_bound_that_runs_out_of_budget_as_the_last_one_did_ends_the_search() {
     // Both parts' searches together had taken all 14 steps.
     assert!(r.iterations < 14, "{} search steps", r.iterations);
 }
+
+/// Two holes 1e-4 apart along their whole height: the 20° bound grades the mesh down to the
+/// gap, which no refinement does within the vertex budget of K = 30. The search gives up with
+/// a message that says why and what would help, not a bare count of search steps.
+#[test]
+fn holes_a_hair_apart_at_a_small_k_are_refused_with_the_budget_named() {
+    use geometry::{DVec2, LoopRole};
+    let square = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        vec![
+            DVec2::new(x0, y0),
+            DVec2::new(x1, y0),
+            DVec2::new(x1, y1),
+            DVec2::new(x0, y1),
+        ]
+    };
+    let region = Region::from_loops(
+        "hair",
+        vec![
+            (LoopRole::Outer, square(0.0, 0.0, 1.0, 1.0)),
+            (LoopRole::Hole, square(0.2, 0.4, 0.4, 0.6)),
+            (LoopRole::Hole, square(0.4001, 0.4, 0.6, 0.6)),
+        ],
+    )
+    .unwrap();
+    let e = Refine::default()
+        .mesh(&region, &MeshRequest::points(30), &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("budget of 1300 vertices") && e.contains("a larger K would mesh it"),
+        "{e}"
+    );
+}

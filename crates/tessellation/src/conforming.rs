@@ -177,7 +177,8 @@ fn attempt(
         lp.sort_by(|a, b| a.0.total_cmp(&b.0).then(owner[a.1].cmp(&owner[b.1])));
         if lp.len() < 3 {
             return bad(format!(
-                "boundary loop {l} has {} boundary vertices; at least 3 are needed to close it",
+                "boundary loop {l} has {} boundary vertices and at least 3 are needed to close \
+                 it: the mesh's spacing is too coarse for this loop, and a larger K would follow it",
                 lp.len()
             ));
         }
