@@ -5,7 +5,7 @@ use clap::{ArgGroup, Args};
 use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 const DEFAULT_TOL: f64 = 1e-4;
@@ -166,6 +166,7 @@ fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
+    inputs::check_not_input(&a.output, &[Path::new(&a.region)])?;
     let method = inputs::method(&a.method)?;
     let raw = inputs::region(&a.region, None)?;
     let (mut region, mut corners) = inputs::with_corners(raw.clone(), a.corner_angle)?;

@@ -137,11 +137,50 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
         "obj" => "obj",
         "svg" => "svg",
         "png" => "png",
+        "" => bail!(
+            "cannot write '{}': no extension to choose the format by; use .node, .msh, .vtu, .obj, .svg or .png",
+            path.display()
+        ),
         _ => bail!(
             "cannot write '{}': unknown extension '.{ext}'; use .node, .msh, .vtu, .obj, .svg or .png",
             path.display()
         ),
     })
+}
+
+/// The files writing `output` creates: `base.node`, `base.ele` and `base.poly` for Triangle's
+/// format, else `output` itself.
+pub fn output_files(output: &Path) -> Vec<std::path::PathBuf> {
+    match output_kind(output) {
+        Ok("triangle") => ["node", "ele", "poly"]
+            .iter()
+            .map(|e| output.with_extension(e))
+            .collect(),
+        _ => vec![output.to_path_buf()],
+    }
+}
+
+/// Refuse an output that would replace an input file: `-o coast.node` writes `coast.poly`
+/// beside it, which is the region itself when the region was read from `coast.poly`.
+pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
+    let inputs: Vec<_> = inputs
+        .iter()
+        .filter_map(|p| std::fs::canonicalize(p).ok())
+        .collect();
+    for file in output_files(output) {
+        if let Ok(c) = std::fs::canonicalize(&file) {
+            if inputs.contains(&c) {
+                bail!(
+                    "writing '{}' would replace the input file '{}' (Triangle's format writes \
+                     .node, .ele and .poly files of that name); choose another output name; \
+                     nothing written",
+                    output.display(),
+                    file.display()
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Write a mesh in the format its extension names (temp file + rename in every writer).

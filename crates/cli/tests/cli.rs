@@ -1030,3 +1030,37 @@ fn a_mesh_that_leaves_out_part_of_the_region_is_named_and_refused_under_strict()
     );
     assert!(!out.exists());
 }
+
+/// `-o coast.node` writes `coast.poly` beside it: meshing `coast.poly` that way would replace
+/// the region with the mesh's boundary. It is refused before any work, the region untouched.
+#[test]
+fn an_output_that_would_replace_the_input_region_is_refused() {
+    let d = scratch("overwrite");
+    let poly = d.join("coast.poly");
+    let region = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
+    std::fs::write(&poly, region).unwrap();
+    let node = d.join("coast.node");
+    let o = cvtmesh(&["mesh", s(&poly), "--points", "50", "-o", s(&node)]);
+    let t = text(&o);
+    assert!(!o.status.success(), "accepted:\n{t}");
+    assert!(t.contains("would replace the input file"), "{t}");
+    assert_eq!(std::fs::read_to_string(&poly).unwrap(), region);
+    assert!(!node.exists(), "a .node was written");
+    // Another name beside it is fine.
+    let o = cvtmesh(&[
+        "mesh",
+        s(&poly),
+        "--points",
+        "50",
+        "-o",
+        s(&d.join("m.node")),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    // No extension at all is named as such.
+    let bare = d.join("mesh");
+    assert_refused(
+        &["mesh", "circle", "--points", "50", "-o", s(&bare)],
+        &bare,
+        "no extension",
+    );
+}

@@ -378,7 +378,10 @@ impl Mesher for DistMesh {
                 if b.is_empty() {
                     return Err(MeshError::Failed {
                         method: "distmesh".into(),
-                        message: "no triangle has its centroid inside the region".into(),
+                        message: format!(
+                            "no triangle has its centroid inside the region: the spacing \
+                             {h0:.3e} of K = {k} is too coarse for it; a larger K would mesh it"
+                        ),
                     });
                 }
                 bars = b;

@@ -396,12 +396,12 @@ fn num<T: std::str::FromStr>(
         .map_err(|_| parse_err(label, line, format!("expected {what}, found '{tok}'")))
 }
 
-fn coord(label: &str, line: usize, tok: Option<&&str>, what: &str) -> Result<f64, GeometryError> {
-    let v: f64 = num(label, line, tok, what)?;
+fn coord(label: &str, line: usize, tok: Option<&&str>, axis: &str) -> Result<f64, GeometryError> {
+    let v: f64 = num(label, line, tok, &format!("a number for {axis}"))?;
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(parse_err(label, line, format!("{what} is not finite")))
+        Err(parse_err(label, line, format!("{axis} is not finite")))
     }
 }
 
@@ -1054,10 +1054,10 @@ mod tests {
         assert_eq!(areas(&loops), [(None, 16.0), (None, 1.0)]);
         let cases = [
             ("0 0\n1 0\n1 1 1\n", "line 3: expected two numbers"),
-            ("0 0\n1 x\n", "line 2: expected y"),
+            ("0 0\n1 x\n", "line 2: expected a number for y"),
             ("0 0\nNaN 1\n", "line 2: x is not finite"),
             ("# nothing\n\n", "no points"),
-            ("\u{fffd}\u{1} z\n", "line 1: expected x"),
+            ("\u{fffd}\u{1} z\n", "line 1: expected a number for x"),
         ];
         for (text, want) in cases {
             let e = parse_loops(text, "l.txt").unwrap_err().to_string();
@@ -1202,6 +1202,12 @@ mod tests {
         let e = read_region(&dup.0).unwrap_err().to_string();
         assert!(
             e.contains("dup.txt") && e.contains("duplicate consecutive vertices at (1, 0)"),
+            "{e}"
+        );
+        let header = TempFile::new("header.txt", b"x y\n0 0\n1 0\n0 1\n");
+        let e = read_region(&header.0).unwrap_err().to_string();
+        assert!(
+            e.contains("line 1: expected a number for x, found 'x'"),
             "{e}"
         );
         let flat = TempFile::new("flat.txt", b"0 0\n1 0\n2 0\n");

@@ -922,7 +922,12 @@ fn initial_state(frame: &Frame, k: usize, h: f64, seed: u64) -> Result<(State, f
             if tries > 1000 * k + 10_000 {
                 return Err(MeshError::Failed {
                     method: "initial points".into(),
-                    message: format!("could not place {k} points in the region"),
+                    message: format!(
+                        "could not place {k} points in the region: at the boundary spacing \
+                         {hi:.3e} that K = {k} allows, almost none of it lies {:.3e} inside \
+                         the boundary; a larger K would mesh it",
+                        INTERIOR_MARGIN * hi
+                    ),
                 });
             }
             let p = DVec2::new(rng.range(blo.x, bhi.x), rng.range(blo.y, bhi.y));
