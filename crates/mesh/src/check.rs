@@ -50,7 +50,8 @@ pub enum ConformityError {
 /// boundary markers on the boundary, every boundary loop carrying at least 3 vertices, CCW
 /// non-degenerate triangles whose interiors stay in Ω (sampled at the centroid and along edges
 /// with the allowance a straight chord of a curved piece needs, 0.13 of the edge's length, of
-/// the longest edge at the centroid), a manifold with no orphan vertices whose boundary
+/// the longest edge at the centroid, none at the centroid of a triangle whose corners lie on
+/// two different loops), a manifold with no orphan vertices whose boundary
 /// edges join boundary vertices of one loop, and the region's topology (V − E + F = 1 − holes).
 ///
 /// ```
@@ -147,7 +148,15 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
             let longest = [a.distance(b), b.distance(c), c.distance(a)]
                 .into_iter()
                 .fold(0.0, f64::max);
-            if sd_c > eps + 0.13 * longest {
+            // Only an ear along one loop earns that allowance: a triangle reaching across
+            // from one loop to another whose centroid is outside spans a gap narrower than the
+            // chords' sag (a ring far thinner than the spacing).
+            let loops = tri.map(|v| mesh.markers[v as usize].loop_index());
+            let across = loops[0].is_some()
+                && loops.iter().all(|l| l.is_some())
+                && loops.iter().any(|&l| l != loops[0]);
+            let allowance = if across { 0.0 } else { 0.13 * longest };
+            if sd_c > eps + allowance {
                 return Some(ConformityError::TriangleOutside(t, centroid.x, centroid.y));
             }
             // Signed distance is 1-Lipschitz: a triangle within its centroid's depth is inside.

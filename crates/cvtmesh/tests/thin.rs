@@ -1,0 +1,50 @@
+//! Regions far thinner than the spacing: a mesh with every triangle inside, or an error that
+//! names the thin place; never a mesh reaching into a hole.
+use cvtmesh::geometry::LoopRole;
+use cvtmesh::{DVec2, MeshError, MeshRequest, Method, Region};
+
+/// A ring 1e-3 wide between two 128-gons, at K = 300: the spacing is about five times the
+/// ring's width. The chords of the inner loop sag into the hole by half the width, so a
+/// triangle from the inner loop to the outer one had its centroid in the hole, and the CCVT
+/// and MESHGEN meshes were handed back with that triangle and only a warning.
+#[test]
+fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
+    let circle = |r: f64| {
+        (0..128)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / 128.0;
+                DVec2::new(r * t.cos(), r * t.sin())
+            })
+            .collect::<Vec<_>>()
+    };
+    let ring = Region::from_loops(
+        "ring",
+        vec![
+            (LoopRole::Outer, circle(1.0)),
+            (LoopRole::Hole, circle(0.999)),
+        ],
+    )
+    .unwrap()
+    .with_default_corners();
+    let request = MeshRequest::points(300).max_iter(2000);
+    let thin = cvtmesh::thin_feature(&ring, &request).expect("a thin ring");
+    assert!(thin.spacing / thin.width > 4.0, "{thin}");
+    for m in [Method::Ccvt, Method::Meshgen] {
+        match m.run(&ring, &request) {
+            Err(MeshError::NotConforming { hint, .. }) => {
+                assert!(hint.contains("would resolve it"), "{m}: {hint}")
+            }
+            Err(e) => panic!("{m}: {e}"),
+            Ok(r) => {
+                for t in 0..r.mesh.triangles.len() {
+                    let [a, b, c] = r.mesh.triangle(t);
+                    let centroid = (a + b + c) / 3.0;
+                    assert!(
+                        ring.signed_distance(centroid) <= 1e-9,
+                        "{m}: triangle {t} has its centroid at {centroid} outside the ring"
+                    );
+                }
+            }
+        }
+    }
+}
