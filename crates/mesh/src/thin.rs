@@ -39,10 +39,24 @@ pub struct ThinFeature {
     pub points_needed: usize,
     /// Length of the boundary where the region is thinner than half the spacing.
     pub thin_length: f64,
+    /// Where the only thin places are the sides of sharp corners, the sharpest such corner:
+    /// its tip and interior angle in degrees. Every wedge is thinner than any spacing near its
+    /// tip, so no K resolves it (`points_needed` only moves the place toward the tip).
+    pub corner: Option<(DVec2, f64)>,
 }
 
 impl fmt::Display for ThinFeature {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some((tip, angle)) = self.corner {
+            return write!(
+                f,
+                "the region narrows to a {angle:.1}° corner at ({:.6}, {:.6}): its sides are \
+                 closer than half the spacing {:.3e} of K = {} over {:.3e} of the boundary, \
+                 where the mesh has slivers; a corner this sharp stays thinner than the \
+                 spacing near its tip at any K",
+                tip.x, tip.y, self.spacing, self.points, self.thin_length
+            );
+        }
         write!(
             f,
             "the region is {:.3e} wide near ({:.6}, {:.6}) ({:.3e} of its boundary is that thin), \
@@ -67,8 +81,10 @@ impl fmt::Display for ThinFeature {
 /// (fewer on a boundary of more than 50 000 segments, at most 2·10⁸ ray–segment tests);
 /// the width is the distance to the boundary they first meet, counted when that is another
 /// loop or a part of the same loop more than 4 widths of arc length away (so that the wedge
-/// of a sharp corner is not a feature). The spacing is the request's mean spacing, scaled by
-/// ρ^(-1/4) against its mean for a graded request.
+/// of a sharp corner is not a feature). A place whose two sides meet at one vertex between
+/// them, the sides of a corner sharper than about 28°, is reported only where no other place
+/// is thin, with that corner in [`ThinFeature::corner`]: no K resolves a wedge. The spacing is
+/// the request's mean spacing, scaled by ρ^(-1/4) against its mean for a graded request.
 ///
 /// ```
 /// use cvtmesh_mesh::{thin_feature, MeshRequest};
@@ -96,7 +112,9 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
     // Segments of every ring with their ring and arc length at their start.
     let mut segs: Vec<(DVec2, DVec2, usize, f64)> = Vec::with_capacity(nseg);
     let mut lengths = Vec::with_capacity(poly.rings.len());
+    let mut ring_start = Vec::with_capacity(poly.rings.len());
     for (r, ring) in poly.rings.iter().enumerate() {
+        ring_start.push(segs.len());
         let n = ring.points.len();
         let mut s = 0.0;
         for i in 0..n {
@@ -116,6 +134,32 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
     let tiny = (1e-12 * diam).max(1e-12 * magnitude);
     let mut worst: Option<(f64, DVec2, f64, f64)> = None; // (width / spacing, at, width, spacing)
     let mut thin_length = 0.0;
+    // The same for places whose two sides meet at one vertex between them (a wedge), with
+    // the sharpest such corner.
+    let mut worst_wedge: Option<(f64, DVec2, f64, f64)> = None;
+    let mut wedge_length = 0.0;
+    let mut sharpest: Option<(DVec2, f64)> = None;
+    // The one ring vertex strictly between arc positions `a` and `b` of ring `r` along the
+    // shorter way, if there is exactly one.
+    let single_vertex = |r: usize, a: f64, b: f64| -> Option<usize> {
+        let ring = &segs[ring_start[r]..ring_start[r] + poly.rings[r].points.len()];
+        let (lo, hi) = (a.min(b), a.max(b));
+        // Vertices sit at increasing arc positions: those in (lo, hi) are one index range.
+        let first_after = |x: f64| ring.partition_point(|seg| seg.3 <= x);
+        let first_at = |x: f64| ring.partition_point(|seg| seg.3 < x);
+        let (i, j) = (first_after(lo), first_at(hi));
+        if hi - lo <= 0.5 * lengths[r] {
+            (j == i + 1).then_some(i)
+        } else {
+            // The other way round: after hi to the ring's end, then from its start to lo.
+            let (after, before) = (ring.len() - first_after(hi), first_at(lo));
+            match (after, before) {
+                (1, 0) => Some(ring.len() - 1),
+                (0, 1) => Some(0),
+                _ => None,
+            }
+        }
+    };
     let mut next = 0.0;
     for &(a, b, r, s0) in &segs {
         let len = a.distance(b);
@@ -146,6 +190,23 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             if !feature {
                 continue;
             }
+            let tip = (hit_ring == r)
+                .then(|| single_vertex(r, sq, hit_s))
+                .flatten();
+            if let Some(i) = tip {
+                let pts = &poly.rings[r].points;
+                let n = pts.len();
+                let (v, prev, next) = (pts[i], pts[(i + n - 1) % n], pts[(i + 1) % n]);
+                let angle = (prev - v).angle_to(next - v).abs().to_degrees();
+                if sharpest.is_none_or(|c| angle < c.1) {
+                    sharpest = Some((v, angle));
+                }
+                wedge_length += step;
+                if worst_wedge.is_none_or(|w| width / h < w.0) {
+                    worst_wedge = Some((width / h, q, width, h));
+                }
+                continue;
+            }
             thin_length += step;
             if worst.is_none_or(|w| width / h < w.0) {
                 worst = Some((width / h, q, width, h));
@@ -159,7 +220,14 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             next = 0.0;
         }
     }
-    let (_, at, width, spacing) = worst?;
+    let (corner, (_, at, width, spacing)) = match (worst, worst_wedge) {
+        (Some(w), _) => (None, w),
+        (None, Some(w)) => {
+            thin_length = wedge_length;
+            (sharpest, w)
+        }
+        (None, None) => return None,
+    };
     // The K at which the spacing there is twice the width, the threshold.
     let needed = (k as f64 * (THIN_RATIO * spacing / width).powi(2)).ceil();
     Some(ThinFeature {
@@ -173,6 +241,7 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             usize::MAX
         },
         thin_length: thin_length.min(perimeter),
+        corner,
     })
 }
 
@@ -250,5 +319,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_one_degree_wedge_is_named_as_a_corner_no_k_resolves() {
+        // Its sides are closer than half of any spacing over a long stretch from the tip: a
+        // "K ≥ …" would only move the place toward the tip (2·10⁶ at K = 3000).
+        let tan = 1f64.to_radians().tan();
+        let text = format!("0 0\n1 0\n1 {tan}\n");
+        let r = geometry::formats::loops_from_str(&text, "wedge", "wedge").unwrap();
+        for k in [300, 3000] {
+            let t = thin_feature(&r, &MeshRequest::points(k)).expect("a thin wedge");
+            let (tip, angle) = t.corner.expect("named as a corner");
+            assert!(tip.length() < 1e-12 && (angle - 1.0).abs() < 1e-6, "{t}");
+            let text = t.to_string();
+            assert!(
+                text.contains("1.0° corner at (0.000000, 0.000000)"),
+                "{text}"
+            );
+            assert!(!text.contains("would resolve"), "{text}");
+        }
+        // A channel of constant width is not a corner, and says what K resolves it.
+        let channel = "0 0\n10 0\n10 0.001\n0 0.001\n";
+        let r = geometry::formats::loops_from_str(channel, "c", "c").unwrap();
+        let t = thin_feature(&r, &MeshRequest::points(300)).unwrap();
+        assert_eq!(t.corner, None);
+        assert!(t.to_string().contains("would resolve it"), "{t}");
     }
 }
