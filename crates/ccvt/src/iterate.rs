@@ -40,6 +40,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
                         roles: s.roles,
                         iterations,
                         converged: false,
+                        stalled: false,
                     };
                 }
                 continue;
@@ -59,6 +60,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
                 roles,
                 iterations,
                 converged,
+                stalled: false,
             };
         }
         let Step {

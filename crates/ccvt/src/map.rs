@@ -191,6 +191,8 @@ pub struct PhaseResult {
     pub roles: Vec<Role>,
     pub iterations: usize,
     pub converged: bool,
+    /// Stopped because the largest move had stopped falling (Newton's phases only).
+    pub stalled: bool,
 }
 
 /// Evaluate the map at `z`: Voronoi cells clipped to the domain → centroids → labels →

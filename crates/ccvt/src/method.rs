@@ -306,6 +306,7 @@ impl Ccvt {
             request,
             iterations: 0,
             converged: true,
+            stalled: false,
         };
         let mut trace = Trace {
             energies: Vec::new(),
@@ -440,6 +441,14 @@ impl Ccvt {
                     Role::Boundary(j) => VertexMarker::on_piece(region, *p, j),
                 })
                 .collect();
+        if tally.stalled {
+            notes.push(format!(
+                "stopped unconverged: the largest move made no new low in {} evaluations \
+                 (the iterate cycles); more points, or --corner-angle keeping fewer corners, \
+                 give the generators room",
+                crate::newton::STALL_EVALUATIONS
+            ));
+        }
         Ok(Generators {
             points: r.z,
             markers,
@@ -498,6 +507,8 @@ struct Tally<'a> {
     request: &'a MeshRequest,
     iterations: usize,
     converged: bool,
+    /// A phase stopped because its largest move stopped falling.
+    stalled: bool,
 }
 
 impl Tally<'_> {
@@ -514,6 +525,7 @@ impl Tally<'_> {
         self.iterations += r.iterations;
         self.request.check_cancel(self.method, self.iterations)?;
         self.converged &= r.converged;
+        self.stalled |= r.stalled;
         Ok(r)
     }
 }

@@ -199,3 +199,41 @@ fn a_prolongated_coarse_level_gives_a_converged_mesh_of_exactly_k() {
         .any(|n| n.contains("every edge of its mesh split")));
     assert!(r.mesh.min_angle_deg() >= 25.0, "{}", r.mesh.min_angle_deg());
 }
+
+/// A fractal coastline of 5000 vertices (1597 corners kept, 1235 added along its gaps) meshed
+/// toward its shore at K = 3000: 168 free generators among 2832 corners. From evaluation 136
+/// the iterate cycles with a period of about 66 evaluations and the largest move never again
+/// reaches its low; the phase stops unconverged after 300 evaluations without a new low, with a
+/// note, instead of running to the cap. About 30 s in release: run with `--ignored`.
+#[test]
+#[ignore]
+fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
+    let text = include_str!("data/coast5000.txt");
+    let raw = geometry::formats::loops_from_str(text, "coast5000", "coast5000").unwrap();
+    let region = raw.with_default_corners();
+    let t = Threshold {
+        size_min: 0.00586405,
+        size_max: 0.117281,
+        dist_min: 0.0234562,
+        dist_max: 0.469124,
+    };
+    let field = SizeField::threshold(&region, &[Toward::Loop(0)], t)
+        .unwrap()
+        .bounded(&region, None, None, Some(0.3))
+        .unwrap();
+    let request = MeshRequest::size_field(&field, &region, Some(3000))
+        .unwrap()
+        .max_iter(10_000);
+    let r = Ccvt::default()
+        .mesh_parts(&region, &request, &mut |_| {})
+        .unwrap();
+    assert!(!r.converged);
+    assert!(r.iterations < 1000, "{}", r.iterations);
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("no new low in 300 evaluations")),
+        "{:?}",
+        r.notes
+    );
+}
