@@ -583,37 +583,3 @@ fn solve_on_the_pool_reports_progress_on_the_callers_thread() {
     assert_eq!(outside.points, inside.points);
     assert_eq!(outside.energy_history, inside.energy_history);
 }
-
-/// A ring 1e-3 wide, meshed with 30 points: the spacing is fifteen times the ring's width and
-/// far too coarse to put three vertices on each of its two loops. The refusal names the loop
-/// and what would follow it.
-#[test]
-fn a_ring_thinner_than_the_spacing_at_a_small_k_is_refused_naming_the_loop() {
-    use geometry::{DVec2, LoopRole};
-    let circle = |r: f64| {
-        (0..128)
-            .map(|i| {
-                let t = std::f64::consts::TAU * i as f64 / 128.0;
-                DVec2::new(r * t.cos(), r * t.sin())
-            })
-            .collect::<Vec<_>>()
-    };
-    let ring = Region::from_loops(
-        "ring",
-        vec![
-            (LoopRole::Outer, circle(1.0)),
-            (LoopRole::Hole, circle(0.999)),
-        ],
-    )
-    .unwrap()
-    .with_corner_angle(30.0);
-    let req = MeshRequest::points(30).max_iter(3000);
-    let e = Ccvt::default()
-        .mesh(&ring, &req, &mut |_| {})
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("boundary loop 1 has") && e.contains("a larger K would follow it"),
-        "{e}"
-    );
-}

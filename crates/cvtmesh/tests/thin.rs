@@ -3,12 +3,8 @@
 use cvtmesh::geometry::LoopRole;
 use cvtmesh::{DVec2, MeshError, MeshRequest, Method, Region};
 
-/// A ring 1e-3 wide between two 128-gons, at K = 300: the spacing is about five times the
-/// ring's width. The chords of the inner loop sag into the hole by half the width, so a
-/// triangle from the inner loop to the outer one had its centroid in the hole, and the CCVT
-/// and MESHGEN meshes were handed back with that triangle and only a warning.
-#[test]
-fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
+/// The region between two 128-gons of radii 1 and 0.999: a ring 1e-3 wide, no corner kept.
+fn thin_ring() -> Region {
     let circle = |r: f64| {
         (0..128)
             .map(|i| {
@@ -17,7 +13,7 @@ fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
             })
             .collect::<Vec<_>>()
     };
-    let ring = Region::from_loops(
+    Region::from_loops(
         "ring",
         vec![
             (LoopRole::Outer, circle(1.0)),
@@ -25,7 +21,16 @@ fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
         ],
     )
     .unwrap()
-    .with_default_corners();
+    .with_default_corners()
+}
+
+/// At K = 300 the spacing is about five times the ring's width. The chords of the inner loop
+/// sag into the hole by half the width, so a triangle from the inner loop to the outer one had
+/// its centroid in the hole, and the CCVT and MESHGEN meshes were handed back with that
+/// triangle and only a warning.
+#[test]
+fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
+    let ring = thin_ring();
     let request = MeshRequest::points(300).max_iter(2000);
     let thin = cvtmesh::thin_feature(&ring, &request).expect("a thin ring");
     assert!(thin.spacing / thin.width > 4.0, "{thin}");
@@ -47,4 +52,26 @@ fn a_ring_thinner_than_the_spacing_is_never_meshed_into_its_hole() {
             }
         }
     }
+}
+
+/// At K = 30 the spacing is fifteen times the ring's width, far too coarse to put three
+/// vertices on each loop: CCVT and DistMesh refuse, naming what failed and that a larger K
+/// would mesh the ring.
+#[test]
+fn a_ring_far_thinner_than_the_spacing_at_a_small_k_is_refused_saying_what_would_mesh_it() {
+    let ring = thin_ring();
+    let request = MeshRequest::points(30).max_iter(3000);
+    let e = Method::Ccvt.run(&ring, &request).unwrap_err().to_string();
+    assert!(
+        e.contains("boundary loop 1 has") && e.contains("a larger K would follow it"),
+        "{e}"
+    );
+    let e = Method::Distmesh
+        .run(&ring, &request)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("too coarse for it") && e.contains("a larger K would mesh it"),
+        "{e}"
+    );
 }

@@ -334,35 +334,3 @@ fn a_small_region_far_from_the_origin_meshes_as_at_the_origin() {
         "{angles:?}"
     );
 }
-
-/// A ring 1e-3 wide at K = 30: DistMesh's grid at the spacing of K has no triangle inside the
-/// ring. The refusal says the spacing is too coarse and what would mesh it.
-#[test]
-fn a_ring_far_thinner_than_the_spacing_is_refused_with_the_spacing_named() {
-    use geometry::LoopRole;
-    let circle = |r: f64| {
-        (0..128)
-            .map(|i| {
-                let t = std::f64::consts::TAU * i as f64 / 128.0;
-                DVec2::new(r * t.cos(), r * t.sin())
-            })
-            .collect::<Vec<_>>()
-    };
-    let ring = Region::from_loops(
-        "ring",
-        vec![
-            (LoopRole::Outer, circle(1.0)),
-            (LoopRole::Hole, circle(0.999)),
-        ],
-    )
-    .unwrap()
-    .with_corner_angle(30.0);
-    let e = DistMesh::default()
-        .mesh(&ring, &MeshRequest::points(30), &mut |_| {})
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("too coarse for it") && e.contains("a larger K would mesh it"),
-        "{e}"
-    );
-}
