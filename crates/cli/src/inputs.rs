@@ -148,18 +148,6 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
     })
 }
 
-/// The files writing `output` creates: `base.node`, `base.ele` and `base.poly` for Triangle's
-/// format, else `output` itself.
-pub fn output_files(output: &Path) -> Vec<std::path::PathBuf> {
-    match output_kind(output) {
-        Ok("triangle") => ["node", "ele", "poly"]
-            .iter()
-            .map(|e| output.with_extension(e))
-            .collect(),
-        _ => vec![output.to_path_buf()],
-    }
-}
-
 /// Refuse an output that would replace an input file: `-o coast.node` writes `coast.poly`
 /// beside it, which is the region itself when the region was read from `coast.poly`.
 pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
@@ -167,7 +155,7 @@ pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
         .iter()
         .filter_map(|p| std::fs::canonicalize(p).ok())
         .collect();
-    for file in output_files(output) {
+    for file in cvtmesh::io::files_written(output) {
         if let Ok(c) = std::fs::canonicalize(&file) {
             if inputs.contains(&c) {
                 bail!(

@@ -80,6 +80,26 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     }
 }
 
+/// The files [`write_mesh`] writes for `path`: `.node`, `.ele` and `.poly` of its stem for
+/// Triangle's format, else `path` itself.
+///
+/// ```
+/// use cvtmesh_mesh::io::files_written;
+/// use std::path::{Path, PathBuf};
+/// let f = files_written(Path::new("out/coast.node"));
+/// assert_eq!(f, ["out/coast.node", "out/coast.ele", "out/coast.poly"].map(PathBuf::from));
+/// assert_eq!(files_written(Path::new("m.msh")), [PathBuf::from("m.msh")]);
+/// ```
+pub fn files_written(path: &Path) -> Vec<std::path::PathBuf> {
+    match extension(path).as_deref() {
+        Some("node") | Some("ele") => ["node", "ele", "poly"]
+            .iter()
+            .map(|e| path.with_extension(e))
+            .collect(),
+        _ => vec![path.to_path_buf()],
+    }
+}
+
 /// Read a mesh, choosing the format by extension: `.node`/`.ele` (Triangle, reading both
 /// files), `.msh` (Gmsh 4.1 or 2.2 ASCII) or `.obj`. Triangles come back counter-clockwise.
 /// See [`write_mesh`] for a round trip.
