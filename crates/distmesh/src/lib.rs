@@ -259,6 +259,53 @@ fn choose_h0(
 }
 
 /// Delaunay triangles of `p` (indices into `p`); duplicates fall back to slower insertion.
+/// Boundary points closer than this share of h0 to their neighbour along the boundary are one
+/// point: the projection step can push two onto the same spot of a spike's side, and the
+/// triangle between them then has an angle of 1e-5°.
+const MERGE_SHARE: f64 = 1e-2;
+
+/// Drop every non-corner boundary point lying within `tol` of the previous boundary point of
+/// its loop (in arc-length order, corners included); returns how many were dropped.
+fn merge_coincident(p: &mut Vec<DVec2>, markers: &mut Vec<VertexMarker>, tol: f64) -> usize {
+    let mut order: Vec<usize> = (0..p.len()).filter(|&i| markers[i].on_boundary()).collect();
+    let key = |i: usize| (markers[i].loop_index(), markers[i].loop_param());
+    order.sort_by(|&a, &b| {
+        let (ka, kb) = (key(a), key(b));
+        ka.0.cmp(&kb.0)
+            .then(ka.1.unwrap_or(0.0).total_cmp(&kb.1.unwrap_or(0.0)))
+    });
+    let mut drop = vec![false; p.len()];
+    for w in order.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if key(a).0 != key(b).0 || (p[a] - p[b]).length() >= tol {
+            continue;
+        }
+        // Keep corners: the later point goes unless it is the corner.
+        let victim = if matches!(markers[b], VertexMarker::Corner { .. }) {
+            a
+        } else {
+            b
+        };
+        if !matches!(markers[victim], VertexMarker::Corner { .. }) && !drop[a] {
+            drop[victim] = true;
+        }
+    }
+    let dropped = drop.iter().filter(|&&d| d).count();
+    if dropped > 0 {
+        let mut k = 0;
+        p.retain(|_| {
+            k += 1;
+            !drop[k - 1]
+        });
+        let mut k = 0;
+        markers.retain(|_| {
+            k += 1;
+            !drop[k - 1]
+        });
+    }
+    dropped
+}
+
 fn delaunay(p: &[DVec2]) -> Result<Vec<[usize; 3]>, MeshError> {
     let pts: Vec<Point2<f64>> = p.iter().map(|q| Point2::new(q.x, q.y)).collect();
     let err = |e| MeshError::Failed {
@@ -489,6 +536,13 @@ impl Mesher for DistMesh {
         if relocated > 0 {
             notes.push(format!("{relocated} boundary points had converged onto a corner and were moved h0/2 along the boundary"));
         }
+        let merged = merge_coincident(&mut p, &mut markers, MERGE_SHARE * h0);
+        if merged > 0 {
+            notes.push(format!(
+                "{merged} boundary points had converged within {MERGE_SHARE}·h0 of a neighbour \
+                 on the boundary and were dropped"
+            ));
+        }
         let stopped_at = if iterations < request.max_iter {
             "the time limit".to_string()
         } else {
@@ -536,5 +590,53 @@ impl Mesher for DistMesh {
             move_history,
             notes,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two points pushed onto the same spot of a side 2e-6 apart (the 50-spike star at K = 300
+    /// gave a triangle of 5e-5° between such a pair): the later one goes, a corner never does,
+    /// and points on different loops or farther apart stay.
+    #[test]
+    fn boundary_points_on_one_spot_are_merged_corners_kept() {
+        let on = |loop_index: usize, t: f64| VertexMarker::Boundary {
+            loop_index,
+            piece: 0,
+            loop_param: t,
+        };
+        let corner = VertexMarker::Corner {
+            loop_index: 0,
+            corner: 0,
+            loop_param: 0.0,
+        };
+        let mut p = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(0.5, 0.0),
+            DVec2::new(0.5 + 2e-6, 0.0),
+            DVec2::new(1e-6, 0.0),
+            DVec2::new(0.5, 0.0),
+            DVec2::new(0.3, 0.3),
+            DVec2::new(0.7, 0.0),
+        ];
+        let mut markers = vec![
+            corner,
+            on(0, 0.5),
+            on(0, 0.5 + 2e-6),
+            on(0, 1e-6),
+            on(1, 0.5),
+            VertexMarker::Interior,
+            on(0, 0.7),
+        ];
+        assert_eq!(merge_coincident(&mut p, &mut markers, 1e-3), 2);
+        assert_eq!(
+            p,
+            [(0.0, 0.0), (0.5, 0.0), (0.5, 0.0), (0.3, 0.3), (0.7, 0.0)]
+                .map(|(x, y)| DVec2::new(x, y))
+        );
+        assert_eq!(markers[0], corner);
+        assert_eq!(markers[2], on(1, 0.5));
     }
 }
