@@ -264,46 +264,39 @@ fn choose_h0(
 /// triangle between them then has an angle of 1e-5°.
 const MERGE_SHARE: f64 = 1e-2;
 
-/// Drop every non-corner boundary point lying within `tol` of the previous boundary point of
-/// its loop (in arc-length order, corners included); returns how many were dropped.
+/// Drop every non-corner boundary point lying within `tol` of the last point kept before it
+/// along its loop (in arc-length order, corners included); returns how many were dropped.
 fn merge_coincident(p: &mut Vec<DVec2>, markers: &mut Vec<VertexMarker>, tol: f64) -> usize {
+    let key = |i: usize| {
+        (
+            markers[i].loop_index(),
+            markers[i].loop_param().unwrap_or(0.0),
+        )
+    };
+    let is_corner = |i: usize| matches!(markers[i], VertexMarker::Corner { .. });
     let mut order: Vec<usize> = (0..p.len()).filter(|&i| markers[i].on_boundary()).collect();
-    let key = |i: usize| (markers[i].loop_index(), markers[i].loop_param());
     order.sort_by(|&a, &b| {
         let (ka, kb) = (key(a), key(b));
-        ka.0.cmp(&kb.0)
-            .then(ka.1.unwrap_or(0.0).total_cmp(&kb.1.unwrap_or(0.0)))
+        ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
     });
     let mut drop = vec![false; p.len()];
-    for w in order.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        if key(a).0 != key(b).0 || (p[a] - p[b]).length() >= tol {
-            continue;
+    let mut last: Option<usize> = None;
+    for &i in &order {
+        if let Some(l) = last.filter(|&l| key(l).0 == key(i).0 && p[l].distance(p[i]) < tol) {
+            // A corner stays: of a pair, the point that is not one goes.
+            if !is_corner(i) {
+                drop[i] = true;
+                continue;
+            }
+            drop[l] = !is_corner(l);
         }
-        // Keep corners: the later point goes unless it is the corner.
-        let victim = if matches!(markers[b], VertexMarker::Corner { .. }) {
-            a
-        } else {
-            b
-        };
-        if !matches!(markers[victim], VertexMarker::Corner { .. }) && !drop[a] {
-            drop[victim] = true;
-        }
+        last = Some(i);
     }
-    let dropped = drop.iter().filter(|&&d| d).count();
-    if dropped > 0 {
-        let mut k = 0;
-        p.retain(|_| {
-            k += 1;
-            !drop[k - 1]
-        });
-        let mut k = 0;
-        markers.retain(|_| {
-            k += 1;
-            !drop[k - 1]
-        });
-    }
-    dropped
+    let mut d = drop.iter();
+    p.retain(|_| !d.next().expect("one flag per point"));
+    let mut d = drop.iter();
+    markers.retain(|_| !d.next().expect("one flag per marker"));
+    drop.iter().filter(|&&d| d).count()
 }
 
 fn delaunay(p: &[DVec2]) -> Result<Vec<[usize; 3]>, MeshError> {
