@@ -232,6 +232,12 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         }
         eprintln!("warning: {short}");
     }
+    if let Some(slivers) = cvtmesh::slivers(&result.mesh) {
+        if a.strict {
+            bail!("--strict: {slivers}; nothing written");
+        }
+        eprintln!("warning: {slivers}");
+    }
     // `mesh_parts` has checked that the mesh conforms (up to CONFORMITY_CHECK_LIMIT vertices).
     let title = format!(
         "{} {} K={}",

@@ -1031,6 +1031,42 @@ fn a_mesh_that_leaves_out_part_of_the_region_is_named_and_refused_under_strict()
     assert!(!out.exists());
 }
 
+/// A strip 1000 × 1 at K = 300 is 0.51 spacings wide, just wide enough to pass the check
+/// for thin places: DistMesh's grid there is one row, whose points all go to one side, and it
+/// fans across the strip. The slivers are named, and refused under --strict.
+#[test]
+fn slivers_are_named_and_refused_under_strict() {
+    let d = scratch("strip");
+    let input = d.join("strip.txt");
+    std::fs::write(&input, "0 0\n1000 0\n1000 1\n0 1\n").unwrap();
+    let out = d.join("strip.node");
+    let args = |strict: bool| {
+        let mut v = vec!["mesh", s(&input), "-n", "300", "-m", "distmesh", "-q"];
+        if strict {
+            v.push("--strict");
+        }
+        v.extend(["-o", s(&out)]);
+        v
+    };
+    let o = cvtmesh(&args(false));
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("triangles have an angle under 1° (the smallest"),
+        "{}",
+        text(&o)
+    );
+    std::fs::remove_file(&out).unwrap();
+    let o = cvtmesh(&args(true));
+    assert!(!o.status.success());
+    assert!(text(&o).contains("--strict: "), "{}", text(&o));
+    assert!(text(&o).contains("nothing written"), "{}", text(&o));
+    assert!(!out.exists());
+    // The default method fits triangles of 8° there: no warning.
+    let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("under 1°"), "{}", text(&o));
+}
+
 /// `-o coast.node` writes `coast.poly` beside it: meshing `coast.poly` that way would replace
 /// the region with the mesh's boundary. It is refused before any work, the region untouched.
 #[test]

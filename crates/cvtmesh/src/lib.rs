@@ -59,10 +59,10 @@ pub use vtm;
 pub use ::mesh::io;
 
 pub use ::mesh::{
-    boundary_points_needed, check_conforming, memory_estimate, short_coverage, thin_feature,
-    total_memory, BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
-    Progress, Size, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT,
-    MAX_POINTS, SIMPLIFY_SPACINGS,
+    boundary_points_needed, check_conforming, memory_estimate, short_coverage, slivers,
+    thin_feature, total_memory, BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest,
+    MeshResult, Mesher, Progress, Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX,
+    CONFORMITY_CHECK_LIMIT, MAX_POINTS, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

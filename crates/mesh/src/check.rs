@@ -225,6 +225,83 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     Ok(())
 }
 
+/// Below this angle (degrees) [`slivers`] reports a triangle. A finite-element matrix on such
+/// a triangle is ill-conditioned by about 1/sin of it; no method here leaves one on a region
+/// that is wide enough for its spacing (refinement guarantees 20°, CCVT and DistMesh give
+/// 25–40° there).
+pub const SLIVER_ANGLE_DEG: f64 = 1.0;
+
+/// Triangles with an angle under [`SLIVER_ANGLE_DEG`]: what a method leaves where the region
+/// is about as narrow as the spacing (DistMesh on a strip half a spacing wide puts every point
+/// on one side and fans across), or at an input corner sharper than that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slivers {
+    /// How many triangles have an angle under [`SLIVER_ANGLE_DEG`].
+    pub count: usize,
+    /// The mesh's triangle count.
+    pub triangles: usize,
+    /// The smallest angle, in degrees.
+    pub smallest_deg: f64,
+    /// The midpoint of the shortest side of the triangle with the smallest angle (a needle's
+    /// far apex says less about where it is than its short side).
+    pub at: geometry::DVec2,
+    /// The mesh's vertex count.
+    pub points: usize,
+}
+
+impl std::fmt::Display for Slivers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} of {} triangles have an angle under {SLIVER_ANGLE_DEG}° (the smallest {:.2e}° near ({:.6}, {:.6})): \
+             the region is about as narrow as the spacing there at K = {}, or has a corner that sharp; \
+             ask for more points, or use another method",
+            self.count, self.triangles, self.smallest_deg, self.at.x, self.at.y, self.points
+        )
+    }
+}
+
+/// The triangles of `mesh` with an angle under [`SLIVER_ANGLE_DEG`], if there are any. O(M).
+///
+/// ```
+/// use cvtmesh_mesh::{slivers, Mesh, VertexMarker};
+/// use geometry::DVec2;
+/// let flat = Mesh {
+///     points: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(0.5, 0.001)],
+///     triangles: vec![[0, 1, 2]],
+///     markers: vec![VertexMarker::Interior; 3],
+/// };
+/// let s = slivers(&flat).expect("a 0.11° triangle");
+/// assert_eq!((s.count, s.triangles), (1, 1));
+/// assert!((s.smallest_deg - 0.001f64.atan2(0.5).to_degrees()).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn slivers(mesh: &Mesh) -> Option<Slivers> {
+    // (angle, triangle) of every sliver; a triangle with a zero-length side has no angle (NaN)
+    // and counts as 0°.
+    let flat: Vec<(f64, usize)> = (0..mesh.triangles.len())
+        .into_par_iter()
+        .filter_map(|t| {
+            let a = crate::types::triangle_min_angle_deg(mesh.triangle(t));
+            let a = if a.is_nan() { 0.0 } else { a };
+            (a < SLIVER_ANGLE_DEG).then_some((a, t))
+        })
+        .collect();
+    let &(smallest_deg, worst) = flat.iter().min_by(|x, y| x.0.total_cmp(&y.0))?;
+    let p = mesh.triangle(worst);
+    let (i, _) = (0..3)
+        .map(|i| (i, p[i].distance_squared(p[(i + 1) % 3])))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .expect("three sides");
+    Some(Slivers {
+        count: flat.len(),
+        triangles: mesh.triangles.len(),
+        smallest_deg,
+        at: 0.5 * (p[i] + p[(i + 1) % 3]),
+        points: mesh.num_vertices(),
+    })
+}
+
 /// Below this share of the region's area covered, [`short_coverage`] reports a mesh. The
 /// paper's coarsest mesh, a disc with 12 boundary vertices, covers 95.5 %.
 pub const MIN_COVERAGE: f64 = 0.9;

@@ -12,7 +12,10 @@ mod parts;
 mod thin;
 mod types;
 
-pub use check::{check_conforming, short_coverage, ConformityError, ShortCoverage, MIN_COVERAGE};
+pub use check::{
+    check_conforming, short_coverage, slivers, ConformityError, ShortCoverage, Slivers,
+    MIN_COVERAGE, SLIVER_ANGLE_DEG,
+};
 pub use error::MeshError;
 pub use mesher::{
     boundary_points_needed, memory_estimate, total_memory, MeshRequest, MeshResult, Mesher,

@@ -1,5 +1,7 @@
 //! The conformity check catches the ways a mesh can fail its region.
-use cvtmesh_mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
+use cvtmesh_mesh::{
+    check_conforming, slivers, ConformityError, Mesh, VertexMarker, SLIVER_ANGLE_DEG,
+};
 use geometry::{DVec2, LoopRole, Piece, Region};
 
 fn square(lo: f64, hi: f64) -> Vec<DVec2> {
@@ -161,4 +163,52 @@ fn rounding_at_large_coordinates_is_not_a_vertex_outside() {
         check_conforming(&mesh, &region),
         Err(ConformityError::VertexOutside(0, ..))
     ));
+}
+
+#[test]
+fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
+    // The frame's triangles have angles of 45° and more: none reported.
+    assert_eq!(slivers(&frame_mesh()), None);
+    // Three triangles: an equilateral one, a needle of 0.5° and a cap of about 0.05°.
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    let needle_tip = p(10.0, 0.5 * (1.0f64).to_radians().tan() * 10.0);
+    let mesh = Mesh {
+        points: vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(0.5, 0.75f64.sqrt()),
+            p(10.0, 0.0),
+            needle_tip,
+            p(20.0, 0.0),
+            p(22.0, 0.0),
+            p(21.2, 0.001),
+        ],
+        triangles: vec![[0, 1, 2], [3, 4, 1], [5, 6, 7]],
+        markers: vec![VertexMarker::Interior; 8],
+    };
+    let s = slivers(&mesh).expect("two slivers");
+    assert_eq!((s.count, s.triangles, s.points), (2, 3, 8));
+    let cap = 0.001f64.atan2(1.2).to_degrees();
+    assert!((s.smallest_deg - cap).abs() < 1e-9, "{}", s.smallest_deg);
+    assert!(s.smallest_deg < SLIVER_ANGLE_DEG);
+    // The cap's shortest side runs from (22, 0) to its apex.
+    assert!((s.at - p(21.6, 0.0005)).length() < 1e-9, "{:?}", s.at);
+    let text = s.to_string();
+    assert!(
+        text.starts_with("2 of 3 triangles have an angle under 1°"),
+        "{text}"
+    );
+    // Rotated by an arbitrary angle, the same count and angle.
+    let (c, sn) = (0.3f64.cos(), 0.3f64.sin());
+    let rotated = Mesh {
+        points: mesh
+            .points
+            .iter()
+            .map(|q| p(c * q.x - sn * q.y, sn * q.x + c * q.y))
+            .collect(),
+        ..mesh.clone()
+    };
+    let r = slivers(&rotated).expect("still two");
+    assert_eq!(r.count, 2);
+    assert!((r.smallest_deg - s.smallest_deg).abs() < 1e-6);
 }

@@ -610,6 +610,12 @@ fn mesh(
         let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
         warnings.call_method1("warn", (short.to_string(), category))?;
     }
+    // Triangles flatter than a degree: as the command line, a warning naming where.
+    if let Some(slivers) = cvtmesh::slivers(&r.mesh) {
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        warnings.call_method1("warn", (slivers.to_string(), category))?;
+    }
     PyMesh::new(
         py,
         r.mesh,

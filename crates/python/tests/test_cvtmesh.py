@@ -405,6 +405,13 @@ def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
         cvtmesh.mesh(channel, n=300)
 
 
+def test_slivers_are_named_in_a_warning():
+    # 0.51 spacings wide at n = 300: DistMesh puts every point on one side and fans across.
+    strip = np.array([[0, 0], [1000, 0], [1000, 1], [0, 1]], dtype=float)
+    with pytest.warns(RuntimeWarning, match=r"triangles have an angle under 1° \(the smallest"):
+        cvtmesh.mesh(strip, n=300, method="distmesh")
+
+
 def test_regions_of_several_parts_from_arrays_mesh_every_part():
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     frame = np.array([[2, 0], [4, 0], [4, 2], [2, 2]], float)

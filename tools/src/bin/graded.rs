@@ -4,7 +4,8 @@
 //!
 //! FIELD is an expression `H(x,y)` or a distance field `toward:loop:0+point:X,Y@HMIN,HMAX,DMIN,DMAX`.
 //! VARIANTS (comma-separated): `1r`, `1l`, `2r`, `2l` (Algorithm 1 or 2 from the refinement
-//! start or the lattice), `d` (the default method), `s` (single level), `w` (with
+//! start or the lattice), `d` (the default method), `m` (coarser levels from
+//! GRADED_LEVELS_FROM generators on, default 2000), `s` (single level), `w` (with
 //! GRADED_WHERE=N: the generators and cells that change most between evaluations N and N + 1).
 //! GRADED_TRACE prints the largest move through the run (GRADED_TRACE_ALL every evaluation),
 //! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_SEED the seed, GRADED_GRADATION the gradient limit, GRADED_EXACT evaluates an expression
@@ -190,6 +191,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             )?,
             "2l" => run("algorithm 2, lattice start", &Ccvt::fast(), None)?,
             "d" => run("default", &Ccvt::default(), None)?,
+            "m" => run(
+                "levels",
+                &Ccvt {
+                    multilevel_from: std::env::var("GRADED_LEVELS_FROM")
+                        .ok()
+                        .and_then(|v| v.parse().ok())
+                        .unwrap_or(2000),
+                    ..Ccvt::default()
+                },
+                None,
+            )?,
             "s" => run(
                 "single level",
                 &Ccvt {

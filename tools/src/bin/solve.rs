@@ -42,8 +42,20 @@ fn main() {
     // Wall-clock time at the end of each phase's last reported iteration.
     let mut ends: Vec<f64> = Vec::new();
     let t = std::time::Instant::now();
+    // CCVT_TRACE=1 prints every evaluation: phase, iteration, seconds, largest move, energy.
+    let trace = std::env::var_os("CCVT_TRACE").is_some();
     let g = m
         .generators(&region, &req, &mut |p| {
+            if trace {
+                eprintln!(
+                    "trace {} {} {:.4} {:.3e} {:.10e}",
+                    phases.len() - usize::from(p.iteration != 1) + 1,
+                    p.iteration,
+                    t.elapsed().as_secs_f64(),
+                    p.max_move,
+                    p.energy
+                );
+            }
             if p.iteration == 1 {
                 phases.push(0);
                 ends.push(0.0);
