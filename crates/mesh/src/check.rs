@@ -231,19 +231,20 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
 /// 25–40° there).
 pub const SLIVER_ANGLE_DEG: f64 = 1.0;
 
-/// Triangles with an angle under [`SLIVER_ANGLE_DEG`]: what a method leaves where the region
-/// is about as narrow as the spacing (DistMesh on a strip half a spacing wide puts every point
-/// on one side and fans across), or at an input corner sharper than that.
+/// Triangles with an angle under [`SLIVER_ANGLE_DEG`] that the boundary does not force: what
+/// a method leaves where the region is about as narrow as the spacing (DistMesh on a strip
+/// half a spacing wide puts every point on one side and fans across), or between holes that
+/// nearly touch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slivers {
-    /// How many triangles have an angle under [`SLIVER_ANGLE_DEG`].
+    /// How many triangles have such an angle.
     pub count: usize,
     /// The mesh's triangle count.
     pub triangles: usize,
-    /// The smallest angle, in degrees.
+    /// The smallest such angle, in degrees.
     pub smallest_deg: f64,
-    /// The midpoint of the shortest side of the triangle with the smallest angle (a needle's
-    /// far apex says less about where it is than its short side).
+    /// The midpoint of the shortest side of the triangle with that angle (a needle's far apex
+    /// says less about where it is than its short side).
     pub at: geometry::DVec2,
     /// The mesh's vertex count.
     pub points: usize,
@@ -251,50 +252,87 @@ pub struct Slivers {
 
 impl std::fmt::Display for Slivers {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // Three digits, unless they would round up to the bound (a 1° wedge's 0.9999999°).
+        let mut smallest = format!("{:.2e}", self.smallest_deg);
+        if smallest.parse::<f64>().is_ok_and(|a| a >= SLIVER_ANGLE_DEG) {
+            smallest = self.smallest_deg.to_string();
+        }
         write!(
             f,
-            "{} of {} triangles have an angle under {SLIVER_ANGLE_DEG}° (the smallest {:.2e}° near ({:.6}, {:.6})): \
-             the region is about as narrow as the spacing there at K = {}, or has a corner that sharp; \
+            "{} of {} triangles have an angle under {SLIVER_ANGLE_DEG}° (the smallest {smallest}° near ({:.6}, {:.6})): \
+             the region is about as narrow as the spacing there at K = {}; \
              ask for more points, or use another method",
-            self.count, self.triangles, self.smallest_deg, self.at.x, self.at.y, self.points
+            self.count, self.triangles, self.at.x, self.at.y, self.points
         )
     }
 }
 
-/// The triangles of `mesh` with an angle under [`SLIVER_ANGLE_DEG`], if there are any. O(M).
+/// The triangles of `mesh` with an angle under [`SLIVER_ANGLE_DEG`], if there are any, except
+/// those whose smallest angle lies between two boundary edges: the boundary itself is that
+/// sharp there (a wedge's tip), and every mesh of it has that angle. O(M).
 ///
 /// ```
 /// use cvtmesh_mesh::{slivers, Mesh, VertexMarker};
 /// use geometry::DVec2;
-/// let flat = Mesh {
-///     points: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(0.5, 0.001)],
-///     triangles: vec![[0, 1, 2]],
-///     markers: vec![VertexMarker::Interior; 3],
+/// // A flat triangle with an interior vertex on its long side's apex: its 0.11° angles lie
+/// // between a boundary edge and an inner one.
+/// let p = |x: f64, y: f64| DVec2::new(x, y);
+/// let mesh = Mesh {
+///     points: vec![p(0.0, 0.0), p(1.0, 0.0), p(0.5, 0.001), p(0.5, 1.0)],
+///     triangles: vec![[0, 1, 2], [0, 2, 3], [2, 1, 3]],
+///     markers: vec![VertexMarker::Interior; 4],
 /// };
-/// let s = slivers(&flat).expect("a 0.11° triangle");
-/// assert_eq!((s.count, s.triangles), (1, 1));
+/// let s = slivers(&mesh).expect("a 0.11° triangle");
+/// assert_eq!((s.count, s.triangles), (1, 3));
 /// assert!((s.smallest_deg - 0.001f64.atan2(0.5).to_degrees()).abs() < 1e-9);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// // Alone, the same triangle's angles lie between its boundary edges: forced, not reported.
+/// let alone = Mesh { triangles: vec![[0, 1, 2]], ..mesh };
+/// assert_eq!(slivers(&alone), None);
 /// ```
 pub fn slivers(mesh: &Mesh) -> Option<Slivers> {
-    // (angle, triangle) of every sliver; a triangle with a zero-length side has no angle (NaN)
-    // and counts as 0°.
-    let flat: Vec<(f64, usize)> = (0..mesh.triangles.len())
+    // (angle, triangle, corner at the angle) of every triangle with an angle under the bound;
+    // a triangle with a zero-length side has no angle (NaN) and counts as 0°.
+    let flat: Vec<(f64, usize, usize)> = (0..mesh.triangles.len())
         .into_par_iter()
         .filter_map(|t| {
-            let a = crate::types::triangle_min_angle_deg(mesh.triangle(t));
-            let a = if a.is_nan() { 0.0 } else { a };
-            (a < SLIVER_ANGLE_DEG).then_some((a, t))
+            let p = mesh.triangle(t);
+            let (i, a) = (0..3)
+                .map(|i| {
+                    let a = (p[(i + 1) % 3] - p[i])
+                        .angle_to(p[(i + 2) % 3] - p[i])
+                        .abs()
+                        .to_degrees();
+                    (i, if a.is_nan() { 0.0 } else { a })
+                })
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .expect("three corners");
+            (a < SLIVER_ANGLE_DEG).then_some((a, t, i))
         })
         .collect();
-    let &(smallest_deg, worst) = flat.iter().min_by(|x, y| x.0.total_cmp(&y.0))?;
+    if flat.is_empty() {
+        return None;
+    }
+    let boundary: std::collections::HashSet<(u32, u32)> = mesh
+        .boundary_edges()
+        .iter()
+        .map(|e| (e.a.min(e.b), e.a.max(e.b)))
+        .collect();
+    let on_boundary = |a: u32, b: u32| boundary.contains(&(a.min(b), a.max(b)));
+    let unforced: Vec<&(f64, usize, usize)> = flat
+        .iter()
+        .filter(|&&(_, t, i)| {
+            let v = mesh.triangles[t];
+            !(on_boundary(v[i], v[(i + 1) % 3]) && on_boundary(v[i], v[(i + 2) % 3]))
+        })
+        .collect();
+    let &&(smallest_deg, worst, _) = unforced.iter().min_by(|x, y| x.0.total_cmp(&y.0))?;
     let p = mesh.triangle(worst);
     let (i, _) = (0..3)
         .map(|i| (i, p[i].distance_squared(p[(i + 1) % 3])))
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .expect("three sides");
     Some(Slivers {
-        count: flat.len(),
+        count: unforced.len(),
         triangles: mesh.triangles.len(),
         smallest_deg,
         at: 0.5 * (p[i] + p[(i + 1) % 3]),

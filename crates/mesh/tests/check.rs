@@ -169,25 +169,29 @@ fn rounding_at_large_coordinates_is_not_a_vertex_outside() {
 fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
     // The frame's triangles have angles of 45° and more: none reported.
     assert_eq!(slivers(&frame_mesh()), None);
-    // Three triangles: an equilateral one, a needle of 0.5° and a cap of about 0.05°.
     let p = |x: f64, y: f64| DVec2::new(x, y);
-    let needle_tip = p(10.0, 0.5 * (1.0f64).to_radians().tan() * 10.0);
+    // An equilateral triangle; a flat cap of 0.05° with a triangle on one of its short sides,
+    // so that its smallest angle lies between a boundary edge and an inner one; a lone wedge
+    // of 0.29°, whose smallest angle lies between two boundary edges (forced by the boundary,
+    // not counted).
     let mesh = Mesh {
         points: vec![
             p(0.0, 0.0),
             p(1.0, 0.0),
             p(0.5, 0.75f64.sqrt()),
-            p(10.0, 0.0),
-            needle_tip,
             p(20.0, 0.0),
             p(22.0, 0.0),
             p(21.2, 0.001),
+            p(21.0, 1.0),
+            p(30.0, 0.0),
+            p(40.0, 0.0),
+            p(40.0, 0.05),
         ],
-        triangles: vec![[0, 1, 2], [3, 4, 1], [5, 6, 7]],
-        markers: vec![VertexMarker::Interior; 8],
+        triangles: vec![[0, 1, 2], [3, 4, 5], [3, 5, 6], [7, 8, 9]],
+        markers: vec![VertexMarker::Interior; 10],
     };
-    let s = slivers(&mesh).expect("two slivers");
-    assert_eq!((s.count, s.triangles, s.points), (2, 3, 8));
+    let s = slivers(&mesh).expect("the cap");
+    assert_eq!((s.count, s.triangles, s.points), (1, 4, 10));
     let cap = 0.001f64.atan2(1.2).to_degrees();
     assert!((s.smallest_deg - cap).abs() < 1e-9, "{}", s.smallest_deg);
     assert!(s.smallest_deg < SLIVER_ANGLE_DEG);
@@ -195,7 +199,7 @@ fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
     assert!((s.at - p(21.6, 0.0005)).length() < 1e-9, "{:?}", s.at);
     let text = s.to_string();
     assert!(
-        text.starts_with("2 of 3 triangles have an angle under 1°"),
+        text.starts_with("1 of 4 triangles have an angle under 1°"),
         "{text}"
     );
     // Rotated by an arbitrary angle, the same count and angle.
@@ -208,7 +212,13 @@ fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
             .collect(),
         ..mesh.clone()
     };
-    let r = slivers(&rotated).expect("still two");
-    assert_eq!(r.count, 2);
+    let r = slivers(&rotated).expect("still the cap");
+    assert_eq!(r.count, 1);
     assert!((r.smallest_deg - s.smallest_deg).abs() < 1e-6);
+    // Without the triangle on its side, the cap's angles lie between boundary edges too.
+    let lone = Mesh {
+        triangles: vec![[0, 1, 2], [3, 4, 5], [7, 8, 9]],
+        ..mesh
+    };
+    assert_eq!(slivers(&lone), None);
 }
