@@ -1,5 +1,5 @@
 //! End-to-end tests of the `cvtmesh` binary: every command, formats, and the errors users hit.
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn cvtmesh(args: &[&str]) -> Output {
@@ -992,6 +992,29 @@ fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
     assert!(!out.exists());
 }
 
+/// Meshes `input` with `method` at K = 300: the command succeeds with `warning` on stderr;
+/// with --strict it fails saying `--strict: ` and `refusal`, and leaves no file.
+fn warns_then_refuses_under_strict(input: &Path, method: &str, warning: &str, refusal: &str) {
+    let out = input.with_extension("node");
+    let args = |strict: bool| {
+        let mut v = vec!["mesh", s(input), "-n", "300", "-m", method, "-q"];
+        if strict {
+            v.push("--strict");
+        }
+        v.extend(["-o", s(&out)]);
+        v
+    };
+    let o = cvtmesh(&args(false));
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains(warning), "{}", text(&o));
+    std::fs::remove_file(&out).unwrap();
+    let o = cvtmesh(&args(true));
+    assert!(!o.status.success());
+    assert!(text(&o).contains("--strict: "), "{}", text(&o));
+    assert!(text(&o).contains(refusal), "{}", text(&o));
+    assert!(!out.exists());
+}
+
 #[test]
 fn a_mesh_that_leaves_out_part_of_the_region_is_named_and_refused_under_strict() {
     // A ring 0.01 wide: Algorithm 1 at K = 300 keeps too few vertices on the outer circle,
@@ -1004,31 +1027,12 @@ fn a_mesh_that_leaves_out_part_of_the_region_is_named_and_refused_under_strict()
             {"role": "hole", "segments": [{"kind": "circle", "center": [0, 0], "radius": 0.99}]}]}"#,
     )
     .unwrap();
-    let out = d.join("ring.node");
-    let args = |strict: bool| {
-        let mut v = vec!["mesh", s(&input), "-n", "300", "-m", "ccvt1", "-q"];
-        if strict {
-            v.push("--strict");
-        }
-        v.extend(["-o", s(&out)]);
-        v
-    };
-    let o = cvtmesh(&args(false));
-    assert!(o.status.success(), "{}", text(&o));
-    assert!(
-        text(&o).contains("warning: the mesh covers 82.6 % of the region's area"),
-        "{}",
-        text(&o)
+    warns_then_refuses_under_strict(
+        &input,
+        "ccvt1",
+        "warning: the mesh covers 82.6 % of the region's area",
+        "the mesh covers 82.6 %",
     );
-    std::fs::remove_file(&out).unwrap();
-    let o = cvtmesh(&args(true));
-    assert!(!o.status.success());
-    assert!(
-        text(&o).contains("--strict: the mesh covers 82.6 %"),
-        "{}",
-        text(&o)
-    );
-    assert!(!out.exists());
 }
 
 /// A strip 1000 × 1 at K = 300 is 0.51 spacings wide, just wide enough to pass the check
@@ -1039,29 +1043,14 @@ fn slivers_are_named_and_refused_under_strict() {
     let d = scratch("strip");
     let input = d.join("strip.txt");
     std::fs::write(&input, "0 0\n1000 0\n1000 1\n0 1\n").unwrap();
-    let out = d.join("strip.node");
-    let args = |strict: bool| {
-        let mut v = vec!["mesh", s(&input), "-n", "300", "-m", "distmesh", "-q"];
-        if strict {
-            v.push("--strict");
-        }
-        v.extend(["-o", s(&out)]);
-        v
-    };
-    let o = cvtmesh(&args(false));
-    assert!(o.status.success(), "{}", text(&o));
-    assert!(
-        text(&o).contains("triangles have an angle under 1° (the smallest"),
-        "{}",
-        text(&o)
+    warns_then_refuses_under_strict(
+        &input,
+        "distmesh",
+        "triangles have an angle under 1° (the smallest",
+        "nothing written",
     );
-    std::fs::remove_file(&out).unwrap();
-    let o = cvtmesh(&args(true));
-    assert!(!o.status.success());
-    assert!(text(&o).contains("--strict: "), "{}", text(&o));
-    assert!(text(&o).contains("nothing written"), "{}", text(&o));
-    assert!(!out.exists());
     // The default method fits triangles of 8° there: no warning.
+    let out = d.join("strip.node");
     let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(!text(&o).contains("under 1°"), "{}", text(&o));
