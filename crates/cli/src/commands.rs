@@ -98,8 +98,9 @@ pub struct MeshArgs {
     /// none, the boundary as given].
     #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
     simplify: Option<String>,
-    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence, and
-    /// refuse (before any work) a region narrower than half the spacing somewhere.
+    /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence;
+    /// refuse (before any work) a region narrower than half the spacing somewhere, and (nothing
+    /// written) a mesh that leaves out a tenth of the region or has triangles flatter than 1°.
     #[arg(long)]
     strict: bool,
     /// No progress bar.
