@@ -298,10 +298,7 @@ pub fn slivers(mesh: &Mesh) -> Option<Slivers> {
             let p = mesh.triangle(t);
             let (i, a) = (0..3)
                 .map(|i| {
-                    let a = (p[(i + 1) % 3] - p[i])
-                        .angle_to(p[(i + 2) % 3] - p[i])
-                        .abs()
-                        .to_degrees();
+                    let a = crate::types::corner_angle_deg(p, i);
                     (i, if a.is_nan() { 0.0 } else { a })
                 })
                 .min_by(|x, y| x.1.total_cmp(&y.1))

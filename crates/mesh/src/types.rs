@@ -218,11 +218,15 @@ pub(crate) fn single_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
 /// angle is a number).
 pub fn triangle_min_angle_deg(p: [DVec2; 3]) -> f64 {
     (0..3)
-        .map(|i| {
-            (p[(i + 1) % 3] - p[i])
-                .angle_to(p[(i + 2) % 3] - p[i])
-                .abs()
-                .to_degrees()
-        })
+        .map(|i| corner_angle_deg(p, i))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The interior angle at corner `i` of the triangle with corners `p`, in degrees (NaN where a
+/// side from it has zero length).
+pub(crate) fn corner_angle_deg(p: [DVec2; 3], i: usize) -> f64 {
+    (p[(i + 1) % 3] - p[i])
+        .angle_to(p[(i + 2) % 3] - p[i])
+        .abs()
+        .to_degrees()
 }

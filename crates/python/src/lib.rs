@@ -604,17 +604,16 @@ fn mesh(
     }
     let mut r = result.map_err(err)?;
     r.notes.splice(0..0, simplified);
-    // A mesh that leaves out a band along a curved boundary: say so, as the command line does.
-    if let Some(short) = cvtmesh::short_coverage(&r.mesh, &region) {
+    // As the command line does: a mesh that leaves out a band along a curved boundary, or
+    // has triangles flatter than a degree, is named in a warning.
+    let findings = [
+        cvtmesh::short_coverage(&r.mesh, &region).map(|s| s.to_string()),
+        cvtmesh::slivers(&r.mesh).map(|s| s.to_string()),
+    ];
+    for finding in findings.into_iter().flatten() {
         let warnings = py.import("warnings")?;
         let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-        warnings.call_method1("warn", (short.to_string(), category))?;
-    }
-    // Triangles flatter than a degree: as the command line, a warning naming where.
-    if let Some(slivers) = cvtmesh::slivers(&r.mesh) {
-        let warnings = py.import("warnings")?;
-        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-        warnings.call_method1("warn", (slivers.to_string(), category))?;
+        warnings.call_method1("warn", (finding, category))?;
     }
     PyMesh::new(
         py,
