@@ -1,6 +1,6 @@
 //! Regions built from fuzzed loops (small integer coordinates make collinear, touching and
 //! crossing loops common) and meshed at small K by every method: a conforming mesh or an
-//! error, never a panic.
+//! error, never a panic, and the reports on the mesh (slivers, coverage) never panic either.
 //!
 //! The first byte picks the method and K (8–39), the second the iteration cap (1–8) and,
 //! with its high bit, a simplification of the loops (`Region::simplified`), the rest are the
@@ -61,6 +61,12 @@ fuzz_target!(
             if let Err(e) = check_conforming(&result.mesh, &region) {
                 panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");
             }
+            // What the command line reports on every mesh it writes.
+            if let Some(s) = cvtmesh::slivers(&result.mesh) {
+                assert!(s.count > 0 && s.count <= s.triangles, "{s:?}");
+                let _ = s.to_string();
+            }
+            let _ = cvtmesh::short_coverage(&result.mesh, &region).map(|s| s.to_string());
         }
     }
 );
