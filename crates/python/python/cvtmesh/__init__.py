@@ -145,6 +145,14 @@ def mesh(
         For every bad input (a ``ValueError``), with a message naming the problem.
     KeyboardInterrupt
         On Ctrl-C; the run stops at its next iteration.
+
+    Warns
+    -----
+    RuntimeWarning
+        Where the region is narrower than half the spacing (naming the place and the ``n``
+        that resolves it), where the mesh leaves out a tenth of the region, and where it has
+        triangles with an angle under 1° that the boundary does not force (counted, the
+        flattest located).
     """
     r = _region(region, holes, corner_angle)
     return _mesh(
