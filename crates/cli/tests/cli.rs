@@ -969,7 +969,7 @@ fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
         "{t}"
     );
     assert!(
-        t.contains("thinner than the spacing") && t.contains("K ≥ 2"),
+        t.contains("thinner than the spacing") && t.contains("K ≥ 11548"),
         "{t}"
     );
     std::fs::remove_file(&out).unwrap();

@@ -75,3 +75,43 @@ fn a_ring_far_thinner_than_the_spacing_at_a_small_k_is_refused_saying_what_would
         "{e}"
     );
 }
+
+/// A comb: a base [0, 1] × [0, 0.2] with 20 teeth 0.02 wide and 0.8 long.
+fn comb() -> Region {
+    let mut outer = vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(1.0, 0.2),
+    ];
+    for i in (0..20).rev() {
+        let x = 0.015 + 0.05 * i as f64;
+        outer.extend([
+            DVec2::new(x + 0.02, 0.2),
+            DVec2::new(x + 0.02, 1.0),
+            DVec2::new(x, 1.0),
+            DVec2::new(x, 0.2),
+        ]);
+    }
+    outer.push(DVec2::new(0.0, 0.2));
+    Region::from_loops("comb", vec![(LoopRole::Outer, outer)])
+        .unwrap()
+        .with_default_corners()
+}
+
+/// The K the warning advises puts one edge across the teeth, and the default method meshes
+/// them there without a sliver (at half an edge across, where a tooth stops counting as thin,
+/// it left 144 triangles under 1°).
+#[test]
+fn the_advised_k_meshes_a_comb_without_slivers() {
+    let comb = comb();
+    assert!((comb.area() - 0.52).abs() < 1e-12);
+    let thin = cvtmesh::thin_feature(&comb, &MeshRequest::points(300)).expect("thin teeth");
+    assert!((thin.width - 0.02).abs() < 1e-9, "{thin}");
+    assert!((1400..1600).contains(&thin.points_needed), "{thin}");
+    let request = MeshRequest::points(thin.points_needed);
+    assert_eq!(cvtmesh::thin_feature(&comb, &request), None);
+    let r = Method::Ccvt.run(&comb, &request).unwrap();
+    assert!(r.converged);
+    assert_eq!(cvtmesh::slivers(&r.mesh), None);
+    assert!(r.mesh.min_angle_deg() > 20.0, "{}", r.mesh.min_angle_deg());
+}
