@@ -326,6 +326,9 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
             region.name()
         );
     }
+    if let Some(slivers) = cvtmesh::slivers(&mesh) {
+        eprintln!("warning: {slivers}");
+    }
     let m = cvtmesh::metrics::measures(&mesh, &region)?;
     let sampled = match a.sampled {
         Some(n) if n > MAX_SAMPLES => bail!("--sampled {n} is more than {MAX_SAMPLES} samples"),

@@ -1054,6 +1054,27 @@ fn slivers_are_named_and_refused_under_strict() {
     let o = cvtmesh(&["mesh", s(&input), "-n", "300", "-q", "-o", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(!text(&o).contains("under 1°"), "{}", text(&o));
+    // `measure` names them in a mesh made elsewhere too (here, DistMesh's).
+    let fan = d.join("fan.node");
+    let o = cvtmesh(&[
+        "mesh",
+        s(&input),
+        "-n",
+        "300",
+        "-m",
+        "distmesh",
+        "-q",
+        "-o",
+        s(&fan),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = cvtmesh(&["measure", s(&fan), "--region", s(&input)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning: 296 of 298 triangles have an angle under 1°"),
+        "{}",
+        text(&o)
+    );
 }
 
 /// `-o coast.node` writes `coast.poly` beside it: meshing `coast.poly` that way would replace
