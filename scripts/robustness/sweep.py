@@ -335,6 +335,10 @@ def summary_md(recs, manifest, args, wall):
     off = [r for r in recs if r["class"] == "OK" and abs(r["check"]["nv"] - r["K"]) > max(2, 0.05 * r["K"])]
     out += ["", "## OK runs whose vertex count is more than 5 % from K", ""] + (["None."] if not off else [])
     out += [f"- {r['region']} {method_label(r)} K={r['K']}: {r['check']['nv']} vertices" for r in off]
+    sliver = [(r, w) for r in recs if r["class"] == "OK" for w in r["warnings"] if "under 1°" in w]
+    out += ["", "## OK runs with triangles under 1° (the warning, shortened)", ""] + (["None."] if not sliver else [])
+    out += [f"- {r['region']} {method_label(r)} K={r['K']}: " + re.sub(r"^warning: | near .*$", "", w) + ")"
+            for r, w in sliver]
     slow = sorted(recs, key=lambda r: -r["secs"])[:8]
     out += ["", "## Slowest runs", ""] + [f"- {r['id']}: {r['secs']:.1f} s ({r['class']})" for r in slow]
     out += ["", "## Regions", "", "| region | file | expect | area tolerance | note |", "|---|---|---|---|---|"]
