@@ -16,8 +16,8 @@ const MAX_TESTS: usize = 200_000_000;
 /// edge h is 0.87 h high, so below half the spacing none fits across and the mesh there is
 /// slivers. (The paper's horn narrows to 0.55 of its spacing at K = 138 and meshes well.)
 const THIN_RATIO: f64 = 0.5;
-/// The K advised for a thin place makes the spacing there this share of its width: one edge
-/// across. Half a spacing across, where a place stops counting as thin, still leaves slivers
+/// The K advised for a thin place makes its width this many spacings there (the spacing the
+/// width over this): one edge across. Half a spacing across, where a place stops counting as thin, still leaves slivers
 /// in a long channel: a comb of teeth 0.02 wide (area 0.52) gave CCVT 144 triangles under 1°
 /// at K = 376 (0.5 of the spacing across), 64 at K = 800 (0.73), a smallest angle of 1.1° at
 /// K = 1200 (0.89) and 27.8° at K = 1600 (1.03).
