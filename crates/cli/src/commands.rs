@@ -251,7 +251,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         eprintln!("note: {note}");
     }
     let energy = result.energy_history.last().copied().unwrap_or(f64::NAN);
-    println!(
+    outln!(
         "K={} K~={} min-angle={:.2}deg iterations={} energy={:.6e} {} {:.2}s -> {}",
         result.mesh.num_vertices(),
         result.mesh.num_triangles(),
@@ -357,43 +357,43 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         None => None,
     };
     if a.csv {
-        println!("{}", cvtmesh::metrics::Measures::csv_header());
-        println!("{}", m.csv_row());
+        outln!("{}", cvtmesh::metrics::Measures::csv_header());
+        outln!("{}", m.csv_row());
         if let Some(s) = sampled {
-            println!("{}", s.csv_row());
+            outln!("{}", s.csv_row());
         }
         if let Some(c) = conformity {
-            println!("{}", cvtmesh::metrics::SizeConformity::NAMES.join(","));
+            outln!("{}", cvtmesh::metrics::SizeConformity::NAMES.join(","));
             let v: Vec<String> = c.values().iter().map(|v| v.to_string()).collect();
-            println!("{}", v.join(","));
+            outln!("{}", v.join(","));
         }
         return Ok(());
     }
-    println!("mesh {}  region {}", a.mesh.display(), region.name());
+    outln!("mesh {}  region {}", a.mesh.display(), region.name());
     let names = cvtmesh::metrics::Measures::NAMES;
     let values = m.values();
     let svalues = sampled.map(|s| s.values());
     for (i, name) in names.iter().enumerate() {
         match svalues {
-            Some(s) => println!("{name:>8}  {:>14.6e}  sampled {:>14.6e}", values[i], s[i]),
-            None => println!("{name:>8}  {:>14.6e}", values[i]),
+            Some(s) => outln!("{name:>8}  {:>14.6e}  sampled {:>14.6e}", values[i], s[i]),
+            None => outln!("{name:>8}  {:>14.6e}", values[i]),
         }
     }
     if let Some(c) = conformity {
         let toward = a.size_toward.join(" ");
         let threshold = a.size_threshold.as_deref().unwrap_or_default();
         match (&a.size_field, toward.is_empty()) {
-            (Some(text), true) => println!("size field '{text}':"),
-            (None, _) => println!("size field toward {toward} ({threshold}):"),
+            (Some(text), true) => outln!("size field '{text}':"),
+            (None, _) => outln!("size field toward {toward} ({threshold}):"),
             (Some(text), false) => {
-                println!("size field min('{text}', toward {toward} ({threshold})):")
+                outln!("size field min('{text}', toward {toward} ({threshold})):")
             }
         }
         for (name, v) in cvtmesh::metrics::SizeConformity::NAMES
             .iter()
             .zip(c.values())
         {
-            println!("{name:>18}  {v:>14.6}");
+            outln!("{name:>18}  {v:>14.6}");
         }
     }
     Ok(())
@@ -482,13 +482,16 @@ fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {
 
 /// `cvtmesh regions`.
 pub fn regions() -> Result<()> {
-    println!(
+    outln!(
         "{:<16} {:>14} {:>6} {:>8}  title",
-        "name", "area", "holes", "corners"
+        "name",
+        "area",
+        "holes",
+        "corners"
     );
     for name in Region::builtin_names() {
         let r = Region::builtin(name)?;
-        println!(
+        outln!(
             "{:<16} {:>14.6} {:>6} {:>8}",
             name,
             r.area(),

@@ -2,6 +2,14 @@
 //! meshes with the paper's 12 quality measures, and draw them.
 #![forbid(unsafe_code)]
 
+/// `println!` for what a command prints on standard output; a reader that has gone
+/// (`cvtmesh measure … | head -1`) ends the command quietly instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::print_line(format_args!($($arg)*))
+    };
+}
+
 mod commands;
 mod inputs;
 
@@ -55,6 +63,21 @@ fn main() -> ExitCode {
             eprintln!("error: {}", one_line(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Write one line to standard output. Standard output is line-buffered, so a closed pipe
+/// shows here: the command has nothing left to say to anyone and ends with success; any other
+/// failure to write is an error.
+fn print_line(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: writing to standard output: {e}");
+        std::process::exit(1);
     }
 }
 

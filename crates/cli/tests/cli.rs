@@ -192,6 +192,32 @@ fn mesh_then_measure_csv_round_trip() {
     assert!(o.status.success() && text(&o).contains("lambda"));
 }
 
+/// `cvtmesh measure … | head -1`: the reader goes away before the table is printed. The
+/// command ends quietly with success, as Unix tools do, instead of a panic.
+#[test]
+fn a_closed_pipe_on_standard_output_is_not_a_panic() {
+    use std::process::Stdio;
+    let d = scratch("pipe");
+    let out = d.join("c.node");
+    let o = quiet_mesh("circle", "3000", &[], &out);
+    assert!(o.status.success(), "{}", text(&o));
+    for extra in [&["--csv"][..], &[][..]] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_cvtmesh"))
+            .args(["measure", s(&out), "--region", "circle"])
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run cvtmesh");
+        // Close the read end before the measures of 3000 vertices are ready to print.
+        drop(child.stdout.take());
+        let o = child.wait_with_output().expect("wait for cvtmesh");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(o.status.success(), "{:?}: {err}", o.status);
+    }
+}
+
 #[test]
 fn every_output_format_is_written_and_meshes_read_back() {
     let d = scratch("formats");
