@@ -6,6 +6,7 @@
 use crate::scale::LocalScale;
 use geometry::{DVec2, Region, Rng};
 use mesh::{Mesh, MeshError, MeshRequest, VertexMarker};
+use rayon::prelude::*;
 use refine::Refine;
 use std::collections::HashMap;
 
@@ -259,10 +260,260 @@ pub(crate) fn graded(
     Ok(fit_count(region, scale, s, k, request.seed))
 }
 
+/// The boundary spacing of the row start relative to the hexagonal spacing h of K points in Ω:
+/// the outer row of the default path's last CVT of Ω_ε at circle 10⁵ (1017 generators on a
+/// perimeter of 1043 h).
+pub(crate) const ROW_SPACING: f64 = 1.026;
+
+/// Depth of that row below ∂Ω_ε, in spacings: where the outer row of a CVT of Ω_ε sits.
+const ROW_DEPTH: f64 = 0.35;
+
+/// The ε, in spacings, that a row start begins Algorithm 2 with: where the lattice path's ε
+/// settles at circle 10⁵ (0.6856; 0.68–0.75 in all ten regions).
+pub(crate) const ROW_EPS: f64 = 0.686;
+
+/// A start for Algorithm 2 from ε = `eps`·h: an outer row at `ROW_SPACING`·h along every loop
+/// of ∂Ω (corner to corner, corners included), pushed outward to `ROW_DEPTH`·h below ∂Ω_ε, and
+/// inside it the `Init::Lattice` lattice dilated to the area of Ω_ε, of which the K − (row)
+/// points deepest in Ω are kept. The CVTs of Ω_ε keep the outer row's count, and the
+/// constrained phase takes exactly that row as its boundary generators: a CVT of Ω (the
+/// lattice relaxed) has about 6 % more there, which the default path sheds only in the slow,
+/// capped dilation into Ω_ε.
+/// `None` if Ω_ε would close a hole at this ε.
+pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Option<Vec<DVec2>> {
+    let mut rng = Rng::new(seed);
+    let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
+    let tol = 1e-3 * h;
+    if region.expand(eps * h, tol).rings.len() != region.loops().len() {
+        return None;
+    }
+    let push = (eps - ROW_DEPTH).max(0.0) * h;
+    let mut row: Vec<DVec2> = Vec::new();
+    // Each loop's spacing scaled by its length over the length of its offset by `push`: the
+    // outer row of a CVT of Ω_ε lies on the offset, longer than a convex outer loop and
+    // shorter than a convex hole.
+    let offset = region.expand(push, tol);
+    let ring_len = |pts: &[DVec2]| -> f64 {
+        let n = pts.len();
+        (0..n).map(|i| (pts[(i + 1) % n] - pts[i]).length()).sum()
+    };
+    let stretch: Vec<f64> = (0..region.loops().len())
+        .map(|li| {
+            if offset.rings.len() != region.loops().len() {
+                return 1.0;
+            }
+            let own: f64 = region.loops()[li].length;
+            let off: f64 = offset
+                .rings
+                .iter()
+                .filter(|r| r.loop_index == li)
+                .map(|r| ring_len(&r.points))
+                .sum();
+            if off > 0.0 {
+                own / off
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    for (li, lp) in region.loops().iter().enumerate() {
+        // The loop as a polyline, each vertex flagged if it is a corner (an anchor).
+        let mut poly: Vec<(DVec2, bool)> = Vec::new();
+        for &id in &lp.pieces {
+            let corner = region
+                .corners()
+                .iter()
+                .any(|c| c.loop_index == li && c.piece_out == id);
+            let pts = region.pieces()[id].polygonize(tol);
+            let n = pts.len().saturating_sub(1).max(1);
+            for (j, &p) in pts.iter().take(n).enumerate() {
+                poly.push((p, j == 0 && corner));
+            }
+        }
+        let n = poly.len();
+        if n < 2 {
+            continue;
+        }
+        let first = poly.iter().position(|v| v.1).unwrap_or(0);
+        poly.rotate_left(first);
+        let anchors: Vec<usize> = (0..n).filter(|&i| i == 0 || poly[i].1).collect();
+        let at = |i: usize| poly[i % n].0;
+        for (a, &start) in anchors.iter().enumerate() {
+            let end = anchors.get(a + 1).copied().unwrap_or(n);
+            row.push(at(start));
+            let weights: Vec<f64> = (start..end)
+                .map(|i| (at(i + 1) - at(i)).length() / (ROW_SPACING * h * stretch[li]))
+                .collect();
+            let total: f64 = weights.iter().sum();
+            let pieces = (total.round() as usize).max(1);
+            let (mut i, mut below) = (0, 0.0);
+            for j in 1..pieces {
+                let target = total * j as f64 / pieces as f64;
+                while i + 1 < weights.len() && below + weights[i] < target {
+                    below += weights[i];
+                    i += 1;
+                }
+                let f = if weights[i] > 0.0 {
+                    ((target - below) / weights[i]).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                row.push(at(start + i).lerp(at(start + i + 1), f));
+            }
+        }
+    }
+    // Outward along the gradient of the signed distance (the bisector at a corner).
+    let step = 1e-3 * h;
+    let row: Vec<DVec2> = row
+        .into_par_iter()
+        .map(|p| {
+            let d = |q: DVec2| region.signed_distance(q);
+            let (ex, ey) = (DVec2::new(step, 0.0), DVec2::new(0.0, step));
+            let g = DVec2::new(d(p + ex) - d(p - ex), d(p + ey) - d(p - ey));
+            p + g.normalize_or_zero() * push
+        })
+        .collect();
+    let want = k.saturating_sub(row.len());
+    // The lattice of Init::Lattice, dilated from Ω's area to Ω_ε's.
+    let hl = h * (1.0 + eps * h * region.perimeter() / region.area()).sqrt();
+    let (lo, hi) = region.bbox();
+    let centre = region.polygonize(tol).centroid();
+    let angle = rng.range(0.0, std::f64::consts::FRAC_PI_3);
+    let (u, v) = (
+        DVec2::from_angle(angle) * hl,
+        DVec2::from_angle(angle + std::f64::consts::FRAC_PI_3) * hl,
+    );
+    let reach = ((hi - lo).length() / hl).ceil() as i64 + 1;
+    let (blo, bhi) = (lo - DVec2::splat(hl), hi + DVec2::splat(hl));
+    let mut lattice: Vec<(f64, DVec2)> = (-reach..=reach)
+        .into_par_iter()
+        .map(|i| {
+            (-reach..=reach)
+                .map(|j| centre + u * i as f64 + v * j as f64)
+                .filter(|p| p.cmpge(blo).all() && p.cmple(bhi).all())
+                .filter_map(|p| {
+                    let d = region.signed_distance(p);
+                    (d < -1e-3 * hl).then_some((d, p))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect::<Vec<_>>()
+        .concat();
+    for (_, p) in lattice.iter_mut() {
+        *p += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * (1e-9 * h);
+    }
+    // The deepest first: the shallowest surplus makes the gap between the row and the lattice.
+    lattice.sort_by(|a, b| a.0.total_cmp(&b.0));
+    lattice.truncate(want);
+    let mut z = row;
+    z.extend(lattice.into_iter().map(|(_, p)| p));
+    let (lo, hi) = region.bbox();
+    while z.len() < k {
+        let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+        if region.signed_distance(p) < 0.0 {
+            z.push(p);
+        }
+    }
+    z.truncate(k);
+    Some(z)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use geometry::Density;
+
+    #[test]
+    fn the_row_start_lies_just_inside_the_expanded_boundary_with_the_lattice_in_the_region() {
+        for name in ["circle", "square_two_hex", "lake"] {
+            let region = Region::builtin(name).unwrap();
+            let k = 5000;
+            let z = boundary_row(&region, k, ROW_EPS, 7).unwrap();
+            assert_eq!(z.len(), k, "{name}");
+            let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
+            let push = (ROW_EPS - ROW_DEPTH) * h;
+            let (row, lattice): (Vec<DVec2>, Vec<DVec2>) =
+                z.iter().partition(|p| region.signed_distance(**p) > 0.0);
+            // Every row point is `push` out along a normal (closer at a hole's corner, where
+            // the offset is not a normal one), so inside Ω_ε; the lattice is inside Ω.
+            for p in &row {
+                let d = region.signed_distance(*p);
+                assert!(
+                    d <= push * (1.0 + 1e-6) && d < ROW_EPS * h,
+                    "{name}: {p} at {d:e}"
+                );
+            }
+            assert!(lattice.iter().all(|p| region.signed_distance(*p) < 0.0));
+            // One row point per ROW_SPACING·h of each loop's offset: about the perimeter's count.
+            let expected = region.perimeter() / (ROW_SPACING * h);
+            let got = row.len() as f64;
+            assert!(
+                (got / expected - 1.0).abs() < 0.05,
+                "{name}: {got} row points, about {expected:.0} expected"
+            );
+            // Each corner has its row point, pushed out from it.
+            for c in region.corners() {
+                let near = row
+                    .iter()
+                    .map(|p| (*p - c.pos).length())
+                    .fold(f64::MAX, f64::min);
+                assert!(
+                    near <= push * (1.0 + 1e-3),
+                    "{name}: corner {} {near:e}",
+                    c.pos
+                );
+            }
+            assert_eq!(
+                boundary_row(&region, k, ROW_EPS, 7).unwrap(),
+                z,
+                "{name}: same seed"
+            );
+            assert_ne!(
+                boundary_row(&region, k, ROW_EPS, 8).unwrap(),
+                z,
+                "{name}: other seed"
+            );
+        }
+        // The circle's row is one ring at radius 1 + push (within the polygon's chord error),
+        // with a point per ROW_SPACING·h of that ring.
+        let circle = Region::builtin("circle").unwrap();
+        let z = boundary_row(&circle, 5000, ROW_EPS, 1).unwrap();
+        let h = (2.0 * circle.area() / (3f64.sqrt() * 5000.0)).sqrt();
+        let radius = 1.0 + (ROW_EPS - ROW_DEPTH) * h;
+        let ring: Vec<&DVec2> = z.iter().filter(|p| p.length() > 1.0).collect();
+        assert!(ring.iter().all(|p| (p.length() - radius).abs() < 2e-3 * h));
+        let expected = std::f64::consts::TAU * radius / (ROW_SPACING * h);
+        assert!(
+            (ring.len() as f64 - expected).abs() <= 1.0,
+            "{} {expected}",
+            ring.len()
+        );
+    }
+
+    #[test]
+    fn no_row_start_where_the_expanded_region_closes_a_hole() {
+        // A hole 0.1 wide in a unit square: at K = 100 the spacing is about 0.09, and Ω_ε at
+        // 0.686 of it fills the hole.
+        use geometry::LoopRole;
+        let square = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            vec![
+                DVec2::new(x0, y0),
+                DVec2::new(x1, y0),
+                DVec2::new(x1, y1),
+                DVec2::new(x0, y1),
+            ]
+        };
+        let region = Region::from_loops(
+            "thin hole",
+            vec![
+                (LoopRole::Outer, square(0.0, 0.0, 1.0, 1.0)),
+                (LoopRole::Hole, square(0.2, 0.2, 0.3, 0.8)),
+            ],
+        )
+        .unwrap();
+        assert!(boundary_row(&region, 100, ROW_EPS, 1).is_none());
+        assert!(boundary_row(&region, 2000, ROW_EPS, 1).is_some());
+    }
 
     #[test]
     fn prolongation_of_a_mesh_splits_every_edge_once() {

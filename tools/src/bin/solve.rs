@@ -25,11 +25,12 @@ fn main() {
     };
     // For experiments: CCVT_EPS_PHASE_TOL overrides the ε-phase tolerance, CCVT_ACTIVE_FROM the
     // size from which Newton takes active-set steps, CCVT_MULTILEVEL_FROM the size from which a
-    // coarser level gives the start.
+    // coarser level gives the start, CCVT_ROW_FROM the size from which the row start is taken.
     let m = Ccvt {
         eps_phase_tol: env("CCVT_EPS_PHASE_TOL").unwrap_or(m.eps_phase_tol),
         active_from: env("CCVT_ACTIVE_FROM").unwrap_or(m.active_from),
         eps_start: env("CCVT_EPS_START").unwrap_or(m.eps_start),
+        row_from: env("CCVT_ROW_FROM").unwrap_or(m.row_from),
         multilevel_from: env("CCVT_MULTILEVEL_FROM").unwrap_or(m.multilevel_from),
         ..m
     };
