@@ -226,8 +226,13 @@ fn table_iter(args: &Args) {
 
 fn table_converge(args: &Args, solver: Solver) {
     println!(
-        "\n## Algorithm 2 ({}) to tol 1e-4 of the spacing, lattice start",
-        solver_name(solver)
+        "\n## Algorithm 2 ({}) to tol 1e-4 of the spacing ({})",
+        solver_name(solver),
+        if solver == Solver::Newton {
+            "the default method: the row start from 10⁴ generators, else the lattice"
+        } else {
+            "lattice start"
+        }
     );
     println!(
         "Counts are energy evaluations, including rejected accelerated steps; 'acceleration' is \
@@ -239,9 +244,14 @@ fn table_converge(args: &Args, solver: Solver) {
     for name in &args.regions {
         let region = Region::builtin(name).expect("region");
         for &k in &args.sizes {
-            let m = Ccvt {
-                solver,
-                ..Ccvt::algorithm2()
+            // Newton as the default method runs it (the row start from `row_from` on); Lloyd
+            // and Anderson as the paper's Algorithm 2, from the lattice.
+            let m = match solver {
+                Solver::Newton => Ccvt::fast(),
+                _ => Ccvt {
+                    solver,
+                    ..Ccvt::algorithm2()
+                },
             };
             let r = solve(&m, &region, k, args.seed);
             let p = r.g.profile;
