@@ -279,7 +279,8 @@ pub(crate) const ROW_EPS: f64 = 0.686;
 /// constrained phase takes exactly that row as its boundary generators: a CVT of Ω (the
 /// lattice relaxed) has about 6 % more there, which the default path sheds only in the slow,
 /// capped dilation into Ω_ε.
-/// `None` if Ω_ε would close a hole at this ε.
+/// `None` if Ω_ε would close a hole at this ε, or if the row would hold more than a quarter of
+/// the K points.
 pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Option<Vec<DVec2>> {
     let mut rng = Rng::new(seed);
     let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
@@ -373,7 +374,12 @@ pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Op
             p + g.normalize_or_zero() * push
         })
         .collect();
-    let want = k.saturating_sub(row.len());
+    // A region about as narrow as the spacing is mostly boundary layer: no lattice to keep
+    // clear of the row, and the lattice path's own handling of thin places applies.
+    if row.len() * 4 > k {
+        return None;
+    }
+    let want = k - row.len();
     // The lattice of Init::Lattice, dilated from Ω's area to Ω_ε's.
     let hl = h * (1.0 + eps * h * region.perimeter() / region.area()).sqrt();
     let (lo, hi) = region.bbox();
@@ -491,7 +497,7 @@ mod tests {
     }
 
     #[test]
-    fn no_row_start_where_the_expanded_region_closes_a_hole() {
+    fn no_row_start_where_the_expanded_region_closes_a_hole_or_the_region_is_all_boundary() {
         // A hole 0.1 wide in a unit square: at K = 100 the spacing is about 0.09, and Ω_ε at
         // 0.686 of it fills the hole.
         use geometry::LoopRole;
@@ -513,6 +519,20 @@ mod tests {
         .unwrap();
         assert!(boundary_row(&region, 100, ROW_EPS, 1).is_none());
         assert!(boundary_row(&region, 2000, ROW_EPS, 1).is_some());
+        // A ring 0.02 wide: at K = 2000 the spacing is about 0.009 and the row alone would
+        // take 1400 points.
+        let ring = |r: f64| -> Vec<DVec2> {
+            (0..256)
+                .map(|i| DVec2::from_angle(std::f64::consts::TAU * i as f64 / 256.0) * r)
+                .collect()
+        };
+        let thin = Region::from_loops(
+            "thin ring",
+            vec![(LoopRole::Outer, ring(1.0)), (LoopRole::Hole, ring(0.98))],
+        )
+        .unwrap();
+        assert!(boundary_row(&thin, 2000, ROW_EPS, 1).is_none());
+        assert!(boundary_row(&thin, 200_000, ROW_EPS, 1).is_some());
     }
 
     #[test]
