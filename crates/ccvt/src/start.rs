@@ -100,20 +100,7 @@ fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds 
                     (q - p).length() / (BOUNDARY_SPACING * scale.at(0.5 * (p + q)))
                 })
                 .collect();
-            let total: f64 = weights.iter().sum();
-            let pieces = (total.round() as usize).max(1);
-            let (mut k, mut below) = (0, 0.0);
-            for j in 1..pieces {
-                let target = total * j as f64 / pieces as f64;
-                while k + 1 < weights.len() && below + weights[k] < target {
-                    below += weights[k];
-                    k += 1;
-                }
-                let f = if weights[k] > 0.0 {
-                    ((target - below) / weights[k]).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+            for (k, f) in even_split(&weights) {
                 let (p, q) = (at(&vs, start + k), at(&vs, start + k + 1));
                 let x = p.1 + (q.1 - p.1) * f;
                 let point = match p.2.or(q.2) {
@@ -126,6 +113,30 @@ fn resample_boundary(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds 
         }
     }
     seeds
+}
+
+/// The inner points that split a polyline run into round(Σ weights) pieces of equal weight
+/// (at least one piece), each as (step, fraction along that step); `weights[i]` is step i's
+/// length in target spacings.
+fn even_split(weights: &[f64]) -> Vec<(usize, f64)> {
+    let total: f64 = weights.iter().sum();
+    let pieces = (total.round() as usize).max(1);
+    let (mut k, mut below) = (0, 0.0);
+    (1..pieces)
+        .map(|j| {
+            let target = total * j as f64 / pieces as f64;
+            while k + 1 < weights.len() && below + weights[k] < target {
+                below += weights[k];
+                k += 1;
+            }
+            let f = if weights[k] > 0.0 {
+                ((target - below) / weights[k]).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (k, f)
+        })
+        .collect()
 }
 
 /// About how many generators lie on ∂Ω at the local spacing: ∫_∂Ω ds / h.
@@ -345,20 +356,7 @@ pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Op
             let weights: Vec<f64> = (start..end)
                 .map(|i| (at(i + 1) - at(i)).length() / (ROW_SPACING * h * stretch[li]))
                 .collect();
-            let total: f64 = weights.iter().sum();
-            let pieces = (total.round() as usize).max(1);
-            let (mut i, mut below) = (0, 0.0);
-            for j in 1..pieces {
-                let target = total * j as f64 / pieces as f64;
-                while i + 1 < weights.len() && below + weights[i] < target {
-                    below += weights[i];
-                    i += 1;
-                }
-                let f = if weights[i] > 0.0 {
-                    ((target - below) / weights[i]).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+            for (i, f) in even_split(&weights) {
                 row.push(at(start + i).lerp(at(start + i + 1), f));
             }
         }
