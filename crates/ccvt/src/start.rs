@@ -498,21 +498,10 @@ mod tests {
     fn no_row_start_where_the_expanded_region_closes_a_hole_or_the_region_is_all_boundary() {
         // A hole 0.1 wide in a unit square: at K = 100 the spacing is about 0.09, and Ω_ε at
         // 0.686 of it fills the hole.
-        use geometry::LoopRole;
-        let square = |x0: f64, y0: f64, x1: f64, y1: f64| {
-            vec![
-                DVec2::new(x0, y0),
-                DVec2::new(x1, y0),
-                DVec2::new(x1, y1),
-                DVec2::new(x0, y1),
-            ]
-        };
-        let region = Region::from_loops(
+        let region = geometry::formats::loops_from_str(
+            "0 0\n1 0\n1 1\n0 1\n\n0.2 0.2\n0.3 0.2\n0.3 0.8\n0.2 0.8\n",
             "thin hole",
-            vec![
-                (LoopRole::Outer, square(0.0, 0.0, 1.0, 1.0)),
-                (LoopRole::Hole, square(0.2, 0.2, 0.3, 0.8)),
-            ],
+            "thin hole",
         )
         .unwrap();
         assert!(boundary_row(&region, 100, ROW_EPS, 1).is_none());
@@ -526,7 +515,10 @@ mod tests {
         };
         let thin = Region::from_loops(
             "thin ring",
-            vec![(LoopRole::Outer, ring(1.0)), (LoopRole::Hole, ring(0.98))],
+            vec![
+                (geometry::LoopRole::Outer, ring(1.0)),
+                (geometry::LoopRole::Hole, ring(0.98)),
+            ],
         )
         .unwrap();
         assert!(boundary_row(&thin, 2000, ROW_EPS, 1).is_none());
