@@ -411,7 +411,6 @@ pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Op
     lattice.truncate(want);
     let mut z = row;
     z.extend(lattice.into_iter().map(|(_, p)| p));
-    let (lo, hi) = region.bbox();
     while z.len() < k {
         let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         if region.signed_distance(p) < 0.0 {
