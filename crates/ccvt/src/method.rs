@@ -251,7 +251,13 @@ impl Ccvt {
         {
             // Ω_ε must keep every hole at the row's ε (else Algorithm 2 reduces ε, and the
             // row would lie outside the domain): then the lattice path below.
-            if let Some(z) = start::boundary_row(region, k, start::ROW_EPS, request.seed) {
+            if let Some(z) = start::boundary_row(
+                region,
+                k,
+                request.spacing(region),
+                start::ROW_EPS,
+                request.seed,
+            ) {
                 let from_row = Ccvt {
                     eps_start: start::ROW_EPS,
                     ..self.clone()

@@ -283,7 +283,8 @@ const ROW_DEPTH: f64 = 0.35;
 /// settles at circle 10⁵ (0.6856; 0.68–0.75 in all ten regions).
 pub(crate) const ROW_EPS: f64 = 0.686;
 
-/// A start for Algorithm 2 from ε = `eps`·h: an outer row at `ROW_SPACING`·h along every loop
+/// A start for Algorithm 2 from ε = `eps`·h (h the hexagonal spacing of K points in Ω,
+/// [`MeshRequest::spacing`]): an outer row at `ROW_SPACING`·h along every loop
 /// of ∂Ω (corner to corner, corners included), pushed outward to `ROW_DEPTH`·h below ∂Ω_ε, and
 /// inside it the `Init::Lattice` lattice dilated to the area of Ω_ε, of which the K − (row)
 /// points deepest in Ω are kept. The CVTs of Ω_ε keep the outer row's count, and the
@@ -292,9 +293,14 @@ pub(crate) const ROW_EPS: f64 = 0.686;
 /// capped dilation into Ω_ε.
 /// `None` if Ω_ε would close a hole at this ε, or if the row would hold more than a quarter of
 /// the K points.
-pub(crate) fn boundary_row(region: &Region, k: usize, eps: f64, seed: u64) -> Option<Vec<DVec2>> {
+pub(crate) fn boundary_row(
+    region: &Region,
+    k: usize,
+    h: f64,
+    eps: f64,
+    seed: u64,
+) -> Option<Vec<DVec2>> {
     let mut rng = Rng::new(seed);
-    let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
     let tol = 1e-3 * h;
     if region.expand(eps * h, tol).rings.len() != region.loops().len() {
         return None;
@@ -431,9 +437,9 @@ mod tests {
         for name in ["circle", "square_two_hex", "lake"] {
             let region = Region::builtin(name).unwrap();
             let k = 5000;
-            let z = boundary_row(&region, k, ROW_EPS, 7).unwrap();
+            let h = MeshRequest::points(k).spacing(&region);
+            let z = boundary_row(&region, k, h, ROW_EPS, 7).unwrap();
             assert_eq!(z.len(), k, "{name}");
-            let h = (2.0 * region.area() / (3f64.sqrt() * k as f64)).sqrt();
             let push = (ROW_EPS - ROW_DEPTH) * h;
             let (row, lattice): (Vec<DVec2>, Vec<DVec2>) =
                 z.iter().partition(|p| region.signed_distance(**p) > 0.0);
@@ -467,12 +473,12 @@ mod tests {
                 );
             }
             assert_eq!(
-                boundary_row(&region, k, ROW_EPS, 7).unwrap(),
+                boundary_row(&region, k, h, ROW_EPS, 7).unwrap(),
                 z,
                 "{name}: same seed"
             );
             assert_ne!(
-                boundary_row(&region, k, ROW_EPS, 8).unwrap(),
+                boundary_row(&region, k, h, ROW_EPS, 8).unwrap(),
                 z,
                 "{name}: other seed"
             );
@@ -480,8 +486,8 @@ mod tests {
         // The circle's row is one ring at radius 1 + push (within the polygon's chord error),
         // with a point per ROW_SPACING·h of that ring.
         let circle = Region::builtin("circle").unwrap();
-        let z = boundary_row(&circle, 5000, ROW_EPS, 1).unwrap();
-        let h = (2.0 * circle.area() / (3f64.sqrt() * 5000.0)).sqrt();
+        let h = MeshRequest::points(5000).spacing(&circle);
+        let z = boundary_row(&circle, 5000, h, ROW_EPS, 1).unwrap();
         let radius = 1.0 + (ROW_EPS - ROW_DEPTH) * h;
         let ring: Vec<&DVec2> = z.iter().filter(|p| p.length() > 1.0).collect();
         assert!(ring.iter().all(|p| (p.length() - radius).abs() < 2e-3 * h));
@@ -503,8 +509,22 @@ mod tests {
             "thin hole",
         )
         .unwrap();
-        assert!(boundary_row(&region, 100, ROW_EPS, 1).is_none());
-        assert!(boundary_row(&region, 2000, ROW_EPS, 1).is_some());
+        assert!(boundary_row(
+            &region,
+            100,
+            MeshRequest::points(100).spacing(&region),
+            ROW_EPS,
+            1
+        )
+        .is_none());
+        assert!(boundary_row(
+            &region,
+            2000,
+            MeshRequest::points(2000).spacing(&region),
+            ROW_EPS,
+            1
+        )
+        .is_some());
         // A ring 0.02 wide: at K = 2000 the spacing is about 0.009 and the row alone would
         // take 1400 points.
         let ring = |r: f64| -> Vec<DVec2> {
@@ -520,8 +540,22 @@ mod tests {
             ],
         )
         .unwrap();
-        assert!(boundary_row(&thin, 2000, ROW_EPS, 1).is_none());
-        assert!(boundary_row(&thin, 200_000, ROW_EPS, 1).is_some());
+        assert!(boundary_row(
+            &thin,
+            2000,
+            MeshRequest::points(2000).spacing(&thin),
+            ROW_EPS,
+            1
+        )
+        .is_none());
+        assert!(boundary_row(
+            &thin,
+            200_000,
+            MeshRequest::points(200_000).spacing(&thin),
+            ROW_EPS,
+            1
+        )
+        .is_some());
     }
 
     #[test]
