@@ -76,10 +76,10 @@ const LOCAL_DECAY: f64 = 0.5;
 // evaluations and 129 → 81 s with 0.01; 0.001, 0.03 and 0.1 took 1835, 1785 and 2704
 // evaluations on seeds 1–3 against 1325 (2303 with the share of the direction); at 10⁵ the
 // L-shape 567 → 249, the circle 404 → 320. At K = 1500 (seeds 1–6) the rules are even: 5405 /
-// 5554 evaluations, mean smallest angle 34.6° / 34.5°. On uniform
-// regions the two rules are within the seed-to-seed spread (ten regions at 3·10⁴, seeds 1–2:
-// 1663 / 1435 evaluations; circle and lake 10⁵, seeds 1–3: 629 / 688; circle 10⁶, seeds
-// 1–2: 325 / 355), so uniform runs keep the share of the direction.
+// 5554 evaluations, mean smallest angle 34.6° / 34.5°. On uniform regions the two rules are
+// within the seed-to-seed spread (ten regions at 3·10⁴, seeds 1–2: 1663 / 1435 evaluations;
+// circle and lake 10⁵, seeds 1–3: 629 / 688; circle 10⁶, seeds 1–2: 325 / 355 and 63.7 /
+// 69.5 s), so uniform runs keep the share of the direction.
 const CURVATURE_SHARE: f64 = 0.01;
 /// In the cleanup after a global step (module `active`), active-set steps continue while the
 /// count above the tolerance falls, and for this many steps more without a new low before a
