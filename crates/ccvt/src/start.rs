@@ -501,6 +501,15 @@ mod tests {
 
     #[test]
     fn no_row_start_where_the_expanded_region_closes_a_hole_or_the_region_is_all_boundary() {
+        let row = |region: &Region, k: usize| {
+            boundary_row(
+                region,
+                k,
+                MeshRequest::points(k).spacing(region),
+                ROW_EPS,
+                1,
+            )
+        };
         // A hole 0.1 wide in a unit square: at K = 100 the spacing is about 0.09, and Ω_ε at
         // 0.686 of it fills the hole.
         let region = geometry::formats::loops_from_str(
@@ -509,22 +518,8 @@ mod tests {
             "thin hole",
         )
         .unwrap();
-        assert!(boundary_row(
-            &region,
-            100,
-            MeshRequest::points(100).spacing(&region),
-            ROW_EPS,
-            1
-        )
-        .is_none());
-        assert!(boundary_row(
-            &region,
-            2000,
-            MeshRequest::points(2000).spacing(&region),
-            ROW_EPS,
-            1
-        )
-        .is_some());
+        assert!(row(&region, 100).is_none());
+        assert!(row(&region, 2000).is_some());
         // A ring 0.02 wide: at K = 2000 the spacing is about 0.009 and the row alone would
         // take 1400 points.
         let ring = |r: f64| -> Vec<DVec2> {
@@ -540,22 +535,8 @@ mod tests {
             ],
         )
         .unwrap();
-        assert!(boundary_row(
-            &thin,
-            2000,
-            MeshRequest::points(2000).spacing(&thin),
-            ROW_EPS,
-            1
-        )
-        .is_none());
-        assert!(boundary_row(
-            &thin,
-            200_000,
-            MeshRequest::points(200_000).spacing(&thin),
-            ROW_EPS,
-            1
-        )
-        .is_some());
+        assert!(row(&thin, 2000).is_none());
+        assert!(row(&thin, 200_000).is_some());
     }
 
     #[test]

@@ -587,12 +587,6 @@ fn solve_on_the_pool_reports_progress_on_the_callers_thread() {
 
 /// The CVT energy of generators over Ω itself (the runs' own energies are over Ω_ε, whose ε
 /// differs between starts).
-fn energy_over_region(region: &Region, r: &MeshResult) -> f64 {
-    let omega = region.polygonize(1e-4 * region.diameter() / (r.mesh.points.len() as f64).sqrt());
-    let del = tessellation::Delaunay::new(&r.mesh.points);
-    tessellation::clipped_cells(&r.mesh.points, &del, &omega, &geometry::Density::Uniform).energy()
-}
-
 /// From `row_from` generators on, the default method starts from an outer row just inside
 /// ∂Ω_ε instead of the lattice: a CCVT all the same (converged, conforming, every corner
 /// carried), with an energy over Ω as low as the lattice path's, in fewer evaluations, and
@@ -612,10 +606,7 @@ fn the_row_start_reaches_the_lattice_paths_energy_in_fewer_evaluations() {
         let a = run(&lattice, &region, k, 1);
         let b = run(&row, &region, k, 1);
         assert_ccvt_properties(&region, &b, k);
-        let (ea, eb) = (
-            energy_over_region(&region, &a),
-            energy_over_region(&region, &b),
-        );
+        let (ea, eb) = (energy_on_region(&region, &a), energy_on_region(&region, &b));
         assert!(
             eb <= ea * (1.0 + 2e-4),
             "{name}: energy {eb:e} against {ea:e}"
