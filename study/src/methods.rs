@@ -2,7 +2,7 @@
 use crate::StudyError;
 use cvtmesh::distmesh::GridOrigin;
 use cvtmesh::refine::CurveStart;
-use cvtmesh::{DistMesh, Mesher, Method, Refine};
+use cvtmesh::{DistMesh, Mesher, Method, Refine, Vtm, VtmBoundary};
 
 /// The minimum-angle bound (degrees) of the TRIANGLE column, Triangle's `-q` switch. The paper
 /// does not give it. Its TRIANGLE β clusters at 1.00 (a smallest angle of 30°) and never
@@ -147,7 +147,9 @@ impl MethodId {
     }
 
     /// The mesher with the settings used in the study: each method's defaults, except
-    /// TRIANGLE's angle bound ([`TRIANGLE_MIN_ANGLE_DEG`]) and two choices the paper leaves to
+    /// TRIANGLE's angle bound ([`TRIANGLE_MIN_ANGLE_DEG`]), VTM's boundary rule (CCVT's
+    /// Algorithm 1 labels, [`VtmBoundary::Voronoi`]: the paper's VTM has its CCVT(1)'s
+    /// boundary vertex counts, docs/study-statistics.md) and two choices the paper leaves to
     /// its user, which each seed draws as the random-start methods draw their initial points:
     /// where DISTMESH's grid starts (the bounding box it was laid from,
     /// [`GridOrigin::Seeded`]) and where TRIANGLE's polygon of a closed curve starts
@@ -162,6 +164,9 @@ impl MethodId {
             MethodId::Distmesh => Box::new(DistMesh {
                 grid_origin: GridOrigin::Seeded,
                 ..DistMesh::default()
+            }),
+            MethodId::Vtm => Box::new(Vtm {
+                boundary: VtmBoundary::Voronoi,
             }),
             _ => self.method().mesher(),
         }

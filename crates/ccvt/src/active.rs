@@ -228,6 +228,7 @@ mod tests {
             inside: &inside,
             density: &density,
             constrained,
+            update: crate::params::Update::Centroid,
             solver: Solver::Newton,
             tol: 1e-4,
             max_iter: 100,

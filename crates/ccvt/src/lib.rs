@@ -62,4 +62,4 @@ mod sublevel;
 pub use init::{initial_points, Init};
 pub use map::Profile;
 pub use method::{Ccvt, Generators};
-pub use params::{Algorithm, Solver};
+pub use params::{Algorithm, Solver, Update};

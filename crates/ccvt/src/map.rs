@@ -1,7 +1,7 @@
 //! The fixed-point map of one phase and what the solvers share: the phase's inputs, the
 //! triangulation and cells kept from one evaluation to the next, the labels of Section 2.2.3,
 //! the progress trace and the time profile.
-use crate::params::Solver;
+use crate::params::{Solver, Update};
 use crate::scale::LocalScale;
 use crate::sublevel::Sublevel;
 use geometry::{DVec2, Density, PieceId, Polygon, Region};
@@ -159,6 +159,8 @@ pub struct Phase<'a> {
     pub density: &'a Density,
     /// Algorithm 1's labels and projections (false: ordinary CVT of the domain).
     pub constrained: bool,
+    /// Where a generator moves before its label's projection (constrained phases only).
+    pub update: Update,
     pub solver: Solver,
     pub tol: f64,
     pub max_iter: usize,
@@ -213,10 +215,31 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         &mut work.buffer,
     );
     let cells = &work.cells;
-    let energy = cells.energy();
+    let mut energy = cells.energy();
     prof.cells += lap(&mut t);
     let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) =
-        cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip();
+        if phase.constrained && phase.update == Update::Odt {
+            // VTM's patch is the mesh: the Delaunay triangles of the generators inside Ω.
+            let triangles: Vec<[u32; 3]> = del
+                .triangles()
+                .into_iter()
+                .filter(|t| {
+                    phase
+                        .region
+                        .contains(t.map(|v| z[v as usize]).iter().sum::<DVec2>() / 3.0)
+                })
+                .collect();
+            let odt = tessellation::odt_targets(z, &triangles, phase.density);
+            energy = tessellation::odt_energy(z, &triangles, phase.density);
+            cells
+                .cells
+                .par_iter()
+                .zip(&odt)
+                .map(|(c, &x)| map_cell_at(phase, c, x))
+                .unzip()
+        } else {
+            cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip()
+        };
     if phase.constrained {
         assign_corners(phase.region, z, del, &mut roles, &mut targets);
     }
@@ -231,7 +254,12 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
 /// The map at one cell: its label and where its generator goes (the centroid; for a boundary
 /// cell of a constrained phase its projection onto the nearest piece the cell touches).
 pub(crate) fn map_cell(phase: &Phase, cell: &tessellation::Cell) -> (Role, DVec2) {
-    let c = cell.mass_centroid;
+    map_cell_at(phase, cell, cell.mass_centroid)
+}
+
+/// [`map_cell`] with the generator moving to `c` instead of the cell's centroid; the label
+/// still comes from the cell.
+fn map_cell_at(phase: &Phase, cell: &tessellation::Cell, c: DVec2) -> (Role, DVec2) {
     if !phase.constrained {
         return (Role::Interior, c);
     }
@@ -378,7 +406,7 @@ fn max_move(a: &[DVec2], b: &[DVec2], scale: &LocalScale) -> f64 {
 /// What every phase reports: energy and relative largest move per iteration, progress, and
 /// where the time went.
 pub struct Trace<'a> {
-    /// CVT energy per iteration.
+    /// CVT energy per iteration (the ODT energy of the mesh under [`Update::Odt`]).
     pub energies: Vec<f64>,
     /// Largest move / local spacing per iteration.
     pub moves: Vec<f64>,
@@ -398,7 +426,19 @@ pub(crate) fn record(
     trace: &mut Trace,
 ) -> f64 {
     let mut t = Instant::now();
-    let mv = max_move(&s.targets, z, &phase.scale);
+    let mv = match phase.update {
+        // VTM's update with projected boundary vertices can turn the whole set on a disc, as
+        // the sliding VTM does: only the change of shape counts.
+        Update::Odt if phase.region.rotation_centre().is_some() => {
+            let shape: Vec<DVec2> = z
+                .iter()
+                .zip(phase.region.moves_without_rotation(z, &s.targets))
+                .map(|(p, d)| *p + d)
+                .collect();
+            max_move(&shape, z, &phase.scale)
+        }
+        _ => max_move(&s.targets, z, &phase.scale),
+    };
     trace.energies.push(s.energy);
     trace.moves.push(mv);
     trace.prof.convergence += lap(&mut t);

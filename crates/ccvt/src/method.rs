@@ -3,7 +3,7 @@
 use crate::init::{initial_points, Init};
 use crate::iterate::run;
 use crate::map::{Phase, PhaseResult, Profile, Role, Trace, Work};
-use crate::params::{Algorithm, Solver};
+use crate::params::{Algorithm, Solver, Update};
 use crate::scale::LocalScale;
 use crate::start;
 use crate::sublevel::Sublevel;
@@ -93,6 +93,10 @@ pub struct Ccvt {
     /// structure (the rings of Table 1's disc) matters more, and the paper's methods
     /// ([`Ccvt::algorithm1`], [`Ccvt::algorithm2`]) never take it.
     pub row_from: usize,
+    /// Where each generator moves before the labels and projections: its centroid (CCVT, the
+    /// default) or VTM's optimal-Delaunay target ([`Update::Odt`], with Algorithm 1 and Lloyd
+    /// iteration only; [`Ccvt::validate`] refuses other combinations).
+    pub update: Update,
 }
 
 impl Default for Ccvt {
@@ -111,6 +115,7 @@ impl Default for Ccvt {
             multilevel_from: usize::MAX,
             graded_start: true,
             row_from: 10_000,
+            update: Update::Centroid,
         }
     }
 }
@@ -140,7 +145,18 @@ impl Ccvt {
         MeshError::check_positive(name, "polygon_tol", self.polygon_tol)?;
         MeshError::check_positive(name, "eps_tol", self.eps_tol)?;
         MeshError::check_non_negative(name, "eps_phase_tol", self.eps_phase_tol)?;
-        MeshError::check_non_negative(name, "eps_start", self.eps_start)
+        MeshError::check_non_negative(name, "eps_start", self.eps_start)?;
+        if self.update == Update::Odt
+            && (self.algorithm != Algorithm::One || self.solver != Solver::Lloyd)
+        {
+            return Err(MeshError::invalid_setting(
+                name,
+                "update",
+                f64::NAN,
+                "Update::Centroid unless the algorithm is One and the solver Lloyd",
+            ));
+        }
+        Ok(())
     }
 
     /// The paper's Algorithm 1: constrained Lloyd iteration on Ω (`Algorithm::One`,
@@ -385,6 +401,7 @@ impl Ccvt {
                 inside,
                 density: &request.density,
                 constrained,
+                update: Update::Centroid,
                 solver,
                 tol,
                 max_iter: request.max_iter,
@@ -470,7 +487,10 @@ impl Ccvt {
         // Step 4 / Algorithm 1: constrained iteration, boundary centroids projected onto ∂Ω.
         work.retarget(&final_domain);
         let r = tally.run(
-            &phase(common, &final_domain, &in_region, true, request.tol),
+            &Phase {
+                update: self.update,
+                ..phase(common, &final_domain, &in_region, true, request.tol)
+            },
             z,
             &mut work,
             &mut trace,
@@ -575,6 +595,9 @@ impl Tally<'_> {
 
 impl Mesher for Ccvt {
     fn name(&self) -> &'static str {
+        if self.update == Update::Odt {
+            return "ccvt1-odt";
+        }
         match (self.algorithm, self.solver) {
             (Algorithm::One, Solver::Lloyd) => "ccvt1",
             (Algorithm::Two, Solver::Lloyd) => "ccvt2",

@@ -24,3 +24,18 @@ pub enum Solver {
     /// Levenberg–Marquardt shift and an energy safeguard (falls back to the Lloyd step).
     Newton,
 }
+
+/// Where each generator moves before Algorithm 1's labels and projections (steps 2–3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Update {
+    /// To the mass centroid of its Voronoi cell: CCVT.
+    #[default]
+    Centroid,
+    /// To VTM's optimal-Delaunay target: the area-weighted mean of the circumcentres of its
+    /// Delaunay triangles inside Ω (barycentres for triangles on the boundary of that set,
+    /// `tessellation::odt_targets`). With Algorithm 1's labels this is VTM with CCVT's boundary
+    /// rule: a generator whose Voronoi cell meets ∂Ω is projected onto it, one whose cell holds
+    /// a corner goes to the corner. Plain Lloyd-type iteration only (there is no energy whose
+    /// gradient Newton or Anderson could follow), and Algorithm 1 only.
+    Odt,
+}

@@ -10,7 +10,7 @@ fn methods() -> Vec<Box<dyn Mesher>> {
         Box::new(cvtmesh::ccvt::Ccvt::algorithm1()),
         Box::new(cvtmesh::distmesh::DistMesh::default()),
         Box::new(cvtmesh::meshgen::Meshgen),
-        Box::new(cvtmesh::vtm::Vtm),
+        Box::new(cvtmesh::vtm::Vtm::default()),
         Box::new(cvtmesh::refine::Refine::default()),
     ]
 }

@@ -70,7 +70,7 @@ pub use geometry::{DVec2, Density, GeometryError, Region, Simplified, SizeField,
 pub use meshgen::Meshgen;
 pub use metrics::{measures, sampled_measures, Measures, MetricsError};
 pub use refine::Refine;
-pub use vtm::Vtm;
+pub use vtm::{Vtm, VtmBoundary};
 
 /// Mesh `region` with `n` vertices by the default method ([`Method::Ccvt`]: Algorithm 2 with
 /// Newton's method) and the default request ([`MeshRequest::points`]: seed 1, tolerance 1e-4

@@ -83,7 +83,7 @@ impl Method {
             Method::Ccvt1 => Box::new(crate::Ccvt::algorithm1()),
             Method::Distmesh => Box::new(crate::DistMesh::default()),
             Method::Meshgen => Box::new(crate::Meshgen),
-            Method::Vtm => Box::new(crate::Vtm),
+            Method::Vtm => Box::new(crate::Vtm::default()),
             Method::Refine => Box::new(crate::Refine::default()),
         }
     }

@@ -88,6 +88,67 @@ impl Region {
     pub fn pieces(&self) -> &[Piece] {
         &self.pieces
     }
+    /// The centre about which the region is rotationally symmetric: every piece a full circle
+    /// about one centre (a disc, an annulus). `None` otherwise.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    ///
+    /// assert_eq!(Region::builtin("annulus")?.rotation_centre(), Some(DVec2::ZERO));
+    /// assert_eq!(Region::builtin("pie_hole")?.rotation_centre(), None);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn rotation_centre(&self) -> Option<DVec2> {
+        let mut centre = None;
+        for piece in &self.pieces {
+            let Piece::Circle { center, .. } = piece else {
+                return None;
+            };
+            match centre {
+                None => centre = Some(*center),
+                Some(c) if c == *center => {}
+                Some(_) => return None,
+            }
+        }
+        centre
+    }
+
+    /// The moves from `old` to `new`, with the best-fitting rotation of the whole set about
+    /// [`Region::rotation_centre`], ω = Σ rᵢ × dᵢ / Σ |rᵢ|², taken out (the plain moves on a
+    /// region without one). On a disc or an annulus such a rotation changes no mesh measure,
+    /// and a boundary rule that is not an energy gradient can drive one that never dies out;
+    /// stopping rules that measure the mesh's change of shape use these moves.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    ///
+    /// let old: Vec<DVec2> = (0..12).map(|i| DVec2::from_angle(i as f64 * 0.5) * 0.5).collect();
+    /// let turned: Vec<DVec2> = old.iter().map(|p| DVec2::from_angle(1e-3).rotate(*p)).collect();
+    /// let disc = Region::builtin("circle")?;
+    /// // What is left is second order: the chord against the tangent, r θ² / 2.
+    /// assert!(disc.moves_without_rotation(&old, &turned).iter().all(|d| d.length() < 1e-6));
+    /// let square = Region::builtin("square_hole")?;
+    /// assert!(square.moves_without_rotation(&old, &turned)[0].length() > 4e-4);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn moves_without_rotation(&self, old: &[DVec2], new: &[DVec2]) -> Vec<DVec2> {
+        let moves = old.iter().zip(new).map(|(a, b)| *b - *a);
+        let Some(c) = self.rotation_centre() else {
+            return moves.collect();
+        };
+        let (mut torque, mut inertia) = (0.0, 0.0);
+        for (a, d) in old.iter().zip(moves.clone()) {
+            let r = *a - c;
+            torque += r.perp_dot(d);
+            inertia += r.length_squared();
+        }
+        let omega = if inertia > 0.0 { torque / inertia } else { 0.0 };
+        old.iter()
+            .zip(moves)
+            .map(|(a, d)| d - omega * (*a - c).perp())
+            .collect()
+    }
+
     /// Loop of each piece.
     pub fn piece_loop(&self, piece: PieceId) -> usize {
         self.piece_loop[piece]

@@ -10,6 +10,7 @@
 //!   centroid, second moments, ρ-mass and ρ-centroid, CVT energy term, h_k and the boundary pieces
 //!   it touches; exact for cells cut by holes or split by concave boundaries; parallel and
 //!   independent of the thread count.
+//! - [`odt_targets`] and [`odt_energy`]: VTM's optimal-Delaunay update on a triangle list.
 //! - [`mark_vertices`] and [`conforming_mesh`]: from generators to a mesh that passes
 //!   `mesh::check_conforming`.
 #![forbid(unsafe_code)]
@@ -22,6 +23,7 @@ mod clip;
 mod conforming;
 mod delaunay;
 mod hessian;
+mod odt;
 mod sparse;
 mod topology;
 
@@ -31,4 +33,5 @@ pub use cells::{
 pub use conforming::{conforming_mesh, mark_vertices};
 pub use delaunay::Delaunay;
 pub use hessian::{energy_hessian, energy_hessian_rows};
+pub use odt::{odt_boundary_triangles, odt_energy, odt_targets};
 pub use sparse::{dot, BlockMatrix, DOT_CHUNK};

@@ -12,124 +12,123 @@
 //! circumcenter: a flat boundary triangle's circumcenter lies far outside the region and would
 //! drag its vertices out. With a density ρ the weights are |T|·ρ(barycenter of T).
 //!
-//! The paper does not say how the original treats the boundary. Here, as in CCVT's
-//! constraint (so comparisons are fair), corners are fixed and boundary vertices slide on their
-//! own boundary side: they take the same weighted average, projected onto that side. The
-//! initial points, boundary rules and convergence test are those of [`meshgen::relax`].
+//! The paper does not say how the original treats the boundary; [`Vtm::boundary`] offers two
+//! rules:
 //!
-//! On corner-free boundaries (circle, annulus, super-ellipse) the iteration can settle into a
-//! slow rigid rotation (the mesh keeps its shape while all vertices turn by a few 1e-4·h per step):
-//! nothing pins the vertices along a closed loop and the boundary rule is not the gradient of
-//! the ODT energy. The move-based test then reports `converged = false`.
+//! - [`VtmBoundary::Sliding`] (the default): as in CCVT's constraint, corners are fixed and
+//!   boundary vertices slide on their own boundary side, taking the same weighted average
+//!   projected onto that side. The initial points, boundary rules and convergence test are
+//!   those of [`meshgen::relax`], so the number of boundary vertices is set by the start.
+//! - [`VtmBoundary::Voronoi`]: CCVT's Algorithm 1 with VTM's update in place of the centroid
+//!   ([`ccvt::Update::Odt`]): from CCVT's lattice start, a vertex whose Voronoi cell meets ∂Ω is
+//!   projected onto it and one whose cell holds a corner goes to the corner, every iteration.
+//!   This is the rule that reproduces the paper's VTM column (its vertex and triangle counts
+//!   match its CCVT(1) column's, its worst triangles are poor on the complex regions), and the
+//!   study runs it; its meshes' worst triangles are worse than the sliding rule's.
+//!
+//! On corner-free boundaries (circle, annulus, super-ellipse) the sliding iteration can settle
+//! into a slow rigid rotation (the mesh keeps its shape while all vertices turn by a few
+//! 1e-4·h per step): nothing pins the vertices along a closed loop and the boundary rule is not
+//! the gradient of the ODT energy. Its convergence test takes the best-fitting rotation out of
+//! the moves on a disc or annulus.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
-use geometry::predicates::{circumcenter, triangle_signed_area};
 use geometry::{DVec2, Density, Region};
 use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
 use meshgen::relax;
-use std::collections::HashSet;
 
-/// The VTM method. It has no parameters beyond the [`MeshRequest`].
+/// How VTM treats vertices on ∂Ω (module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum VtmBoundary {
+    /// Boundary vertices from the shared start of [`meshgen::relax`], sliding along their side.
+    #[default]
+    Sliding,
+    /// CCVT's Algorithm 1 labels: whoever's Voronoi cell meets ∂Ω is projected onto it.
+    Voronoi,
+}
+
+/// The VTM method.
+///
+/// ```
+/// use cvtmesh_vtm::{Vtm, VtmBoundary};
+/// use geometry::Region;
+/// use mesh::{check_conforming, MeshRequest, Mesher};
+///
+/// let region = Region::builtin("square_hole")?;
+/// for boundary in [VtmBoundary::Sliding, VtmBoundary::Voronoi] {
+///     let vtm = Vtm { boundary };
+///     let result = vtm.mesh(&region, &MeshRequest::points(194).seed(1), &mut |_| {})?;
+///     assert_eq!(result.mesh.num_vertices(), 194);
+///     check_conforming(&result.mesh, &region)?;
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Vtm;
+pub struct Vtm {
+    /// The boundary rule (module docs).
+    pub boundary: VtmBoundary,
+}
 
 impl Mesher for Vtm {
     fn name(&self) -> &'static str {
         "vtm"
     }
 
-    /// The coarsest boundary of the shared relaxation ([`relax::min_boundary_points`]).
+    /// The coarsest boundary of the shared relaxation ([`relax::min_boundary_points`]), or of
+    /// CCVT under [`VtmBoundary::Voronoi`].
     fn min_boundary_points(&self, region: &Region) -> usize {
-        relax::min_boundary_points(region)
+        match self.boundary {
+            VtmBoundary::Sliding => relax::min_boundary_points(region),
+            VtmBoundary::Voronoi => odt_ccvt().min_boundary_points(region),
+        }
     }
 
-    /// Relax from the shared initial points until the largest move is below `tol · h`.
-    /// `energy_history` holds [`odt_energy`].
+    /// Relax until the largest move is below `tol · h`. `energy_history` holds
+    /// [`odt_energy`].
     fn mesh(
         &self,
         region: &Region,
         request: &MeshRequest,
         progress: &mut dyn FnMut(Progress),
     ) -> Result<MeshResult, MeshError> {
-        relax::relax(
-            "vtm",
-            region,
-            request,
-            progress,
-            &|mesh: &Mesh, density: &Density| {
-                (odt_targets(mesh, density), odt_energy(mesh, density))
-            },
-        )
+        match self.boundary {
+            VtmBoundary::Sliding => relax::relax(
+                "vtm",
+                region,
+                request,
+                progress,
+                &|mesh: &Mesh, density: &Density| {
+                    (odt_targets(mesh, density), odt_energy(mesh, density))
+                },
+            ),
+            VtmBoundary::Voronoi => odt_ccvt().mesh(region, request, progress),
+        }
     }
 }
 
-/// For each triangle: does one of its edges lie on the mesh boundary (no neighbour across it)?
-fn touches_boundary(mesh: &Mesh) -> Vec<bool> {
-    let edges: HashSet<(u32, u32)> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .collect();
-    mesh.triangles
-        .iter()
-        .map(|t| {
-            [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
-                .iter()
-                .any(|&(a, b)| !edges.contains(&(b, a)))
-        })
-        .collect()
+/// CCVT's Algorithm 1 with Lloyd iteration and VTM's update.
+fn odt_ccvt() -> ccvt::Ccvt {
+    ccvt::Ccvt {
+        update: ccvt::Update::Odt,
+        ..ccvt::Ccvt::algorithm1()
+    }
 }
 
-/// VTM's target for every vertex: Σ w_T c_T / Σ w_T over its triangles, with w_T = |T|·ρ at
-/// the barycenter and c_T the circumcenter (the barycenter for triangles on the mesh
-/// boundary). A vertex in no triangle keeps its position.
+/// VTM's target for every vertex of `mesh` ([`tessellation::odt_targets`] on its triangles):
+/// Σ w_T c_T / Σ w_T over its triangles, with w_T = |T|·ρ at the barycenter and c_T the
+/// circumcenter (the barycenter for triangles on the mesh boundary). A vertex in no triangle
+/// keeps its position.
 pub fn odt_targets(mesh: &Mesh, density: &Density) -> Vec<DVec2> {
-    let n = mesh.points.len();
-    let mut num = vec![DVec2::ZERO; n];
-    let mut den = vec![0.0; n];
-    for (tri, on_boundary) in mesh.triangles.iter().zip(touches_boundary(mesh)) {
-        let [a, b, c] = tri.map(|v| mesh.points[v as usize]);
-        let area = triangle_signed_area(a, b, c);
-        if area <= 0.0 {
-            continue; // not a valid CCW triangle: no weight
-        }
-        let g = (a + b + c) / 3.0;
-        let w = area * density.at(g);
-        let centre = if on_boundary {
-            g
-        } else {
-            circumcenter(a, b, c)
-        };
-        for &v in tri {
-            num[v as usize] += w * centre;
-            den[v as usize] += w;
-        }
-    }
-    (0..n)
-        .map(|i| {
-            if den[i] > 0.0 {
-                num[i] / den[i]
-            } else {
-                mesh.points[i]
-            }
-        })
-        .collect()
+    tessellation::odt_targets(&mesh.points, &mesh.triangles, density)
 }
 
-/// The ODT energy ∫ (u_I − u) for u = |x|², u_I its piecewise-linear interpolant on the mesh:
-/// Σ_T ρ_T |T| (ℓ₁² + ℓ₂² + ℓ₃²) / 12 (ℓ the edge lengths, ρ_T the density at the barycenter).
-/// Chen's update moves each vertex to the minimiser of this energy over its patch.
+/// The ODT energy of `mesh` ([`tessellation::odt_energy`]): ∫ (u_I − u) for u = |x|², u_I its
+/// piecewise-linear interpolant, Σ_T ρ_T |T| (ℓ₁² + ℓ₂² + ℓ₃²) / 12. Chen's update moves each
+/// vertex to the minimiser of this energy over its patch.
 pub fn odt_energy(mesh: &Mesh, density: &Density) -> f64 {
-    (0..mesh.triangles.len())
-        .map(|t| {
-            let [a, b, c] = mesh.triangle(t);
-            let area = triangle_signed_area(a, b, c);
-            let l2 = (b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared();
-            density.at((a + b + c) / 3.0) * area * l2 / 12.0
-        })
-        .sum()
+    tessellation::odt_energy(&mesh.points, &mesh.triangles, density)
 }
 
 #[cfg(test)]
@@ -143,7 +142,13 @@ mod tests {
         let m = hex_patch(2);
         assert_eq!(m.num_triangles(), 24);
         // The 12 outer edges of a two-ring hexagon each bound one triangle of ring 2.
-        assert_eq!(touches_boundary(&m).iter().filter(|&&b| b).count(), 12);
+        assert_eq!(
+            tessellation::odt_boundary_triangles(&m.triangles)
+                .iter()
+                .filter(|&&b| b)
+                .count(),
+            12
+        );
         assert!((m.area() - 24.0 * 3f64.sqrt() / 4.0).abs() < 1e-12);
     }
 
