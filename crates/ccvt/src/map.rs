@@ -231,11 +231,18 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
                 .collect();
             let odt = tessellation::odt_targets(z, &triangles, phase.density);
             energy = tessellation::odt_energy(z, &triangles, phase.density);
+            // A boundary generator's patch is cut by ∂Ω; it follows CCVT's rule instead.
             cells
                 .cells
                 .par_iter()
                 .zip(&odt)
-                .map(|(c, &x)| map_cell_at(phase, c, x))
+                .map(|(c, &x)| {
+                    if c.on_boundary() {
+                        map_cell(phase, c)
+                    } else {
+                        map_cell_at(phase, c, x)
+                    }
+                })
                 .unzip()
         } else {
             cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip()

@@ -31,11 +31,12 @@ pub enum Update {
     /// To the mass centroid of its Voronoi cell: CCVT.
     #[default]
     Centroid,
-    /// To VTM's optimal-Delaunay target: the area-weighted mean of the circumcentres of its
-    /// Delaunay triangles inside Ω (barycentres for triangles on the boundary of that set,
-    /// `tessellation::odt_targets`). With Algorithm 1's labels this is VTM with CCVT's boundary
-    /// rule: a generator whose Voronoi cell meets ∂Ω is projected onto it, one whose cell holds
-    /// a corner goes to the corner. Plain Lloyd-type iteration only (there is no energy whose
-    /// gradient Newton or Anderson could follow), and Algorithm 1 only.
+    /// VTM's optimal-Delaunay target for a generator whose Voronoi cell does not meet ∂Ω: the
+    /// area-weighted mean of the circumcentres of its Delaunay triangles inside Ω (barycentres
+    /// for triangles on the boundary of that set, `tessellation::odt_targets`). A generator
+    /// whose cell meets ∂Ω follows Algorithm 1 as under `Centroid` (its centroid projected onto
+    /// ∂Ω, or the corner its cell holds): its patch of triangles is cut by ∂Ω. This is VTM with
+    /// CCVT's boundary rule. Plain Lloyd-type iteration only (there is no energy whose gradient
+    /// Newton or Anderson could follow), and Algorithm 1 only.
     Odt,
 }

@@ -19,12 +19,13 @@
 //!   boundary vertices slide on their own boundary side, taking the same weighted average
 //!   projected onto that side. The initial points, boundary rules and convergence test are
 //!   those of [`meshgen::relax`], so the number of boundary vertices is set by the start.
-//! - [`VtmBoundary::Voronoi`]: CCVT's Algorithm 1 with VTM's update in place of the centroid
-//!   ([`ccvt::Update::Odt`]): from CCVT's lattice start, a vertex whose Voronoi cell meets ∂Ω is
-//!   projected onto it and one whose cell holds a corner goes to the corner, every iteration.
-//!   This is the rule that reproduces the paper's VTM column (its vertex and triangle counts
-//!   match its CCVT(1) column's, its worst triangles are poor on the complex regions), and the
-//!   study runs it; its meshes' worst triangles are worse than the sliding rule's.
+//! - [`VtmBoundary::Voronoi`]: CCVT's Algorithm 1 with VTM's update for the vertices inside
+//!   ([`ccvt::Update::Odt`]): from CCVT's lattice start, every iteration, a vertex whose Voronoi
+//!   cell meets ∂Ω goes to its cell's centroid projected onto ∂Ω (to the corner its cell holds),
+//!   every other vertex to its VTM target. This is the rule that reproduces the paper's VTM
+//!   column (its triangle counts, hence its boundary vertex counts, match its CCVT(1) column's;
+//!   its worst boundary cells are CCVT's, its worst triangles poor on the complex regions), and
+//!   the study runs it; its meshes' worst triangles are worse than the sliding rule's.
 //!
 //! On corner-free boundaries (circle, annulus, super-ellipse) the sliding iteration can settle
 //! into a slow rigid rotation (the mesh keeps its shape while all vertices turn by a few
@@ -45,7 +46,8 @@ pub enum VtmBoundary {
     /// Boundary vertices from the shared start of [`meshgen::relax`], sliding along their side.
     #[default]
     Sliding,
-    /// CCVT's Algorithm 1 labels: whoever's Voronoi cell meets ∂Ω is projected onto it.
+    /// CCVT's Algorithm 1 on ∂Ω: a vertex whose Voronoi cell meets ∂Ω goes to its projected
+    /// centroid; VTM's update inside.
     Voronoi,
 }
 
