@@ -219,7 +219,9 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
     prof.cells += lap(&mut t);
     let (mut roles, mut targets): (Vec<Role>, Vec<DVec2>) =
         if phase.constrained && phase.update == Update::Odt {
-            // VTM's patch is the mesh: the Delaunay triangles of the generators inside Ω.
+            // VTM's patch is the mesh: the Delaunay triangles of the generators inside Ω. Not
+            // `conforming_mesh`, which refuses the transient labels of a run in progress; only
+            // interior generators take these targets, and their patches are the same in both.
             let triangles: Vec<[u32; 3]> = del
                 .triangles()
                 .into_iter()
