@@ -98,6 +98,11 @@ pub struct MeshArgs {
     /// none, the boundary as given].
     #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
     simplify: Option<String>,
+    /// Polish: move the interior vertices of triangles with an angle below this many degrees
+    /// to raise the smallest angle around them, keeping the triangles and the boundary (and a
+    /// Delaunay mesh Delaunay); 0 keeps every vertex where the method put it.
+    #[arg(long, value_name = "DEGREES", default_value_t = MeshRequest::points(0).polish_below_deg, allow_negative_numbers = true)]
+    polish: f64,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence;
     /// refuse (before any work) a region narrower than half the spacing somewhere, and (nothing
     /// written) a mesh that leaves out a tenth of the region or has triangles flatter than 1°.
@@ -161,7 +166,14 @@ fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>
             (r, None)
         }
     };
-    Ok((request.seed(a.seed).tol(a.tol).max_iter(a.max_iter), line))
+    Ok((
+        request
+            .seed(a.seed)
+            .tol(a.tol)
+            .max_iter(a.max_iter)
+            .polish(a.polish),
+        line,
+    ))
 }
 
 /// `cvtmesh mesh`: mesh, report, write.
@@ -520,6 +532,7 @@ mod tests {
             .args;
         let d = MeshRequest::points(50);
         assert_eq!((a.seed, a.tol, a.max_iter), (d.seed, d.tol, d.max_iter));
+        assert_eq!(a.polish, d.polish_below_deg);
         assert_eq!(a.tol, DEFAULT_TOL);
         assert_eq!(a.method.parse::<Method>(), Ok(Method::default()));
         assert!(a.density.is_none() && a.corner_angle.is_none());

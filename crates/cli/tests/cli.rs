@@ -1136,3 +1136,44 @@ fn an_output_that_would_replace_the_input_region_is_refused() {
         "no extension",
     );
 }
+
+/// The `min-angle=…deg` a `mesh` run prints.
+fn printed_min_angle(o: &Output) -> f64 {
+    let t = text(o);
+    let at = t.find("min-angle=").expect("a min-angle") + "min-angle=".len();
+    t[at..].split("deg").next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn polish_raises_the_smallest_angle_and_zero_turns_it_off() {
+    let dir = scratch("polish");
+    let out = dir.join("m.node");
+    let graded = [
+        "mesh",
+        "square_hole",
+        "--size-toward",
+        "loop:1",
+        "--size-threshold",
+        "0.02,0.1,0.02,0.6",
+        "--quiet",
+        "-o",
+        s(&out),
+    ];
+    let off = cvtmesh(&[&graded[..], &["--polish", "0"]].concat());
+    assert!(off.status.success(), "{}", text(&off));
+    assert!(!text(&off).contains("polish:"), "{}", text(&off));
+    let on = cvtmesh(&graded);
+    assert!(on.status.success(), "{}", text(&on));
+    let (before, after) = (printed_min_angle(&off), printed_min_angle(&on));
+    assert!(before < 40.0, "nothing to polish: {before}");
+    assert!(text(&on).contains("polish:"), "{}", text(&on));
+    assert!(after > before + 0.5, "{before} -> {after}");
+    for bad in ["75", "-1", "nan"] {
+        let _ = std::fs::remove_file(&out);
+        assert_refused(
+            &[&graded[..], &["--polish", bad]].concat(),
+            &out,
+            "--polish",
+        );
+    }
+}

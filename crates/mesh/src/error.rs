@@ -43,6 +43,9 @@ pub enum MeshError {
     /// The convergence tolerance is not a positive finite number.
     #[error("the tolerance (--tol) must be a positive finite number, got {0}")]
     InvalidTolerance(f64),
+    /// The polish threshold is not an angle from 0 to 60 degrees.
+    #[error("the polish threshold (--polish) must be an angle from 0 to 60 degrees (0: no polish), got {0}")]
+    InvalidPolish(f64),
     /// The iteration cap is zero.
     #[error("the iteration cap (--max-iter) must be at least 1")]
     ZeroMaxIter,

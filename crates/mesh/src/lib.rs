@@ -9,6 +9,7 @@ mod error;
 pub mod io;
 mod mesher;
 mod parts;
+mod polish;
 mod thin;
 mod types;
 
@@ -22,5 +23,6 @@ pub use mesher::{
     Progress, Size, BYTES_PER_VERTEX, MAX_POINTS, SIMPLIFY_SPACINGS,
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
+pub use polish::{polish, Polished, POLISH_BELOW_DEG};
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -85,6 +85,11 @@ pub struct MeshRequest {
     /// a run that reaches it hands back its mesh marked not converged (CCVT finishes each of
     /// its phases with one step more, so the mesh conforms).
     pub deadline: Option<Instant>,
+    /// Polish after meshing ([`crate::polish`]): the interior vertices of triangles with an
+    /// angle below this many degrees move to raise the smallest angle around them.
+    /// [`Mesher::mesh_parts`] applies it; 0 turns it off (the study's methods run without).
+    /// Default [`POLISH_BELOW_DEG`](crate::POLISH_BELOW_DEG).
+    pub polish_below_deg: f64,
 }
 
 impl MeshRequest {
@@ -98,6 +103,7 @@ impl MeshRequest {
             density: Density::Uniform,
             cancel: None,
             deadline: None,
+            polish_below_deg: crate::POLISH_BELOW_DEG,
         }
     }
     /// A request for a target edge length `h` (K from the region's area, see
@@ -172,6 +178,21 @@ impl MeshRequest {
     /// Builder: iteration cap.
     pub fn max_iter(mut self, n: usize) -> Self {
         self.max_iter = n;
+        self
+    }
+    /// Builder: the polish threshold in degrees ([`MeshRequest::polish_below_deg`]; 0 turns
+    /// polishing off).
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{MeshError, MeshRequest};
+    /// let circle = geometry::Region::builtin("circle")?;
+    /// assert!(MeshRequest::points(100).polish(0.0).validate(&circle).is_ok());
+    /// let e = MeshRequest::points(100).polish(75.0).validate(&circle).unwrap_err();
+    /// assert!(matches!(e, MeshError::InvalidPolish(_)));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn polish(mut self, below_deg: f64) -> Self {
+        self.polish_below_deg = below_deg;
         self
     }
     /// Builder: density.
@@ -314,6 +335,9 @@ impl MeshRequest {
         }
         if self.max_iter == 0 {
             return Err(MeshError::ZeroMaxIter);
+        }
+        if !(0.0..=60.0).contains(&self.polish_below_deg) {
+            return Err(MeshError::InvalidPolish(self.polish_below_deg));
         }
         check_density(&self.density, region)?;
         Ok(k)

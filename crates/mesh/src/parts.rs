@@ -59,6 +59,15 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             geometry::GAP_SPACINGS
         ));
     }
+    if request.polish_below_deg > 0.0 {
+        let p = crate::polish(&mut result.mesh, region, request.polish_below_deg);
+        if p.moved > 0 {
+            result.notes.push(format!(
+                "polish: {} interior vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
+                p.moved, request.polish_below_deg, p.before_deg, p.after_deg
+            ));
+        }
+    }
     // A method may hand back a mesh that leaves the region where the region is far thinner
     // than the spacing; the caller gets an error naming the place instead.
     if result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {

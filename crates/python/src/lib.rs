@@ -487,7 +487,7 @@ fn scalar_field(
 #[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
     max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
     gradation = 0.3, size_toward = Vec::new(), size_threshold = None, simplify = None,
-    time_limit = None))]
+    time_limit = None, polish = cvtmesh::POLISH_BELOW_DEG))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
@@ -506,6 +506,7 @@ fn mesh(
     size_threshold: Option<(f64, f64, f64, f64)>,
     simplify: Option<&Bound<'_, PyAny>>,
     time_limit: Option<f64>,
+    polish: f64,
 ) -> PyResult<PyMesh> {
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
@@ -566,6 +567,7 @@ fn mesh(
         .seed(seed)
         .tol(tol)
         .max_iter(max_iter)
+        .polish(polish)
         .cancel_flag(cancel.clone());
     let request = match time_limit {
         None => request,

@@ -163,6 +163,32 @@ def test_distance_fields_refine_toward_a_hole_and_a_point():
         cvtmesh.mesh("square_hole", size_toward=["loop:3"], size_threshold=(0.02, 0.2, 0, 1))
 
 
+def min_angles(points, triangles):
+    p = points[triangles]
+    angles = []
+    for i in range(3):
+        u = p[:, (i + 1) % 3] - p[:, i]
+        v = p[:, (i + 2) % 3] - p[:, i]
+        cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+        angles.append(np.degrees(np.arctan2(cross, (u * v).sum(axis=1))))
+    return np.min(angles, axis=0)
+
+
+def test_polish_raises_the_smallest_angle_and_moves_only_interior_vertices():
+    kw = dict(size_toward=["loop:1"], size_threshold=(0.02, 0.1, 0.02, 0.6))
+    raw = cvtmesh.mesh("square_hole", polish=0, **kw)
+    done = cvtmesh.mesh("square_hole", **kw)
+    assert not any(n.startswith("polish") for n in raw.notes)
+    assert any(n.startswith("polish") for n in done.notes)
+    before, after = min_angles(raw.points, raw.triangles), min_angles(done.points, done.triangles)
+    assert before.min() < 40 and after.min() > before.min() + 0.5
+    np.testing.assert_array_equal(raw.triangles, done.triangles)
+    moved = np.any(raw.points != done.points, axis=1)
+    edges = np.asarray(done.boundary_edges)
+    assert 0 < moved.sum() < 0.05 * len(moved)
+    assert not moved[edges.ravel()].any()
+
+
 def test_constant_size_gives_the_lattice_count():
     m = cvtmesh.mesh("square_hole", size=0.1, tol=1e-3)
     area = Region.builtin("square_hole").area
@@ -218,6 +244,8 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, simplify=-1.0), "simplify"),
         (dict(region="circle", n=100, time_limit=-1.0), "time_limit"),
         (dict(region="circle", n=100, time_limit=float("nan")), "time_limit"),
+        (dict(region="circle", n=100, polish=75.0), "polish threshold"),
+        (dict(region="circle", n=100, polish=float("nan")), "polish threshold"),
     ],
 )
 def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):

@@ -80,6 +80,7 @@ def mesh(
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,
+    polish: float = 40.0,
 ) -> Mesh:
     """Mesh a planar region.
 
@@ -138,6 +139,10 @@ def mesh(
         Stop iterating after this many seconds and return the mesh reached, with
         ``converged = False`` and a note (every method; CCVT ends each phase with one more
         step, so the mesh conforms). Default: none.
+    polish
+        Move the interior vertices of triangles with an angle below this many degrees to
+        raise the smallest angle around them, keeping the triangles, the boundary and the
+        Delaunay property; ``0`` keeps every vertex where the method put it. Default: 40.
 
     Raises
     ------
@@ -172,6 +177,7 @@ def mesh(
         gradation=gradation,
         simplify=simplify,
         time_limit=time_limit,
+        polish=polish,
     )
 
 

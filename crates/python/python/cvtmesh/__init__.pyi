@@ -33,5 +33,6 @@ def mesh(
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,
+    polish: float = 40.0,
 ) -> Mesh: ...
 def measures(points: npt.ArrayLike, triangles: npt.ArrayLike, region: RegionLike) -> dict[str, float]: ...

@@ -80,6 +80,7 @@ def mesh(
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,
+    polish: float = 40.0,
 ) -> Mesh: ...
 def measures(
     points: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], region: Region

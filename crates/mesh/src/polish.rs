@@ -1,0 +1,479 @@
+//! Polish: raise the smallest angles of a finished mesh by moving the interior vertices of its
+//! worst triangles, as Gmsh smooths after Frontal-Delaunay.
+//!
+//! A CCVT mesh's worst triangles sit in the boundary layer, an edge on ∂Ω and the third vertex
+//! inside, where the boundary spacing and the interior lattice meet. Each interior vertex of a
+//! triangle whose smallest angle is below the threshold moves to where the smallest angle of
+//! its star (the triangles around it) is largest, found by a pattern search. Connectivity stays
+//! as it is and a move is kept only if it raises that star's smallest angle, so the mesh's
+//! smallest angle never falls; boundary vertices, and every vertex of a better triangle, stay
+//! where the method put them. A move that would leave an edge of the star not locally Delaunay
+//! (a vertex across it inside a triangle's circumcircle) is refused as well, so a Delaunay mesh
+//! stays one: its dual is still the Voronoi diagram finite-volume schemes use.
+//!
+//! Cost: one pass over the triangles per sweep, O(K̃), plus a bounded search per vertex moved.
+use crate::types::{triangle_min_angle_deg, Mesh, VertexMarker};
+use geometry::{DVec2, Region};
+use rayon::prelude::*;
+
+/// The default threshold (degrees): triangles with a smaller angle have their interior
+/// vertices polished. Above Gmsh Frontal-Delaunay's smallest angles on graded fields
+/// (33.9–37.6°, `docs/performance.md`), below a uniform CCVT mesh's (42° on the circle).
+pub const POLISH_BELOW_DEG: f64 = 40.0;
+
+/// Sweeps over the triangles still below the threshold: a vertex moved in one sweep changes
+/// its neighbours' stars, which the next sweep revisits.
+const SWEEPS: usize = 4;
+/// First step of the pattern search, relative to the shortest edge at the vertex, and the step
+/// at which it stops.
+const FIRST_STEP: f64 = 0.1;
+const LAST_STEP: f64 = 1e-3;
+/// Directions tried at each step (evenly spaced, the first along the vertex's first edge, so
+/// that the search turns with the mesh).
+const DIRECTIONS: usize = 8;
+/// A vertex lies inside a circumcircle when the in-circle determinant exceeds this multiple of
+/// the triangle's longest edge to the fourth power: rounding on cocircular points (a lattice)
+/// is not a violation.
+const INCIRCLE_TOL: f64 = 1e-10;
+/// Least twice-area of a star triangle, relative to its longest edge squared: a move that
+/// would flatten one below this is refused.
+const MIN_SHAPE: f64 = 1e-6;
+
+/// What [`polish`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Polished {
+    /// Vertices moved (each counted once however many sweeps moved it).
+    pub moved: usize,
+    /// Smallest angle of the mesh before, in degrees.
+    pub before_deg: f64,
+    /// Smallest angle after, in degrees (never below `before_deg`).
+    pub after_deg: f64,
+}
+
+/// Move the interior vertices of the triangles whose smallest angle is below `below_deg`
+/// to raise the smallest angle around each, keeping every triangle, every boundary vertex and
+/// the region's interior: see the module documentation. A threshold of 0 (or a mesh with no
+/// triangle below it) leaves the mesh as it is. Deterministic: the vertices are visited in the
+/// order of their worst triangle's angle.
+///
+/// ```
+/// use cvtmesh_mesh::{polish, Mesh, VertexMarker};
+/// use geometry::{DVec2, LoopRole, Region};
+///
+/// // The unit square cut into four triangles around an off-centre interior vertex.
+/// let corners = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+/// let square = Region::from_loops("square", vec![(LoopRole::Outer, corners)])?;
+/// let corner = |c: usize, t: f64| VertexMarker::Corner { loop_index: 0, corner: c, loop_param: t };
+/// let mut mesh = Mesh {
+///     points: vec![
+///         DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0),
+///         DVec2::new(0.0, 1.0), DVec2::new(0.8, 0.3),
+///     ],
+///     triangles: vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
+///     markers: vec![corner(0, 0.0), corner(1, 1.0), corner(2, 2.0), corner(3, 3.0),
+///                   VertexMarker::Interior],
+/// };
+/// let p = polish(&mut mesh, &square, 40.0);
+/// assert_eq!(p.moved, 1);
+/// assert!(p.after_deg > 44.9 && p.after_deg > p.before_deg);
+/// assert!((mesh.points[4] - DVec2::new(0.5, 0.5)).length() < 1e-2); // the centre
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
+    let angles = |mesh: &Mesh| -> Vec<f64> {
+        (0..mesh.num_triangles())
+            .into_par_iter()
+            .map(|t| triangle_min_angle_deg(mesh.triangle(t)))
+            .collect()
+    };
+    let smallest = |a: &[f64]| a.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut angle = angles(mesh);
+    let before = smallest(&angle);
+    let mut moved = vec![false; mesh.num_vertices()];
+    if below_deg > 0.0 && before < below_deg {
+        let stars = Stars::new(mesh);
+        for _ in 0..SWEEPS {
+            // The interior vertices of the triangles below the threshold, worst triangle first.
+            let mut bad: Vec<(f64, usize)> = angle
+                .iter()
+                .enumerate()
+                .filter(|(_, a)| **a < below_deg)
+                .map(|(t, a)| (*a, t))
+                .collect();
+            bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let mut seen = vec![false; mesh.num_vertices()];
+            let mut any = false;
+            for (_, t) in bad {
+                for v in mesh.triangles[t] {
+                    let v = v as usize;
+                    if seen[v] || !matches!(mesh.markers[v], VertexMarker::Interior) {
+                        continue;
+                    }
+                    seen[v] = true;
+                    if let Some(p) = best_place(mesh, &stars, v, region) {
+                        mesh.points[v] = p;
+                        moved[v] = true;
+                        any = true;
+                        for &s in stars.of(v) {
+                            angle[s as usize] = triangle_min_angle_deg(mesh.triangle(s as usize));
+                        }
+                    }
+                }
+            }
+            if !any {
+                break;
+            }
+        }
+    }
+    let after = smallest(&angle);
+    Polished {
+        moved: moved.iter().filter(|m| **m).count(),
+        before_deg: before,
+        after_deg: after,
+    }
+}
+
+/// The triangles around each vertex, in compressed rows.
+struct Stars {
+    start: Vec<u32>,
+    tris: Vec<u32>,
+}
+
+impl Stars {
+    fn new(mesh: &Mesh) -> Stars {
+        let mut start = vec![0u32; mesh.num_vertices() + 1];
+        for t in &mesh.triangles {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..mesh.num_vertices() {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut tris = vec![0u32; start[mesh.num_vertices()] as usize];
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            for &v in t {
+                tris[fill[v as usize] as usize] = k as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Stars { start, tris }
+    }
+
+    fn of(&self, v: usize) -> &[u32] {
+        &self.tris[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+
+    /// The vertex across edge (a, b) from triangle `t`: the third vertex of the other triangle
+    /// on that edge (None on the mesh's boundary).
+    fn across(&self, mesh: &Mesh, t: u32, a: u32, b: u32) -> Option<u32> {
+        let other = self
+            .of(a as usize)
+            .iter()
+            .find(|&&s| s != t && mesh.triangles[s as usize].contains(&b))?;
+        mesh.triangles[*other as usize]
+            .into_iter()
+            .find(|&u| u != a && u != b)
+    }
+}
+
+/// Positive when `d` lies inside the circumcircle of the counter-clockwise triangle `q`.
+fn incircle(q: [DVec2; 3], d: DVec2) -> f64 {
+    let [a, b, c] = q.map(|p| p - d);
+    let (la, lb, lc) = (a.length_squared(), b.length_squared(), c.length_squared());
+    a.x * (b.y * lc - lb * c.y) - a.y * (b.x * lc - lb * c.x) + la * (b.x * c.y - b.y * c.x)
+}
+
+/// A triangle of `v`'s star with the vertex across each of its edges (`u32::MAX` on the
+/// mesh's boundary).
+struct StarTriangle {
+    corners: [u32; 3],
+    across: [u32; 3],
+}
+
+/// The smallest angle of `v`'s star with `v` at `p`, or None where a star triangle would be
+/// flat or turned over, or (`delaunay`) a vertex across one of its edges would lie inside its
+/// circumcircle.
+fn star_min_angle(
+    mesh: &Mesh,
+    star: &[StarTriangle],
+    v: usize,
+    p: DVec2,
+    delaunay: bool,
+) -> Option<f64> {
+    let at = |u: u32| {
+        if u as usize == v {
+            p
+        } else {
+            mesh.points[u as usize]
+        }
+    };
+    let mut least = f64::INFINITY;
+    for t in star {
+        let q = t.corners.map(at);
+        let twice_area = (q[1] - q[0]).perp_dot(q[2] - q[0]);
+        let longest = (0..3)
+            .map(|i| (q[(i + 1) % 3] - q[i]).length_squared())
+            .fold(0.0, f64::max);
+        // Also refuses a NaN area.
+        if twice_area.partial_cmp(&(MIN_SHAPE * longest)) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        if delaunay {
+            let tol = INCIRCLE_TOL * longest * longest;
+            if t.across
+                .iter()
+                .any(|&d| d != u32::MAX && incircle(q, at(d)) > tol)
+            {
+                return None;
+            }
+        }
+        least = least.min(triangle_min_angle_deg(q));
+    }
+    Some(least)
+}
+
+/// Where `v` raises its star's smallest angle most, by a pattern search (None if nowhere
+/// better was found, or the vertex has no triangles).
+fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<DVec2> {
+    let star: Vec<StarTriangle> = stars
+        .of(v)
+        .iter()
+        .map(|&t| {
+            let c = mesh.triangles[t as usize];
+            StarTriangle {
+                corners: c,
+                across: [0, 1, 2].map(|i| {
+                    stars
+                        .across(mesh, t, c[i], c[(i + 1) % 3])
+                        .unwrap_or(u32::MAX)
+                }),
+            }
+        })
+        .collect();
+    let start = mesh.points[v];
+    // The start is not held to the Delaunay test: a method's mesh need not pass it exactly.
+    let mut best = star_min_angle(mesh, &star, v, start, false)?;
+    // The shortest edge at v sets the scale; the first edge sets the directions.
+    let others = star.iter().flat_map(|t| t.corners);
+    let mut shortest = f64::INFINITY;
+    let mut first = None;
+    for u in others.filter(|&u| u as usize != v) {
+        let e = mesh.points[u as usize] - start;
+        shortest = shortest.min(e.length());
+        first.get_or_insert(e);
+    }
+    let axis = first?.try_normalize()?;
+    let dirs: Vec<DVec2> = (0..DIRECTIONS)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / DIRECTIONS as f64;
+            DVec2::from_angle(a).rotate(axis)
+        })
+        .collect();
+    let mut p = start;
+    let mut step = FIRST_STEP * shortest;
+    while step > LAST_STEP * shortest {
+        let mut improved = false;
+        for d in &dirs {
+            let q = p + *d * step;
+            if let Some(a) = star_min_angle(mesh, &star, v, q, true) {
+                if a > best && region.contains(q) {
+                    (best, p, improved) = (a, q, true);
+                }
+            }
+        }
+        if !improved {
+            step *= 0.5;
+        }
+    }
+    (p != start).then_some(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The square [lo, hi]² as a region.
+    fn square(lo: f64, hi: f64) -> Region {
+        let c = [(lo, lo), (hi, lo), (hi, hi), (lo, hi)].map(|(x, y)| DVec2::new(x, y));
+        Region::from_loops("square", vec![(geometry::LoopRole::Outer, c.to_vec())]).unwrap()
+    }
+
+    /// A structured triangulation of the unit square (n × n cells, each cut along a diagonal),
+    /// its interior vertices displaced by `jitter(i, j)`.
+    fn grid(n: usize, jitter: impl Fn(usize, usize) -> DVec2) -> (Mesh, Region) {
+        let square = square(0.0, 1.0);
+        let mut points = Vec::new();
+        let mut markers = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let x = DVec2::new(i as f64, j as f64) / n as f64;
+                let edge = i == 0 || j == 0 || i == n || j == n;
+                if edge {
+                    // A boundary marker; polish only tells interior from the rest.
+                    markers.push(VertexMarker::Boundary {
+                        loop_index: 0,
+                        piece: 0,
+                        loop_param: 0.0,
+                    });
+                    points.push(x);
+                } else {
+                    markers.push(VertexMarker::Interior);
+                    points.push(x + jitter(i, j) / n as f64);
+                }
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                // Each cell cut along its Delaunay diagonal.
+                let [a, b, c, d] = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
+                let q = [a, b, c].map(|u| points[u as usize]);
+                if incircle(q, points[d as usize]) > 0.0 {
+                    triangles.push([a, b, d]);
+                    triangles.push([b, c, d]);
+                } else {
+                    triangles.push([a, b, c]);
+                    triangles.push([a, c, d]);
+                }
+            }
+        }
+        (
+            Mesh {
+                points,
+                triangles,
+                markers,
+            },
+            square,
+        )
+    }
+
+    fn area(mesh: &Mesh) -> f64 {
+        (0..mesh.num_triangles())
+            .map(|t| {
+                let q = mesh.triangle(t);
+                0.5 * (q[1] - q[0]).perp_dot(q[2] - q[0])
+            })
+            .sum()
+    }
+
+    /// A deterministic jitter of up to `a` cell widths.
+    fn wobble(a: f64) -> impl Fn(usize, usize) -> DVec2 {
+        move |i, j| {
+            let s = ((i * 7919 + j * 104_729) % 1000) as f64 / 1000.0;
+            DVec2::from_angle(std::f64::consts::TAU * s) * a * (0.3 + 0.7 * s)
+        }
+    }
+
+    /// Every interior edge locally Delaunay (within the polish's own tolerance).
+    fn is_delaunay(mesh: &Mesh) -> bool {
+        let stars = Stars::new(mesh);
+        (0..mesh.num_triangles() as u32).all(|t| {
+            let c = mesh.triangles[t as usize];
+            let q = mesh.triangle(t as usize);
+            let longest = (0..3)
+                .map(|i| (q[(i + 1) % 3] - q[i]).length_squared())
+                .fold(0.0, f64::max);
+            (0..3).all(|i| {
+                stars.across(mesh, t, c[i], c[(i + 1) % 3]).is_none_or(|d| {
+                    incircle(q, mesh.points[d as usize]) <= INCIRCLE_TOL * longest * longest
+                })
+            })
+        })
+    }
+
+    #[test]
+    fn the_smallest_angle_rises_and_the_mesh_stays_a_delaunay_triangulation_of_the_square() {
+        let (mut mesh, square) = grid(12, wobble(0.2));
+        assert!(is_delaunay(&mesh));
+        let triangles = mesh.triangles.clone();
+        let boundary: Vec<(usize, DVec2)> = (0..mesh.num_vertices())
+            .filter(|&v| mesh.markers[v] != VertexMarker::Interior)
+            .map(|v| (v, mesh.points[v]))
+            .collect();
+        let p = polish(&mut mesh, &square, 40.0);
+        assert!(p.moved > 0);
+        // A right isosceles triangle has 45°: without the jitter the grid's smallest angle.
+        assert!(p.before_deg < 36.0, "{p:?}");
+        assert!(p.after_deg > p.before_deg + 3.0, "{p:?}");
+        assert!(is_delaunay(&mesh));
+        let now = (0..mesh.num_triangles())
+            .map(|t| triangle_min_angle_deg(mesh.triangle(t)))
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(now, p.after_deg);
+        assert_eq!(mesh.triangles, triangles);
+        for (v, x) in boundary {
+            assert_eq!(mesh.points[v], x);
+        }
+        for t in 0..mesh.num_triangles() {
+            let q = mesh.triangle(t);
+            assert!(
+                (q[1] - q[0]).perp_dot(q[2] - q[0]) > 0.0,
+                "triangle {t} turned over"
+            );
+        }
+        assert!((area(&mesh) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nothing_moves_without_a_triangle_below_the_threshold_or_at_threshold_zero() {
+        let (mut mesh, square) = grid(6, |_, _| DVec2::ZERO);
+        let before = mesh.points.clone();
+        let p = polish(&mut mesh, &square, 40.0);
+        assert_eq!(p.moved, 0);
+        assert!((p.before_deg - 45.0).abs() < 1e-9 && p.after_deg == p.before_deg);
+        assert_eq!(mesh.points, before);
+        let (mut jittered, _) = grid(6, wobble(0.2));
+        let before = jittered.points.clone();
+        assert_eq!(polish(&mut jittered, &square, 0.0).moved, 0);
+        assert_eq!(jittered.points, before);
+    }
+
+    #[test]
+    fn polishing_turns_with_the_mesh() {
+        // One interior vertex off the centre of a hexagon of boundary vertices, and the same
+        // star turned by 0.7 rad about the origin: the polished vertex turns with it.
+        let star = |a: f64| {
+            let turn = |p: DVec2| DVec2::from_angle(a).rotate(p);
+            let mut points: Vec<DVec2> = (0..6)
+                .map(|k| turn(DVec2::from_angle(std::f64::consts::TAU * k as f64 / 6.0)))
+                .collect();
+            points.push(turn(DVec2::new(0.45, -0.2)));
+            let mut markers = vec![
+                VertexMarker::Boundary {
+                    loop_index: 0,
+                    piece: 0,
+                    loop_param: 0.0,
+                };
+                6
+            ];
+            markers.push(VertexMarker::Interior);
+            let triangles = (0..6u32).map(|k| [k, (k + 1) % 6, 6]).collect();
+            Mesh {
+                points,
+                triangles,
+                markers,
+            }
+        };
+        let big = square(-2.0, 2.0);
+        let (mut plain, mut turned) = (star(0.0), star(0.7));
+        let p = polish(&mut plain, &big, 50.0);
+        let q = polish(&mut turned, &big, 50.0);
+        assert_eq!((p.moved, q.moved), (1, 1));
+        assert!(p.after_deg > 55.0, "{p:?}");
+        assert!((p.after_deg - q.after_deg).abs() < 1e-9, "{p:?} {q:?}");
+        let back = DVec2::from_angle(0.7).rotate(plain.points[6]);
+        assert!((back - turned.points[6]).length() < 1e-9);
+    }
+
+    #[test]
+    fn the_same_mesh_gives_the_same_bytes() {
+        let (mut a, square) = grid(10, wobble(0.2));
+        let mut b = a.clone();
+        polish(&mut a, &square, 40.0);
+        polish(&mut b, &square, 40.0);
+        assert_eq!(a.points, b.points);
+    }
+}
