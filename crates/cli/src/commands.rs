@@ -98,9 +98,10 @@ pub struct MeshArgs {
     /// none, the boundary as given].
     #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
     simplify: Option<String>,
-    /// Polish: move the interior vertices of triangles with an angle below this many degrees
-    /// to raise the smallest angle around them, keeping the triangles and the boundary (and a
-    /// Delaunay mesh Delaunay); 0 keeps every vertex where the method put it.
+    /// Polish: move the vertices of triangles with an angle below this many degrees to raise
+    /// the smallest angle around them (boundary vertices along the boundary, corners fixed),
+    /// keeping the triangles (and a Delaunay mesh Delaunay); 0 keeps every vertex where the
+    /// method put it.
     #[arg(long, value_name = "DEGREES", default_value_t = MeshRequest::points(0).polish_below_deg, allow_negative_numbers = true)]
     polish: f64,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence;

@@ -1018,12 +1018,23 @@ fn a_channel_thinner_than_the_spacing_is_named_and_refused_under_strict() {
     assert!(!out.exists());
 }
 
-/// Meshes `input` with `method` at K = 300: the command succeeds with `warning` on stderr;
-/// with --strict it fails saying `--strict: ` and `refusal`, and leaves no file.
+/// Meshes `input` with `method` at K = 300, unpolished (the method's own mesh): the command
+/// succeeds with `warning` on stderr; with --strict it fails saying `--strict: ` and `refusal`,
+/// and leaves no file.
 fn warns_then_refuses_under_strict(input: &Path, method: &str, warning: &str, refusal: &str) {
     let out = input.with_extension("node");
     let args = |strict: bool| {
-        let mut v = vec!["mesh", s(input), "-n", "300", "-m", method, "-q"];
+        let mut v = vec![
+            "mesh",
+            s(input),
+            "-n",
+            "300",
+            "-m",
+            method,
+            "--polish",
+            "0",
+            "-q",
+        ];
         if strict {
             v.push("--strict");
         }
@@ -1089,6 +1100,8 @@ fn slivers_are_named_and_refused_under_strict() {
         "300",
         "-m",
         "distmesh",
+        "--polish",
+        "0",
         "-q",
         "-o",
         s(&fan),

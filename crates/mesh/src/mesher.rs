@@ -85,8 +85,8 @@ pub struct MeshRequest {
     /// a run that reaches it hands back its mesh marked not converged (CCVT finishes each of
     /// its phases with one step more, so the mesh conforms).
     pub deadline: Option<Instant>,
-    /// Polish after meshing ([`crate::polish`]): the interior vertices of triangles with an
-    /// angle below this many degrees move to raise the smallest angle around them.
+    /// Polish after meshing ([`crate::polish`]): the vertices of triangles with an angle below
+    /// this many degrees (corners excepted) move to raise the smallest angle around them.
     /// [`Mesher::mesh_parts`] applies it; 0 turns it off (the study's methods run without).
     /// Default [`POLISH_BELOW_DEG`](crate::POLISH_BELOW_DEG).
     pub polish_below_deg: f64,

@@ -48,6 +48,31 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             .notes
             .push("stopped at the time limit before converging".into());
     }
+    // Polished in the terms of the region the method meshed, so that corners added at bends
+    // stay put; undone if it made the mesh leave the region (a boundary edge moved across a
+    // narrow gap), which the check below would otherwise refuse.
+    if request.polish_below_deg > 0.0 {
+        let unpolished = result.mesh.clone();
+        let p = crate::polish(&mut result.mesh, work, request.polish_below_deg);
+        if p.moved > 0 {
+            let check = result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT;
+            if check
+                && check_conforming(&result.mesh, work).is_err()
+                && check_conforming(&unpolished, work).is_ok()
+            {
+                result.mesh = unpolished;
+                result.notes.push(format!(
+                    "polish undone: moving {} vertices made the mesh leave the region",
+                    p.moved
+                ));
+            } else {
+                result.notes.push(format!(
+                    "polish: {} vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
+                    p.moved, request.polish_below_deg, p.before_deg, p.after_deg
+                ));
+            }
+        }
+    }
     if let Some(bent) = &bent {
         unbend(&mut result.mesh, bent, region);
         result.notes.push(format!(
@@ -58,15 +83,6 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             bent.gaps,
             geometry::GAP_SPACINGS
         ));
-    }
-    if request.polish_below_deg > 0.0 {
-        let p = crate::polish(&mut result.mesh, region, request.polish_below_deg);
-        if p.moved > 0 {
-            result.notes.push(format!(
-                "polish: {} interior vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
-                p.moved, request.polish_below_deg, p.before_deg, p.after_deg
-            ));
-        }
     }
     // A method may hand back a mesh that leaves the region where the region is far thinner
     // than the spacing; the caller gets an error naming the place instead.

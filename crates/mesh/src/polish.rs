@@ -2,12 +2,13 @@
 //! worst triangles, as Gmsh smooths after Frontal-Delaunay.
 //!
 //! A CCVT mesh's worst triangles sit in the boundary layer, an edge on ∂Ω and the third vertex
-//! inside, where the boundary spacing and the interior lattice meet. Each interior vertex of a
-//! triangle whose smallest angle is below the threshold moves to where the smallest angle of
-//! its star (the triangles around it) is largest, found by a pattern search. Connectivity stays
-//! as it is and a move is kept only if it raises that star's smallest angle, so the mesh's
-//! smallest angle never falls; boundary vertices, and every vertex of a better triangle, stay
-//! where the method put them. A move that would leave an edge of the star not locally Delaunay
+//! inside, or three boundary vertices at a corner, where the boundary spacing and the interior
+//! lattice meet. Each vertex of a triangle whose smallest angle is below the threshold moves to
+//! where the smallest angle of its star (the triangles around it) is largest, found by a
+//! pattern search: an interior vertex anywhere in the region, a boundary vertex along its own
+//! piece (projected back onto it, never onto a corner). Connectivity stays as it is and a move
+//! is kept only if it raises that star's smallest angle, so the mesh's smallest angle never
+//! falls; corners, and every vertex of a better triangle, stay where the method put them. A move that would leave an edge of the star not locally Delaunay
 //! (a vertex across it inside a triangle's circumcircle) is refused as well, so a Delaunay mesh
 //! stays one: its dual is still the Voronoi diagram finite-volume schemes use.
 //!
@@ -23,11 +24,11 @@ pub const POLISH_BELOW_DEG: f64 = 40.0;
 
 /// Sweeps over the triangles still below the threshold: a vertex moved in one sweep changes
 /// its neighbours' stars, which the next sweep revisits.
-const SWEEPS: usize = 4;
+const SWEEPS: usize = 3;
 /// First step of the pattern search, relative to the shortest edge at the vertex, and the step
 /// at which it stops.
 const FIRST_STEP: f64 = 0.1;
-const LAST_STEP: f64 = 1e-3;
+const LAST_STEP: f64 = 4e-3;
 /// Directions tried at each step (evenly spaced, the first along the vertex's first edge, so
 /// that the search turns with the mesh).
 const DIRECTIONS: usize = 8;
@@ -50,9 +51,10 @@ pub struct Polished {
     pub after_deg: f64,
 }
 
-/// Move the interior vertices of the triangles whose smallest angle is below `below_deg`
-/// to raise the smallest angle around each, keeping every triangle, every boundary vertex and
-/// the region's interior: see the module documentation. A threshold of 0 (or a mesh with no
+/// Move the vertices of the triangles whose smallest angle is below `below_deg` to raise the
+/// smallest angle around each, keeping every triangle and corner, boundary vertices on their
+/// piece (their markers follow) and interior ones inside the region: see the module
+/// documentation. A threshold of 0 (or a mesh with no
 /// triangle below it) leaves the mesh as it is. Deterministic: the vertices are visited in the
 /// order of their worst triangle's angle.
 ///
@@ -80,42 +82,48 @@ pub struct Polished {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
-    let angles = |mesh: &Mesh| -> Vec<f64> {
-        (0..mesh.num_triangles())
-            .into_par_iter()
-            .map(|t| triangle_min_angle_deg(mesh.triangle(t)))
-            .collect()
+    // Triangles are compared by the cosine of their smallest angle (larger is worse): no
+    // inverse trigonometric function in the passes over all triangles or in the search.
+    let mut cosine: Vec<f64> = (0..mesh.num_triangles())
+        .into_par_iter()
+        .map(|t| smallest_angle_cos(mesh.triangle(t)))
+        .collect();
+    let worst_deg = |mesh: &Mesh, cosine: &[f64]| {
+        let worst = (0..cosine.len()).max_by(|&a, &b| cosine[a].total_cmp(&cosine[b]));
+        worst.map_or(f64::INFINITY, |t| triangle_min_angle_deg(mesh.triangle(t)))
     };
-    let smallest = |a: &[f64]| a.iter().copied().fold(f64::INFINITY, f64::min);
-    let mut angle = angles(mesh);
-    let before = smallest(&angle);
+    let before = worst_deg(mesh, &cosine);
+    let limit = below_deg.to_radians().cos();
     let mut moved = vec![false; mesh.num_vertices()];
-    if below_deg > 0.0 && before < below_deg {
+    if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
         for _ in 0..SWEEPS {
-            // The interior vertices of the triangles below the threshold, worst triangle first.
-            let mut bad: Vec<(f64, usize)> = angle
+            // The vertices of the triangles below the threshold, worst triangle first.
+            let mut bad: Vec<(f64, usize)> = cosine
                 .iter()
                 .enumerate()
-                .filter(|(_, a)| **a < below_deg)
-                .map(|(t, a)| (*a, t))
+                .filter(|(_, c)| **c > limit)
+                .map(|(t, c)| (*c, t))
                 .collect();
-            bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
             let mut seen = vec![false; mesh.num_vertices()];
             let mut any = false;
             for (_, t) in bad {
                 for v in mesh.triangles[t] {
                     let v = v as usize;
-                    if seen[v] || !matches!(mesh.markers[v], VertexMarker::Interior) {
+                    if seen[v] || matches!(mesh.markers[v], VertexMarker::Corner { .. }) {
                         continue;
                     }
                     seen[v] = true;
                     if let Some(p) = best_place(mesh, &stars, v, region) {
                         mesh.points[v] = p;
+                        if let VertexMarker::Boundary { piece, .. } = mesh.markers[v] {
+                            mesh.markers[v] = VertexMarker::on_piece(region, p, piece);
+                        }
                         moved[v] = true;
                         any = true;
                         for &s in stars.of(v) {
-                            angle[s as usize] = triangle_min_angle_deg(mesh.triangle(s as usize));
+                            cosine[s as usize] = smallest_angle_cos(mesh.triangle(s as usize));
                         }
                     }
                 }
@@ -125,11 +133,24 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
             }
         }
     }
-    let after = smallest(&angle);
     Polished {
         moved: moved.iter().filter(|m| **m).count(),
         before_deg: before,
-        after_deg: after,
+        after_deg: worst_deg(mesh, &cosine),
+    }
+}
+
+/// The cosine of the smallest angle of triangle `q` (opposite its shortest side), by the law
+/// of cosines: 0.5 for an equilateral triangle, 1 for a flat one (and for a side of length 0).
+fn smallest_angle_cos(q: [DVec2; 3]) -> f64 {
+    let l = [0, 1, 2].map(|i| (q[(i + 2) % 3] - q[(i + 1) % 3]).length_squared());
+    let k = (0..3).min_by(|&a, &b| l[a].total_cmp(&l[b])).unwrap_or(0);
+    let (b, c) = (l[(k + 1) % 3], l[(k + 2) % 3]);
+    let cos = (b + c - l[k]) / (2.0 * (b * c).sqrt());
+    if cos.is_finite() {
+        cos.min(1.0)
+    } else {
+        1.0
     }
 }
 
@@ -192,16 +213,10 @@ struct StarTriangle {
     across: [u32; 3],
 }
 
-/// The smallest angle of `v`'s star with `v` at `p`, or None where a star triangle would be
-/// flat or turned over, or (`delaunay`) a vertex across one of its edges would lie inside its
-/// circumcircle.
-fn star_min_angle(
-    mesh: &Mesh,
-    star: &[StarTriangle],
-    v: usize,
-    p: DVec2,
-    delaunay: bool,
-) -> Option<f64> {
+/// The cosine of the smallest angle of `v`'s star with `v` at `p` (the largest of its
+/// triangles' [`smallest_angle_cos`]), or None where a star triangle would be flat or turned
+/// over, or (`delaunay`) a vertex across one of its edges would lie inside its circumcircle.
+fn star_cos(mesh: &Mesh, star: &[StarTriangle], v: usize, p: DVec2, delaunay: bool) -> Option<f64> {
     let at = |u: u32| {
         if u as usize == v {
             p
@@ -209,7 +224,7 @@ fn star_min_angle(
             mesh.points[u as usize]
         }
     };
-    let mut least = f64::INFINITY;
+    let mut worst = f64::NEG_INFINITY;
     for t in star {
         let q = t.corners.map(at);
         let twice_area = (q[1] - q[0]).perp_dot(q[2] - q[0]);
@@ -229,9 +244,9 @@ fn star_min_angle(
                 return None;
             }
         }
-        least = least.min(triangle_min_angle_deg(q));
+        worst = worst.max(smallest_angle_cos(q));
     }
-    Some(least)
+    Some(worst)
 }
 
 /// Where `v` raises its star's smallest angle most, by a pattern search (None if nowhere
@@ -254,32 +269,75 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
         .collect();
     let start = mesh.points[v];
     // The start is not held to the Delaunay test: a method's mesh need not pass it exactly.
-    let mut best = star_min_angle(mesh, &star, v, start, false)?;
-    // The shortest edge at v sets the scale; the first edge sets the directions.
-    let others = star.iter().flat_map(|t| t.corners);
+    let mut best = star_cos(mesh, &star, v, start, false)?;
+    let piece = match mesh.markers[v] {
+        VertexMarker::Interior => None,
+        VertexMarker::Boundary { piece, .. } => Some(piece),
+        VertexMarker::Corner { .. } => return None,
+    };
+    // The shortest edge at v sets the scale. An interior vertex tries DIRECTIONS directions
+    // turned from its first edge; a boundary vertex slides toward either boundary neighbour
+    // (the ends of its star's edges with no triangle across), back onto its piece.
     let mut shortest = f64::INFINITY;
     let mut first = None;
-    for u in others.filter(|&u| u as usize != v) {
-        let e = mesh.points[u as usize] - start;
-        shortest = shortest.min(e.length());
-        first.get_or_insert(e);
+    let mut along = Vec::new();
+    for t in &star {
+        for i in 0..3 {
+            let (a, b) = (t.corners[i], t.corners[(i + 1) % 3]);
+            let u = if a as usize == v {
+                b
+            } else if b as usize == v {
+                a
+            } else {
+                continue;
+            };
+            let e = mesh.points[u as usize] - start;
+            shortest = shortest.min(e.length());
+            first.get_or_insert(e);
+            if t.across[i] == u32::MAX {
+                along.push(e.try_normalize()?);
+            }
+        }
     }
-    let axis = first?.try_normalize()?;
-    let dirs: Vec<DVec2> = (0..DIRECTIONS)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / DIRECTIONS as f64;
-            DVec2::from_angle(a).rotate(axis)
-        })
-        .collect();
+    let dirs: Vec<DVec2> = match piece {
+        None => {
+            let axis = first?.try_normalize()?;
+            (0..DIRECTIONS)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / DIRECTIONS as f64;
+                    DVec2::from_angle(a).rotate(axis)
+                })
+                .collect()
+        }
+        Some(_) => along,
+    };
+    let place = |p: DVec2, q: DVec2| -> Option<DVec2> {
+        match piece {
+            None => region.contains(q).then_some(q),
+            // Not onto a corner, nor past a bend of a sampled piece (the edge would cut it).
+            Some(j) => {
+                let bp = region.project_onto_piece(q, j);
+                (bp.corner.is_none() && region.chain_vertex_between(p, bp.point, j).is_none())
+                    .then_some(bp.point)
+            }
+        }
+    };
     let mut p = start;
     let mut step = FIRST_STEP * shortest;
     while step > LAST_STEP * shortest {
         let mut improved = false;
         for d in &dirs {
             let q = p + *d * step;
-            if let Some(a) = star_min_angle(mesh, &star, v, q, true) {
-                if a > best && region.contains(q) {
-                    (best, p, improved) = (a, q, true);
+            if let Some(c) = star_cos(mesh, &star, v, q, true) {
+                if c < best {
+                    // The region is asked only for a candidate that would be kept.
+                    if let Some(q) = place(p, q) {
+                        if let Some(c) = star_cos(mesh, &star, v, q, true) {
+                            if c < best {
+                                (best, p, improved) = (c, q, true);
+                            }
+                        }
+                    }
                 }
             }
         }
@@ -311,10 +369,11 @@ mod tests {
                 let x = DVec2::new(i as f64, j as f64) / n as f64;
                 let edge = i == 0 || j == 0 || i == n || j == n;
                 if edge {
-                    // A boundary marker; polish only tells interior from the rest.
-                    markers.push(VertexMarker::Boundary {
+                    // Held fixed as corners are (polish tells only interior, boundary and
+                    // corner vertices apart).
+                    markers.push(VertexMarker::Corner {
                         loop_index: 0,
-                        piece: 0,
+                        corner: 0,
                         loop_param: 0.0,
                     });
                     points.push(x);
@@ -402,7 +461,7 @@ mod tests {
         let now = (0..mesh.num_triangles())
             .map(|t| triangle_min_angle_deg(mesh.triangle(t)))
             .fold(f64::INFINITY, f64::min);
-        assert_eq!(now, p.after_deg);
+        assert!((now - p.after_deg).abs() < 1e-9, "{now} {p:?}");
         assert_eq!(mesh.triangles, triangles);
         for (v, x) in boundary {
             assert_eq!(mesh.points[v], x);
@@ -442,9 +501,9 @@ mod tests {
                 .collect();
             points.push(turn(DVec2::new(0.45, -0.2)));
             let mut markers = vec![
-                VertexMarker::Boundary {
+                VertexMarker::Corner {
                     loop_index: 0,
-                    piece: 0,
+                    corner: 0,
                     loop_param: 0.0,
                 };
                 6
@@ -466,6 +525,78 @@ mod tests {
         assert!((p.after_deg - q.after_deg).abs() < 1e-9, "{p:?} {q:?}");
         let back = DVec2::from_angle(0.7).rotate(plain.points[6]);
         assert!((back - turned.points[6]).length() < 1e-9);
+    }
+
+    #[test]
+    fn a_boundary_vertex_slides_along_its_piece() {
+        // The unit square fanned from an interior vertex, with a boundary vertex on the bottom
+        // side (piece 0) crowded toward the right-hand corner.
+        let square = square(0.0, 1.0);
+        let corner = |c: usize| VertexMarker::Corner {
+            loop_index: 0,
+            corner: c,
+            loop_param: c as f64,
+        };
+        let b = DVec2::new(0.85, 0.0);
+        let mut mesh = Mesh {
+            points: vec![
+                DVec2::new(0.0, 0.0),
+                DVec2::new(1.0, 0.0),
+                DVec2::new(1.0, 1.0),
+                DVec2::new(0.0, 1.0),
+                b,
+                DVec2::new(0.5, 0.45),
+            ],
+            triangles: vec![[0, 4, 5], [4, 1, 5], [1, 2, 5], [2, 3, 5], [3, 0, 5]],
+            markers: vec![
+                corner(0),
+                corner(1),
+                corner(2),
+                corner(3),
+                VertexMarker::on_piece(&square, b, 0),
+                VertexMarker::Interior,
+            ],
+        };
+        let p = polish(&mut mesh, &square, 40.0);
+        assert!(p.after_deg > p.before_deg + 5.0, "{p:?}");
+        let moved = mesh.points[4];
+        assert!(moved.y == 0.0 && moved.x < 0.8 && moved.x > 0.2, "{moved}");
+        assert_eq!(mesh.markers[4], VertexMarker::on_piece(&square, moved, 0));
+        assert!(
+            matches!(mesh.markers[4], VertexMarker::Boundary { loop_param, .. } if (loop_param - moved.x).abs() < 1e-12)
+        );
+        assert_eq!(&mesh.points[..4], &square_corners());
+    }
+
+    fn square_corners() -> [DVec2; 4] {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y))
+    }
+
+    #[test]
+    fn the_smallest_angle_by_its_cosine_agrees_with_the_angle() {
+        let tri =
+            |a: (f64, f64), b: (f64, f64), c: (f64, f64)| [a, b, c].map(|(x, y)| DVec2::new(x, y));
+        let h = 3f64.sqrt() / 2.0;
+        assert!((smallest_angle_cos(tri((0.0, 0.0), (1.0, 0.0), (0.5, h))) - 0.5).abs() < 1e-15);
+        assert_eq!(
+            smallest_angle_cos(tri((0.0, 0.0), (1.0, 0.0), (2.0, 0.0))),
+            1.0
+        );
+        assert_eq!(
+            smallest_angle_cos(tri((0.0, 0.0), (0.0, 0.0), (1.0, 0.0))),
+            1.0
+        );
+        for (k, q) in [
+            tri((0.0, 0.0), (1.0, 0.0), (1.0, 1.0)),
+            tri((0.1, -0.3), (2.0, 0.4), (0.7, 0.9)),
+            tri((0.0, 0.0), (5.0, 0.1), (2.5, 0.3)),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let deg = smallest_angle_cos(q).acos().to_degrees();
+            assert!((deg - triangle_min_angle_deg(q)).abs() < 1e-9, "{k}: {deg}");
+        }
     }
 
     #[test]

@@ -140,9 +140,10 @@ def mesh(
         ``converged = False`` and a note (every method; CCVT ends each phase with one more
         step, so the mesh conforms). Default: none.
     polish
-        Move the interior vertices of triangles with an angle below this many degrees to
-        raise the smallest angle around them, keeping the triangles, the boundary and the
-        Delaunay property; ``0`` keeps every vertex where the method put it. Default: 40.
+        Move the vertices of triangles with an angle below this many degrees to raise the
+        smallest angle around them (boundary vertices along the boundary, corners fixed),
+        keeping the triangles and the Delaunay property; ``0`` keeps every vertex where the
+        method put it. Default: 40.
 
     Raises
     ------
