@@ -22,8 +22,9 @@ use rayon::prelude::*;
 /// (33.9–37.6°, `docs/performance.md`), below a uniform CCVT mesh's (42° on the circle).
 pub const POLISH_BELOW_DEG: f64 = 40.0;
 
-/// Sweeps over the triangles still below the threshold: a vertex moved in one sweep changes
-/// its neighbours' stars, which the next sweep revisits.
+/// Rounds of sweeps (interior vertices, then boundary ones) over the triangles still below the
+/// threshold: a vertex moved in one sweep changes its neighbours' stars, which the next
+/// revisits.
 const SWEEPS: usize = 3;
 /// First step of the pattern search, relative to the shortest edge at the vertex, and the step
 /// at which it stops.
@@ -97,38 +98,13 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
     let mut moved = vec![false; mesh.num_vertices()];
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
+        // Each round moves interior vertices first, then boundary vertices only for the
+        // triangles still below the threshold (a boundary vertex off its place costs the cells
+        // around it more: see design-notes, "Polish").
         for _ in 0..SWEEPS {
-            // The vertices of the triangles below the threshold, worst triangle first.
-            let mut bad: Vec<(f64, usize)> = cosine
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| **c > limit)
-                .map(|(t, c)| (*c, t))
-                .collect();
-            bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-            let mut seen = vec![false; mesh.num_vertices()];
-            let mut any = false;
-            for (_, t) in bad {
-                for v in mesh.triangles[t] {
-                    let v = v as usize;
-                    if seen[v] || matches!(mesh.markers[v], VertexMarker::Corner { .. }) {
-                        continue;
-                    }
-                    seen[v] = true;
-                    if let Some(p) = best_place(mesh, &stars, v, region) {
-                        mesh.points[v] = p;
-                        if let VertexMarker::Boundary { piece, .. } = mesh.markers[v] {
-                            mesh.markers[v] = VertexMarker::on_piece(region, p, piece);
-                        }
-                        moved[v] = true;
-                        any = true;
-                        for &s in stars.of(v) {
-                            cosine[s as usize] = smallest_angle_cos(mesh.triangle(s as usize));
-                        }
-                    }
-                }
-            }
-            if !any {
+            let inside = sweep(mesh, region, &stars, &mut cosine, limit, &mut moved, false);
+            let along = sweep(mesh, region, &stars, &mut cosine, limit, &mut moved, true);
+            if !inside && !along {
                 break;
             }
         }
@@ -138,6 +114,55 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
         before_deg: before,
         after_deg: worst_deg(mesh, &cosine),
     }
+}
+
+/// One sweep: each movable vertex (interior ones, or with `boundary` boundary ones) of the
+/// triangles whose smallest angle's cosine exceeds `limit`, worst triangle first, moved to its
+/// best place. Whether any moved.
+fn sweep(
+    mesh: &mut Mesh,
+    region: &Region,
+    stars: &Stars,
+    cosine: &mut [f64],
+    limit: f64,
+    moved: &mut [bool],
+    boundary: bool,
+) -> bool {
+    let mut bad: Vec<(f64, usize)> = cosine
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| **c > limit)
+        .map(|(t, c)| (*c, t))
+        .collect();
+    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut seen = vec![false; mesh.num_vertices()];
+    let mut any = false;
+    for (_, t) in bad {
+        for v in mesh.triangles[t] {
+            let v = v as usize;
+            let movable = match mesh.markers[v] {
+                VertexMarker::Interior => !boundary,
+                VertexMarker::Boundary { .. } => boundary,
+                VertexMarker::Corner { .. } => false,
+            };
+            if seen[v] || !movable {
+                continue;
+            }
+            seen[v] = true;
+            if let Some(p) = best_place(mesh, stars, v, region) {
+                mesh.points[v] = p;
+                if let VertexMarker::Boundary { piece, .. } = mesh.markers[v] {
+                    mesh.markers[v] = VertexMarker::on_piece(region, p, piece);
+                }
+                moved[v] = true;
+                any = true;
+                for &s in stars.of(v) {
+                    cosine[s as usize] = smallest_angle_cos(mesh.triangle(s as usize));
+                }
+            }
+        }
+    }
+    any
 }
 
 /// The cosine of the smallest angle of triangle `q` (opposite its shortest side), by the law
@@ -557,6 +582,8 @@ mod tests {
                 VertexMarker::Interior,
             ],
         };
+        // No place of the interior vertex alone lifts the thin triangle at (1, 0): the boundary
+        // vertex slides toward the middle of its side.
         let p = polish(&mut mesh, &square, 40.0);
         assert!(p.after_deg > p.before_deg + 5.0, "{p:?}");
         let moved = mesh.points[4];
