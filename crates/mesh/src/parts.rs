@@ -49,18 +49,15 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             .push("stopped at the time limit before converging".into());
     }
     // Polished in the terms of the region the method meshed, so that corners added at bends
-    // stay put; undone if it made the mesh leave the region (a boundary edge moved across a
-    // narrow gap), which the check below would otherwise refuse.
+    // stay put; undone if the polished mesh leaves the region (a boundary edge moved across a
+    // narrow gap), which the check below would refuse.
     if request.polish_below_deg > 0.0 {
-        let unpolished = result.mesh.clone();
         let p = crate::polish(&mut result.mesh, work, request.polish_below_deg);
         if p.moved > 0 {
             let check = result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT;
-            if check
-                && check_conforming(&result.mesh, work).is_err()
-                && check_conforming(&unpolished, work).is_ok()
-            {
-                result.mesh = unpolished;
+            if check && check_conforming(&result.mesh, work).is_err() {
+                // The method's own mesh then meets the check below as it would have.
+                p.undo(&mut result.mesh);
                 result.notes.push(format!(
                     "polish undone: moving {} vertices made the mesh leave the region",
                     p.moved

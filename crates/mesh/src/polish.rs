@@ -42,7 +42,7 @@ const INCIRCLE_TOL: f64 = 1e-10;
 const MIN_SHAPE: f64 = 1e-6;
 
 /// What [`polish`] did.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Polished {
     /// Vertices moved (each counted once however many sweeps moved it).
     pub moved: usize,
@@ -50,6 +50,19 @@ pub struct Polished {
     pub before_deg: f64,
     /// Smallest angle after, in degrees (never below `before_deg`).
     pub after_deg: f64,
+    /// Each moved vertex's place and marker before (what [`Polished::undo`] restores): a
+    /// copy of the moved vertices only, not of the mesh.
+    before: Vec<(u32, DVec2, VertexMarker)>,
+}
+
+impl Polished {
+    /// Put the moved vertices of `mesh` (the mesh [`polish`] was given) back where they were.
+    pub fn undo(&self, mesh: &mut Mesh) {
+        for &(v, p, m) in &self.before {
+            mesh.points[v as usize] = p;
+            mesh.markers[v as usize] = m;
+        }
+    }
 }
 
 /// Move the vertices of the triangles whose smallest angle is below `below_deg` to raise the
@@ -95,7 +108,10 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
     };
     let before = worst_deg(mesh, &cosine);
     let limit = below_deg.to_radians().cos();
-    let mut moved = vec![false; mesh.num_vertices()];
+    let mut moved = Moved {
+        flag: vec![false; mesh.num_vertices()],
+        before: Vec::new(),
+    };
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
         // Each round moves interior vertices first, then boundary vertices only for the
@@ -110,10 +126,17 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
         }
     }
     Polished {
-        moved: moved.iter().filter(|m| **m).count(),
+        moved: moved.before.len(),
         before_deg: before,
         after_deg: worst_deg(mesh, &cosine),
+        before: moved.before,
     }
+}
+
+/// The vertices moved so far, and their places and markers before.
+struct Moved {
+    flag: Vec<bool>,
+    before: Vec<(u32, DVec2, VertexMarker)>,
 }
 
 /// One sweep: each movable vertex (interior ones, or with `boundary` boundary ones) of the
@@ -125,7 +148,7 @@ fn sweep(
     stars: &Stars,
     cosine: &mut [f64],
     limit: f64,
-    moved: &mut [bool],
+    moved: &mut Moved,
     boundary: bool,
 ) -> bool {
     let mut bad: Vec<(f64, usize)> = cosine
@@ -150,11 +173,16 @@ fn sweep(
             }
             seen[v] = true;
             if let Some(p) = best_place(mesh, stars, v, region) {
+                if !moved.flag[v] {
+                    moved.flag[v] = true;
+                    moved
+                        .before
+                        .push((v as u32, mesh.points[v], mesh.markers[v]));
+                }
                 mesh.points[v] = p;
                 if let VertexMarker::Boundary { piece, .. } = mesh.markers[v] {
                     mesh.markers[v] = VertexMarker::on_piece(region, p, piece);
                 }
-                moved[v] = true;
                 any = true;
                 for &s in stars.of(v) {
                     cosine[s as usize] = smallest_angle_cos(mesh.triangle(s as usize));
@@ -624,6 +652,17 @@ mod tests {
             let deg = smallest_angle_cos(q).acos().to_degrees();
             assert!((deg - triangle_min_angle_deg(q)).abs() < 1e-9, "{k}: {deg}");
         }
+    }
+
+    #[test]
+    fn undo_restores_the_mesh_polish_was_given() {
+        let (original, square) = grid(10, wobble(0.2));
+        let mut mesh = original.clone();
+        let p = polish(&mut mesh, &square, 40.0);
+        assert!(p.moved > 0 && mesh.points != original.points);
+        p.undo(&mut mesh);
+        assert_eq!(mesh.points, original.points);
+        assert_eq!(mesh.markers, original.markers);
     }
 
     #[test]
