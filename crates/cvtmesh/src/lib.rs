@@ -4,7 +4,7 @@
 //! triangular mesh generators* (Computational Geometry 42, 2009).
 //!
 //! This is the crate a Rust user depends on. It re-exports the types of the workspace's
-//! crates and offers one call, [`mesh`], for the common case:
+//! crates and offers one call, [`mesh`](fn@mesh), for the common case:
 //!
 //! ```
 //! use cvtmesh::Region;
