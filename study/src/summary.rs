@@ -120,7 +120,7 @@ pub struct SignificantScore {
 }
 
 /// Test every (table, quality measure) cell among `methods` on our `kind` of measures, at
-/// α = [`ALPHA`], skipping Table 6's γ and h as [`score`] does so that the counts compare.
+/// α = [`ALPHA`], skipping Table 6's γ and h as `score` does so that the counts compare.
 pub fn significant_score(
     rows: &[Row],
     tables: &[&TableSpec],
