@@ -654,6 +654,34 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// On any jittered grid: the smallest angle never falls, no triangle turns over, the
+        /// triangles still tile the square, and a Delaunay mesh stays Delaunay.
+        #[test]
+        fn polish_never_lowers_the_smallest_angle(
+            n in 3usize..9,
+            amplitude in 0.0f64..0.2,
+            salt in 0usize..1000,
+            below in 30.0f64..60.0,
+        ) {
+            let jitter = move |i: usize, j: usize| {
+                let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
+                DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
+            };
+            let (mut mesh, square) = grid(n, jitter);
+            let delaunay = is_delaunay(&mesh);
+            let p = polish(&mut mesh, &square, below);
+            proptest::prop_assert!(p.after_deg >= p.before_deg - 1e-9, "{:?}", p);
+            for t in 0..mesh.num_triangles() {
+                let q = mesh.triangle(t);
+                proptest::prop_assert!((q[1] - q[0]).perp_dot(q[2] - q[0]) > 0.0);
+            }
+            proptest::prop_assert!((area(&mesh) - 1.0).abs() < 1e-12);
+            proptest::prop_assert!(!delaunay || is_delaunay(&mesh));
+        }
+    }
+
     #[test]
     fn undo_restores_the_mesh_polish_was_given() {
         let (original, square) = grid(10, wobble(0.2));
