@@ -57,6 +57,11 @@ pub struct Fidelity {
     pub basis: Basis,
     /// The paper's value (true scale).
     pub paper: f64,
+    /// Half a unit in the paper's last printed digit ([`PaperCell::half_unit`]): the printed
+    /// number stands for `paper ± half_unit`.
+    ///
+    /// [`PaperCell::half_unit`]: crate::paper::PaperCell::half_unit
+    pub half_unit: f64,
     /// Our values over seeds, sorted.
     pub ours: Vec<f64>,
 }
@@ -72,12 +77,14 @@ impl Fidelity {
         self.paper / self.median()
     }
 
-    /// Where the paper's number falls; `None` without values.
+    /// Where the paper's number falls; `None` without values. It is inside our range when any
+    /// value it rounds to is (a deterministic method equals the paper's number when its value
+    /// prints the same).
     pub fn position(&self) -> Option<Position> {
         let (first, last) = (self.ours.first()?, self.ours.last()?);
-        Some(if self.paper < *first {
+        Some(if self.paper + self.half_unit < *first {
             Position::Below
-        } else if self.paper > *last {
+        } else if self.paper - self.half_unit > *last {
             Position::Above
         } else {
             let below = self.ours.iter().filter(|&&v| v < self.paper).count() as f64;
@@ -176,6 +183,7 @@ pub fn compare(
                     method,
                     basis,
                     paper: c.value,
+                    half_unit: c.half_unit(m),
                     ours: v,
                 });
             }
@@ -284,7 +292,9 @@ pub fn render_fidelity(
         out,
         "Ours: {seeds}. For every number the paper prints, where it falls among our values of \
          the same (table, method, measure): inside our range (the mid-rank percentile pNN), or \
-         below/above it (with the paper's number over our median). \"Near\" means within \
+         below/above it (with the paper's number over our median). A printed number stands for \
+         every value that rounds to it (± half a unit in its last digit): it is in our range if \
+         any of them is. \"Near\" means within \
          ±{:.0} % of our median. Shares count the twelve quality measures (Table 6's misprinted \
          γ and h left out): 142 cells per method.\n\n\
          Three bases: **exact, paper's scale** is our exact measures with τ and d taken at the \
@@ -424,8 +434,28 @@ mod tests {
             method: MethodId::Ccvt2,
             basis: Basis::Sampled,
             paper,
+            half_unit: 0.0,
             ours: v,
         }
+    }
+
+    #[test]
+    fn a_printed_number_is_in_range_where_any_value_it_rounds_to_is() {
+        // Printed "1.00" at ×10: 0.100 ± 0.0005.
+        let c = |ours: &[f64]| Fidelity {
+            half_unit: 0.0005,
+            ..cell(0.1, ours)
+        };
+        assert!(c(&[0.1004]).in_range());
+        assert!(c(&[0.0996, 0.0997]).in_range());
+        assert_eq!(c(&[0.1006]).position(), Some(Position::Below));
+        assert_eq!(c(&[0.0994]).position(), Some(Position::Above));
+        let tables = PaperTables::embedded().unwrap();
+        let lambda = tables.cell(1, Measure::Lambda, MethodId::Triangle).unwrap();
+        // Table 1 prints λ × 10² = 0.38.
+        assert!((lambda.half_unit(Measure::Lambda) - 0.5e-4).abs() < 1e-18);
+        let k = tables.cell(1, Measure::K, MethodId::Triangle).unwrap();
+        assert_eq!(k.half_unit(Measure::K), 0.5);
     }
 
     #[test]

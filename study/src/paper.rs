@@ -156,6 +156,19 @@ pub struct PaperCell {
     pub value: f64,
 }
 
+impl PaperCell {
+    /// Half a unit in the last printed digit, at the measure's true scale: the number as
+    /// typeset stands for every value that rounds to it, `value ± half_unit`. The paper prints
+    /// K and K̃ as integers and every measure with two decimals after its row's ×10ⁿ.
+    pub fn half_unit(&self, m: Measure) -> f64 {
+        let decimals = match m {
+            Measure::K | Measure::Ktilde => 0,
+            _ => 2,
+        };
+        0.5 * 10f64.powi(-decimals - self.true_exp)
+    }
+}
+
 /// Corrections of known defects in the source text's row labels: (table, measure, extra
 /// exponent). Table 4's q and Table 9's h print ten times the measure under an unscaled label.
 const LABEL_CORRECTIONS: [(u8, Measure, i32); 2] = [(4, Measure::Q, 1), (9, Measure::H, 1)];
