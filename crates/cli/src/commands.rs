@@ -296,6 +296,67 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     Ok(())
 }
 
+/// `cvtmesh polish`.
+#[derive(Args)]
+pub struct PolishArgs {
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj;
+    /// its boundary vertices are those the file marks, or those on an edge of one triangle.
+    mesh: PathBuf,
+    /// The region the mesh is of (file or built-in name): boundary vertices slide along it.
+    #[arg(long, short)]
+    region: String,
+    /// Move the vertices of triangles with an angle below this many degrees.
+    #[arg(long, value_name = "DEGREES", default_value_t = cvtmesh::POLISH_BELOW_DEG, allow_negative_numbers = true)]
+    below: f64,
+    /// Output file; the format follows the extension, as for `mesh`.
+    #[arg(long, short)]
+    output: PathBuf,
+}
+
+/// `cvtmesh polish`: a mesh from any tool, polished as `mesh` polishes its own.
+pub fn polish(a: PolishArgs) -> Result<()> {
+    inputs::output_kind(&a.output)?;
+    inputs::check_not_input(&a.output, &[a.mesh.as_path()])?;
+    if !(0.0..=60.0).contains(&a.below) {
+        bail!(
+            "--below must be an angle from 0 to 60 degrees, got {}",
+            a.below
+        );
+    }
+    let region = inputs::region(&a.region, None)?;
+    let mut mesh = inputs::mesh(&a.mesh)?;
+    cvtmesh::io::restore_markers(&mut mesh, &region);
+    if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
+        bail!(
+            "the mesh does not conform to region '{}' ({e}): its boundary vertices cannot be placed on the region; nothing written",
+            region.name()
+        );
+    }
+    let start = Instant::now();
+    let p = cvtmesh::polish(&mut mesh, &region, a.below);
+    let undone = p.moved > 0 && cvtmesh::check_conforming(&mesh, &region).is_err();
+    if undone {
+        p.undo(&mut mesh);
+        eprintln!(
+            "note: polish undone: moving {} vertices made the mesh leave the region",
+            p.moved
+        );
+    }
+    let title = format!("{} polished K={}", region.name(), mesh.num_vertices());
+    inputs::write(&mesh, &region, &a.output, &title)?;
+    outln!(
+        "K={} K~={} moved={} min-angle={:.2}deg -> {:.2}deg {:.2}s -> {}",
+        mesh.num_vertices(),
+        mesh.num_triangles(),
+        if undone { 0 } else { p.moved },
+        p.before_deg,
+        if undone { p.before_deg } else { p.after_deg },
+        start.elapsed().as_secs_f64(),
+        a.output.display()
+    );
+    Ok(())
+}
+
 /// `cvtmesh measure`.
 #[derive(Args)]
 pub struct MeasureArgs {

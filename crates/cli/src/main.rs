@@ -40,6 +40,13 @@ enum Command {
         after_help = "Examples:\n  cvtmesh measure out.node --region circle\n  cvtmesh measure out.msh --region my_region.json --csv"
     )]
     Measure(commands::MeasureArgs),
+    /// Raise the smallest angles of a mesh made by any tool: the vertices of its worst
+    /// triangles move (boundary ones along the region's boundary, corners fixed), the triangles
+    /// stay.
+    #[command(
+        after_help = "Examples:\n  cvtmesh polish gmsh_mesh.msh --region lake -o lake_polished.msh\n  cvtmesh polish out.node --region my_region.json --below 35 -o polished.vtu"
+    )]
+    Polish(commands::PolishArgs),
     /// Draw a mesh or a region to PNG or SVG, optionally coloured by a per-triangle quality.
     #[command(
         after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh -o out.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
@@ -54,6 +61,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Mesh(a) => commands::mesh(a),
         Command::Measure(a) => commands::measure(a),
+        Command::Polish(a) => commands::polish(a),
         Command::Show(a) => commands::show(a),
         Command::Regions => commands::regions(),
     };

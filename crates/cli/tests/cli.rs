@@ -1190,3 +1190,73 @@ fn polish_raises_the_smallest_angle_and_zero_turns_it_off() {
         );
     }
 }
+
+#[test]
+fn polish_raises_the_smallest_angle_of_a_mesh_from_a_file() {
+    let dir = scratch("polish_file");
+    let raw = dir.join("raw.msh");
+    let o = cvtmesh(&[
+        "mesh",
+        "square_hole",
+        "--size-toward",
+        "loop:1",
+        "--size-threshold",
+        "0.02,0.1,0.02,0.6",
+        "--polish",
+        "0",
+        "--quiet",
+        "-o",
+        s(&raw),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let before = printed_min_angle(&o);
+    let out = dir.join("polished.node");
+    let o = cvtmesh(&["polish", s(&raw), "--region", "square_hole", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    let after: f64 = t
+        .split("-> ")
+        .nth(1)
+        .unwrap()
+        .split("deg")
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        after > before + 0.5 && after >= 40.0,
+        "{before} -> {after}: {t}"
+    );
+    // The polished mesh conforms (measure would warn otherwise) and keeps its triangles.
+    let m = cvtmesh(&["measure", s(&out), "--region", "square_hole", "--csv"]);
+    assert!(
+        m.status.success() && !text(&m).contains("warning"),
+        "{}",
+        text(&m)
+    );
+    let triangles =
+        |t: &str| -> String { t.lines().last().unwrap().split(',').nth(1).unwrap().into() };
+    let r = cvtmesh(&["measure", s(&raw), "--region", "square_hole", "--csv"]);
+    assert_eq!(triangles(&text(&m)), triangles(&text(&r)));
+    // A threshold out of range, and a mesh of another region, are refused with nothing written.
+    let bad = dir.join("bad.node");
+    assert_refused(
+        &[
+            "polish",
+            s(&raw),
+            "--region",
+            "square_hole",
+            "--below",
+            "90",
+            "-o",
+            s(&bad),
+        ],
+        &bad,
+        "--below",
+    );
+    assert_refused(
+        &["polish", s(&raw), "--region", "circle", "-o", s(&bad)],
+        &bad,
+        "does not conform",
+    );
+}
