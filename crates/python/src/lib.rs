@@ -383,6 +383,58 @@ impl PyMesh {
         measures_dict(py, &m)
     }
 
+    /// A polished copy: the vertices of triangles with an angle below `below` degrees move to
+    /// raise the smallest angle around them (boundary vertices along the region's boundary,
+    /// corners fixed, the triangles kept), against the region the mesh was made for or
+    /// `region` (needed for a mesh read from a file). Its notes say how many moved.
+    #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG))]
+    fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
+        let region = match (region, &self.region) {
+            (Some(r), _) => r.inner.clone(),
+            (None, Some(r)) => r.clone(),
+            (None, None) => {
+                return Err(err(
+                    "this mesh was read from a file: pass the region, mesh.polished(region)",
+                ))
+            }
+        };
+        if !(0.0..=60.0).contains(&below) {
+            return Err(err(format!(
+                "below must be an angle from 0 to 60 degrees, got {below}"
+            )));
+        }
+        let mut mesh = self.mesh.clone();
+        let note = py.detach(|| -> Result<String, String> {
+            cvtmesh::io::restore_markers(&mut mesh, &region);
+            cvtmesh::check_conforming(&mesh, &region).map_err(|e| {
+                format!("the mesh does not conform to region '{}' ({e})", region.name())
+            })?;
+            let p = cvtmesh::polish(&mut mesh, &region, below);
+            Ok(if p.moved > 0 && cvtmesh::check_conforming(&mesh, &region).is_err() {
+                p.undo(&mut mesh);
+                format!("polish undone: moving {} vertices made the mesh leave the region", p.moved)
+            } else {
+                format!(
+                    "polish: {} vertices of triangles with an angle below {below}° moved, smallest angle {:.2}° -> {:.2}°",
+                    p.moved, p.before_deg, p.after_deg
+                )
+            })
+        });
+        let note = note.map_err(err)?;
+        let mut notes = self.notes.clone();
+        notes.push(note);
+        let history = self.energy_history.bind(py).to_vec()?;
+        PyMesh::new(
+            py,
+            mesh,
+            Some(region),
+            self.converged,
+            self.iterations,
+            notes,
+            history,
+        )
+    }
+
     /// Read a mesh file (.node/.ele, .msh, .obj).
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {

@@ -475,3 +475,25 @@ def test_a_mesh_that_leaves_out_part_of_the_region_warns(tmp_path):
         warnings.simplefilter("error")
         m = cvtmesh.mesh(Region.from_file(str(ring)), n=300, method="ccvt1")
     assert any(n.startswith("polish") for n in m.notes)
+
+
+def test_a_mesh_read_from_a_file_can_be_polished(tmp_path):
+    kw = dict(size_toward=["loop:1"], size_threshold=(0.02, 0.1, 0.02, 0.6))
+    raw = cvtmesh.mesh("square_hole", polish=0, **kw)
+    path = str(tmp_path / "raw.msh")
+    raw.write(path)
+    read = cvtmesh.Mesh.read(path)
+    with pytest.raises(MeshError, match="pass the region"):
+        read.polished()
+    region = Region.builtin("square_hole")
+    with pytest.raises(MeshError, match="below"):
+        read.polished(region, below=90)
+    done = read.polished(region)
+    before = min_angles(read.points, read.triangles).min()
+    after = min_angles(done.points, done.triangles).min()
+    assert after > before + 0.5 and after >= 40
+    np.testing.assert_array_equal(done.triangles, read.triangles)
+    assert done.notes[-1].startswith("polish:")
+    # The same as polishing while meshing.
+    made = cvtmesh.mesh("square_hole", **kw)
+    assert after == pytest.approx(min_angles(made.points, made.triangles).min(), abs=1e-9)
