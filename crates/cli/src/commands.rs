@@ -333,14 +333,9 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         );
     }
     let start = Instant::now();
-    let p = cvtmesh::polish(&mut mesh, &region, a.below);
-    let undone = p.moved > 0 && cvtmesh::check_conforming(&mesh, &region).is_err();
-    if undone {
-        p.undo(&mut mesh);
-        eprintln!(
-            "note: polish undone: moving {} vertices made the mesh leave the region",
-            p.moved
-        );
+    let report = cvtmesh::polish_within(&mut mesh, &region, a.below);
+    if !report.kept {
+        eprintln!("note: {report}");
     }
     let title = format!("{} polished K={}", region.name(), mesh.num_vertices());
     inputs::write(&mesh, &region, &a.output, &title)?;
@@ -348,9 +343,17 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         "K={} K~={} moved={} min-angle={:.2}deg -> {:.2}deg {:.2}s -> {}",
         mesh.num_vertices(),
         mesh.num_triangles(),
-        if undone { 0 } else { p.moved },
-        p.before_deg,
-        if undone { p.before_deg } else { p.after_deg },
+        if report.kept {
+            report.polished.moved
+        } else {
+            0
+        },
+        report.polished.before_deg,
+        if report.kept {
+            report.polished.after_deg
+        } else {
+            report.polished.before_deg
+        },
         start.elapsed().as_secs_f64(),
         a.output.display()
     );

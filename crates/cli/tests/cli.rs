@@ -1150,6 +1150,21 @@ fn an_output_that_would_replace_the_input_region_is_refused() {
     );
 }
 
+/// `mesh` of square_hole refined toward its hole, quietly, to `out`.
+fn graded_square_hole(out: &Path) -> Vec<&str> {
+    vec![
+        "mesh",
+        "square_hole",
+        "--size-toward",
+        "loop:1",
+        "--size-threshold",
+        "0.02,0.1,0.02,0.6",
+        "--quiet",
+        "-o",
+        s(out),
+    ]
+}
+
 /// The `min-angle=…deg` a `mesh` run prints.
 fn printed_min_angle(o: &Output) -> f64 {
     let t = text(o);
@@ -1161,17 +1176,7 @@ fn printed_min_angle(o: &Output) -> f64 {
 fn polish_raises_the_smallest_angle_and_zero_turns_it_off() {
     let dir = scratch("polish");
     let out = dir.join("m.node");
-    let graded = [
-        "mesh",
-        "square_hole",
-        "--size-toward",
-        "loop:1",
-        "--size-threshold",
-        "0.02,0.1,0.02,0.6",
-        "--quiet",
-        "-o",
-        s(&out),
-    ];
+    let graded = graded_square_hole(&out);
     let off = cvtmesh(&[&graded[..], &["--polish", "0"]].concat());
     assert!(off.status.success(), "{}", text(&off));
     assert!(!text(&off).contains("polish:"), "{}", text(&off));
@@ -1195,19 +1200,7 @@ fn polish_raises_the_smallest_angle_and_zero_turns_it_off() {
 fn polish_raises_the_smallest_angle_of_a_mesh_from_a_file() {
     let dir = scratch("polish_file");
     let raw = dir.join("raw.msh");
-    let o = cvtmesh(&[
-        "mesh",
-        "square_hole",
-        "--size-toward",
-        "loop:1",
-        "--size-threshold",
-        "0.02,0.1,0.02,0.6",
-        "--polish",
-        "0",
-        "--quiet",
-        "-o",
-        s(&raw),
-    ]);
+    let o = cvtmesh(&[&graded_square_hole(&raw)[..], &["--polish", "0"]].concat());
     assert!(o.status.success(), "{}", text(&o));
     let before = printed_min_angle(&o);
     let out = dir.join("polished.node");

@@ -52,22 +52,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // stay put; undone if the polished mesh leaves the region (a boundary edge moved across a
     // narrow gap), which the check below would refuse.
     if request.polish_below_deg > 0.0 {
-        let p = crate::polish(&mut result.mesh, work, request.polish_below_deg);
-        if p.moved > 0 {
-            let check = result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT;
-            if check && check_conforming(&result.mesh, work).is_err() {
-                // The method's own mesh then meets the check below as it would have.
-                p.undo(&mut result.mesh);
-                result.notes.push(format!(
-                    "polish undone: moving {} vertices made the mesh leave the region",
-                    p.moved
-                ));
-            } else {
-                result.notes.push(format!(
-                    "polish: {} vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
-                    p.moved, request.polish_below_deg, p.before_deg, p.after_deg
-                ));
-            }
+        // Undone, the method's own mesh meets the check below as it would have.
+        let report = crate::polish_within(&mut result.mesh, work, request.polish_below_deg);
+        if report.polished.moved > 0 {
+            result.notes.push(report.to_string());
         }
     }
     if let Some(bent) = &bent {

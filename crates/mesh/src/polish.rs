@@ -207,6 +207,75 @@ fn smallest_angle_cos(q: [DVec2; 3]) -> f64 {
     }
 }
 
+/// What [`polish_within`] did; its `Display` is the note a run reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PolishReport {
+    /// What [`polish`] did.
+    pub polished: Polished,
+    /// The threshold it was given (degrees).
+    pub below_deg: f64,
+    /// False when the polished mesh left the region and the moves were undone.
+    pub kept: bool,
+}
+
+impl std::fmt::Display for PolishReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let p = &self.polished;
+        if self.kept {
+            write!(
+                f,
+                "polish: {} vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
+                p.moved, self.below_deg, p.before_deg, p.after_deg
+            )
+        } else {
+            write!(
+                f,
+                "polish undone: moving {} vertices made the mesh leave the region",
+                p.moved
+            )
+        }
+    }
+}
+
+/// [`polish`], then the conformity check ([`check_conforming`], up to
+/// [`CONFORMITY_CHECK_LIMIT`] vertices): a polished mesh that leaves the region (a boundary
+/// edge moved across a narrow gap) gets the method's vertices back. What every front end runs.
+///
+/// ```
+/// use cvtmesh_mesh::{polish_within, Mesh, VertexMarker};
+/// use geometry::{DVec2, LoopRole, Region};
+///
+/// let corners = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+/// let square = Region::from_loops("square", vec![(LoopRole::Outer, corners.clone())])?;
+/// let corner = |c: usize| VertexMarker::Corner { loop_index: 0, corner: c, loop_param: c as f64 };
+/// let mut mesh = Mesh {
+///     points: [corners, vec![DVec2::new(0.8, 0.3)]].concat(),
+///     triangles: vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
+///     markers: vec![corner(0), corner(1), corner(2), corner(3), VertexMarker::Interior],
+/// };
+/// let report = polish_within(&mut mesh, &square, 40.0);
+/// assert!(report.kept && report.polished.moved == 1);
+/// assert!(report.to_string().starts_with("polish: 1 vertices"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// [`check_conforming`]: crate::check_conforming
+/// [`CONFORMITY_CHECK_LIMIT`]: crate::CONFORMITY_CHECK_LIMIT
+pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> PolishReport {
+    let polished = polish(mesh, region, below_deg);
+    let leaves = polished.moved > 0
+        && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT
+        && crate::check_conforming(mesh, region).is_err();
+    if leaves {
+        polished.undo(mesh);
+    }
+    PolishReport {
+        polished,
+        below_deg,
+        kept: !leaves,
+    }
+}
+
 /// The triangles around each vertex, in compressed rows.
 struct Stars {
     start: Vec<u32>,

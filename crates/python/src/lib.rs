@@ -285,6 +285,18 @@ struct PyMesh {
 }
 
 impl PyMesh {
+    /// `region` if given, else the region the mesh was made for; a mesh read from a file
+    /// has none, and `call` (the method asking) names what to pass.
+    fn region_or(&self, region: Option<&PyRegion>, call: &str) -> PyResult<Arc<Region>> {
+        match (region, &self.region) {
+            (Some(r), _) => Ok(r.inner.clone()),
+            (None, Some(r)) => Ok(r.clone()),
+            (None, None) => Err(err(format!(
+                "this mesh was read from a file: pass the region, mesh.{call}(region)"
+            ))),
+        }
+    }
+
     fn new(
         py: Python<'_>,
         mesh: Mesh,
@@ -368,15 +380,7 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let region = match (region, &self.region) {
-            (Some(r), _) => r.inner.clone(),
-            (None, Some(r)) => r.clone(),
-            (None, None) => {
-                return Err(err(
-                    "this mesh was read from a file: pass the region, mesh.measures(region)",
-                ))
-            }
-        };
+        let region = self.region_or(region, "measures")?;
         let m = py
             .detach(|| cvtmesh::measures(&self.mesh, &region))
             .map_err(err)?;
@@ -389,15 +393,7 @@ impl PyMesh {
     /// `region` (needed for a mesh read from a file). Its notes say how many moved.
     #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG))]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
-        let region = match (region, &self.region) {
-            (Some(r), _) => r.inner.clone(),
-            (None, Some(r)) => r.clone(),
-            (None, None) => {
-                return Err(err(
-                    "this mesh was read from a file: pass the region, mesh.polished(region)",
-                ))
-            }
-        };
+        let region = self.region_or(region, "polished")?;
         if !(0.0..=60.0).contains(&below) {
             return Err(err(format!(
                 "below must be an angle from 0 to 60 degrees, got {below}"
@@ -407,18 +403,12 @@ impl PyMesh {
         let note = py.detach(|| -> Result<String, String> {
             cvtmesh::io::restore_markers(&mut mesh, &region);
             cvtmesh::check_conforming(&mesh, &region).map_err(|e| {
-                format!("the mesh does not conform to region '{}' ({e})", region.name())
-            })?;
-            let p = cvtmesh::polish(&mut mesh, &region, below);
-            Ok(if p.moved > 0 && cvtmesh::check_conforming(&mesh, &region).is_err() {
-                p.undo(&mut mesh);
-                format!("polish undone: moving {} vertices made the mesh leave the region", p.moved)
-            } else {
                 format!(
-                    "polish: {} vertices of triangles with an angle below {below}° moved, smallest angle {:.2}° -> {:.2}°",
-                    p.moved, p.before_deg, p.after_deg
+                    "the mesh does not conform to region '{}' ({e})",
+                    region.name()
                 )
-            })
+            })?;
+            Ok(cvtmesh::polish_within(&mut mesh, &region, below).to_string())
         });
         let note = note.map_err(err)?;
         let mut notes = self.notes.clone();
