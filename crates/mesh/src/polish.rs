@@ -67,8 +67,9 @@ impl Polished {
 
 /// Move the vertices of the triangles whose smallest angle is below `below_deg` to raise the
 /// smallest angle around each, keeping every triangle and corner, boundary vertices on their
-/// piece (their markers follow) and interior ones inside the region: see the module
-/// documentation. A threshold of 0 (or a mesh with no
+/// piece (their markers follow; one whose marker names no piece of `region`, as a file's do
+/// before [`io::restore_markers`](crate::io::restore_markers), stays) and interior ones inside
+/// the region: see the module documentation. A threshold of 0 (or a mesh with no
 /// triangle below it) leaves the mesh as it is. Deterministic: the vertices are visited in the
 /// order of their worst triangle's angle.
 ///
@@ -394,6 +395,9 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
     let mut best = star_cos(mesh, &star, v, start, false)?;
     let piece = match mesh.markers[v] {
         VertexMarker::Interior => None,
+        // A piece the region does not have (a file's marker before `io::restore_markers`):
+        // held fixed, as a corner is.
+        VertexMarker::Boundary { piece, .. } if piece >= region.pieces().len() => return None,
         VertexMarker::Boundary { piece, .. } => Some(piece),
         VertexMarker::Corner { .. } => return None,
     };
@@ -760,6 +764,30 @@ mod tests {
         p.undo(&mut mesh);
         assert_eq!(mesh.points, original.points);
         assert_eq!(mesh.markers, original.markers);
+    }
+
+    #[test]
+    fn a_boundary_marker_of_an_unknown_piece_holds_its_vertex() {
+        // Markers as a file without them gives (io::markers_from_topology): every boundary
+        // vertex on an unknown piece. Polish moves interior vertices only, and does not panic.
+        let (mut mesh, square) = grid(6, wobble(0.2));
+        for m in mesh.markers.iter_mut() {
+            if m.on_boundary() {
+                *m = VertexMarker::Boundary {
+                    loop_index: 0,
+                    piece: crate::io::UNKNOWN_PIECE,
+                    loop_param: f64::NAN,
+                };
+            }
+        }
+        let before = mesh.clone();
+        let p = polish(&mut mesh, &square, 50.0);
+        assert!(p.moved > 0);
+        for v in 0..mesh.num_vertices() {
+            if before.markers[v].on_boundary() {
+                assert_eq!(mesh.points[v], before.points[v]);
+            }
+        }
     }
 
     #[test]
