@@ -325,15 +325,14 @@ pub fn polish(a: PolishArgs) -> Result<()> {
     }
     let region = inputs::region(&a.region, None)?;
     let mut mesh = inputs::mesh(&a.mesh)?;
-    cvtmesh::io::restore_markers(&mut mesh, &region);
-    if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
-        bail!(
+    let start = Instant::now();
+    let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
+        Ok(report) => report,
+        Err(e) => bail!(
             "the mesh does not conform to region '{}' ({e}): its boundary vertices cannot be placed on the region; nothing written",
             region.name()
-        );
-    }
-    let start = Instant::now();
-    let report = cvtmesh::polish_within(&mut mesh, &region, a.below);
+        ),
+    };
     if !report.kept {
         eprintln!("note: {report}");
     }

@@ -23,6 +23,8 @@ pub use mesher::{
     Progress, Size, BYTES_PER_VERTEX, MAX_POINTS, SIMPLIFY_SPACINGS,
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
-pub use polish::{polish, polish_within, PolishReport, Polished, POLISH_BELOW_DEG};
+pub use polish::{
+    polish, polish_restored, polish_within, PolishReport, Polished, POLISH_BELOW_DEG,
+};
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

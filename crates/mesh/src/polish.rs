@@ -277,6 +277,20 @@ pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polish
     }
 }
 
+/// A mesh made elsewhere (read from a file, another tool's), polished against `region`: its
+/// boundary markers restored ([`io::restore_markers`](crate::io::restore_markers)), refused if it
+/// does not conform to `region` (its boundary vertices could not be placed on it), then
+/// [`polish_within`]. What `cvtmesh polish` and Python's `Mesh.polished` run.
+pub fn polish_restored(
+    mesh: &mut Mesh,
+    region: &Region,
+    below_deg: f64,
+) -> Result<PolishReport, crate::ConformityError> {
+    crate::io::restore_markers(mesh, region);
+    crate::check_conforming(mesh, region)?;
+    Ok(polish_within(mesh, region, below_deg))
+}
+
 /// The triangles around each vertex, in compressed rows.
 struct Stars {
     start: Vec<u32>,
@@ -456,13 +470,18 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
             let q = p + *d * step;
             if let Some(c) = star_cos(mesh, &star, v, q, true) {
                 if c < best {
-                    // The region is asked only for a candidate that would be kept.
-                    if let Some(q) = place(p, q) {
-                        if let Some(c) = star_cos(mesh, &star, v, q, true) {
-                            if c < best {
-                                (best, p, improved) = (c, q, true);
-                            }
-                        }
+                    // The region is asked only for a candidate that would be kept; a boundary
+                    // vertex's projection moves it, and is judged again.
+                    let kept = place(p, q).and_then(|r| {
+                        let c = if r == q {
+                            Some(c)
+                        } else {
+                            star_cos(mesh, &star, v, r, true)
+                        };
+                        c.filter(|&c| c < best).map(|c| (c, r))
+                    });
+                    if let Some((c, r)) = kept {
+                        (best, p, improved) = (c, r, true);
                     }
                 }
             }

@@ -400,15 +400,15 @@ impl PyMesh {
             )));
         }
         let mut mesh = self.mesh.clone();
-        let note = py.detach(|| -> Result<String, String> {
-            cvtmesh::io::restore_markers(&mut mesh, &region);
-            cvtmesh::check_conforming(&mesh, &region).map_err(|e| {
-                format!(
-                    "the mesh does not conform to region '{}' ({e})",
-                    region.name()
-                )
-            })?;
-            Ok(cvtmesh::polish_within(&mut mesh, &region, below).to_string())
+        let note = py.detach(|| {
+            cvtmesh::polish_restored(&mut mesh, &region, below)
+                .map(|report| report.to_string())
+                .map_err(|e| {
+                    format!(
+                        "the mesh does not conform to region '{}' ({e})",
+                        region.name()
+                    )
+                })
         });
         let note = note.map_err(err)?;
         let mut notes = self.notes.clone();
