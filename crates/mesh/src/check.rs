@@ -2,7 +2,6 @@
 use crate::Mesh;
 use geometry::Region;
 use rayon::prelude::*;
-use std::collections::HashMap;
 use thiserror::Error;
 
 /// The first way in which a mesh fails to conform to its region.
@@ -140,14 +139,24 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
             if area <= 1e-10 * mean_area {
                 return Some(ConformityError::Degenerate(t, area));
             }
+            let longest = [a.distance(b), b.distance(c), c.distance(a)]
+                .into_iter()
+                .fold(0.0, f64::max);
+            // Signed distance is 1-Lipschitz and every point of the triangle lies within its
+            // longest edge of each corner: a triangle that deep inside needs no query of its
+            // own (all but the boundary layer).
+            let deepest = tri
+                .iter()
+                .map(|&v| sd[v as usize])
+                .fold(f64::INFINITY, f64::min);
+            if deepest + longest < 0.0 {
+                return None;
+            }
             let centroid = (a + b + c) / 3.0;
             let sd_c = region.signed_distance(centroid);
             // The allowance of the triangle's longest edge: an ear of three boundary vertices
             // along a wiggling boundary is a sliver whose centroid lies as close to its chord
             // as the chord to the boundary.
-            let longest = [a.distance(b), b.distance(c), c.distance(a)]
-                .into_iter()
-                .fold(0.0, f64::max);
             // Only an ear along one loop earns that allowance: a triangle reaching across
             // from one loop to another whose centroid is outside spans a gap narrower than the
             // chords' sag (a ring far thinner than the spacing).
@@ -181,39 +190,66 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     if let Some(e) = bad {
         return Err(e);
     }
-    let mut used = vec![false; mesh.points.len()];
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    // Each vertex's outgoing edges in compressed rows, sorted by head: (head, position
+    // 3·triangle + side). Sorting keeps a vertex of huge degree from costing its degree squared.
+    let nv = mesh.points.len();
+    let mut start = vec![0usize; nv + 1];
     for tri in &mesh.triangles {
-        for k in 0..3 {
-            used[tri[k] as usize] = true;
-            let e = (tri[k], tri[(k + 1) % 3]);
-            let count = edges.entry(e).or_insert(0);
-            *count += 1;
-            if *count > 1 {
-                return Err(ConformityError::NonManifold(e.0, e.1));
-            }
+        for &v in tri {
+            start[v as usize + 1] += 1;
         }
     }
-    if let Some(i) = used.iter().position(|u| !u) {
+    for i in 0..nv {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut out = vec![(0u32, 0u32); 3 * mesh.triangles.len()];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let a = tri[k] as usize;
+            out[fill[a]] = (tri[(k + 1) % 3], (3 * t + k) as u32);
+            fill[a] += 1;
+        }
+    }
+    for a in 0..nv {
+        out[start[a]..start[a + 1]].sort_unstable();
+    }
+    let row = |a: usize| &out[start[a]..start[a + 1]];
+    // An edge met twice in one direction, reported where its second copy comes in triangle
+    // order (as a single pass over the triangles would find it).
+    let repeated = (0..nv)
+        .into_par_iter()
+        .filter_map(|a| {
+            row(a)
+                .windows(2)
+                .filter(|w| w[0].0 == w[1].0)
+                .map(|w| (w[1].1, a as u32, w[1].0))
+                .min()
+        })
+        .min();
+    if let Some((_, a, b)) = repeated {
+        return Err(ConformityError::NonManifold(a, b));
+    }
+    if let Some(i) = (0..nv).find(|&i| start[i] == start[i + 1]) {
         return Err(ConformityError::Orphan(i));
     }
     let mut undirected = 0i64;
-    // Sorted so that the first problem reported does not depend on hash order.
-    let mut keys: Vec<(u32, u32)> = edges.keys().copied().collect();
-    keys.sort_unstable();
-    for (a, b) in keys {
-        if !edges.contains_key(&(b, a)) {
-            undirected += 1;
-            let (ma, mb) = (mesh.markers[a as usize], mesh.markers[b as usize]);
-            if !ma.on_boundary() || !mb.on_boundary() {
-                return Err(ConformityError::OpenBoundary(a, b));
+    // In (tail, head) order, so that the first problem reported is always the same.
+    for a in 0..nv as u32 {
+        for &(b, _) in row(a as usize) {
+            if row(b as usize).binary_search_by_key(&a, |e| e.0).is_err() {
+                undirected += 1;
+                let (ma, mb) = (mesh.markers[a as usize], mesh.markers[b as usize]);
+                if !ma.on_boundary() || !mb.on_boundary() {
+                    return Err(ConformityError::OpenBoundary(a, b));
+                }
+                let loop_of = |p: u32| region.project(mesh.points[p as usize]).loop_index;
+                if loop_of(a) != loop_of(b) {
+                    return Err(ConformityError::CrossLoopEdge(a, b));
+                }
+            } else if a < b {
+                undirected += 1;
             }
-            let loop_of = |p: u32| region.project(mesh.points[p as usize]).loop_index;
-            if loop_of(a) != loop_of(b) {
-                return Err(ConformityError::CrossLoopEdge(a, b));
-            }
-        } else if a < b {
-            undirected += 1;
         }
     }
     let chi = mesh.points.len() as i64 - undirected + mesh.triangles.len() as i64;

@@ -48,12 +48,16 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             .notes
             .push("stopped at the time limit before converging".into());
     }
+    // Whether the mesh as it stands has passed the conformity check against `region` (the
+    // polish checks what it moved; with corners added at bends the check was of `work`).
+    let mut checked = false;
     // Polished in the terms of the region the method meshed, so that corners added at bends
     // stay put; undone if the polished mesh leaves the region (a boundary edge moved across a
     // narrow gap), which the check below would refuse.
     if request.polish_below_deg > 0.0 {
         // Undone, the method's own mesh meets the check below as it would have.
         let report = crate::polish_within(&mut result.mesh, work, request.polish_below_deg);
+        checked = report.checked && bent.is_none();
         if report.polished.moved > 0 {
             result.notes.push(report.to_string());
         }
@@ -71,7 +75,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     }
     // A method may hand back a mesh that leaves the region where the region is far thinner
     // than the spacing; the caller gets an error naming the place instead.
-    if result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {
+    if !checked && result.mesh.num_vertices() <= CONFORMITY_CHECK_LIMIT {
         if let Err(cause) = check_conforming(&result.mesh, region) {
             let hint = match (thin_feature(region, request), unfitted) {
                 (Some(thin), _) => thin.to_string(),

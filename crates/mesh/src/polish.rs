@@ -217,6 +217,10 @@ pub struct PolishReport {
     pub below_deg: f64,
     /// False when the polished mesh left the region and the moves were undone.
     pub kept: bool,
+    /// The mesh as left passed [`check_conforming`](crate::check_conforming) against the
+    /// region polished in (it is checked when vertices moved and it has at most
+    /// [`CONFORMITY_CHECK_LIMIT`](crate::CONFORMITY_CHECK_LIMIT) vertices).
+    pub checked: bool,
 }
 
 impl std::fmt::Display for PolishReport {
@@ -255,7 +259,7 @@ impl std::fmt::Display for PolishReport {
 ///     markers: vec![corner(0), corner(1), corner(2), corner(3), VertexMarker::Interior],
 /// };
 /// let report = polish_within(&mut mesh, &square, 40.0);
-/// assert!(report.kept && report.polished.moved == 1);
+/// assert!(report.kept && report.checked && report.polished.moved == 1);
 /// assert!(report.to_string().starts_with("polish: 1 vertices"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -264,9 +268,8 @@ impl std::fmt::Display for PolishReport {
 /// [`CONFORMITY_CHECK_LIMIT`]: crate::CONFORMITY_CHECK_LIMIT
 pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> PolishReport {
     let polished = polish(mesh, region, below_deg);
-    let leaves = polished.moved > 0
-        && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT
-        && crate::check_conforming(mesh, region).is_err();
+    let checks = polished.moved > 0 && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT;
+    let leaves = checks && crate::check_conforming(mesh, region).is_err();
     if leaves {
         polished.undo(mesh);
     }
@@ -274,6 +277,7 @@ pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polish
         polished,
         below_deg,
         kept: !leaves,
+        checked: checks && !leaves,
     }
 }
 

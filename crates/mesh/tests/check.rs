@@ -119,6 +119,63 @@ fn marker_count_and_interior_markers_on_the_hull_are_caught() {
 }
 
 #[test]
+fn a_repeated_edge_is_reported_where_its_second_copy_comes() {
+    let mut m = frame_mesh();
+    // Copies of triangles 5 ([2, 7, 6]) and 0, in that order: the first edge seen twice, in
+    // triangle order, is triangle 5's first.
+    m.triangles.push(m.triangles[5]);
+    m.triangles.push(m.triangles[0]);
+    assert_eq!(m.triangles[5], [2, 7, 6]);
+    assert_eq!(
+        check_conforming(&m, &frame_region()),
+        Err(ConformityError::NonManifold(2, 7))
+    );
+}
+
+#[test]
+fn a_vertex_in_no_triangle_is_caught() {
+    let mut m = frame_mesh();
+    m.points.push(DVec2::new(0.5, 0.5));
+    m.markers.push(VertexMarker::Interior);
+    assert_eq!(
+        check_conforming(&m, &frame_region()),
+        Err(ConformityError::Orphan(8))
+    );
+}
+
+#[test]
+fn a_triangle_across_a_hole_is_caught_however_deep_its_corners() {
+    // The square [0, 40]² with a hole [12, 28]², and a triangle (5, 5), (35, 5), (35, 35)
+    // whose corners are 5 deep and whose long side passes over the hole.
+    let mut hole = square(12.0, 28.0);
+    hole.reverse();
+    let region = Region::new(
+        "square with a hole",
+        vec![
+            (LoopRole::Outer, lines(&square(0.0, 40.0))),
+            (LoopRole::Hole, lines(&hole)),
+        ],
+        None,
+    )
+    .unwrap();
+    let mut points = square(0.0, 40.0);
+    points.extend(square(12.0, 28.0));
+    points.extend([(5.0, 5.0), (35.0, 5.0), (35.0, 35.0)].map(|(x, y)| DVec2::new(x, y)));
+    let mut markers: Vec<VertexMarker> = (0..4).map(|_| on(0)).collect();
+    markers.extend((0..4).map(|_| on(1)));
+    markers.extend((0..3).map(|_| VertexMarker::Interior));
+    let m = Mesh {
+        points,
+        triangles: vec![[8, 9, 10]],
+        markers,
+    };
+    assert!(matches!(
+        check_conforming(&m, &region),
+        Err(ConformityError::TriangleOutside(0, ..))
+    ));
+}
+
+#[test]
 fn the_reported_problem_does_not_depend_on_hash_order() {
     let mut m = frame_mesh();
     for k in 0..8 {
