@@ -3,6 +3,7 @@
 //! that the user learns the size that would resolve it.
 use crate::MeshRequest;
 use geometry::{DVec2, Region};
+use rayon::prelude::*;
 use std::fmt;
 
 /// Most boundary samples [`thin_feature`] casts a ray from.
@@ -168,6 +169,8 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             }
         }
     };
+    // The samples: point, inward normal, ring, arc length.
+    let mut rays: Vec<(DVec2, DVec2, usize, f64)> = Vec::with_capacity(samples + nseg);
     let mut next = 0.0;
     for &(a, b, r, s0) in &segs {
         let len = a.distance(b);
@@ -180,45 +183,7 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
         while next < s0 + len {
             let t = (next - s0).max(0.0);
             next += step;
-            let q = a + dir * t;
-            let sq = s0 + t;
-            let Some((width, hit_ring, hit_s)) = cast(q, normal, &segs, tiny) else {
-                continue;
-            };
-            let h = spacing_at(q);
-            if width >= THIN_RATIO * h {
-                continue;
-            }
-            // The two sides must lie a few spacings apart along the boundary: any wedge is
-            // arbitrarily thin near its tip (a 26° corner gave 7e-7 "wide" at 1e-6 from it).
-            let feature = hit_ring != r || {
-                let d = (sq - hit_s).abs();
-                d.min(lengths[r] - d) > (WEDGE_RATIO * width).max(WEDGE_SPACINGS * h)
-            };
-            if !feature {
-                continue;
-            }
-            let tip = (hit_ring == r)
-                .then(|| single_vertex(r, sq, hit_s))
-                .flatten();
-            if let Some(i) = tip {
-                let pts = &poly.rings[r].points;
-                let n = pts.len();
-                let (v, prev, next) = (pts[i], pts[(i + n - 1) % n], pts[(i + 1) % n]);
-                let angle = (prev - v).angle_to(next - v).abs().to_degrees();
-                if sharpest.is_none_or(|c| angle < c.1) {
-                    sharpest = Some((v, angle));
-                }
-                wedge_length += step;
-                if worst_wedge.is_none_or(|w| width / h < w.0) {
-                    worst_wedge = Some((width / h, q, width, h));
-                }
-                continue;
-            }
-            thin_length += step;
-            if worst.is_none_or(|w| width / h < w.0) {
-                worst = Some((width / h, q, width, h));
-            }
+            rays.push((a + dir * t, normal, r, s0 + t));
         }
         if next < s0 + len {
             next = s0 + len;
@@ -226,6 +191,50 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
         // Rings restart their arc length: carry the sampling position over.
         if (s0 + len - lengths[r]).abs() <= tiny {
             next = 0.0;
+        }
+    }
+    // The rays in parallel (each meets every segment), their verdicts in sample order.
+    let hits: Vec<Option<(f64, usize, f64)>> = rays
+        .par_iter()
+        .map(|&(q, normal, _, _)| cast(q, normal, &segs, tiny))
+        .collect();
+    for (&(q, _, r, sq), hit) in rays.iter().zip(hits) {
+        let Some((width, hit_ring, hit_s)) = hit else {
+            continue;
+        };
+        let h = spacing_at(q);
+        if width >= THIN_RATIO * h {
+            continue;
+        }
+        // The two sides must lie a few spacings apart along the boundary: any wedge is
+        // arbitrarily thin near its tip (a 26° corner gave 7e-7 "wide" at 1e-6 from it).
+        let feature = hit_ring != r || {
+            let d = (sq - hit_s).abs();
+            d.min(lengths[r] - d) > (WEDGE_RATIO * width).max(WEDGE_SPACINGS * h)
+        };
+        if !feature {
+            continue;
+        }
+        let tip = (hit_ring == r)
+            .then(|| single_vertex(r, sq, hit_s))
+            .flatten();
+        if let Some(i) = tip {
+            let pts = &poly.rings[r].points;
+            let n = pts.len();
+            let (v, prev, next) = (pts[i], pts[(i + n - 1) % n], pts[(i + 1) % n]);
+            let angle = (prev - v).angle_to(next - v).abs().to_degrees();
+            if sharpest.is_none_or(|c| angle < c.1) {
+                sharpest = Some((v, angle));
+            }
+            wedge_length += step;
+            if worst_wedge.is_none_or(|w| width / h < w.0) {
+                worst_wedge = Some((width / h, q, width, h));
+            }
+            continue;
+        }
+        thin_length += step;
+        if worst.is_none_or(|w| width / h < w.0) {
+            worst = Some((width / h, q, width, h));
         }
     }
     let (corner, (_, at, width, spacing)) = match (worst, worst_wedge) {
