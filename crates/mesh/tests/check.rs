@@ -279,3 +279,91 @@ fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
     };
     assert_eq!(slivers(&lone), None);
 }
+
+/// The unit square as a region, and its m × m structured mesh (each grid square cut along a
+/// diagonal), with corner and side markers.
+fn unit_square_mesh(m: usize) -> (Region, Mesh) {
+    let square = Region::new(
+        "square",
+        vec![(LoopRole::Outer, lines(&square(0.0, 1.0)))],
+        None,
+    )
+    .unwrap();
+    let at = |i: usize, j: usize| DVec2::new(i as f64, j as f64) / (m - 1) as f64;
+    let (mut points, mut markers) = (Vec::new(), Vec::new());
+    for j in 0..m {
+        for i in 0..m {
+            let (ei, ej) = (i == 0 || i == m - 1, j == 0 || j == m - 1);
+            markers.push(match (ei, ej) {
+                (true, true) => VertexMarker::at_corner(
+                    &square,
+                    match (i == m - 1, j == m - 1) {
+                        (false, false) => 0,
+                        (true, false) => 1,
+                        (true, true) => 2,
+                        (false, true) => 3,
+                    },
+                ),
+                (false, true) => {
+                    VertexMarker::on_piece(&square, at(i, j), if j == 0 { 0 } else { 2 })
+                }
+                (true, false) => {
+                    VertexMarker::on_piece(&square, at(i, j), if i == 0 { 3 } else { 1 })
+                }
+                (false, false) => VertexMarker::Interior,
+            });
+            points.push(at(i, j));
+        }
+    }
+    let v = |i: usize, j: usize| (j * m + i) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..m - 1 {
+        for i in 0..m - 1 {
+            triangles.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            triangles.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+        }
+    }
+    let mesh = Mesh {
+        points,
+        triangles,
+        markers,
+    };
+    (square, mesh)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+
+    /// A conforming mesh passes in any triangle order and from any corner of each triangle; one
+    /// triangle removed, repeated or turned over, or a vertex in no triangle, never passes.
+    #[test]
+    fn the_verdict_follows_the_mesh_not_its_order(
+        m in 3usize..12,
+        seed in 0u64..u64::MAX,
+        kind in 0usize..4,
+        pick in 0usize..10_000,
+    ) {
+        let (square, mut mesh) = unit_square_mesh(m);
+        let mut rng = geometry::Rng::new(seed);
+        for t in (1..mesh.triangles.len()).rev() {
+            mesh.triangles.swap(t, rng.below(t + 1));
+        }
+        for tri in mesh.triangles.iter_mut() {
+            tri.rotate_left(rng.below(3));
+        }
+        proptest::prop_assert_eq!(check_conforming(&mesh, &square), Ok(()));
+        let t = pick % mesh.triangles.len();
+        match kind {
+            0 => {
+                mesh.triangles.remove(t);
+            }
+            1 => mesh.triangles.push(mesh.triangles[t]),
+            2 => mesh.triangles[t].swap(0, 1),
+            _ => {
+                mesh.points.push(DVec2::new(0.5, 0.5) / (m - 1) as f64);
+                mesh.markers.push(VertexMarker::Interior);
+            }
+        }
+        proptest::prop_assert!(check_conforming(&mesh, &square).is_err(), "mutation {}", kind);
+    }
+}
