@@ -4,6 +4,10 @@ use cvtmesh_mesh::{
 };
 use geometry::{DVec2, LoopRole, Piece, Region};
 
+#[path = "support/square.rs"]
+mod structured;
+use structured::unit_square_mesh;
+
 fn square(lo: f64, hi: f64) -> Vec<DVec2> {
     vec![
         DVec2::new(lo, lo),
@@ -278,57 +282,6 @@ fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
         ..mesh
     };
     assert_eq!(slivers(&lone), None);
-}
-
-/// The unit square as a region, and its m × m structured mesh (each grid square cut along a
-/// diagonal), with corner and side markers.
-fn unit_square_mesh(m: usize) -> (Region, Mesh) {
-    let square = Region::new(
-        "square",
-        vec![(LoopRole::Outer, lines(&square(0.0, 1.0)))],
-        None,
-    )
-    .unwrap();
-    let at = |i: usize, j: usize| DVec2::new(i as f64, j as f64) / (m - 1) as f64;
-    let (mut points, mut markers) = (Vec::new(), Vec::new());
-    for j in 0..m {
-        for i in 0..m {
-            let (ei, ej) = (i == 0 || i == m - 1, j == 0 || j == m - 1);
-            markers.push(match (ei, ej) {
-                (true, true) => VertexMarker::at_corner(
-                    &square,
-                    match (i == m - 1, j == m - 1) {
-                        (false, false) => 0,
-                        (true, false) => 1,
-                        (true, true) => 2,
-                        (false, true) => 3,
-                    },
-                ),
-                (false, true) => {
-                    VertexMarker::on_piece(&square, at(i, j), if j == 0 { 0 } else { 2 })
-                }
-                (true, false) => {
-                    VertexMarker::on_piece(&square, at(i, j), if i == 0 { 3 } else { 1 })
-                }
-                (false, false) => VertexMarker::Interior,
-            });
-            points.push(at(i, j));
-        }
-    }
-    let v = |i: usize, j: usize| (j * m + i) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..m - 1 {
-        for i in 0..m - 1 {
-            triangles.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
-            triangles.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
-        }
-    }
-    let mesh = Mesh {
-        points,
-        triangles,
-        markers,
-    };
-    (square, mesh)
 }
 
 proptest::proptest! {
