@@ -158,11 +158,18 @@ fn sweep(
         .filter(|(_, c)| **c > limit)
         .map(|(t, c)| (*c, t))
         .collect();
-    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    // Worst first; ties, and the vertices within a triangle, in vertex order: the polish
+    // depends on the triangles, not on the order or the rotation they are listed in.
+    let sorted = |t: usize| {
+        let mut vs = mesh.triangles[t];
+        vs.sort_unstable();
+        vs
+    };
+    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(sorted(a.1).cmp(&sorted(b.1))));
     let mut seen = vec![false; mesh.num_vertices()];
     let mut any = false;
     for (_, t) in bad {
-        for v in mesh.triangles[t] {
+        for v in sorted(t) {
             let v = v as usize;
             let movable = match mesh.markers[v] {
                 VertexMarker::Interior => !boundary,
@@ -420,10 +427,11 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
         VertexMarker::Corner { .. } => return None,
     };
     // The shortest edge at v sets the scale. An interior vertex tries DIRECTIONS directions
-    // turned from its first edge; a boundary vertex slides toward either boundary neighbour
-    // (the ends of its star's edges with no triangle across), back onto its piece.
+    // turned from its edge to its lowest-numbered neighbour (whatever order the triangles are
+    // listed in); a boundary vertex slides toward either boundary neighbour (the ends of its
+    // star's edges with no triangle across), back onto its piece.
     let mut shortest = f64::INFINITY;
-    let mut first = None;
+    let mut first: Option<(u32, DVec2)> = None;
     let mut along = Vec::new();
     for t in &star {
         for i in 0..3 {
@@ -437,7 +445,9 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
             };
             let e = mesh.points[u as usize] - start;
             shortest = shortest.min(e.length());
-            first.get_or_insert(e);
+            if first.is_none_or(|(w, _)| u < w) {
+                first = Some((u, e));
+            }
             if t.across[i] == u32::MAX {
                 along.push(e.try_normalize()?);
             }
@@ -445,7 +455,7 @@ fn best_place(mesh: &Mesh, stars: &Stars, v: usize, region: &Region) -> Option<D
     }
     let dirs: Vec<DVec2> = match piece {
         None => {
-            let axis = first?.try_normalize()?;
+            let axis = first?.1.try_normalize()?;
             (0..DIRECTIONS)
                 .map(|k| {
                     let a = std::f64::consts::TAU * k as f64 / DIRECTIONS as f64;
@@ -775,6 +785,34 @@ mod tests {
             }
             proptest::prop_assert!((area(&mesh) - 1.0).abs() < 1e-12);
             proptest::prop_assert!(!delaunay || is_delaunay(&mesh));
+        }
+
+        /// The polish depends on the triangles, not on the order or the rotation in which they
+        /// are listed: the same places and markers whatever the listing.
+        #[test]
+        fn polish_ignores_how_the_triangles_are_listed(
+            n in 3usize..9,
+            amplitude in 0.05f64..0.25,
+            salt in 0usize..1000,
+            seed in 0u64..u64::MAX,
+        ) {
+            let jitter = move |i: usize, j: usize| {
+                let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
+                DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
+            };
+            let (mut mesh, square) = grid(n, jitter);
+            let mut listed = mesh.clone();
+            let mut rng = geometry::Rng::new(seed);
+            for t in (1..listed.triangles.len()).rev() {
+                listed.triangles.swap(t, rng.below(t + 1));
+            }
+            for tri in listed.triangles.iter_mut() {
+                tri.rotate_left(rng.below(3));
+            }
+            let (p, q) = (polish(&mut mesh, &square, 40.0), polish(&mut listed, &square, 40.0));
+            proptest::prop_assert_eq!(p.moved, q.moved);
+            proptest::prop_assert_eq!(&mesh.points, &listed.points);
+            proptest::prop_assert_eq!(&mesh.markers, &listed.markers);
         }
     }
 
