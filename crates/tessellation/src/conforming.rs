@@ -89,6 +89,26 @@ pub fn conforming_mesh(
     markers: &[VertexMarker],
     region: &Region,
 ) -> Result<Mesh, MeshError> {
+    validate(points, markers, region)?;
+    let mut keep = vec![true; points.len()];
+    for _ in 0..MAX_ATTEMPTS {
+        match attempt(points, markers, &keep, region)? {
+            Attempt::Done(mesh) => return Ok(mesh),
+            Attempt::Retry { drop } => {
+                for i in drop {
+                    keep[i] = false;
+                }
+            }
+        }
+    }
+    Err(MeshError::BadRequest(format!(
+        "could not remove degenerate triangles after {MAX_ATTEMPTS} attempts"
+    )))
+}
+
+/// What every path to a conforming mesh asks of its input: a marker per point, finite points,
+/// markers that name the region's loops.
+fn validate(points: &[DVec2], markers: &[VertexMarker], region: &Region) -> Result<(), MeshError> {
     let bad = |m: String| Err(MeshError::BadRequest(m));
     if points.len() != markers.len() {
         return bad(format!(
@@ -113,20 +133,169 @@ pub fn conforming_mesh(
             }
         }
     }
-    let mut keep = vec![true; points.len()];
-    for _ in 0..MAX_ATTEMPTS {
-        match attempt(points, markers, &keep, region)? {
-            Attempt::Done(mesh) => return Ok(mesh),
-            Attempt::Retry { drop } => {
-                for i in drop {
-                    keep[i] = false;
-                }
-            }
+    Ok(())
+}
+
+/// Each loop's boundary points (input indices) in arc-length order (ties by index): the
+/// chords of consecutive ones, cyclically, are the mesh's boundary edges.
+fn boundary_loops(
+    owner: impl Iterator<Item = usize>,
+    markers: &[VertexMarker],
+    nloops: usize,
+) -> Vec<Vec<usize>> {
+    let mut loops: Vec<Vec<(f64, usize)>> = vec![Vec::new(); nloops];
+    for i in owner {
+        if let (Some(l), Some(t)) = (markers[i].loop_index(), markers[i].loop_param()) {
+            loops[l].push((t, i));
         }
     }
-    bad(format!(
-        "could not remove degenerate triangles after {MAX_ATTEMPTS} attempts"
-    ))
+    loops
+        .into_iter()
+        .map(|mut lp| {
+            lp.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            lp.into_iter().map(|(_, i)| i).collect()
+        })
+        .collect()
+}
+
+/// Where the chord a–b leaves the region by more than a curved piece's sagitta allows (the
+/// allowance of `mesh::check_conforming`), skipping part of the boundary.
+fn chord_leaves(region: &Region, a: DVec2, b: DVec2) -> Option<DVec2> {
+    let allowance = 1e-9 * region.diameter() + 0.13 * a.distance(b);
+    (1..8)
+        .map(|s| a.lerp(b, s as f64 / 8.0))
+        .find(|&x| region.signed_distance(x) > allowance)
+}
+
+/// [`conforming_mesh`] from a Delaunay triangulation at hand of about the same points (an
+/// iteration's last, which is repaired to `points` by flips): where every boundary chord is
+/// one of its edges and no triangle inside the chords is degenerate, the constrained
+/// triangulation is this one, and the mesh is read off it in O(K) instead of K insertions.
+/// Anywhere else (a chord that is not an edge, duplicate points, a thin place) the result is
+/// [`conforming_mesh`]'s. The triangles are those [`conforming_mesh`] gives, up to the choice
+/// of diagonal between exactly cocircular points, in another order.
+pub fn conforming_mesh_from(
+    del: &mut crate::Delaunay,
+    points: &[DVec2],
+    markers: &[VertexMarker],
+    region: &Region,
+) -> Result<Mesh, MeshError> {
+    validate(points, markers, region)?;
+    del.rebuild(points);
+    match read_off(del, points, markers, region) {
+        Some(mesh) => Ok(mesh),
+        None => conforming_mesh(points, markers, region),
+    }
+}
+
+/// The mesh of the Delaunay triangles inside the boundary chords, or None where the
+/// constrained triangulation would differ or the full path has something to drop or report.
+fn read_off(
+    del: &crate::Delaunay,
+    points: &[DVec2],
+    markers: &[VertexMarker],
+    region: &Region,
+) -> Option<Mesh> {
+    use crate::topology::NONE;
+    let n = points.len();
+    if del.num_vertices() != n || (0..n).any(|i| del.vertex_index(i).is_none()) {
+        return None;
+    }
+    let topo = del.topology()?;
+    let vertex = |i: usize| del.vertex_index(i).expect("every point is a vertex") as u32;
+    // Chords as sorted vertex pairs; each must be a Delaunay edge and stay in the region.
+    let mut chords: Vec<(u32, u32)> = Vec::new();
+    for lp in boundary_loops(0..n, markers, region.loops().len()) {
+        if lp.len() < 3 {
+            return None;
+        }
+        for k in 0..lp.len() {
+            let (u, w) = (lp[k], lp[(k + 1) % lp.len()]);
+            let (vu, vw) = (vertex(u), vertex(w));
+            if !del.ring(vu as usize).contains(&vw)
+                || chord_leaves(region, points[u], points[w]).is_some()
+            {
+                return None;
+            }
+            chords.push((vu.min(vw), vu.max(vw)));
+        }
+    }
+    chords.sort_unstable();
+    chords.dedup();
+    let is_chord = |a: u32, b: u32| chords.binary_search(&(a.min(b), a.max(b))).is_ok();
+    // Inside by parity, as `classify_faces`: from the triangles on the hull (or touching a
+    // frame vertex), outside, toggling across chords.
+    let nv = n as u32;
+    let ntri = topo.tri.len();
+    const UNSET: u8 = 2;
+    let mut state = vec![UNSET; ntri];
+    let mut queue = VecDeque::new();
+    for (t, tri) in topo.tri.iter().enumerate() {
+        if tri.iter().any(|&v| v >= nv) {
+            state[t] = 0;
+            queue.push_back(t);
+        } else if let Some(k) = (0..3).find(|&k| topo.adj[t][k] == NONE) {
+            state[t] = u8::from(is_chord(tri[(k + 1) % 3], tri[(k + 2) % 3]));
+            queue.push_back(t);
+        }
+    }
+    while let Some(t) = queue.pop_front() {
+        let tri = topo.tri[t];
+        for k in 0..3 {
+            let u = topo.adj[t][k];
+            if u == NONE || state[u as usize] != UNSET {
+                continue;
+            }
+            let cross = is_chord(tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            state[u as usize] = state[t] ^ u8::from(cross);
+            queue.push_back(u as usize);
+        }
+    }
+    // The chords close: across every edge the two sides differ exactly where it is a chord.
+    let consistent = (0..ntri).into_par_iter().all(|t| {
+        let tri = topo.tri[t];
+        (0..3).all(|k| {
+            let u = topo.adj[t][k];
+            u == NONE
+                || (state[t] != state[u as usize]) == is_chord(tri[(k + 1) % 3], tri[(k + 2) % 3])
+        })
+    });
+    if !consistent {
+        return None;
+    }
+    let inner: Vec<[u32; 3]> = (0..ntri)
+        .filter(|&t| state[t] == 1)
+        .map(|t| topo.tri[t])
+        .collect();
+    if inner.iter().flatten().any(|&v| v >= nv) || state.contains(&UNSET) {
+        return None;
+    }
+    let at = |v: u32| points[del.point_of_vertex(v as usize)];
+    let mean_area = region.area() / inner.len().max(1) as f64;
+    if inner
+        .par_iter()
+        .any(|t| triangle_signed_area(at(t[0]), at(t[1]), at(t[2])) <= DEGENERATE * mean_area)
+    {
+        return None;
+    }
+    // Vertices used by inside triangles, renumbered in input order.
+    let mut used = vec![false; n];
+    for &v in inner.iter().flatten() {
+        used[del.point_of_vertex(v as usize)] = true;
+    }
+    let order: Vec<usize> = (0..n).filter(|&i| used[i]).collect();
+    let mut new_index = vec![u32::MAX; n];
+    for (k, &i) in order.iter().enumerate() {
+        new_index[i] = k as u32;
+    }
+    Some(Mesh {
+        points: order.iter().map(|&i| points[i]).collect(),
+        triangles: inner
+            .par_iter()
+            .map(|t| t.map(|v| new_index[del.point_of_vertex(v as usize)]))
+            .collect(),
+        markers: order.iter().map(|&i| markers[i]).collect(),
+    })
 }
 
 enum Attempt {
@@ -166,15 +335,16 @@ fn attempt(
     }
 
     // Boundary vertices of each loop in arc-length order, joined cyclically by constraints.
-    let nloops = region.loops().len();
-    let mut loops: Vec<Vec<(f64, usize)>> = vec![Vec::new(); nloops];
+    let mut vertex_of = vec![usize::MAX; pos.len()];
     for (v, &i) in owner.iter().enumerate() {
-        if let (Some(l), Some(t)) = (markers[i].loop_index(), markers[i].loop_param()) {
-            loops[l].push((t, v));
-        }
+        vertex_of[i] = v;
     }
-    for (l, lp) in loops.iter_mut().enumerate() {
-        lp.sort_by(|a, b| a.0.total_cmp(&b.0).then(owner[a.1].cmp(&owner[b.1])));
+    let loops: Vec<Vec<usize>> =
+        boundary_loops(owner.iter().copied(), markers, region.loops().len())
+            .into_iter()
+            .map(|lp| lp.into_iter().map(|i| vertex_of[i]).collect())
+            .collect();
+    for (l, lp) in loops.iter().enumerate() {
         if lp.len() < 3 {
             return bad(format!(
                 "boundary loop {l} has {} boundary vertices and at least 3 are needed to close \
@@ -183,7 +353,7 @@ fn attempt(
             ));
         }
         for k in 0..lp.len() {
-            let (u, w) = (lp[k].1, lp[(k + 1) % lp.len()].1);
+            let (u, w) = (lp[k], lp[(k + 1) % lp.len()]);
             let (hu, hw) = (
                 FixedVertexHandle::from_index(u),
                 FixedVertexHandle::from_index(w),
@@ -200,11 +370,7 @@ fn attempt(
             // A chord that leaves the region by more than a curved piece's sagitta allows
             // (the allowance of `mesh::check_conforming`) skips part of the boundary.
             let (a, b) = (pos[owner[u]], pos[owner[w]]);
-            let allowance = 1e-9 * region.diameter() + 0.13 * a.distance(b);
-            if let Some(x) = (1..8)
-                .map(|s| a.lerp(b, s as f64 / 8.0))
-                .find(|&x| region.signed_distance(x) > allowance)
-            {
+            if let Some(x) = chord_leaves(region, a, b) {
                 return bad(format!(
                     "boundary edge ({}, {}) – ({}, {}) of loop {l} leaves the region near ({}, {}): the boundary \
                      vertices skip a corner or a bend, or are too coarse for the boundary's curvature there: more \
@@ -365,4 +531,57 @@ fn classify_faces(cdt: &Cdt) -> Vec<bool> {
         }
     }
     state.into_iter().map(|s| s == 1).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Delaunay;
+
+    /// The unit circle's boundary at 48 points and a jittered lattice kept 0.5 spacing inside.
+    fn disc() -> (Region, Vec<DVec2>, Vec<VertexMarker>) {
+        let region = Region::builtin("circle").unwrap();
+        let mut pts: Vec<DVec2> = (0..48)
+            .map(|i| DVec2::from_angle(std::f64::consts::TAU * i as f64 / 48.0))
+            .collect();
+        let h = std::f64::consts::TAU / 48.0;
+        let mut rng = geometry::Rng::new(3);
+        for i in -20..=20 {
+            for j in -20..=20 {
+                let p = DVec2::new(i as f64 + 0.5 * j as f64, j as f64 * 0.75f64.sqrt()) * h
+                    + DVec2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)) * h;
+                if p.length() < 1.0 - 0.5 * h {
+                    pts.push(p);
+                }
+            }
+        }
+        let markers = mark_vertices(&pts, &region, 1e-12);
+        (region, pts, markers)
+    }
+
+    #[test]
+    fn a_disc_is_read_off_its_delaunay_triangulation() {
+        let (region, pts, markers) = disc();
+        let del = Delaunay::new(&pts);
+        let mesh = read_off(&del, &pts, &markers, &region).expect("every chord is an edge");
+        let full = conforming_mesh(&pts, &markers, &region).unwrap();
+        assert_eq!(
+            (mesh.points.len(), mesh.triangles.len()),
+            (pts.len(), full.triangles.len())
+        );
+        mesh::check_conforming(&mesh, &region).unwrap();
+    }
+
+    #[test]
+    fn a_point_on_a_chord_sends_the_mesh_to_the_constrained_triangulation() {
+        let (region, mut pts, mut markers) = disc();
+        // Halfway along the chord from boundary point 0 to 1, an interior point: the chord is
+        // no Delaunay edge, and the full path drops the point.
+        pts.push(pts[0].lerp(pts[1], 0.5));
+        markers.push(VertexMarker::Interior);
+        let del = Delaunay::new(&pts);
+        assert!(read_off(&del, &pts, &markers, &region).is_none());
+        let mesh = conforming_mesh_from(&mut Delaunay::new(&pts), &pts, &markers, &region).unwrap();
+        assert_eq!(mesh.points.len(), pts.len() - 1);
+    }
 }

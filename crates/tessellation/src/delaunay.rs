@@ -619,6 +619,12 @@ impl Delaunay {
         (v != NONE && self.point_of_vertex[v as usize] as usize == i).then_some(v as usize)
     }
 
+    /// The triangles with their neighbours (vertex indices; a frame's vertices numbered from
+    /// `num_vertices()`), or None while slots freed by a removal are still unfilled.
+    pub(crate) fn topology(&self) -> Option<&Topology> {
+        self.topo.free.is_empty().then_some(&self.topo)
+    }
+
     /// All finite triangles as CCW index triples into the input points.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         let nv = self.num_vertices() as u32;

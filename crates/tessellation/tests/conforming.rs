@@ -1,5 +1,5 @@
 //! Conforming meshes of the paper's regions from lattice points plus boundary points.
-use cvtmesh_tessellation::{conforming_mesh, mark_vertices};
+use cvtmesh_tessellation::{conforming_mesh, conforming_mesh_from, mark_vertices, Delaunay};
 use geometry::{DVec2, LoopRole, Piece, Region, Rng};
 use mesh::{check_conforming, MeshError, VertexMarker};
 
@@ -55,7 +55,49 @@ fn mesh_and_check(region: &Region, pts: &[DVec2]) -> mesh::Mesh {
     let mesh =
         conforming_mesh(pts, &markers, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
     check_conforming(&mesh, region).unwrap_or_else(|e| panic!("{}: {e}", region.name()));
+    same_from_a_triangulation(region, pts, &markers, &mesh);
     mesh
+}
+
+/// Each triangle from its smallest index, the list sorted: the triangles as a set.
+fn triangle_set(mesh: &mesh::Mesh) -> Vec<[u32; 3]> {
+    let mut t: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+        })
+        .collect();
+    t.sort_unstable();
+    t
+}
+
+/// `conforming_mesh_from` gives `conforming_mesh`'s mesh (its points, markers and triangles,
+/// in some order) from a fresh triangulation of the points, and from a framed one of the
+/// points moved a little, which it repairs.
+fn same_from_a_triangulation(
+    region: &Region,
+    pts: &[DVec2],
+    markers: &[VertexMarker],
+    mesh: &mesh::Mesh,
+) {
+    let (lo, hi) = region.bbox();
+    let mut rng = Rng::new(9);
+    let step = 1e-4 * region.diameter() / (pts.len() as f64).sqrt();
+    let moved: Vec<DVec2> = pts
+        .iter()
+        .map(|&p| p + DVec2::new(rng.range(-step, step), rng.range(-step, step)))
+        .collect();
+    let mut framed = Delaunay::framed(lo, hi);
+    framed.rebuild(&moved);
+    for mut del in [Delaunay::new(pts), framed] {
+        let from = conforming_mesh_from(&mut del, pts, markers, region)
+            .unwrap_or_else(|e| panic!("{}: {e}", region.name()));
+        assert_eq!(from.points, mesh.points, "{}", region.name());
+        assert_eq!(from.markers, mesh.markers, "{}", region.name());
+        assert_eq!(triangle_set(&from), triangle_set(mesh), "{}", region.name());
+    }
 }
 
 #[test]
