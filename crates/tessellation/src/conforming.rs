@@ -90,6 +90,15 @@ pub fn conforming_mesh(
     region: &Region,
 ) -> Result<Mesh, MeshError> {
     validate(points, markers, region)?;
+    constrained(points, markers, region)
+}
+
+/// [`conforming_mesh`] for validated input.
+fn constrained(
+    points: &[DVec2],
+    markers: &[VertexMarker],
+    region: &Region,
+) -> Result<Mesh, MeshError> {
     let mut keep = vec![true; points.len()];
     for _ in 0..MAX_ATTEMPTS {
         match attempt(points, markers, &keep, region)? {
@@ -184,7 +193,7 @@ pub fn conforming_mesh_from(
     del.rebuild(points);
     match read_off(del, points, markers, region) {
         Some(mesh) => Ok(mesh),
-        None => conforming_mesh(points, markers, region),
+        None => constrained(points, markers, region),
     }
 }
 
