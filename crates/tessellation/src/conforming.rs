@@ -260,6 +260,9 @@ fn read_off(
             queue.push_back(u as usize);
         }
     }
+    if state.contains(&UNSET) {
+        return None;
+    }
     // The chords close: across every edge the two sides differ exactly where it is a chord.
     let consistent = (0..ntri).into_par_iter().all(|t| {
         let tri = topo.tri[t];
@@ -276,7 +279,7 @@ fn read_off(
         .filter(|&t| state[t] == 1)
         .map(|t| topo.tri[t])
         .collect();
-    if inner.iter().flatten().any(|&v| v >= nv) || state.contains(&UNSET) {
+    if inner.iter().flatten().any(|&v| v >= nv) {
         return None;
     }
     let at = |v: u32| points[del.point_of_vertex(v as usize)];
