@@ -70,14 +70,22 @@ pub struct Ccvt {
     /// time at large K, but the meshes' worst cells come out worse, so it is not the default.
     pub eps_start: f64,
     /// From this many generators on, step 0 is a coarser CCVT (about a quarter of K, itself
-    /// solved the same way) prolongated by splitting every edge of its mesh at its midpoint,
-    /// and the run is Algorithm 1 from it: the start already has the target spacing along ∂Ω
+    /// solved the same way) prolongated by splitting every edge of its mesh at its midpoint
+    /// (∂Ω laid out again at CCVT's boundary spacing), and the run is Algorithm 1 from it: the start already has the target spacing along ∂Ω
     /// and inside, so the fine level only relaxes it. `usize::MAX` (the default) turns the
     /// levels off: on the uniform circle at 10⁵ the relaxation of the prolongated lattice's
     /// boundary layer took more evaluations than the lattice start with Algorithm 2 and gave
-    /// a smallest angle of 34.5° instead of 41.6°; with a size field it saved about a fifth of
-    /// the time (`docs/performance.md`).
+    /// a smallest angle of 34.5° instead of 41.6°. Graded runs take
+    /// [`Ccvt::graded_multilevel_from`] instead.
     pub multilevel_from: usize,
+    /// [`Ccvt::multilevel_from`] for a non-uniform density (a size field): from this many
+    /// generators on (75 000 by default), the graded start is a coarser graded CCVT of about a
+    /// quarter of K, every edge of its mesh split, its boundary laid out again at CCVT's
+    /// boundary spacing. On four graded cases the solve took 0.79 of the single level's time on
+    /// average at 10⁵ (three seeds each; 0.50–0.89, but 1.07–1.22 on the lake), 0.91 at
+    /// 7.5·10⁴ and 1.11 at 5·10⁴, with the edges following the field more closely in every
+    /// run (`docs/design-notes.md`, "Multilevel start").
+    pub graded_multilevel_from: usize,
     /// For a non-uniform density (a size field), step 0 is a Delaunay refinement driven by the
     /// density and the run is Algorithm 1 from it: Algorithm 2's single ε cannot fit a boundary
     /// layer whose spacing varies along ∂Ω, and a uniform lattice would have to be carried
@@ -114,6 +122,7 @@ impl Default for Ccvt {
             active_from: 10_000,
             eps_start: 0.0,
             multilevel_from: usize::MAX,
+            graded_multilevel_from: 75_000,
             graded_start: true,
             row_from: 10_000,
             update: Update::Centroid,
@@ -168,6 +177,7 @@ impl Ccvt {
             algorithm: Algorithm::One,
             solver: Solver::Lloyd,
             multilevel_from: usize::MAX,
+            graded_multilevel_from: usize::MAX,
             graded_start: false,
             row_from: usize::MAX,
             ..Ccvt::default()
@@ -181,6 +191,7 @@ impl Ccvt {
             algorithm: Algorithm::Two,
             solver: Solver::Lloyd,
             multilevel_from: usize::MAX,
+            graded_multilevel_from: usize::MAX,
             graded_start: false,
             row_from: usize::MAX,
             ..Ccvt::default()
@@ -201,6 +212,7 @@ impl Ccvt {
             algorithm: Algorithm::Two,
             solver: Solver::Anderson { depth: 5 },
             multilevel_from: usize::MAX,
+            graded_multilevel_from: usize::MAX,
             graded_start: false,
             row_from: usize::MAX,
             ..Ccvt::default()
@@ -259,7 +271,12 @@ impl Ccvt {
         let k = request.validate(region)?;
         let spacing = request.spacing(region);
         let scale = LocalScale::new(region, &request.density, spacing);
-        if k >= self.multilevel_from {
+        let levels_from = if request.density.is_uniform() {
+            self.multilevel_from
+        } else {
+            self.graded_multilevel_from
+        };
+        if k >= levels_from {
             let coarse_k = start::coarse_count(region, &scale, k);
             let coarse_request = MeshRequest {
                 size: mesh::Size::Points(coarse_k),
@@ -268,7 +285,7 @@ impl Ccvt {
             };
             let coarse = self.generators(region, &coarse_request, progress)?;
             let mesh = tessellation::conforming_mesh(&coarse.points, &coarse.markers, region)?;
-            let seeds = start::prolongate(region, &mesh);
+            let seeds = start::prolongate_resampled(region, &scale, &mesh);
             let z = start::fit_count(region, &scale, seeds, k, request.seed);
             let (fine, del) = self.solve_on_pool(region, request, z, Run::Relax, progress)?;
             return Ok((coarse.then(fine, coarse_k), del));

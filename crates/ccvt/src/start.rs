@@ -2,7 +2,7 @@
 //! iteration (Algorithm 1) only has to relax them: the vertices of a Delaunay refinement
 //! driven by the density (a graded start), and a coarser CCVT prolongated by one level (every
 //! edge of its mesh split at its midpoint, which turns a hexagonal lattice into the lattice of
-//! half its spacing, and keeps any grading).
+//! half its spacing, and keeps any grading; ∂Ω laid out again).
 use crate::scale::LocalScale;
 use geometry::{DVec2, Region, Rng};
 use mesh::{Mesh, MeshError, MeshRequest, VertexMarker};
@@ -154,6 +154,33 @@ fn boundary_count(region: &Region, scale: &LocalScale) -> f64 {
 
 /// The vertices of `mesh` and the midpoint of each of its edges; midpoints of boundary edges
 /// go onto ∂Ω (the nearest point of the piece the edge follows).
+/// The start from a coarser level's `mesh`: the interior points of [`prolongate`] at least
+/// `CLEARANCE`·h inside Ω, and ∂Ω laid out again at CCVT's own boundary spacing as the graded
+/// start lays it out. Splitting the boundary edges instead doubles every boundary generator the
+/// coarse relaxation gained: graded meshes at 10⁵ came out with boundary edges 0.92–0.99 of the
+/// interior's (relative to h), against 0.98–1.02 with the boundary laid out again.
+pub(crate) fn prolongate_resampled(region: &Region, scale: &LocalScale, mesh: &Mesh) -> Seeds {
+    let mut seeds = resample_boundary(region, scale, mesh);
+    let boundary = seeds.on_boundary.iter().filter(|&&b| b).count();
+    let points: Vec<DVec2> = seeds
+        .points
+        .iter()
+        .zip(&seeds.on_boundary)
+        .filter(|(_, &b)| b)
+        .map(|(p, _)| *p)
+        .collect();
+    seeds.points = points;
+    seeds.on_boundary = vec![true; boundary];
+    let fine = prolongate(region, mesh);
+    for (p, &b) in fine.points.iter().zip(&fine.on_boundary) {
+        if !b && -region.signed_distance(*p) >= CLEARANCE * scale.at(*p) {
+            seeds.points.push(*p);
+            seeds.on_boundary.push(false);
+        }
+    }
+    seeds
+}
+
 pub(crate) fn prolongate(region: &Region, mesh: &Mesh) -> Seeds {
     let mut seeds = Seeds::from_mesh(mesh);
     let boundary: HashMap<(u32, u32), ()> = mesh
@@ -614,6 +641,45 @@ mod tests {
                     -region.signed_distance(*p) >= CLEARANCE * scale.at(*p),
                     "{p}"
                 );
+            }
+        }
+    }
+
+    /// Splitting a coarse mesh's edges doubles its boundary count, whatever it was (here 140
+    /// points where CCVT's spacing asks for 121); laying ∂Ω out again gives the fine level
+    /// CCVT's own boundary spacing, and the interior points are the split mesh's, clear of ∂Ω.
+    #[test]
+    fn a_prolongated_boundary_is_laid_out_at_the_fine_spacing() {
+        let region = Region::builtin("circle").unwrap();
+        let coarse_h = 0.1;
+        let r = Refine::default()
+            .refine_with_area(
+                &region,
+                0.5 * coarse_h * coarse_h,
+                &Density::Uniform,
+                usize::MAX,
+            )
+            .unwrap();
+        let mesh = &r.mesh;
+        let fine_h = 0.5 * coarse_h;
+        let scale = LocalScale::new(&region, &Density::Uniform, fine_h);
+        let on = |s: &Seeds| s.on_boundary.iter().filter(|&&b| b).count();
+        let split = prolongate(&region, mesh);
+        let seeds = prolongate_resampled(&region, &scale, mesh);
+        let want = (std::f64::consts::TAU / (BOUNDARY_SPACING * fine_h)).round() as usize;
+        assert!(
+            on(&seeds).abs_diff(want) <= 1,
+            "{} against {want}",
+            on(&seeds)
+        );
+        assert_eq!(on(&split), 2 * mesh.boundary_edges().len());
+        for (p, b) in seeds.points.iter().zip(&seeds.on_boundary) {
+            let d = region.signed_distance(*p);
+            if *b {
+                assert!(d.abs() < 1e-9, "{p}: {d}");
+            } else {
+                assert!(-d >= CLEARANCE * fine_h, "{p}: {d}");
+                assert!(split.points.contains(p), "{p}");
             }
         }
     }

@@ -200,6 +200,45 @@ fn a_prolongated_coarse_level_gives_a_converged_mesh_of_exactly_k() {
     assert!(r.mesh.min_angle_deg() >= 25.0, "{}", r.mesh.min_angle_deg());
 }
 
+/// `graded_multilevel_from` decides the levels of a graded run and `multilevel_from` those of a
+/// uniform one: the same settings give a graded mesh from a coarser level that follows its
+/// field, a uniform mesh without one, and a graded mesh below the threshold without one.
+#[test]
+fn graded_runs_take_levels_from_their_own_threshold() {
+    let region = Region::builtin("circle").unwrap();
+    let field = SizeField::from_expr("0.01 + 0.04 * sqrt(x^2 + y^2)").unwrap();
+    let request = MeshRequest::size_field(&field, &region, None).unwrap();
+    let k = request.validate(&region).unwrap();
+    let levels = |notes: &[String]| {
+        notes
+            .iter()
+            .any(|n| n.contains("every edge of its mesh split"))
+    };
+    let ccvt = Ccvt {
+        graded_multilevel_from: k / 2,
+        ..Ccvt::default()
+    };
+    let r = ccvt.mesh(&region, &request, &mut |_| {}).unwrap();
+    assert!(levels(&r.notes), "{:?}", r.notes);
+    assert!(r.converged);
+    assert_eq!(r.mesh.num_vertices(), k);
+    check_conforming(&r.mesh, &region).unwrap();
+    let c = size_conformity(&r.mesh, &field, &region).unwrap();
+    assert!(c.unit_share >= 0.95 && c.efficiency >= 0.9, "{c:?}");
+    let ratio = boundary_to_interior(&r.mesh, &field);
+    assert!(ratio >= 0.9, "{ratio}");
+    let uniform = ccvt
+        .mesh(&region, &MeshRequest::points(k), &mut |_| {})
+        .unwrap();
+    assert!(!levels(&uniform.notes), "{:?}", uniform.notes);
+    let above = Ccvt {
+        graded_multilevel_from: k + 1,
+        ..Ccvt::default()
+    };
+    let r = above.mesh(&region, &request, &mut |_| {}).unwrap();
+    assert!(!levels(&r.notes), "{:?}", r.notes);
+}
+
 /// A fractal coastline of 5000 vertices (1597 corners kept, 1235 added along its gaps) meshed
 /// toward its shore at K = 3000: 168 free generators among 2832 corners. From evaluation 136
 /// the iterate cycles with a period of about 66 evaluations and the largest move never again

@@ -194,7 +194,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "m" => run(
                 "levels",
                 &Ccvt {
-                    multilevel_from: std::env::var("GRADED_LEVELS_FROM")
+                    graded_multilevel_from: std::env::var("GRADED_LEVELS_FROM")
                         .ok()
                         .and_then(|v| v.parse().ok())
                         .unwrap_or(2000),
@@ -205,7 +205,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "s" => run(
                 "single level",
                 &Ccvt {
-                    multilevel_from: usize::MAX,
+                    graded_multilevel_from: usize::MAX,
                     ..Ccvt::default()
                 },
                 None,
