@@ -231,6 +231,9 @@ pub struct Generators {
     pub iterations: usize,
     /// Every phase met its tolerance (and ε settled, for Algorithm 2).
     pub converged: bool,
+    /// A phase stopped unconverged because its largest move made no new low in
+    /// `STALL_EVALUATIONS` evaluations (the iterate cycles).
+    pub stalled: bool,
     /// CVT energy (4) per iteration.
     pub energy_history: Vec<f64>,
     /// Largest move / mean spacing per iteration.
@@ -260,6 +263,34 @@ impl Ccvt {
         Ok(self.solved(region, request, progress)?.0)
     }
 
+    /// The coarser level's size and request for a run of `k` generators, or None when the run
+    /// takes no levels: below its threshold ([`Ccvt::multilevel_from`] or
+    /// [`Ccvt::graded_multilevel_from`]), or where the coarser level would not be a valid
+    /// request of its own (a region with more corners than the coarse count).
+    fn coarser(
+        &self,
+        region: &Region,
+        request: &MeshRequest,
+        scale: &LocalScale,
+        k: usize,
+    ) -> Option<(usize, MeshRequest)> {
+        let levels_from = if request.density.is_uniform() {
+            self.multilevel_from
+        } else {
+            self.graded_multilevel_from
+        };
+        if k < levels_from {
+            return None;
+        }
+        let coarse_k = start::coarse_count(region, scale, k);
+        let coarse = MeshRequest {
+            size: mesh::Size::Points(coarse_k),
+            tol: request.tol.max(COARSE_TOL),
+            ..request.clone()
+        };
+        coarse.validate(region).ok().map(|_| (coarse_k, coarse))
+    }
+
     /// [`Ccvt::generators`] with the triangulation of the last iterate.
     fn solved(
         &self,
@@ -271,24 +302,25 @@ impl Ccvt {
         let k = request.validate(region)?;
         let spacing = request.spacing(region);
         let scale = LocalScale::new(region, &request.density, spacing);
-        let levels_from = if request.density.is_uniform() {
-            self.multilevel_from
-        } else {
-            self.graded_multilevel_from
-        };
-        if k >= levels_from {
-            let coarse_k = start::coarse_count(region, &scale, k);
-            let coarse_request = MeshRequest {
-                size: mesh::Size::Points(coarse_k),
-                tol: request.tol.max(COARSE_TOL),
-                ..request.clone()
-            };
+        if let Some((coarse_k, coarse_request)) = self.coarser(region, request, &scale, k) {
             let coarse = self.generators(region, &coarse_request, progress)?;
             let mesh = tessellation::conforming_mesh(&coarse.points, &coarse.markers, region)?;
             let seeds = start::prolongate_resampled(region, &scale, &mesh);
             let z = start::fit_count(region, &scale, seeds, k, request.seed);
             let (fine, del) = self.solve_on_pool(region, request, z, Run::Relax, progress)?;
-            return Ok((coarse.then(fine, coarse_k), del));
+            let levels = coarse.then(fine, coarse_k);
+            if !levels.stalled || request.cancelled() || request.out_of_time() {
+                return Ok((levels, del));
+            }
+            // The relaxation from the prolongated start cycled; the single level's path is
+            // another one, and on the regions where this was seen it converged.
+            let single = Ccvt {
+                multilevel_from: usize::MAX,
+                graded_multilevel_from: usize::MAX,
+                ..self.clone()
+            };
+            let (again, del) = single.solved(region, request, progress)?;
+            return Ok((levels.then_again(again), del));
         }
         if self.graded_start && !request.density.is_uniform() {
             let z = start::graded(region, request, &scale, k)?;
@@ -555,6 +587,7 @@ impl Ccvt {
             markers,
             iterations: tally.iterations,
             converged: tally.converged,
+            stalled: tally.stalled,
             energy_history: trace.energies,
             move_history: trace.moves,
             notes,
@@ -585,6 +618,37 @@ impl Generators {
             markers: fine.markers,
             iterations: self.iterations + fine.iterations,
             converged: fine.converged,
+            stalled: fine.stalled,
+            energy_history,
+            move_history,
+            notes,
+            profile,
+        }
+    }
+}
+
+impl Generators {
+    /// A stalled run from a coarser level (`self`) followed by the run `again` without
+    /// levels: `again`'s generators and convergence, the evaluations and histories of both.
+    fn then_again(self, again: Generators) -> Generators {
+        let mut notes = vec![format!(
+            "the run from a coarser level stopped unconverged after {} evaluations (the \
+             iterate cycled); solved again without levels",
+            self.iterations
+        )];
+        notes.extend(again.notes);
+        let mut energy_history = self.energy_history;
+        energy_history.extend(again.energy_history);
+        let mut move_history = self.move_history;
+        move_history.extend(again.move_history);
+        let mut profile = self.profile;
+        profile.add(&again.profile);
+        Generators {
+            points: again.points,
+            markers: again.markers,
+            iterations: self.iterations + again.iterations,
+            converged: again.converged,
+            stalled: again.stalled,
             energy_history,
             move_history,
             notes,
@@ -687,5 +751,44 @@ fn expanded(region: &Region, eps: &mut f64, tol: f64, closing: &mut Vec<f64>) ->
         }
         closing.push(*eps);
         *eps *= 0.8;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geometry::SizeField;
+
+    /// Levels are taken from the threshold on, by the threshold of the run's own kind, and
+    /// never where the coarser level would be refused: a coastline with 1597 corners at
+    /// K = 3000 has a coarse count of about a thousand.
+    #[test]
+    fn a_coarser_level_is_taken_only_where_it_is_a_valid_request() {
+        let ccvt = Ccvt {
+            graded_multilevel_from: 2000,
+            ..Ccvt::default()
+        };
+        let graded = |region: &Region| {
+            let field = SizeField::from_expr("0.02 + 0.05 * x * x").unwrap();
+            MeshRequest::size_field(&field, region, Some(3000)).unwrap()
+        };
+        let coarser = |region: &Region, request: &MeshRequest| {
+            let k = request.validate(region).unwrap();
+            let scale = LocalScale::new(region, &request.density, request.spacing(region));
+            ccvt.coarser(region, request, &scale, k)
+        };
+        let circle = Region::builtin("circle").unwrap();
+        let (coarse_k, coarse) = coarser(&circle, &graded(&circle)).unwrap();
+        assert!((700..900).contains(&coarse_k), "{coarse_k}");
+        assert_eq!(coarse.validate(&circle).unwrap(), coarse_k);
+        assert!(coarser(&circle, &MeshRequest::points(3000)).is_none());
+        let text = include_str!("../tests/data/coast5000.txt");
+        let coast = geometry::formats::loops_from_str(text, "coast5000", "coast5000")
+            .unwrap()
+            .with_default_corners();
+        assert!(coast.corners().len() > 1500);
+        let request = graded(&coast);
+        assert_eq!(request.validate(&coast).unwrap(), 3000);
+        assert!(coarser(&coast, &request).is_none());
     }
 }
