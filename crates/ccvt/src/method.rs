@@ -601,54 +601,42 @@ impl Generators {
     /// This coarse level's record followed by the finer level `fine` solved from its
     /// prolongation: iterations, histories and profiles add up; convergence is the fine
     /// level's (a coarse level only provides the start).
-    fn then(self, fine: Generators, coarse_k: usize) -> Generators {
-        let mut notes = self.notes;
+    fn then(mut self, mut fine: Generators, coarse_k: usize) -> Generators {
+        let mut notes = std::mem::take(&mut self.notes);
         notes.push(format!(
             "started from a CCVT of {coarse_k} generators, every edge of its mesh split"
         ));
-        notes.extend(fine.notes);
-        let mut energy_history = self.energy_history;
-        energy_history.extend(fine.energy_history);
-        let mut move_history = self.move_history;
-        move_history.extend(fine.move_history);
-        let mut profile = self.profile;
-        profile.add(&fine.profile);
-        Generators {
-            points: fine.points,
-            markers: fine.markers,
-            iterations: self.iterations + fine.iterations,
-            converged: fine.converged,
-            stalled: fine.stalled,
-            energy_history,
-            move_history,
-            notes,
-            profile,
-        }
+        notes.append(&mut fine.notes);
+        self.followed_by(fine, notes)
     }
-}
 
-impl Generators {
     /// A stalled run from a coarser level (`self`) followed by the run `again` without
     /// levels: `again`'s generators and convergence, the evaluations and histories of both.
-    fn then_again(self, again: Generators) -> Generators {
+    fn then_again(self, mut again: Generators) -> Generators {
         let mut notes = vec![format!(
             "the run from a coarser level stopped unconverged after {} evaluations (the \
              iterate cycled); solved again without levels",
             self.iterations
         )];
-        notes.extend(again.notes);
+        notes.append(&mut again.notes);
+        self.followed_by(again, notes)
+    }
+
+    /// `next`'s generators and convergence with `notes`, after `self`'s evaluations, histories
+    /// and profile.
+    fn followed_by(self, next: Generators, notes: Vec<String>) -> Generators {
         let mut energy_history = self.energy_history;
-        energy_history.extend(again.energy_history);
+        energy_history.extend(next.energy_history);
         let mut move_history = self.move_history;
-        move_history.extend(again.move_history);
+        move_history.extend(next.move_history);
         let mut profile = self.profile;
-        profile.add(&again.profile);
+        profile.add(&next.profile);
         Generators {
-            points: again.points,
-            markers: again.markers,
-            iterations: self.iterations + again.iterations,
-            converged: again.converged,
-            stalled: again.stalled,
+            points: next.points,
+            markers: next.markers,
+            iterations: self.iterations + next.iterations,
+            converged: next.converged,
+            stalled: next.stalled,
             energy_history,
             move_history,
             notes,
