@@ -71,8 +71,9 @@ pub struct Ccvt {
     pub eps_start: f64,
     /// From this many generators on, step 0 is a coarser CCVT (about a quarter of K, itself
     /// solved the same way) prolongated by splitting every edge of its mesh at its midpoint
-    /// (∂Ω laid out again at CCVT's boundary spacing), and the run is Algorithm 1 from it: the start already has the target spacing along ∂Ω
-    /// and inside, so the fine level only relaxes it. `usize::MAX` (the default) turns the
+    /// (∂Ω laid out again at CCVT's boundary spacing), and the run is Algorithm 1 from it: the
+    /// start already has the target spacing along ∂Ω and inside, so the fine level only
+    /// relaxes it. `usize::MAX` (the default) turns the
     /// levels off: on the uniform circle at 10⁵ the relaxation of the prolongated lattice's
     /// boundary layer took more evaluations than the lattice start with Algorithm 2 and gave
     /// a smallest angle of 34.5° instead of 41.6°. Graded runs take
