@@ -278,10 +278,10 @@ fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
 }
 
 /// A run from a coarser level that cycles is solved again without levels. A rectangle with 40
-/// small hexagonal holes (the robustness sweep's `holes40.poly`), refined toward its outer loop at K = 80 000: the relaxation from the
-/// coarser level stopped unconverged after 681 evaluations (its largest move at 2–8·10⁻⁴ of
-/// the spacing for 300 evaluations), where the single level converges in 318. About a minute
-/// in release: run with `--ignored`.
+/// small hexagonal holes (the robustness sweep's `holes40.poly`), refined toward its outer
+/// loop at K = 80 000: the relaxation from the coarser level stopped unconverged after 681
+/// evaluations (its largest move at 2–8·10⁻⁴ of the spacing for 300 evaluations), where the
+/// single level converges in 318. About a minute in release: run with `--ignored`.
 #[test]
 #[ignore]
 fn a_graded_run_whose_levels_cycle_still_converges() {
