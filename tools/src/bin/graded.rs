@@ -4,12 +4,15 @@
 //!
 //! FIELD is an expression `H(x,y)` or a distance field `toward:loop:0+point:X,Y@HMIN,HMAX,DMIN,DMAX`.
 //! VARIANTS (comma-separated): `1r`, `1l`, `2r`, `2l` (Algorithm 1 or 2 from the refinement
-//! start or the lattice), `d` (the default method), `m` (coarser levels from
+//! start or the lattice), `d` (the default method), `f` (Algorithm 1 from the vertices of the
+//! Triangle `.node` file GRADED_FROM, e.g. another tool's mesh), `m` (coarser levels from
 //! GRADED_LEVELS_FROM generators on, default 2000), `s` (single level), `w` (with
-//! GRADED_WHERE=N: the generators and cells that change most between evaluations N and N + 1).
+//! GRADED_WHERE=N: the generators, by their move over h(x), and the cells that change most
+//! between evaluations N and N + 1).
 //! GRADED_TRACE prints the largest move through the run (GRADED_TRACE_ALL every evaluation),
-//! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_SEED the seed, GRADED_GRADATION the gradient limit, GRADED_EXACT evaluates an expression
-//! itself instead of its background grid.
+//! GRADED_JUMPS the evaluations where it jumps tenfold, GRADED_TIMES the seconds at every
+//! evaluation, GRADED_SEED the seed, GRADED_GRADATION the gradient limit, GRADED_EXACT
+//! evaluates an expression itself instead of its background grid.
 use cvtmesh::ccvt::{Algorithm, Generators};
 use cvtmesh::geometry::{Threshold, Toward};
 use cvtmesh::metrics::size_conformity;
@@ -136,8 +139,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             None => {
                 // GRADED_JUMPS: the evaluations whose largest move is 10× the one before.
                 let jumps = std::env::var_os("GRADED_JUMPS").is_some();
+                // GRADED_TIMES: seconds, evaluation and largest move of every evaluation.
+                let times = std::env::var_os("GRADED_TIMES").is_some();
                 let mut last = f64::INFINITY;
                 ccvt.generators(&region, &request, &mut |p| {
+                    if times {
+                        println!(
+                            "  time {:.3} evaluation {} move {:.2e}",
+                            t.elapsed().as_secs_f64(),
+                            p.iteration,
+                            p.max_move
+                        );
+                    }
                     if jumps && p.max_move > 10.0 * last {
                         println!(
                             "  jump at evaluation {}: {last:.1e} -> {:.1e}",
@@ -191,6 +204,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             )?,
             "2l" => run("algorithm 2, lattice start", &Ccvt::fast(), None)?,
             "d" => run("default", &Ccvt::default(), None)?,
+            // Algorithm 1 from the vertices of a Triangle .node file (GRADED_FROM).
+            "f" => {
+                let text = std::fs::read_to_string(std::env::var("GRADED_FROM")?)?;
+                let z: Vec<cvtmesh::DVec2> = text
+                    .lines()
+                    .skip(1)
+                    .filter_map(|l| {
+                        let v: Vec<f64> = l
+                            .split_whitespace()
+                            .skip(1)
+                            .take(2)
+                            .filter_map(|t| t.parse().ok())
+                            .collect();
+                        (v.len() == 2).then(|| cvtmesh::DVec2::new(v[0], v[1]))
+                    })
+                    .collect();
+                run("algorithm 1, file start", &one, Some(z))?
+            }
             "m" => run(
                 "levels",
                 &Ccvt {
@@ -224,7 +255,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     .iter()
                     .zip(&b.points)
                     .enumerate()
-                    .map(|(i, (p, q))| ((*p - *q).length(), i))
+                    .map(|(i, (p, q))| ((*p - *q).length() / scaled.at(*p), i))
                     .collect();
                 moves.sort_by(|x, y| y.0.total_cmp(&x.0));
                 let omega = region.polygonize(1e-4 * request.spacing(&region));
@@ -251,7 +282,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
                 for &(d, i) in moves.iter().take(8) {
                     println!(
-                        "  {i:>6} at ({:.3}, {:.3}) moved {d:.3e} ({:?} -> {:?}), energy {:.9e} -> {:.9e}",
+                        "  {i:>6} at ({:.3}, {:.3}) moved {d:.3e} of h ({:?} -> {:?}), energy {:.9e} -> {:.9e}",
                         a.points[i].x, a.points[i].y, a.markers[i], b.markers[i],
                         a.energy_history.last().unwrap_or(&0.0), b.energy_history.last().unwrap_or(&0.0)
                     );
