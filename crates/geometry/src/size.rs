@@ -13,6 +13,7 @@
 //! need.
 use crate::expr::{Expr, ExprError};
 use crate::{DVec2, Density, Region};
+use rayon::prelude::*;
 use std::sync::Arc;
 use thiserror::Error;
 
@@ -284,8 +285,9 @@ impl Grid {
         }
     }
 
-    /// Gauss–Seidel sweeps of h_i ← min(h_i, h_j + g |x_i − x_j|) over the eight neighbours,
-    /// alternating the four sweep directions, until a round changes nothing.
+    /// h_i ← min(h_i, h_j + g |x_i − x_j|) over the eight neighbours until nothing changes:
+    /// the two passes of a distance transform, then Gauss–Seidel rounds over all eight in
+    /// alternating directions until one changes nothing.
     fn limit_gradation(&mut self, g: f64) {
         let (nx, ny) = (self.nx as isize, self.ny as isize);
         let (dx, dy) = (self.step.x, self.step.y);
@@ -308,33 +310,25 @@ impl Grid {
             };
             offsets.push((di, dj, g * d));
         }
-        let usable = |v: f64| v.is_finite() && v > 0.0;
+        // One pass forward with the four neighbours before each node in row order, one back
+        // with the other four: every shortest path of axis and diagonal steps can be ordered
+        // into the first pass's steps followed by the second's, so these two passes alone
+        // reach the limit up to rounding (the two-pass distance transform of Rosenfeld and
+        // Pfaltz). The rounds after them settle the last bits, and stop when one changes
+        // nothing; the limit is the least path sum at every node, whatever the order of the
+        // updates that reach it.
+        let (forward, backward) = offsets.split_at(4);
+        sweep(&mut self.values, nx, ny, forward, false, false);
+        sweep(&mut self.values, nx, ny, backward, true, true);
         for round in 0.. {
-            let mut changed = false;
-            let (rev_i, rev_j) = (round % 2 == 1, (round / 2) % 2 == 1);
-            for jj in 0..ny {
-                let j = if rev_j { ny - 1 - jj } else { jj };
-                for ii in 0..nx {
-                    let i = if rev_i { nx - 1 - ii } else { ii };
-                    let at = (j * nx + i) as usize;
-                    let mut h = self.values[at];
-                    for &(di, dj, step) in &offsets {
-                        let (a, b) = (i + di, j + dj);
-                        if a < 0 || b < 0 || a >= nx || b >= ny {
-                            continue;
-                        }
-                        let v = self.values[(b * nx + a) as usize];
-                        if usable(v) && (!usable(h) || v + step < h) {
-                            h = v + step;
-                        }
-                    }
-                    if h != self.values[at] && usable(h) {
-                        self.values[at] = h;
-                        changed = true;
-                    }
-                }
-            }
-            if !changed {
+            if !sweep(
+                &mut self.values,
+                nx,
+                ny,
+                &offsets,
+                round % 2 == 1,
+                (round / 2) % 2 == 1,
+            ) {
                 break;
             }
         }
@@ -578,21 +572,28 @@ impl SizeField {
                 }
             }
         }
+        let to_loops = target_piece.iter().any(|&t| t);
         let distance = |p: DVec2| {
-            toward
+            let to_points = toward
                 .iter()
                 .filter_map(|t| match *t {
                     Toward::Point(q) => Some((p - q).length()),
                     Toward::Loop(_) => None,
                 })
-                .fold(
-                    region.distance_where(p, |piece| target_piece[piece]),
-                    f64::min,
-                )
+                .fold(f64::INFINITY, f64::min);
+            if to_loops {
+                to_points.min(region.distance_where(p, |piece| target_piece[piece]))
+            } else {
+                to_points
+            }
         };
+        // Up to a million nodes, each a nearest-piece query: in parallel.
         let field = SizeField::from_samples(region, n, |nodes| {
             Ok::<_, std::convert::Infallible>(
-                nodes.iter().map(|&p| threshold.at(distance(p))).collect(),
+                nodes
+                    .par_iter()
+                    .map(|&p| threshold.at(distance(p)))
+                    .collect(),
             )
         })?;
         Ok(field.unwrap_or_else(|never| match never {}))
@@ -707,7 +708,9 @@ impl SizeField {
                 let extent = (hi - lo).max_element();
                 let n = ((4.0 * extent / h_min).ceil() as usize).clamp(64, 2048);
                 SizeField::from_samples(region, n, |nodes| {
-                    Ok::<_, std::convert::Infallible>(nodes.iter().map(|&p| e.eval(p)).collect())
+                    Ok::<_, std::convert::Infallible>(
+                        nodes.par_iter().map(|&p| e.eval(p)).collect(),
+                    )
                 })
                 .expect("n is at least 2 and one value is made per node")
                 .unwrap_or_else(|never| match never {})
@@ -842,6 +845,63 @@ impl SizeField {
             }
         }
     }
+}
+
+/// One Gauss–Seidel sweep of h_i ← min(h_i, h_j + step) over the neighbours j = i + (di, dj)
+/// of `mask` on the `nx` × `ny` row-major grid `values`, rows and columns in the given
+/// directions; values that are not positive and finite are never sources. Returns whether a
+/// value changed. Nodes off the grid's border skip the bounds tests.
+fn sweep(
+    values: &mut [f64],
+    nx: isize,
+    ny: isize,
+    mask: &[(isize, isize, f64)],
+    rev_i: bool,
+    rev_j: bool,
+) -> bool {
+    let usable = |v: f64| v.is_finite() && v > 0.0;
+    let linear: Vec<(isize, f64)> = mask.iter().map(|&(di, dj, s)| (dj * nx + di, s)).collect();
+    // Where every value is usable (a checked field extended outside the region), the update
+    // is a plain minimum, without branches.
+    let all_usable = values.iter().all(|&v| usable(v));
+    let mut changed = false;
+    for jj in 0..ny {
+        let j = if rev_j { ny - 1 - jj } else { jj };
+        let inner_row = j > 0 && j < ny - 1;
+        for ii in 0..nx {
+            let i = if rev_i { nx - 1 - ii } else { ii };
+            let at = j * nx + i;
+            let mut h = values[at as usize];
+            if all_usable && inner_row && i > 0 && i < nx - 1 {
+                for &(off, step) in &linear {
+                    h = h.min(values[(at + off) as usize] + step);
+                }
+            } else if inner_row && i > 0 && i < nx - 1 {
+                for &(off, step) in &linear {
+                    let v = values[(at + off) as usize];
+                    if usable(v) && (!usable(h) || v + step < h) {
+                        h = v + step;
+                    }
+                }
+            } else {
+                for &(di, dj, step) in mask {
+                    let (a, b) = (i + di, j + dj);
+                    if a < 0 || b < 0 || a >= nx || b >= ny {
+                        continue;
+                    }
+                    let v = values[(b * nx + a) as usize];
+                    if usable(v) && (!usable(h) || v + step < h) {
+                        h = v + step;
+                    }
+                }
+            }
+            if h != values[at as usize] && usable(h) {
+                values[at as usize] = h;
+                changed = true;
+            }
+        }
+    }
+    changed
 }
 
 /// Centres of an `n`×`n` grid of cells over `region`'s bounding box that lie inside it, and
@@ -992,6 +1052,109 @@ mod tests {
         assert!(tested > 40, "{tested}");
         let (a, b) = (e.predicted_points(&r), g.predicted_points(&r));
         assert!((a - b).abs() < 1e-2 * a, "{a} {b}");
+    }
+
+    /// The limit the sweeps reach, bit for bit, is the least path sum at every node: Dijkstra's
+    /// over the eight-neighbour grid, each path summed step by step from a usable value.
+    /// Unusable values (zero, negative, NaN, infinite) are never sources, but take a value
+    /// reached from one; a grid with none usable is left as it is.
+    #[test]
+    fn gradation_limiting_reaches_the_least_path_sum_at_every_node() {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        #[derive(PartialEq)]
+        struct Key(f64);
+        impl Eq for Key {}
+        impl PartialOrd for Key {
+            fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+                Some(self.cmp(o))
+            }
+        }
+        impl Ord for Key {
+            fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+                self.0.total_cmp(&o.0)
+            }
+        }
+        let usable = |v: f64| v.is_finite() && v > 0.0;
+        for (seed, (nx, ny), unusable_share) in [
+            (1, (37, 23), 0.05),
+            (2, (5, 61), 0.3),
+            (3, (64, 64), 0.0),
+            (4, (9, 9), 1.0),
+        ] {
+            let mut rng = crate::rng::Rng::new(seed);
+            let bad = [0.0, -1.0, f64::NAN, f64::INFINITY];
+            let values: Vec<f64> = (0..nx * ny)
+                .map(|_| {
+                    if rng.uniform() < unusable_share {
+                        bad[rng.below(4)]
+                    } else {
+                        rng.range(0.01, 1.0)
+                    }
+                })
+                .collect();
+            let step = DVec2::new(0.1, 0.07);
+            let mut grid = Grid {
+                lo: DVec2::ZERO,
+                step,
+                inv_step: 1.0 / step,
+                nx,
+                ny,
+                values: values.clone(),
+                padded: Vec::new(),
+            };
+            let g = 0.3;
+            grid.limit_gradation(g);
+            // Dijkstra from every usable node at once.
+            let diag = step.length();
+            let mut best: Vec<f64> = values
+                .iter()
+                .map(|&v| if usable(v) { v } else { f64::INFINITY })
+                .collect();
+            let mut heap: BinaryHeap<Reverse<(Key, usize)>> = (0..nx * ny)
+                .filter(|&k| best[k].is_finite())
+                .map(|k| Reverse((Key(best[k]), k)))
+                .collect();
+            while let Some(Reverse((Key(d), k))) = heap.pop() {
+                if d > best[k] {
+                    continue;
+                }
+                let (i, j) = ((k % nx) as isize, (k / nx) as isize);
+                for (di, dj) in [
+                    (-1, -1),
+                    (0, -1),
+                    (1, -1),
+                    (-1, 0),
+                    (1, 0),
+                    (-1, 1),
+                    (0, 1),
+                    (1, 1),
+                ] {
+                    let (a, b) = (i + di, j + dj);
+                    if a < 0 || b < 0 || a >= nx as isize || b >= ny as isize {
+                        continue;
+                    }
+                    let len = match (di, dj) {
+                        (0, _) => step.y,
+                        (_, 0) => step.x,
+                        _ => diag,
+                    };
+                    let u = b as usize * nx + a as usize;
+                    let through = d + g * len;
+                    if through < best[u] {
+                        best[u] = through;
+                        heap.push(Reverse((Key(through), u)));
+                    }
+                }
+            }
+            for (k, (&now, &least)) in grid.values.iter().zip(&best).enumerate() {
+                let want = if least.is_finite() { least } else { values[k] };
+                assert!(
+                    now.to_bits() == want.to_bits(),
+                    "seed {seed}, node {k}: {now} against {want}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -1,0 +1,79 @@
+//! Building a graded size field, as `cvtmesh mesh --size-toward … --size-threshold …` does
+//! before any meshing: the Distance + Threshold field sampled on its background grid (one
+//! nearest-boundary query per node where a loop is a target, in parallel), its gradient limited
+//! to 0.3 (`SizeField::bounded`), and the density the methods read. The four fields are those of
+//! `scripts/compare_graded.sh` at about 10⁴ vertices, each on a 1024 × 1024 grid: O(nodes) work,
+//! independent of K once the grid is at its cap, so at small K it is a large part of a run.
+//! Run: `cargo bench -p cvtmesh-geometry --bench size_fields`. Prints a Markdown table of
+//! best-of-3 wall-clock seconds.
+use cvtmesh_geometry::{formats, DVec2, Region, SizeField, Threshold, Toward};
+use std::time::Instant;
+
+fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..runs {
+        let t = Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64());
+        out = Some(r);
+    }
+    (best, out.expect("at least one run"))
+}
+
+fn main() {
+    let l_shape = formats::loops_from_str(
+        "0 0\n1 0\n1 0.5\n0.5 0.5\n0.5 1\n0 1\n",
+        "l_shape",
+        "l_shape",
+    )
+    .unwrap()
+    .with_default_corners();
+    let t = |size_min: f64, size_max: f64, dist_min: f64, dist_max: f64| Threshold {
+        size_min,
+        size_max,
+        dist_min,
+        dist_max,
+    };
+    let cases: Vec<(&str, Region, Vec<Toward>, Threshold)> = vec![
+        (
+            "circle, toward its centre",
+            Region::builtin("circle").unwrap(),
+            vec![Toward::Point(DVec2::ZERO)],
+            t(0.00574, 0.0631, 0.0, 1.0),
+        ),
+        (
+            "L-shape, toward its corner",
+            l_shape,
+            vec![Toward::Point(DVec2::new(0.5, 0.5))],
+            t(0.0017, 0.051, 0.0, 0.7),
+        ),
+        (
+            "square_hole, toward its hole",
+            Region::builtin("square_hole").unwrap(),
+            vec![Toward::Loop(1)],
+            t(0.00623, 0.0623, 0.02, 0.6),
+        ),
+        (
+            "lake, toward its shores",
+            Region::builtin("lake").unwrap(),
+            vec![Toward::Loop(0), Toward::Loop(1)],
+            t(3.0, 15.0, 0.0, 35.0),
+        ),
+    ];
+    println!("| field | threshold (s) | gradation 0.3 (s) | density (s) | total (s) |");
+    println!("| :--- | ---: | ---: | ---: | ---: |");
+    for (name, region, toward, threshold) in cases {
+        let (sample, field) =
+            best_of(3, || SizeField::threshold(&region, &toward, threshold).unwrap());
+        let (limit, bounded) = best_of(3, || {
+            field.bounded(&region, None, None, Some(0.3)).unwrap()
+        });
+        let h_min = bounded.check(&region).unwrap().min;
+        let (density, _) = best_of(3, || bounded.density(h_min));
+        println!(
+            "| {name} | {sample:.4} | {limit:.4} | {density:.4} | {:.4} |",
+            sample + limit + density
+        );
+    }
+}
