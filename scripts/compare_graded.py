@@ -6,7 +6,7 @@ Gmsh is timed around `gmsh.model.mesh.generate` only, after calibration runs tha
 sizes to hit K (its count goes as size^-2); cvtmesh is timed as the whole command and as the
 mesher's own seconds that it prints. Run through scripts/compare_graded.sh.
 """
-import argparse, csv, json, math, os, re, subprocess, sys, time
+import argparse, csv, json, math, os, re, shlex, subprocess, sys, time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -154,6 +154,8 @@ def main():
     ap.add_argument("--sizes", default="10000,100000")
     ap.add_argument("--cases", default=DEFAULT_CASES,
                     help="comma-separated, of " + ",".join(CASES))
+    ap.add_argument("--cvtmesh-args", default="",
+                    help="more arguments for `cvtmesh mesh`, e.g. '--tol 1e-3'")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
@@ -182,7 +184,8 @@ def main():
             base = os.path.join(a.out, f"{case}_{k}_cvtmesh")
             t0 = time.perf_counter()
             margs = mesh_field_args(toward, hmin, ratio, dists)
-            out = subprocess.run([a.cvtmesh, "mesh", path, "--points", str(k), "--quiet", "-o", base + ".node"] + margs,
+            out = subprocess.run([a.cvtmesh, "mesh", path, "--points", str(k), "--quiet", "-o", base + ".node"] + margs
+                                 + shlex.split(a.cvtmesh_args),
                                  capture_output=True, text=True)
             whole = time.perf_counter() - t0
             if out.returncode != 0:
