@@ -76,7 +76,7 @@ pub(crate) fn active_set(
             let mut seeds = Vec::new();
             let mut n = 0;
             for (k, (t, z)) in t.iter().zip(z).enumerate() {
-                let d2 = (*t - *z).length_squared() / scale.at(*z).powi(2);
+                let d2 = (*t - *z).length_squared() / s.h(c * CHUNK + k, scale).powi(2);
                 n += usize::from(d2 > tol2);
                 if d2 > thr2 {
                     if let Some(v) = del.vertex_index(c * CHUNK + k) {
@@ -139,6 +139,9 @@ pub(crate) fn apply(
     let undo: Vec<(u32, DVec2)> = moves.iter().map(|&(i, _)| (i, z[i as usize])).collect();
     for &(i, p) in moves {
         z[i as usize] = p;
+        if !s.h.is_empty() {
+            s.h[i as usize] = phase.scale.at(p);
+        }
     }
     let moved: Vec<u32> = moves.iter().map(|m| m.0).collect();
     let Some(changed) = work.del.move_points(z, &moved) else {
@@ -211,7 +214,8 @@ mod tests {
 
     /// Moves applied by `apply` (the triangulation repaired around them, only the changed
     /// cells recomputed) leave exactly the map a fresh evaluation computes: cells, labels,
-    /// targets and energy, bit for bit; and undoing them restores the first map.
+    /// targets, energy and the local spacing at every generator, bit for bit; and undoing them
+    /// restores the first map.
     fn assert_local_map_is_the_fresh_map(name: &str, k: usize, constrained: bool, graded: bool) {
         let density = if graded {
             Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + 4.0 * p.x * p.x))
@@ -245,7 +249,7 @@ mod tests {
         let s0 = step(&phase, &z, &mut work, &mut prof);
         z = s0.targets.clone();
         let mut s = step(&phase, &z, &mut work, &mut prof);
-        let first = (s.energy, s.roles.clone(), s.targets.clone());
+        let first = (s.energy, s.roles.clone(), s.targets.clone(), s.h.clone());
         // Every 13th generator: its Lloyd target, or a random move inside Ω.
         let mut rng = Rng::new(7);
         let moves: Vec<(u32, DVec2)> = (0..k as u32)
@@ -283,7 +287,16 @@ mod tests {
             (s.energy - fresh.energy).abs() <= 1e-12 * fresh.energy,
             "{name}: energy"
         );
+        // The local spacing at every generator, bit for bit: at the moved ones recomputed,
+        // at the others kept.
+        assert!(s.h == fresh.h, "{name}: yardsticks");
+        assert_eq!(
+            s.h.is_empty(),
+            !graded,
+            "{name}: yardsticks only where ρ varies"
+        );
         apply(&phase, &mut z, &mut s, &mut work, &undo, &mut prof);
+        assert!(s.h == first.3, "{name}: yardsticks not undone");
         // Labels and targets bit for bit; the energy, updated by differences, to rounding.
         assert!(
             (s.roles, s.targets) == (first.1, first.2),

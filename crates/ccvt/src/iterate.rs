@@ -67,6 +67,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
             energy,
             roles,
             targets,
+            ..
         } = s;
         match anderson.as_mut() {
             None => z = targets,

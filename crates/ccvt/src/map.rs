@@ -146,6 +146,31 @@ pub struct Step {
     pub energy: f64,
     pub roles: Vec<Role>,
     pub targets: Vec<DVec2>,
+    /// The local spacing h(z_k) at each generator (empty for ρ ≡ 1, where it is the mean
+    /// spacing): every per-generator yardstick of the iteration reads it here, so that an
+    /// active-set step evaluates the density only where generators moved, not at all K.
+    pub h: Vec<f64>,
+}
+
+impl Step {
+    /// h(z_k), the local spacing at generator `k` of the iterate this step was evaluated at.
+    #[inline]
+    pub(crate) fn h(&self, k: usize, scale: &LocalScale) -> f64 {
+        if self.h.is_empty() {
+            scale.mean()
+        } else {
+            self.h[k]
+        }
+    }
+}
+
+/// h(z_k) for every generator (empty for a uniform density): [`Step::h`].
+pub(crate) fn yardsticks(scale: &LocalScale, z: &[DVec2]) -> Vec<f64> {
+    if scale.is_uniform() {
+        Vec::new()
+    } else {
+        z.par_iter().map(|&p| scale.at(p)).collect()
+    }
 }
 
 /// Inputs shared by every iteration of a phase.
@@ -252,11 +277,13 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
     if phase.constrained {
         assign_corners(phase.region, z, del, &mut roles, &mut targets);
     }
+    let h = yardsticks(&phase.scale, z);
     prof.projection += lap(&mut t);
     Step {
         energy,
         roles,
         targets,
+        h,
     }
 }
 
@@ -390,21 +417,26 @@ pub(crate) fn assign_corners(
     }
 }
 
-/// Largest |a_k − b_k| / h(b_k), h the local spacing (a parallel max: exact and independent
-/// of the thread count); infinite if any move is NaN, so that a non-finite centroid never
-/// passes the convergence test.
-fn max_move(a: &[DVec2], b: &[DVec2], scale: &LocalScale) -> f64 {
-    let relative = |(p, q): (&DVec2, &DVec2)| {
+/// Largest |a_k − b_k| / h_k, h_k the local spacing at b_k (`h`, empty for a uniform density;
+/// a parallel max: exact and independent of the thread count); infinite if any move is NaN,
+/// so that a non-finite centroid never passes the convergence test.
+fn max_move(a: &[DVec2], b: &[DVec2], h: &[f64], scale: &LocalScale) -> f64 {
+    let relative = |(k, (p, q)): (usize, (&DVec2, &DVec2))| {
         let d = (*p - *q).length_squared();
         if d.is_nan() {
             f64::INFINITY
         } else if scale.is_uniform() {
             d
         } else {
-            d / scale.at(*q).powi(2)
+            d / h[k].powi(2)
         }
     };
-    let m = a.par_iter().zip(b).map(relative).reduce(|| 0.0, f64::max);
+    let m = a
+        .par_iter()
+        .zip(b)
+        .enumerate()
+        .map(relative)
+        .reduce(|| 0.0, f64::max);
     if scale.is_uniform() {
         m.sqrt() / scale.mean()
     } else {
@@ -444,9 +476,9 @@ pub(crate) fn record(
                 .zip(phase.region.moves_without_rotation(z, &s.targets))
                 .map(|(p, d)| *p + d)
                 .collect();
-            max_move(&shape, z, &phase.scale)
+            max_move(&shape, z, &s.h, &phase.scale)
         }
-        _ => max_move(&s.targets, z, &phase.scale),
+        _ => max_move(&s.targets, z, &s.h, &phase.scale),
     };
     trace.energies.push(s.energy);
     trace.moves.push(mv);

@@ -332,7 +332,7 @@ fn newton_point(
         .map(|i| match del.vertex_index(i) {
             Some(v) => moved_to(
                 phase,
-                z[i],
+                (z[i], s.h(i, &phase.scale)),
                 buf.x[v],
                 buf.dofs[v],
                 &buf.tangents,
@@ -345,11 +345,18 @@ fn newton_point(
     candidate
 }
 
-/// Where a generator at `z` goes with the Newton move `x`: a long move is shortened to the
-/// cap, and one that is not allowed (a fixed generator, a move out of the domain) goes to its
-/// Lloyd target.
-fn moved_to(phase: &Phase, z: DVec2, x: DVec2, dof: Dof, tan: &[Tangent], target: DVec2) -> DVec2 {
-    let p = z + x.clamp_length_max(STEP_CAP * phase.scale.at(z));
+/// Where a generator at `z` (local spacing `h`) goes with the Newton move `x`: a long move is
+/// shortened to the cap, and one that is not allowed (a fixed generator, a move out of the
+/// domain) goes to its Lloyd target.
+fn moved_to(
+    phase: &Phase,
+    (z, h): (DVec2, f64),
+    x: DVec2,
+    dof: Dof,
+    tan: &[Tangent],
+    target: DVec2,
+) -> DVec2 {
+    let p = z + x.clamp_length_max(STEP_CAP * h);
     match dof {
         Dof::Fixed => target,
         Dof::Free if phase.inside.contains(p) => p,
@@ -396,7 +403,7 @@ fn active_step(
             let i = work.del.point_of_vertex(v as usize);
             let p = moved_to(
                 phase,
-                z[i],
+                (z[i], s.h(i, &phase.scale)),
                 buf.x[r],
                 buf.dofs[r],
                 &buf.tangents,
@@ -487,7 +494,7 @@ fn newton_move(
             let (i, Role::Boundary(piece)) = (pt(r as usize), s.roles[pt(r as usize)]) else {
                 unreachable!("tangent dofs are boundary generators")
             };
-            let (t, k) = tangent(region, z[i], piece, phase.scale.at(z[i]));
+            let (t, k) = tangent(region, z[i], piece, s.h(i, &phase.scale));
             Tangent { t, piece, k }
         })
         .collect_into_vec(&mut buf.tangents);
