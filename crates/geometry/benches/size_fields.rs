@@ -64,11 +64,11 @@ fn main() {
     println!("| field | threshold (s) | gradation 0.3 (s) | density (s) | total (s) |");
     println!("| :--- | ---: | ---: | ---: | ---: |");
     for (name, region, toward, threshold) in cases {
-        let (sample, field) =
-            best_of(3, || SizeField::threshold(&region, &toward, threshold).unwrap());
-        let (limit, bounded) = best_of(3, || {
-            field.bounded(&region, None, None, Some(0.3)).unwrap()
+        let (sample, field) = best_of(3, || {
+            SizeField::threshold(&region, &toward, threshold).unwrap()
         });
+        let (limit, bounded) =
+            best_of(3, || field.bounded(&region, None, None, Some(0.3)).unwrap());
         let h_min = bounded.check(&region).unwrap().min;
         let (density, _) = best_of(3, || bounded.density(h_min));
         println!(
