@@ -85,8 +85,22 @@ pub struct Ccvt {
     /// boundary spacing. On four graded cases the solve took 0.79 of the single level's time on
     /// average at 10⁵ (three seeds each; 0.50–0.89, but 1.07–1.22 on the lake), 0.91 at
     /// 7.5·10⁴ and 1.11 at 5·10⁴, with the edges following the field more closely in every
-    /// run (`docs/design-notes.md`, "Multilevel start").
+    /// run (`docs/design-notes.md`, "Multilevel start"). Neither kind of run takes levels where
+    /// more than [`Ccvt::levels_max_boundary_share`] of its generators would lie on ∂Ω.
     pub graded_multilevel_from: usize,
+    /// No levels ([`Ccvt::multilevel_from`], [`Ccvt::graded_multilevel_from`]) where more than
+    /// this share of the generators would lie on ∂Ω (∫_∂Ω ds/h over K; 0.03 by default, a
+    /// large value such as `f64::MAX` turns the rule off). A coarser level relaxes the interior
+    /// cheaply, but the fine level lays ∂Ω out again and relaxes its boundary layer from
+    /// scratch: where that layer is much of the mesh the coarse level is spent for nothing.
+    /// Graded runs, levels against a single level (`graded` probe): below 3 % the circle's point
+    /// source (0.55 % of 10⁵ generators on ∂Ω), the L-shape's corner (0.83 %) and
+    /// square_hole's hole (1.95 %) took 0.50–0.89 of the time; above it the lake's shores
+    /// (5.5 %) 1.07–1.22 at 10⁵ and 1.28–1.60 at 5·10⁴, and eight regions of the robustness
+    /// sweep refined toward their outer loop at 8·10⁴ (3.7–21 %) 0.86–2.9, 329 s against 213 s
+    /// in all (two of them, `holes40` and `comb20`, cycled from the coarser level and were
+    /// solved again without it).
+    pub levels_max_boundary_share: f64,
     /// For a non-uniform density (a size field), step 0 is a Delaunay refinement driven by the
     /// density and the run is Algorithm 1 from it: Algorithm 2's single ε cannot fit a boundary
     /// layer whose spacing varies along ∂Ω, and a uniform lattice would have to be carried
@@ -124,6 +138,7 @@ impl Default for Ccvt {
             eps_start: 0.0,
             multilevel_from: usize::MAX,
             graded_multilevel_from: 75_000,
+            levels_max_boundary_share: 0.03,
             graded_start: true,
             row_from: 10_000,
             update: Update::Centroid,
@@ -136,8 +151,8 @@ impl Default for Ccvt {
 const COARSE_TOL: f64 = 1e-3;
 
 impl Ccvt {
-    /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol` and
-    /// `eps_start` finite and non-negative ([`MeshError::InvalidSetting`] otherwise). The
+    /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol`,
+    /// `eps_start` and `levels_max_boundary_share` finite and non-negative ([`MeshError::InvalidSetting`] otherwise). The
     /// meshing calls check them first.
     ///
     /// ```
@@ -157,6 +172,11 @@ impl Ccvt {
         MeshError::check_positive(name, "eps_tol", self.eps_tol)?;
         MeshError::check_non_negative(name, "eps_phase_tol", self.eps_phase_tol)?;
         MeshError::check_non_negative(name, "eps_start", self.eps_start)?;
+        MeshError::check_non_negative(
+            name,
+            "levels_max_boundary_share",
+            self.levels_max_boundary_share,
+        )?;
         if self.update == Update::Odt
             && (self.algorithm != Algorithm::One || self.solver != Solver::Lloyd)
         {
@@ -266,8 +286,9 @@ impl Ccvt {
 
     /// The coarser level's size and request for a run of `k` generators, or None when the run
     /// takes no levels: below its threshold ([`Ccvt::multilevel_from`] or
-    /// [`Ccvt::graded_multilevel_from`]), or where the coarser level would not be a valid
-    /// request of its own (a region with more corners than the coarse count).
+    /// [`Ccvt::graded_multilevel_from`]), where more than [`Ccvt::levels_max_boundary_share`]
+    /// of the generators would lie on ∂Ω, or where the coarser level would not be a valid request of
+    /// its own (a region with more corners than the coarse count).
     fn coarser(
         &self,
         region: &Region,
@@ -280,7 +301,9 @@ impl Ccvt {
         } else {
             self.graded_multilevel_from
         };
-        if k < levels_from {
+        if k < levels_from
+            || start::boundary_count(region, scale) > self.levels_max_boundary_share * k as f64
+        {
             return None;
         }
         let coarse_k = start::coarse_count(region, scale, k);
@@ -746,7 +769,7 @@ fn expanded(region: &Region, eps: &mut f64, tol: f64, closing: &mut Vec<f64>) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geometry::SizeField;
+    use geometry::{DVec2, SizeField, Threshold, Toward};
 
     /// Levels are taken from the threshold on, by the threshold of the run's own kind, and
     /// never where the coarser level would be refused: a coastline with 1597 corners at
@@ -767,10 +790,42 @@ mod tests {
             ccvt.coarser(region, request, &scale, k)
         };
         let circle = Region::builtin("circle").unwrap();
-        let (coarse_k, coarse) = coarser(&circle, &graded(&circle)).unwrap();
-        assert!((700..900).contains(&coarse_k), "{coarse_k}");
+        let many = |region: &Region, k: usize| {
+            let field = SizeField::from_expr("0.02 + 0.05 * x * x").unwrap();
+            MeshRequest::size_field(&field, region, Some(k)).unwrap()
+        };
+        let (coarse_k, coarse) = coarser(&circle, &many(&circle, 40_000)).unwrap();
+        assert!((9_900..10_300).contains(&coarse_k), "{coarse_k}");
         assert_eq!(coarse.validate(&circle).unwrap(), coarse_k);
-        assert!(coarser(&circle, &MeshRequest::points(3000)).is_none());
+        assert!(coarser(&circle, &MeshRequest::points(40_000)).is_none());
+        // At 3000 generators about 5 % of them lie on the circle: no levels.
+        assert!(coarser(&circle, &graded(&circle)).is_none());
+        // The lake refined toward its shores puts 5.5 % of 10⁵ generators on them: no levels;
+        // toward one point inside, 0.4 %: levels.
+        let lake = Region::builtin("lake").unwrap();
+        let toward = |targets: &[Toward], t| {
+            let field = SizeField::threshold(&lake, targets, t).unwrap();
+            MeshRequest::size_field(&field, &lake, Some(100_000)).unwrap()
+        };
+        let t = Threshold {
+            size_min: 1.0,
+            size_max: 5.0,
+            dist_min: 0.0,
+            dist_max: 35.0,
+        };
+        assert!(coarser(&lake, &toward(&[Toward::Loop(0), Toward::Loop(1)], t)).is_none());
+        // The point deepest inside on a 40 × 40 grid of the lake's box.
+        let (lo, hi) = lake.bbox();
+        let inside = (0..1600)
+            .map(|i| {
+                lo + (hi - lo) * DVec2::new((i % 40) as f64 + 0.5, (i / 40) as f64 + 0.5) / 40.0
+            })
+            .min_by(|a, b| {
+                lake.signed_distance(*a)
+                    .total_cmp(&lake.signed_distance(*b))
+            })
+            .unwrap();
+        assert!(coarser(&lake, &toward(&[Toward::Point(inside)], t)).is_some());
         let text = include_str!("../tests/data/coast5000.txt");
         let coast = geometry::formats::loops_from_str(text, "coast5000", "coast5000")
             .unwrap()

@@ -162,7 +162,7 @@ fn even_split(weights: &[f64]) -> Vec<(usize, f64)> {
 }
 
 /// About how many generators lie on ∂Ω at the local spacing: ∫_∂Ω ds / h.
-fn boundary_count(region: &Region, scale: &LocalScale) -> f64 {
+pub(crate) fn boundary_count(region: &Region, scale: &LocalScale) -> f64 {
     let poly = region.polygonize(1e-3 * scale.mean());
     poly.rings
         .iter()

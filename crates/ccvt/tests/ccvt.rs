@@ -131,6 +131,7 @@ fn constructors_have_their_documented_settings() {
     assert_eq!(Ccvt::fast(), d);
     assert!(d.graded_start && d.multilevel_from == usize::MAX && d.row_from == 10_000);
     assert_eq!(d.graded_multilevel_from, 75_000);
+    assert_eq!(d.levels_max_boundary_share, 0.03);
     for (m, algorithm, solver, name) in [
         (Ccvt::algorithm1(), Algorithm::One, Solver::Lloyd, "ccvt1"),
         (Ccvt::algorithm2(), Algorithm::Two, Solver::Lloyd, "ccvt2"),

@@ -184,8 +184,11 @@ fn graded_runs_are_reproducible() {
 #[test]
 fn a_prolongated_coarse_level_gives_a_converged_mesh_of_exactly_k() {
     let region = Region::builtin("square_hole").unwrap();
+    // At 2500 generators a tenth of them lie on ∂Ω, where levels are not taken by default;
+    // forced here, to test the levels themselves at a size that runs in a second.
     let ccvt = Ccvt {
         multilevel_from: 1500,
+        levels_max_boundary_share: f64::MAX,
         ..Ccvt::default()
     };
     let request = MeshRequest::points(2500);
@@ -214,8 +217,11 @@ fn graded_runs_take_levels_from_their_own_threshold() {
             .iter()
             .any(|n| n.contains("every edge of its mesh split"))
     };
+    // Levels forced at a boundary share they are not taken at by default (see
+    // `Ccvt::levels_max_boundary_share`), to test them at a size that runs in seconds.
     let ccvt = Ccvt {
         graded_multilevel_from: k / 2,
+        levels_max_boundary_share: f64::MAX,
         ..Ccvt::default()
     };
     let r = ccvt.mesh(&region, &request, &mut |_| {}).unwrap();
@@ -233,7 +239,7 @@ fn graded_runs_take_levels_from_their_own_threshold() {
     assert!(!levels(&uniform.notes), "{:?}", uniform.notes);
     let above = Ccvt {
         graded_multilevel_from: k + 1,
-        ..Ccvt::default()
+        ..ccvt.clone()
     };
     let r = above.mesh(&region, &request, &mut |_| {}).unwrap();
     assert!(!levels(&r.notes), "{:?}", r.notes);
@@ -279,9 +285,11 @@ fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
 
 /// A run from a coarser level that cycles is solved again without levels. A rectangle with 40
 /// small hexagonal holes (the robustness sweep's `holes40.poly`), refined toward its outer
-/// loop at K = 80 000: the relaxation from the coarser level stopped unconverged after 681
-/// evaluations (its largest move at 2–8·10⁻⁴ of the spacing for 300 evaluations), where the
-/// single level converges in 318. About a minute in release: run with `--ignored`.
+/// loop at K = 80 000, its levels forced: the relaxation from the coarser level stopped
+/// unconverged after 681 evaluations (its largest move at 2–8·10⁻⁴ of the spacing for 300
+/// evaluations), where the single level converges in 318, which is what the default runs
+/// (its boundary share is above `Ccvt::levels_max_boundary_share`). About 80 s in release:
+/// run with `--ignored`.
 #[test]
 #[ignore]
 fn a_graded_run_whose_levels_cycle_still_converges() {
@@ -300,9 +308,13 @@ fn a_graded_run_whose_levels_cycle_still_converges() {
         .bounded(&region, None, None, Some(0.3))
         .unwrap();
     let request = MeshRequest::size_field(&field, &region, Some(80_000)).unwrap();
-    let r = Ccvt::default()
-        .mesh(&region, &request, &mut |_| {})
-        .unwrap();
+    // About 4.8 % of its generators lie on ∂Ω, so by default it takes no levels at all; the
+    // levels are forced here to reach the fallback.
+    let forced = Ccvt {
+        levels_max_boundary_share: f64::MAX,
+        ..Ccvt::default()
+    };
+    let r = forced.mesh(&region, &request, &mut |_| {}).unwrap();
     assert!(r.converged, "{:?}", r.notes);
     // The premise: this case takes the second run (if a change to the solver lets its levels
     // converge, it no longer tests the fallback and wants replacing).
@@ -315,4 +327,19 @@ fn a_graded_run_whose_levels_cycle_still_converges() {
     );
     assert_eq!(r.mesh.num_vertices(), 80_000);
     check_conforming(&r.mesh, &region).unwrap();
+    // By default: one level from the start, converged in fewer evaluations than the two runs.
+    let single = Ccvt::default()
+        .mesh(&region, &request, &mut |_| {})
+        .unwrap();
+    assert!(single.converged, "{:?}", single.notes);
+    assert!(
+        !single
+            .notes
+            .iter()
+            .any(|n| n.contains("every edge of its mesh split")),
+        "{:?}",
+        single.notes
+    );
+    assert!(single.iterations < r.iterations);
+    check_conforming(&single.mesh, &region).unwrap();
 }
