@@ -8,7 +8,8 @@
 //! table of best-of-3 wall-clock seconds.
 use cvtmesh_geometry::{formats, Region, Rng};
 use std::f64::consts::TAU;
-use std::time::Instant;
+mod common;
+use common::best_of;
 
 /// `n` vertices around a disc of radius 10, 300 harmonics of fractal noise (amplitude k^-1.5).
 fn outline(n: usize) -> String {
@@ -26,18 +27,6 @@ fn outline(n: usize) -> String {
         text += &format!("{} {}\n", r * t.cos(), r * t.sin());
     }
     text
-}
-
-fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut out = None;
-    for _ in 0..runs {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        out = Some(r);
-    }
-    (best, out.expect("at least one run"))
 }
 
 fn main() {

@@ -7,19 +7,8 @@
 //! Run: `cargo bench -p cvtmesh-geometry --bench size_fields`. Prints a Markdown table of
 //! best-of-3 wall-clock seconds.
 use cvtmesh_geometry::{formats, DVec2, Region, SizeField, Threshold, Toward};
-use std::time::Instant;
-
-fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut out = None;
-    for _ in 0..runs {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        out = Some(r);
-    }
-    (best, out.expect("at least one run"))
-}
+mod common;
+use common::best_of;
 
 fn main() {
     let l_shape = formats::loops_from_str(

@@ -293,16 +293,7 @@ impl Grid {
         let (dx, dy) = (self.step.x, self.step.y);
         let diag = (dx * dx + dy * dy).sqrt();
         let mut offsets = Vec::new();
-        for (di, dj) in [
-            (-1, -1),
-            (0, -1),
-            (1, -1),
-            (-1, 0),
-            (1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ] {
+        for (di, dj) in NEIGHBOURS {
             let d = match (di, dj) {
                 (0, _) => dy,
                 (_, 0) => dx,
@@ -847,6 +838,18 @@ impl SizeField {
     }
 }
 
+/// A grid node's eight neighbours (di, dj), the four before it in row order first.
+const NEIGHBOURS: [(isize, isize); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
 /// One Gauss–Seidel sweep of h_i ← min(h_i, h_j + step) over the neighbours j = i + (di, dj)
 /// of `mask` on the `nx` × `ny` row-major grid `values`, rows and columns in the given
 /// directions; values that are not positive and finite are never sources. Returns whether a
@@ -1120,16 +1123,7 @@ mod tests {
                     continue;
                 }
                 let (i, j) = ((k % nx) as isize, (k / nx) as isize);
-                for (di, dj) in [
-                    (-1, -1),
-                    (0, -1),
-                    (1, -1),
-                    (-1, 0),
-                    (1, 0),
-                    (-1, 1),
-                    (0, 1),
-                    (1, 1),
-                ] {
+                for (di, dj) in NEIGHBOURS {
                     let (a, b) = (i + di, j + dj);
                     if a < 0 || b < 0 || a >= nx as isize || b >= ny as isize {
                         continue;
