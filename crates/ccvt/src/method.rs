@@ -152,8 +152,8 @@ const COARSE_TOL: f64 = 1e-3;
 
 impl Ccvt {
     /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol`,
-    /// `eps_start` and `levels_max_boundary_share` finite and non-negative ([`MeshError::InvalidSetting`] otherwise). The
-    /// meshing calls check them first.
+    /// `eps_start` and `levels_max_boundary_share` finite and non-negative
+    /// ([`MeshError::InvalidSetting`] otherwise). The meshing calls check them first.
     ///
     /// ```
     /// use cvtmesh_ccvt::Ccvt;
@@ -287,8 +287,8 @@ impl Ccvt {
     /// The coarser level's size and request for a run of `k` generators, or None when the run
     /// takes no levels: below its threshold ([`Ccvt::multilevel_from`] or
     /// [`Ccvt::graded_multilevel_from`]), where more than [`Ccvt::levels_max_boundary_share`]
-    /// of the generators would lie on ∂Ω, or where the coarser level would not be a valid request of
-    /// its own (a region with more corners than the coarse count).
+    /// of the generators would lie on ∂Ω, or where the coarser level would not be a valid
+    /// request of its own (a region with more corners than the coarse count).
     fn coarser(
         &self,
         region: &Region,
@@ -301,12 +301,14 @@ impl Ccvt {
         } else {
             self.graded_multilevel_from
         };
-        if k < levels_from
-            || start::boundary_count(region, scale) > self.levels_max_boundary_share * k as f64
-        {
+        if k < levels_from {
             return None;
         }
-        let coarse_k = start::coarse_count(region, scale, k);
+        let boundary = start::boundary_count(region, scale);
+        if boundary > self.levels_max_boundary_share * k as f64 {
+            return None;
+        }
+        let coarse_k = start::coarse_count(boundary, k);
         let coarse = MeshRequest {
             size: mesh::Size::Points(coarse_k),
             tol: request.tol.max(COARSE_TOL),

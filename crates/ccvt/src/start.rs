@@ -29,11 +29,11 @@ impl Seeds {
     }
 }
 
-/// How many generators a coarse level needs so that its prolongation has about `k`: a
-/// triangulation of V vertices, B of them on ∂Ω, has about 3V − B edges, so V + E ≈ 4V − B;
-/// B halves from the fine level to the coarse one.
-pub(crate) fn coarse_count(region: &Region, scale: &LocalScale, k: usize) -> usize {
-    let fine_boundary = boundary_count(region, scale);
+/// How many generators a coarse level needs so that its prolongation has about `k`, of which
+/// about `fine_boundary` on ∂Ω ([`boundary_count`]): a triangulation of V vertices, B of them
+/// on ∂Ω, has about 3V − B edges, so V + E ≈ 4V − B; B halves from the fine level to the
+/// coarse one.
+pub(crate) fn coarse_count(fine_boundary: f64, k: usize) -> usize {
     ((k as f64 + 0.5 * fine_boundary) / 4.0).round() as usize
 }
 
