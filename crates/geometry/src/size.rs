@@ -853,7 +853,7 @@ const NEIGHBOURS: [(isize, isize); 8] = [
 /// One Gauss–Seidel sweep of h_i ← min(h_i, h_j + step) over the neighbours j = i + (di, dj)
 /// of `mask` on the `nx` × `ny` row-major grid `values`, rows and columns in the given
 /// directions; values that are not positive and finite are never sources. Returns whether a
-/// value changed. Nodes off the grid's border skip the bounds tests.
+/// value changed. Where every value is usable, nodes off the grid's border skip the tests.
 fn sweep(
     values: &mut [f64],
     nx: isize,
@@ -878,13 +878,6 @@ fn sweep(
             if all_usable && inner_row && i > 0 && i < nx - 1 {
                 for &(off, step) in &linear {
                     h = h.min(values[(at + off) as usize] + step);
-                }
-            } else if inner_row && i > 0 && i < nx - 1 {
-                for &(off, step) in &linear {
-                    let v = values[(at + off) as usize];
-                    if usable(v) && (!usable(h) || v + step < h) {
-                        h = v + step;
-                    }
                 }
             } else {
                 for &(di, dj, step) in mask {
