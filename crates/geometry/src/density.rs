@@ -29,6 +29,23 @@ impl Density {
         }
     }
 
+    /// ρ at seven points (a quadrature rule's), the same values as [`Density::at`] at each.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{Density, DVec2};
+    /// let rho = Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + p.x * p.x));
+    /// let ps = [DVec2::new(2.0, 0.0); 7];
+    /// assert_eq!(rho.at7(&ps), [5.0; 7]);
+    /// ```
+    #[inline]
+    pub fn at7(&self, ps: &[DVec2; 7]) -> [f64; 7] {
+        match self {
+            Density::Uniform => [1.0; 7],
+            Density::Function(f) => ps.map(|p| f(p)),
+            Density::Sampled(s) => s.at7(ps),
+        }
+    }
+
     /// True for ρ ≡ 1, where exact polygon moments replace quadrature.
     pub fn is_uniform(&self) -> bool {
         matches!(self, Density::Uniform)

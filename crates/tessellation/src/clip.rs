@@ -143,9 +143,10 @@ impl Fan<'_> {
     /// The ρ-moments of the triangle (a, a + u, a + v) of signed area `area` by [`RULE`].
     #[inline]
     fn rule(&self, rho: &Density, a: DVec2, u: DVec2, v: DVec2, area: f64, m: &mut Mom) {
-        for &(l1, l2, w) in &RULE {
-            let x = a + u * l1 + v * l2;
-            let r = rho.at(self.origin + x) * w * area;
+        let xs = RULE.map(|(l1, l2, _)| a + u * l1 + v * l2);
+        let rhos = rho.at7(&xs.map(|x| self.origin + x));
+        for ((&(_, _, w), x), rho) in RULE.iter().zip(xs).zip(rhos) {
+            let r = rho * w * area;
             m.m += r;
             m.mx += r * x.x;
             m.my += r * x.y;
