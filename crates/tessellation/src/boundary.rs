@@ -29,6 +29,10 @@ pub(crate) struct Boundary {
     items: Vec<u32>,
     /// Summed-area table of non-empty squares, (nx+1) × (ny+1).
     sat: Vec<u32>,
+    /// CSR lists of the columns of non-empty squares per row, in increasing order: the
+    /// winding number's ray visits only these.
+    busy_start: Vec<u32>,
+    busy: Vec<u32>,
     /// For squares without edges: inside the domain.
     inside: Vec<bool>,
 }
@@ -93,6 +97,8 @@ impl Boundary {
             start: Vec::new(),
             items: Vec::new(),
             sat: Vec::new(),
+            busy_start: Vec::new(),
+            busy: Vec::new(),
             inside: Vec::new(),
         };
         bnd.build_index();
@@ -157,9 +163,21 @@ impl Boundary {
                     occupied + sat[j * w + i + 1] + sat[(j + 1) * w + i] - sat[j * w + i];
             }
         }
+        let mut busy_start = Vec::with_capacity(self.ny + 1);
+        let mut busy = Vec::new();
+        busy_start.push(0);
+        for r in 0..self.ny {
+            busy.extend((0..self.nx as u32).filter(|&c| {
+                let q = r * self.nx + c as usize;
+                start[q + 1] > start[q]
+            }));
+            busy_start.push(busy.len() as u32);
+        }
         self.start = start;
         self.items = items;
         self.sat = sat;
+        self.busy_start = busy_start;
+        self.busy = busy;
     }
 
     /// Inside flags of the empty squares: the winding number at the square's centre row,
@@ -205,15 +223,12 @@ impl Boundary {
     pub fn winding(&self, p: DVec2) -> i32 {
         let r = self.row(p.y);
         let cmax = self.col(p.x);
-        (0..=cmax)
-            .map(|c| {
-                let q = r * self.nx + c;
-                if self.start[q + 1] == self.start[q] {
-                    0
-                } else {
-                    self.crossings_in_square(q, c, p)
-                }
-            })
+        // Squares without edges add nothing: only the row's non-empty ones are visited.
+        let busy = &self.busy[self.busy_start[r] as usize..self.busy_start[r + 1] as usize];
+        busy.iter()
+            .map(|&c| c as usize)
+            .take_while(|&c| c <= cmax)
+            .map(|c| self.crossings_in_square(r * self.nx + c, c, p))
             .sum()
     }
 
