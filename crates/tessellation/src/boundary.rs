@@ -354,6 +354,31 @@ mod tests {
     }
 
     #[test]
+    fn winding_numbers_agree_with_the_polygon_on_a_lake_with_islands() {
+        // Many rings, so grid rows with many non-empty squares and empty ones between them.
+        let region = geometry::Region::builtin("lake").unwrap();
+        let poly = region.polygonize(1e-3 * region.diameter());
+        let (lo, hi) = poly.bbox();
+        let mut rng = geometry::Rng::new(5);
+        for target in [100, 10_000] {
+            let bnd = Boundary::new(&poly, target).unwrap();
+            let (mut inside, mut outside) = (0, 0);
+            for _ in 0..4000 {
+                let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+                let w = bnd.winding(p);
+                assert!(w == 0 || w == 1, "winding {w} at {p}");
+                assert_eq!(w == 1, poly.contains(p), "at {p}");
+                if w == 1 {
+                    inside += 1;
+                } else {
+                    outside += 1;
+                }
+            }
+            assert!(inside > 100 && outside > 100, "{inside} / {outside}");
+        }
+    }
+
+    #[test]
     fn every_square_a_segment_crosses_is_registered() {
         let poly = square_with_hole();
         let bnd = Boundary::new(&poly, 1000).unwrap();
