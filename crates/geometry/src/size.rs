@@ -995,10 +995,8 @@ mod tests {
         );
     }
 
-    #[test]
-    fn grid_holds_the_boundary_sizes_outside_the_region() {
-        // The distance to the hole grows again inside it, a kink on the loop; outside the
-        // region the grid holds the loop's size instead, so ρ is as smooth across ∂Ω as inside.
+    /// square_hole refined toward its hole: h from 0.01 on the hole to 0.1 at distance 0.6.
+    fn toward_the_hole() -> (Region, Threshold, SizeField) {
         let r = Region::builtin("square_hole").unwrap();
         let t = Threshold {
             size_min: 0.01,
@@ -1007,6 +1005,14 @@ mod tests {
             dist_max: 0.6,
         };
         let h = SizeField::threshold(&r, &[Toward::Loop(1)], t).unwrap();
+        (r, t, h)
+    }
+
+    #[test]
+    fn grid_holds_the_boundary_sizes_outside_the_region() {
+        // The distance to the hole grows again inside it, a kink on the loop; outside the
+        // region the grid holds the loop's size instead, so ρ is as smooth across ∂Ω as inside.
+        let (_, t, h) = toward_the_hole();
         for q in [0.3, 0.2, 0.0] {
             let v = h.at(DVec2::new(q, 0.1));
             assert!((v - 0.01).abs() < 1e-3, "inside the hole at x = {q}: {v}");
@@ -1044,14 +1050,7 @@ mod tests {
         // Points inside the region, in the hole (where the grid holds the loop's size), outside
         // the grid's box (clamped) and on its nodes; and a grid with a non-positive sample,
         // where both take the bilinear value.
-        let r = Region::builtin("square_hole").unwrap();
-        let t = Threshold {
-            size_min: 0.01,
-            size_max: 0.1,
-            dist_min: 0.0,
-            dist_max: 0.6,
-        };
-        let toward_hole = SizeField::threshold(&r, &[Toward::Loop(1)], t).unwrap();
+        let (r, _, toward_hole) = toward_the_hole();
         let with_zero = SizeField::from_samples(&r, 16, |nodes| {
             Ok::<_, ()>(nodes.iter().map(|p| p.x.max(0.0) * 0.1).collect())
         })
