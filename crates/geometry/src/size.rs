@@ -107,6 +107,13 @@ fn bspline_weights_6(u: f64) -> [f64; 4] {
     ]
 }
 
+/// Whether an interpolated density is positive and finite (NaN fails both comparisons, which
+/// compile to fewer instructions than `is_finite`).
+#[inline]
+fn usable(v: f64) -> bool {
+    v > 0.0 && v < f64::INFINITY
+}
+
 /// A density sampled on a background grid and interpolated by cubic B-splines, as
 /// [`SizeField::density`] makes it from a sampled field: [`Density::Sampled`].
 #[derive(Clone, Debug)]
@@ -352,6 +359,18 @@ impl Grid {
             bspline_weights_6(fx - i as f64),
             bspline_weights_6(fy - j as f64),
         );
+        let v = self.spline_sum(i, j, &wx, &wy);
+        if usable(v) {
+            v
+        } else {
+            self.bilinear(p)
+        }
+    }
+
+    /// The B-spline's sum over the 4 × 4 stencil of interval (i, j) with the weights (times 6)
+    /// of each axis.
+    #[inline(always)]
+    fn spline_sum(&self, i: usize, j: usize, wx: &[f64; 4], wy: &[f64; 4]) -> f64 {
         // Node (i + a − 1, j + b − 1), clamped to the grid, is padded node (i + a, j + b).
         let w = self.nx + 2;
         let mut v = 0.0;
@@ -365,13 +384,7 @@ impl Grid {
             }
             v += wy * r;
         }
-        let v = v * (1.0 / 36.0);
-        // Positive and finite; NaN fails both comparisons.
-        if v > 0.0 && v < f64::INFINITY {
-            v
-        } else {
-            self.bilinear(p)
-        }
+        v * (1.0 / 36.0)
     }
 
     /// [`Grid::at`] at seven points at once, the same arithmetic per point (so the same
@@ -401,26 +414,13 @@ impl Grid {
             wx[k] = bspline_weights_6(u[k]);
             wy[k] = bspline_weights_6(v[k]);
         }
-        let w = self.nx + 2;
         let mut out = [0.0f64; 7];
         for k in 0..7 {
-            let mut val = 0.0;
-            for (b, wy) in wy[k].iter().enumerate() {
-                let row: &[f64; 4] = self.padded[(j[k] + b) * w + i[k]..][..4]
-                    .try_into()
-                    .expect("a run of four");
-                let mut r = 0.0;
-                for (wx, value) in wx[k].iter().zip(row) {
-                    r += wx * value;
-                }
-                val += wy * r;
-            }
-            out[k] = val * (1.0 / 36.0);
+            out[k] = self.spline_sum(i[k], j[k], &wx[k], &wy[k]);
         }
-        // Positive and finite (NaN fails both comparisons), as in `at`.
-        if !out.iter().all(|&v| v > 0.0 && v < f64::INFINITY) {
+        if !out.iter().all(|&v| usable(v)) {
             for (v, p) in out.iter_mut().zip(ps) {
-                if !(*v > 0.0 && *v < f64::INFINITY) {
+                if !usable(*v) {
                     *v = self.bilinear(*p);
                 }
             }

@@ -2,7 +2,8 @@
 //! circle and in the lake; and the cells again with the density of a size field (the graded
 //! comparison's: toward the circle's centre, toward the lake's shores), whose quadrature is
 //! most of a graded run's cost. Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
-//! quick]` (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds.
+//! quick]` (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds
+//! (best of 7 for the graded cells).
 use cvtmesh_tessellation::{clipped_cells, Delaunay};
 use geometry::{DVec2, Density, Polygon, Region, Rng, SizeField, Threshold, Toward};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
