@@ -290,6 +290,18 @@ impl Boundary {
         }
     }
 
+    /// Calls `f` with every edge registered in a square that the segment a–b passes (within
+    /// the registration slack), possibly more than once: every edge that meets the segment is
+    /// among them. Where the segment runs diagonally across many squares, far fewer squares
+    /// than [`Boundary::edges_near`] on its bounding box.
+    pub fn edges_along(&self, a: DVec2, b: DVec2, mut f: impl FnMut(u32)) {
+        self.squares_of_segment(a, b, |q| {
+            for &e in &self.items[self.start[q] as usize..self.start[q + 1] as usize] {
+                f(e);
+            }
+        });
+    }
+
     /// Number of edges.
     pub fn num_edges(&self) -> usize {
         self.a.len()
@@ -376,6 +388,43 @@ mod tests {
             }
             assert!(inside > 100 && outside > 100, "{inside} / {outside}");
         }
+    }
+
+    #[test]
+    fn edges_along_a_segment_include_every_edge_it_crosses() {
+        // Long segments across the lake and its islands, at every angle: each edge that meets
+        // one (by a brute-force test over all edges) is reported, in far fewer squares than
+        // the segment's bounding box holds.
+        let region = geometry::Region::builtin("lake").unwrap();
+        let poly = region.polygonize(1e-3 * region.diameter());
+        let bnd = Boundary::new(&poly, 100_000).unwrap();
+        let (lo, hi) = poly.bbox();
+        let mut rng = geometry::Rng::new(9);
+        let (mut along, mut in_box) = (0usize, 0usize);
+        for _ in 0..300 {
+            let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+            let q = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+            let mut seen = vec![false; bnd.num_edges()];
+            bnd.edges_along(p, q, |e| {
+                seen[e as usize] = true;
+                along += 1;
+            });
+            bnd.edges_near(p.min(q), p.max(q), |_| in_box += 1);
+            for e in 0..bnd.num_edges() {
+                let (a, b) = (bnd.a[e], bnd.b[e]);
+                let side = |u: DVec2, v: DVec2, w: DVec2| (v - u).perp_dot(w - u);
+                let crosses =
+                    side(p, q, a) * side(p, q, b) <= 0.0 && side(a, b, p) * side(a, b, q) <= 0.0;
+                assert!(
+                    !crosses || seen[e],
+                    "edge {e} crosses {p}–{q} but was not reported"
+                );
+            }
+        }
+        assert!(
+            4 * along < in_box,
+            "{along} edges along against {in_box} in the boxes"
+        );
     }
 
     #[test]

@@ -270,7 +270,9 @@ fn inside_parts(bnd: &Boundary, p: DVec2, q: DVec2, out: &mut Vec<(f64, f64)>, t
     }
     ts.clear();
     ts.extend([t0, t1]);
-    bnd.edges_near(lo, hi, |e| {
+    // Only the squares the segment passes: a Voronoi edge of a shore generator can run far
+    // across land, and its bounding box then holds thousands of squares.
+    bnd.edges_along(a, b, |e| {
         let (ea, eb) = (bnd.a[e as usize], bnd.b[e as usize]);
         let (r, s) = (d, eb - ea);
         let den = r.perp_dot(s);
