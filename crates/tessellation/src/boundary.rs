@@ -410,8 +410,7 @@ mod tests {
                 along += 1;
             });
             bnd.edges_near(p.min(q), p.max(q), |_| in_box += 1);
-            for e in 0..bnd.num_edges() {
-                let (a, b) = (bnd.a[e], bnd.b[e]);
+            for (e, (&a, &b)) in bnd.a.iter().zip(&bnd.b).enumerate() {
                 let side = |u: DVec2, v: DVec2, w: DVec2| (v - u).perp_dot(w - u);
                 let crosses =
                     side(p, q, a) * side(p, q, b) <= 0.0 && side(a, b, p) * side(a, b, q) <= 0.0;
