@@ -3,6 +3,9 @@
 use geometry::predicates::ring_signed_area;
 use geometry::{DVec2, PieceId, Polygon};
 
+/// Boxes at least this many squares wide visit only the non-empty squares of each row.
+const WIDE_ROW: usize = 16;
+
 /// The domain's edges and a uniform grid indexing them.
 pub(crate) struct Boundary {
     /// Edge start points (absolute coordinates).
@@ -280,12 +283,24 @@ impl Boundary {
             self.col(hi.x),
             self.row(hi.y),
         );
+        let mut square = |q: usize| {
+            for &e in &self.items[self.start[q] as usize..self.start[q + 1] as usize] {
+                f(e);
+            }
+        };
         for j in j0..=j1 {
-            for i in i0..=i1 {
-                let q = j * self.nx + i;
-                for &e in &self.items[self.start[q] as usize..self.start[q + 1] as usize] {
-                    f(e);
-                }
+            if i1 - i0 < WIDE_ROW {
+                (i0..=i1).for_each(|i| square(j * self.nx + i));
+            } else {
+                // A wide box (the convex cell of a generator on a shore facing land): only the
+                // row's non-empty squares, in the same order.
+                let busy = &self.busy[self.busy_start[j] as usize..self.busy_start[j + 1] as usize];
+                let first = busy.partition_point(|&c| (c as usize) < i0);
+                busy[first..]
+                    .iter()
+                    .map(|&c| c as usize)
+                    .take_while(|&c| c <= i1)
+                    .for_each(|c| square(j * self.nx + c));
             }
         }
     }
@@ -424,6 +439,35 @@ mod tests {
             4 * along < in_box,
             "{along} edges along against {in_box} in the boxes"
         );
+    }
+
+    #[test]
+    fn edges_near_a_wide_box_are_those_of_every_square_in_order() {
+        // Boxes from a square wide to the whole lake: the same calls, in the same order, as a
+        // walk over every square of the box.
+        let region = geometry::Region::builtin("lake").unwrap();
+        let poly = region.polygonize(1e-3 * region.diameter());
+        let bnd = Boundary::new(&poly, 100_000).unwrap();
+        let (lo, hi) = poly.bbox();
+        let mut rng = geometry::Rng::new(11);
+        let mut wide = 0;
+        for round in 0..400 {
+            let size = (hi - lo) * (0.001 + 0.999 * (round as f64 / 400.0));
+            let a = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+            let b = a + size * DVec2::new(rng.uniform(), rng.uniform());
+            let mut got = Vec::new();
+            bnd.edges_near(a, b, |e| got.push(e));
+            let mut every: Vec<u32> = Vec::new();
+            for j in bnd.row(a.y)..=bnd.row(b.y) {
+                for i in bnd.col(a.x)..=bnd.col(b.x) {
+                    let q = j * bnd.nx + i;
+                    every.extend(&bnd.items[bnd.start[q] as usize..bnd.start[q + 1] as usize]);
+                }
+            }
+            assert_eq!(got, every, "box {a} – {b}");
+            wide += usize::from(bnd.col(b.x) - bnd.col(a.x) >= WIDE_ROW);
+        }
+        assert!(wide > 100, "{wide} wide boxes");
     }
 
     #[test]
