@@ -380,15 +380,21 @@ mod tests {
         assert!(!bnd.box_inside(DVec2::new(-9.0, 0.3), DVec2::new(0.7, 0.7)));
     }
 
+    /// The lake (many rings) polygonized, its box, and a grid of about `squares` squares on it.
+    fn lake_grid(squares: usize) -> (Polygon, Boundary, DVec2, DVec2) {
+        let region = geometry::Region::builtin("lake").unwrap();
+        let poly = region.polygonize(1e-3 * region.diameter());
+        let bnd = Boundary::new(&poly, squares).unwrap();
+        let (lo, hi) = poly.bbox();
+        (poly, bnd, lo, hi)
+    }
+
     #[test]
     fn winding_numbers_agree_with_the_polygon_on_a_lake_with_islands() {
         // Many rings, so grid rows with many non-empty squares and empty ones between them.
-        let region = geometry::Region::builtin("lake").unwrap();
-        let poly = region.polygonize(1e-3 * region.diameter());
-        let (lo, hi) = poly.bbox();
         let mut rng = geometry::Rng::new(5);
         for target in [100, 10_000] {
-            let bnd = Boundary::new(&poly, target).unwrap();
+            let (poly, bnd, lo, hi) = lake_grid(target);
             let (mut inside, mut outside) = (0, 0);
             for _ in 0..4000 {
                 let p = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
@@ -410,10 +416,7 @@ mod tests {
         // Long segments across the lake and its islands, at every angle: each edge that meets
         // one (by a brute-force test over all edges) is reported, in far fewer squares than
         // the segment's bounding box holds.
-        let region = geometry::Region::builtin("lake").unwrap();
-        let poly = region.polygonize(1e-3 * region.diameter());
-        let bnd = Boundary::new(&poly, 100_000).unwrap();
-        let (lo, hi) = poly.bbox();
+        let (_, bnd, lo, hi) = lake_grid(100_000);
         let mut rng = geometry::Rng::new(9);
         let (mut along, mut in_box) = (0usize, 0usize);
         for _ in 0..300 {
@@ -445,10 +448,7 @@ mod tests {
     fn edges_near_a_wide_box_are_those_of_every_square_in_order() {
         // Boxes from a square wide to the whole lake: the same calls, in the same order, as a
         // walk over every square of the box.
-        let region = geometry::Region::builtin("lake").unwrap();
-        let poly = region.polygonize(1e-3 * region.diameter());
-        let bnd = Boundary::new(&poly, 100_000).unwrap();
-        let (lo, hi) = poly.bbox();
+        let (_, bnd, lo, hi) = lake_grid(100_000);
         let mut rng = geometry::Rng::new(11);
         let mut wide = 0;
         for round in 0..400 {
