@@ -32,8 +32,9 @@ pub(crate) struct Boundary {
     items: Vec<u32>,
     /// Summed-area table of non-empty squares, (nx+1) × (ny+1).
     sat: Vec<u32>,
-    /// CSR lists of the columns of non-empty squares per row, in increasing order: the
-    /// winding number's ray visits only these.
+    /// CSR lists of the columns of non-empty squares per row, in increasing order
+    /// ([`Boundary::busy_row`]): the winding number's ray and the rows of a wide box visit
+    /// only these.
     busy_start: Vec<u32>,
     busy: Vec<u32>,
     /// For squares without edges: inside the domain.
@@ -227,7 +228,7 @@ impl Boundary {
         let r = self.row(p.y);
         let cmax = self.col(p.x);
         // Squares without edges add nothing: only the row's non-empty ones are visited.
-        let busy = &self.busy[self.busy_start[r] as usize..self.busy_start[r + 1] as usize];
+        let busy = self.busy_row(r);
         busy.iter()
             .map(|&c| c as usize)
             .take_while(|&c| c <= cmax)
@@ -294,7 +295,7 @@ impl Boundary {
             } else {
                 // A wide box (the convex cell of a generator on a shore facing land): only the
                 // row's non-empty squares, in the same order.
-                let busy = &self.busy[self.busy_start[j] as usize..self.busy_start[j + 1] as usize];
+                let busy = self.busy_row(j);
                 let first = busy.partition_point(|&c| (c as usize) < i0);
                 busy[first..]
                     .iter()
@@ -315,6 +316,11 @@ impl Boundary {
                 f(e);
             }
         });
+    }
+
+    /// The columns of row `r`'s non-empty squares, in increasing order.
+    fn busy_row(&self, r: usize) -> &[u32] {
+        &self.busy[self.busy_start[r] as usize..self.busy_start[r + 1] as usize]
     }
 
     /// Number of edges.
