@@ -10,6 +10,7 @@ meshes are counted: the same vertex set and the same triangles, whatever their n
 Run from the repository root; scripts/compare_tools.sh makes scripts/.venv.
 """
 import argparse
+import csv
 import json
 import math
 import os
@@ -17,12 +18,15 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-# The paper's tables: (number, region, K), as in study/src/paper.rs.
-TABLES = [(1, "circle", 19), (2, "circle", 88), (3, "circle", 362), (4, "annulus", 303),
-          (5, "square_hole", 194), (6, "hex_hole", 240), (7, "horn", 138),
-          (8, "superellipse", 505), (9, "bike_seat", 136), (10, "pie_hole", 287),
-          (11, "square_two_hex", 203), (12, "lake", 1109)]
-MIN_ANGLE = 30  # study/src/methods.rs, TRIANGLE_MIN_ANGLE_DEG
+
+
+def paper_tables(root):
+    """(table, region, K) of the paper's twelve tables, from the study's copy of them."""
+    seen = {}
+    with open(os.path.join(root, "study", "data", "paper_tables.csv")) as f:
+        for row in csv.DictReader(f):
+            seen[int(row["table"])] = (row["domain"], int(row["paper_K"]))
+    return [(n, *seen[n]) for n in sorted(seen)]
 
 
 def mesh_key(m):
@@ -39,16 +43,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--orders", type=int, default=20, help="random orders per table")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--min-angle", type=float, default=30.0,
+                    help="Triangle's -q bound (the study's TRIANGLE_MIN_ANGLE_DEG)")
     a = ap.parse_args()
     rng = np.random.default_rng(a.seed)
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
     print("| table | region | K | K reached | switches | distinct meshes over orders |")
     print("| ---: | :--- | ---: | ---: | :--- | ---: |")
-    for number, region, k in TABLES:
+    for number, region, k in paper_tables(root):
         f = os.path.join(root, "crates", "geometry", "regions", f"{region}.json")
         area = json.load(open(f))["area"]
         info = {}
-        ct.run_triangle(f, k, area, min_angle=MIN_ANGLE, split_boundary=True, info=info, tries=30)
+        ct.run_triangle(f, k, area, min_angle=a.min_angle, split_boundary=True, info=info, tries=30)
         switches = info["switches"]
         h = math.sqrt(2 * area / (math.sqrt(3) * k))
         d, loops = ct.loops_of(f, h)
