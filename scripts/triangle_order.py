@@ -5,7 +5,7 @@ split at the hexagonal spacing of K, straight edges whole, `-pq30a<A>` with A se
 meshed again with its vertices in random orders (segments renumbered to match), and the distinct
 meshes are counted: the same vertex set and the same triangles, whatever their numbering.
 
-    scripts/.venv/bin/python scripts/triangle_order.py [--orders 20] [--seed 1]
+    scripts/.venv/bin/python scripts/triangle_order.py [--orders 20] [--seed 1] [--min-angle 30]
 
 Run from the repository root; scripts/compare_tools.sh makes scripts/.venv.
 """
@@ -17,7 +17,6 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-
 
 
 def paper_tables(root):
