@@ -12,7 +12,7 @@
 //! Outputs: `DIR/csv/real_peers.csv` (one row per table and tool, with the K obtained and
 //! the tool's parameters, or the error), `DIR/csv/real_peers_fidelity.csv` (every real value
 //! against every method's values over seeds) and `DIR/real_peers.md`, redrawn by every report.
-use crate::fidelity::{median, NEAR};
+use crate::fidelity::{median, Basis, Fidelity, NEAR};
 use crate::methods::TRIANGLE_MIN_ANGLE_DEG;
 use crate::paper::{sample_scale, untrustworthy, PaperTables, TableSpec, TABLES};
 use crate::record::{Kind, Row};
@@ -964,15 +964,23 @@ fn render_paper(out: &mut String, cells: &[PeerCell], paper: &PaperTables, table
             if untrustworthy(c.table, m) {
                 continue;
             }
-            let half = p.half_unit(m);
             let real = at_paper_scale(r, m, c.real);
             vs_real.push((p.value, real));
             vs_ours.push((p.value, at_paper_scale(r, m, c.median())));
-            equal += usize::from((p.value - real).abs() <= half);
-            if let (Some(lo), Some(hi)) = (c.ours.first(), c.ours.last()) {
-                let (lo, hi) = (at_paper_scale(r, m, *lo), at_paper_scale(r, m, *hi));
-                in_range += usize::from(p.value + half >= lo && p.value - half <= hi);
-            }
+            // `fidelity.md`'s test, against the real value alone and against ours.
+            let against = |ours: Vec<f64>| Fidelity {
+                table: c.table,
+                measure: m,
+                method: MethodId::Triangle,
+                basis: Basis::ExactPaperScale,
+                paper: p.value,
+                half_unit: p.half_unit(m),
+                ours,
+            };
+            equal += usize::from(against(vec![real]).in_range());
+            in_range += usize::from(
+                against(c.ours.iter().map(|v| at_paper_scale(r, m, *v)).collect()).in_range(),
+            );
         }
         let n_real = vs_real.iter().filter(|(p, x)| near(*p, *x)).count();
         let n_ours = vs_ours.iter().filter(|(p, x)| near(*p, *x)).count();
