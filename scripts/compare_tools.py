@@ -102,6 +102,22 @@ def compact(p, t):
     return p[used], remap[t]
 
 
+def triangle_input(domain_file, h, split_lines=False):
+    """Triangle's input for a region: its loops (curves sampled at spacing ~h) as vertices and
+    closed segment chains, and its hole points."""
+    d, loops = loops_of(domain_file, h, split_lines)
+    verts, segs, off = [], [], 0
+    for lp in loops:
+        n = len(lp)
+        verts += lp.tolist()
+        segs += [[off + j, off + (j + 1) % n] for j in range(n)]
+        off += n
+    geom = {"vertices": verts, "segments": segs}
+    if d.get("hole_points"):
+        geom["holes"] = d["hole_points"]
+    return geom
+
+
 def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=None, tries=8,
                  split_lines=False):
     """Triangle -pq<min_angle>a<A> with A searched to K. Without split_boundary, -Y keeps the
@@ -110,20 +126,10 @@ def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=
     `tries` caps the search on A; split_lines samples straight edges at spacing h too."""
     import triangle
     h = math.sqrt(2 * area / (math.sqrt(3) * k))
-    d, loops = loops_of(domain_file, h, split_lines)
-    verts, segs, holes, off = [], [], [], 0
-    for i, lp in enumerate(loops):
-        n = len(lp)
-        verts += lp.tolist()
-        segs += [[off + j, off + (j + 1) % n] for j in range(n)]
-        off += n
-    holes = d.get("hole_points", [])
+    geom = triangle_input(domain_file, h, split_lines)
     a = math.sqrt(3) / 4 * h * h
     best, bracket = None, [None, None]
     for _ in range(tries):
-        geom = {"vertices": verts, "segments": segs}
-        if holes:
-            geom["holes"] = holes
         t0 = time.perf_counter()
         # Triangle's switches take no exponent: "a5.4e-05" would be read as a5.4.
         switches = f"pq{min_angle:g}a{a:.20f}" + ("" if split_boundary else "Y")

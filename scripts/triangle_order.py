@@ -55,24 +55,16 @@ def main():
         info = {}
         ct.run_triangle(f, k, area, min_angle=a.min_angle, split_boundary=True, info=info, tries=30)
         switches = info["switches"]
-        h = math.sqrt(2 * area / (math.sqrt(3) * k))
-        d, loops = ct.loops_of(f, h)
-        verts, segs, off = [], [], 0
-        for lp in loops:
-            n = len(lp)
-            verts += lp.tolist()
-            segs += [[off + j, off + (j + 1) % n] for j in range(n)]
-            off += n
+        geom = ct.triangle_input(f, math.sqrt(2 * area / (math.sqrt(3) * k)))
+        verts, segs = geom["vertices"], geom["segments"]
         keys, reached = set(), None
         for o in range(a.orders):
             perm = rng.permutation(len(verts)) if o else np.arange(len(verts))
             new_index = np.empty_like(perm)
             new_index[perm] = np.arange(len(perm))
-            geom = {"vertices": [verts[i] for i in perm],
-                    "segments": [[int(new_index[s]), int(new_index[e])] for s, e in segs]}
-            if d.get("hole_points"):
-                geom["holes"] = d["hole_points"]
-            m = triangle.triangulate(geom, switches)
+            permuted = dict(geom, vertices=[verts[i] for i in perm],
+                            segments=[[int(new_index[s]), int(new_index[e])] for s, e in segs])
+            m = triangle.triangulate(permuted, switches)
             reached = len(m["vertices"])
             keys.add(mesh_key(m))
         print(f"| {number} | {region} | {k} | {reached} | `{switches}` | {len(keys)} |")
