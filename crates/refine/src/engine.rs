@@ -20,16 +20,19 @@
 //! ray cast through the subsegment grid.
 use crate::boundary::{farthest_between, is_curved, Pslg, VKind, CHAIN_BEND};
 use crate::grid::{SegGrid, SegKey};
+use crate::queue::BadQueue;
 use geometry::predicates::{circumcenter, segment_distance, triangle_signed_area};
 use geometry::{DVec2, Density, Piece, PieceId, Region};
 use mesh::MeshError;
 use robust::Coord;
-use spade::handles::FixedVertexHandle;
+use spade::handles::{FixedDirectedEdgeHandle, FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
-use std::cmp::Ordering;
-use std::collections::{BTreeMap, BinaryHeap, HashSet, VecDeque};
+use std::collections::{BTreeMap, HashSet, VecDeque};
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// A queued triangle: its vertices (CCW) and the face that held them when it was queued.
+type Queued = ([u32; 3], FixedFaceHandle<InnerTag>);
 
 /// Refinement bounds.
 #[derive(Clone, Debug)]
@@ -71,33 +74,6 @@ struct Seg {
     frozen: bool,
 }
 
-/// A queued bad triangle; the heap pops the smallest `sin_min` (worst) first, then FIFO.
-struct BadTri {
-    sin_min: f64,
-    seq: u64,
-    v: [u32; 3],
-}
-
-impl PartialEq for BadTri {
-    fn eq(&self, o: &Self) -> bool {
-        self.cmp(o) == Ordering::Equal
-    }
-}
-impl Eq for BadTri {}
-impl PartialOrd for BadTri {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for BadTri {
-    fn cmp(&self, o: &Self) -> Ordering {
-        // Reversed: BinaryHeap is a max-heap.
-        o.sin_min
-            .total_cmp(&self.sin_min)
-            .then(o.seq.cmp(&self.seq))
-    }
-}
-
 fn key(a: u32, b: u32) -> SegKey {
     if a < b {
         (a, b)
@@ -137,9 +113,8 @@ struct Engine<'a> {
     /// End points (origin, destination) of each input segment.
     inputs: Vec<(u32, u32)>,
     grid: SegGrid,
-    bad: BinaryHeap<BadTri>,
+    bad: BadQueue<Queued>,
     enc: VecDeque<(SegKey, bool)>,
-    seq: u64,
     min_seg: f64,
     given_up: usize,
     dropped: HashSet<[u32; 3]>,
@@ -235,9 +210,8 @@ pub(crate) fn refine(
         segs,
         inputs,
         grid,
-        bad: BinaryHeap::new(),
+        bad: BadQueue::default(),
         enc: VecDeque::new(),
-        seq: 0,
         min_seg: 1e-9 * region.diameter(),
         given_up: 0,
         dropped: HashSet::new(),
@@ -299,10 +273,10 @@ impl Engine<'_> {
                 self.enc.push_back((k, false));
             }
         }
-        let faces: Vec<[u32; 3]> = self
+        let faces: Vec<Queued> = self
             .cdt
             .inner_faces()
-            .map(|f| f.vertices().map(|v| v.fix().index() as u32))
+            .map(|f| (f.vertices().map(|v| v.fix().index() as u32), f.fix()))
             .collect();
         for f in faces {
             self.consider(f);
@@ -485,29 +459,26 @@ impl Engine<'_> {
         out
     }
 
-    fn consider(&mut self, f: [u32; 3]) {
-        if self.dropped.contains(&canonical(f)) || !self.inside(f) {
+    fn consider(&mut self, (f, face): Queued) {
+        // Hashing every considered face for a set that is almost always empty cost more than
+        // the test itself.
+        if (!self.dropped.is_empty() && self.dropped.contains(&canonical(f))) || !self.inside(f) {
             return;
         }
         if let Some(sin_min) = self.badness(f) {
-            self.seq += 1;
-            self.bad.push(BadTri {
-                sin_min,
-                seq: self.seq,
-                v: f,
-            });
+            self.bad.push(sin_min, (f, face));
         }
     }
 
     fn consider_star(&mut self, v: u32) {
-        let faces: Vec<[u32; 3]> = self
+        let faces: Vec<Queued> = self
             .cdt
             .vertex(vh(v))
             .out_edges()
             .filter_map(|e| {
                 e.face()
                     .as_inner()
-                    .map(|f| f.vertices().map(|x| x.fix().index() as u32))
+                    .map(|f| (f.vertices().map(|x| x.fix().index() as u32), f.fix()))
             })
             .collect();
         for f in faces {
@@ -542,9 +513,31 @@ impl Engine<'_> {
             .is_some_and(|v| v.fix().index() as u32 == f[2])
     }
 
-    fn split_triangle(&mut self, t: BadTri) -> Result<(), MeshError> {
-        let f = t.v;
-        if !self.face_exists(f) || !self.inside(f) || self.badness(f).is_none() {
+    /// The edge from `f[0]` to `f[1]` of the face queued as `(f, face)`, if that face still
+    /// has those vertices. A triangle, once gone, never comes back (every later vertex stays
+    /// in its circumcircle), and one that stays keeps its face, so the queued face decides
+    /// without walking around a vertex.
+    fn queued_edge(&self, (f, face): Queued) -> Option<FixedDirectedEdgeHandle> {
+        let e = self
+            .cdt
+            .face(face)
+            .adjacent_edges()
+            .into_iter()
+            .find(|e| e.from().fix().index() as u32 == f[0])
+            .filter(|e| {
+                e.to().fix().index() as u32 == f[1] && e.next().to().fix().index() as u32 == f[2]
+            })
+            .map(|e| e.fix());
+        debug_assert_eq!(e.is_some(), self.face_exists(f));
+        e
+    }
+
+    fn split_triangle(&mut self, t: (f64, Queued)) -> Result<(), MeshError> {
+        let f = t.1 .0;
+        let Some(first) = self.queued_edge(t.1) else {
+            return Ok(());
+        };
+        if !self.inside(f) || self.badness(f).is_none() {
             return Ok(());
         }
         let p = f.map(|v| self.pos(v));
@@ -553,33 +546,41 @@ impl Engine<'_> {
         // the bad triangle (whose circumcircle holds c) and bounded by subsegments. Every
         // triangle the segment from the bad triangle to c crosses has c in its circumcircle, so
         // c is visible from the triangle iff the face holding c is in the cavity.
-        let mut cavity: HashSet<[u32; 3]> = HashSet::from([canonical(f)]);
-        let mut stack = vec![f];
+        // The cavity is a handful of faces: a list is cheaper than hashing. Its faces are
+        // walked along their edges, each held with the edge from its first vertex to its
+        // second, so no neighbour has to be looked up by its vertices.
+        let mut cavity: Vec<[u32; 3]> = vec![canonical(f)];
+        let mut stack = vec![(f, first)];
         let mut walls: Vec<SegKey> = Vec::new();
-        while let Some(fc) = stack.pop() {
+        while let Some((fc, edge)) = stack.pop() {
+            let mut e = self.cdt.directed_edge(edge);
             for i in 0..3 {
+                if i > 0 {
+                    e = e.next();
+                }
                 let (a, b) = (fc[i], fc[(i + 1) % 3]);
                 let k = key(a, b);
-                if self.segs.contains_key(&k) {
+                if e.is_constraint_edge() {
+                    debug_assert!(self.segs.contains_key(&k));
                     if !walls.contains(&k) {
                         walls.push(k);
                     }
                     continue;
                 }
-                let Some(e) = self.cdt.get_edge_from_neighbors(vh(b), vh(a)) else {
-                    continue;
-                };
-                let Some(o) = e.opposite_vertex() else {
+                debug_assert!(!self.segs.contains_key(&k));
+                let r = e.rev();
+                let Some(o) = r.opposite_vertex() else {
                     continue;
                 };
                 let nb = [b, a, o.fix().index() as u32];
-                if cavity.contains(&canonical(nb)) {
+                let cn = canonical(nb);
+                if cavity.contains(&cn) {
                     continue;
                 }
                 let q = nb.map(|v| self.pos(v));
                 if robust::incircle(coord(q[0]), coord(q[1]), coord(q[2]), coord(c)) > 0.0 {
-                    cavity.insert(canonical(nb));
-                    stack.push(nb);
+                    cavity.push(cn);
+                    stack.push((nb, r.fix()));
                 }
             }
         }
@@ -687,7 +688,7 @@ impl Engine<'_> {
         }
     }
 
-    fn force_split(&mut self, keys: &[SegKey], t: BadTri) -> Result<(), MeshError> {
+    fn force_split(&mut self, keys: &[SegKey], t: (f64, Queued)) -> Result<(), MeshError> {
         let mut any = false;
         for &k in keys {
             if self.segs.get(&k).is_some_and(|s| !s.frozen) {
@@ -696,10 +697,9 @@ impl Engine<'_> {
             }
         }
         if any {
-            self.seq += 1;
-            self.bad.push(BadTri { seq: self.seq, ..t });
+            self.bad.push(t.0, t.1);
         } else {
-            self.give_up(t.v);
+            self.give_up(t.1 .0);
         }
         Ok(())
     }
@@ -950,19 +950,5 @@ mod tests {
         assert_eq!(canonical([5, 2, 9]), [2, 9, 5]);
         assert_eq!(canonical([9, 5, 2]), [2, 9, 5]);
         assert_ne!(canonical([2, 5, 9]), [2, 9, 5]);
-    }
-
-    #[test]
-    fn priority_pops_worst_first_then_fifo() {
-        let mut h = BinaryHeap::new();
-        for (seq, s) in [(1, 0.5), (2, 0.1), (3, 0.5), (4, 0.3)] {
-            h.push(BadTri {
-                sin_min: s,
-                seq,
-                v: [0, 0, 0],
-            });
-        }
-        let order: Vec<u64> = std::iter::from_fn(|| h.pop().map(|t| t.seq)).collect();
-        assert_eq!(order, [2, 4, 1, 3]);
     }
 }

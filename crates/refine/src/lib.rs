@@ -38,6 +38,7 @@
 mod boundary;
 mod engine;
 mod grid;
+mod queue;
 
 use boundary::VKind;
 use geometry::{Density, Region, Rng};
