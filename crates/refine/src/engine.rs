@@ -109,6 +109,9 @@ struct Engine<'a> {
     off_constant: f64,
     cdt: Cdt,
     kinds: Vec<VKind>,
+    /// Whether each vertex is a Steiner point inside Ω: `kinds` as one byte per vertex, for
+    /// the test every considered face makes.
+    interior: Vec<bool>,
     segs: BTreeMap<SegKey, Seg>,
     /// End points (origin, destination) of each input segment.
     inputs: Vec<(u32, u32)>,
@@ -206,6 +209,7 @@ pub(crate) fn refine(
         off_constant,
         bounds,
         cdt,
+        interior: pslg.kinds.iter().map(|k| *k == VKind::Interior).collect(),
         kinds: pslg.kinds,
         segs,
         inputs,
@@ -366,7 +370,7 @@ impl Engine<'_> {
 
     /// The class of a face from its own vertices and edges, if they decide it.
     fn classify_local(&self, f: [u32; 3]) -> Option<bool> {
-        if f.iter().any(|&v| self.kinds[v as usize] == VKind::Interior) {
+        if f.iter().any(|&v| self.interior[v as usize]) {
             return Some(true);
         }
         for i in 0..3 {
@@ -415,8 +419,8 @@ impl Engine<'_> {
     /// triangle would only cascade towards the input angle.
     fn input_angle_forced(&self, b1: u32, b2: u32) -> bool {
         if self.segs.contains_key(&key(b1, b2))
-            || self.kinds[b1 as usize] == VKind::Interior
-            || self.kinds[b2 as usize] == VKind::Interior
+            || self.interior[b1 as usize]
+            || self.interior[b2 as usize]
         {
             return false;
         }
@@ -659,6 +663,7 @@ impl Engine<'_> {
             return Ok(());
         }
         self.kinds.push(VKind::Interior);
+        self.interior.push(true);
         self.consider_star(v.index() as u32);
         Ok(())
     }
@@ -822,6 +827,7 @@ impl Engine<'_> {
             return Ok(());
         };
         self.kinds.push(VKind::Boundary(s.piece));
+        self.interior.push(false);
         let vi = v.index() as u32;
         let e1 = self.cdt.try_add_constraint(vh(a), v);
         let e2 = self.cdt.try_add_constraint(v, vh(b));
@@ -869,13 +875,12 @@ impl Engine<'_> {
     /// The faces inside the region: flood fill from the domain side of every subsegment,
     /// never crossing a subsegment (topological, so exact).
     fn inside_triangles(&self) -> Vec<[u32; 3]> {
-        let mut seen: HashSet<spade::handles::FixedFaceHandle<spade::handles::InnerTag>> =
-            HashSet::new();
+        let mut seen = vec![false; self.cdt.num_all_faces()];
         let mut stack = Vec::new();
         for s in self.segs.values() {
             if let Some(e) = self.cdt.get_edge_from_neighbors(vh(s.from), vh(s.to)) {
                 if let Some(f) = e.face().as_inner() {
-                    if seen.insert(f.fix()) {
+                    if !std::mem::replace(&mut seen[f.fix().index()], true) {
                         stack.push(f.fix());
                     }
                 }
@@ -887,17 +892,16 @@ impl Engine<'_> {
                     continue;
                 }
                 if let Some(g) = e.rev().face().as_inner() {
-                    if seen.insert(g.fix()) {
+                    if !std::mem::replace(&mut seen[g.fix().index()], true) {
                         stack.push(g.fix());
                     }
                 }
             }
         }
-        let mut faces: Vec<_> = seen.into_iter().collect();
-        faces.sort_unstable_by_key(|f| f.index());
-        faces
-            .into_iter()
-            .map(|f| self.cdt.face(f).vertices().map(|v| v.fix().index() as u32))
+        self.cdt
+            .inner_faces()
+            .filter(|f| seen[f.fix().index()])
+            .map(|f| f.vertices().map(|v| v.fix().index() as u32))
             .collect()
     }
 }
