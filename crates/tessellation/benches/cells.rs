@@ -4,10 +4,13 @@
 //! most of a graded run's cost. Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
 //! quick]` (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds
 //! (best of 7 for the graded cells).
+#[path = "../../geometry/benches/common/mod.rs"]
+mod common;
+
+use common::best_of;
 use cvtmesh_tessellation::{clipped_cells, Delaunay};
 use geometry::{DVec2, Density, Polygon, Region, Rng, SizeField, Threshold, Toward};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
-use std::time::Instant;
 
 /// `n` generators: random points inside plus about 2√n points spread along the boundary rings
 /// (CCVT puts generators on the boundary).
@@ -28,18 +31,6 @@ fn generators(poly: &Polygon, n: usize, seed: u64) -> Vec<DVec2> {
         }
     }
     pts
-}
-
-fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut out = None;
-    for _ in 0..runs {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        out = Some(r);
-    }
-    (best, out.expect("at least one run"))
 }
 
 fn main() {
