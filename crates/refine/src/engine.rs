@@ -510,20 +510,18 @@ impl Engine<'_> {
         }
     }
 
-    fn face_exists(&self, f: [u32; 3]) -> bool {
-        self.cdt
-            .get_edge_from_neighbors(vh(f[0]), vh(f[1]))
-            .and_then(|e| e.opposite_vertex())
-            .is_some_and(|v| v.fix().index() as u32 == f[2])
-    }
-
-    /// The edge from `f[0]` to `f[1]` of the face queued as `(f, face)`, if that face still
-    /// has those vertices. A triangle, once gone, never comes back (every later vertex stays
-    /// in its circumcircle), and one that stays keeps its face, so the queued face decides
-    /// without walking around a vertex.
+    /// The edge from `f[0]` to `f[1]` of the face queued as `(f, face)`, if the triangulation
+    /// still has that triangle. A triangle that was never destroyed keeps its face, so the
+    /// queued face answers most pops without walking around a vertex. A triangle can also be
+    /// destroyed and made again in another face (a subsegment's constraint lifted, its edge
+    /// flipped, then forced back), so a face that no longer holds it is not the last word:
+    /// the triangle is then looked up by its vertices.
     fn queued_edge(&self, (f, face): Queued) -> Option<FixedDirectedEdgeHandle> {
-        let e = self
-            .cdt
+        #[cfg(test)]
+        if tests::LOOKUP_ONLY.with(std::cell::Cell::get) {
+            return self.lookup(f);
+        }
+        self.cdt
             .face(face)
             .adjacent_edges()
             .into_iter()
@@ -531,14 +529,28 @@ impl Engine<'_> {
             .filter(|e| {
                 e.to().fix().index() as u32 == f[1] && e.next().to().fix().index() as u32 == f[2]
             })
-            .map(|e| e.fix());
-        debug_assert_eq!(e.is_some(), self.face_exists(f));
-        e
+            .map(|e| e.fix())
+            .or_else(|| self.lookup(f))
+    }
+
+    /// The edge from `f[0]` to `f[1]` if the triangulation has the triangle `f`, found by
+    /// walking around `f[0]`.
+    fn lookup(&self, f: [u32; 3]) -> Option<FixedDirectedEdgeHandle> {
+        self.cdt
+            .get_edge_from_neighbors(vh(f[0]), vh(f[1]))
+            .filter(|e| {
+                e.opposite_vertex()
+                    .is_some_and(|v| v.fix().index() as u32 == f[2])
+            })
+            .map(|e| e.fix())
     }
 
     fn split_triangle(&mut self, t: (f64, Queued)) -> Result<(), MeshError> {
         let f = t.1 .0;
-        let Some(first) = self.queued_edge(t.1) else {
+        let first = self.queued_edge(t.1);
+        #[cfg(test)]
+        tests::POPS.with(|p| p.borrow_mut().push(first.is_some()));
+        let Some(first) = first else {
             return Ok(());
         };
         if !self.inside(f) || self.badness(f).is_none() {
@@ -927,6 +939,70 @@ fn canonical(f: [u32; 3]) -> [u32; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Refine;
+    use geometry::LoopRole;
+    use mesh::{MeshRequest, Mesher};
+
+    thread_local! {
+        /// Pops decided by the vertex lookup alone (the plain test the queued face speeds up).
+        pub(super) static LOOKUP_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+        /// Whether each pop found its triangle, in order.
+        pub(super) static POPS: std::cell::RefCell<Vec<bool>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+
+    /// The queued face is only a shortcut: every pop must find its triangle exactly when the
+    /// lookup by vertices does, and the meshes must be the same. The first region is a fuzzed
+    /// pentagon where a split subsegment's lifted constraint let a queued triangle be flipped
+    /// away and forced back in another face (queued again there, so the mesh comes out the
+    /// same either way: only the pops tell).
+    #[test]
+    fn pops_decide_as_the_lookup_by_vertices_does() {
+        let pentagon = Region::from_loops(
+            "fuzzed",
+            vec![(
+                LoopRole::Outer,
+                [(1.0, 0.0), (0.0, 13.0), (5.0, 11.0), (1.0, 1.0), (4.0, 8.0)]
+                    .map(|(x, y)| DVec2::new(x, y))
+                    .to_vec(),
+            )],
+        )
+        .unwrap()
+        .with_default_corners();
+        let cases = [
+            (pentagon, MeshRequest::points(28).tol(1e-2).max_iter(4)),
+            (
+                Region::builtin("pie_hole").unwrap(),
+                MeshRequest::points(287),
+            ),
+            (Region::builtin("lake").unwrap(), MeshRequest::points(1109)),
+        ];
+        for (region, request) in cases {
+            let mesh = |lookup_only: bool| {
+                LOOKUP_ONLY.with(|l| l.set(lookup_only));
+                let r = Refine::default().mesh_parts(&region, &request, &mut |_| {});
+                LOOKUP_ONLY.with(|l| l.set(false));
+                (
+                    r.unwrap(),
+                    POPS.with(|p| std::mem::take(&mut *p.borrow_mut())),
+                )
+            };
+            let ((fast, pops_fast), (plain, pops_plain)) = (mesh(false), mesh(true));
+            assert!(
+                pops_fast == pops_plain,
+                "{}: a pop found its triangle in one and not the other",
+                region.name()
+            );
+            assert_eq!(fast.mesh.points, plain.mesh.points, "{}", region.name());
+            assert_eq!(
+                fast.mesh.triangles,
+                plain.mesh.triangles,
+                "{}",
+                region.name()
+            );
+            // The notes count the triangles given up on.
+            assert_eq!(fast.notes, plain.notes, "{}", region.name());
+        }
+    }
 
     #[test]
     fn circumcenter_is_equidistant() {
