@@ -7,5 +7,9 @@ fuzz_target!(|data: &[u8]| {
         if let Ok(m) = mesh::io::gmsh_from_str(text) {
             let _ = m.boundary_edges();
         }
+        // The same file read as a size field on a mesh (its first $NodeData view).
+        if let Ok((m, sizes)) = mesh::io::gmsh_sizes_from_str(text) {
+            assert_eq!(sizes.len(), m.points.len());
+        }
     }
 });

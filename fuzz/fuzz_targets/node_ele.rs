@@ -9,5 +9,22 @@ fuzz_target!(|data: &[u8]| {
         if let Ok(m) = mesh::io::triangle_from_str(node, ele) {
             let _ = m.boundary_edges();
         }
+        // The same files read as a size field on a mesh (first attribute = size).
+        if let Ok((m, sizes)) = mesh::io::triangle_sizes_from_str(node, ele) {
+            size_field_on(&m, &sizes);
+        }
     }
 });
+
+/// The size field of a mesh read with sizes, on the unit circle. Sizes below a tenth of the
+/// circle's extent would make the background grid large and the target slow, so they are
+/// left to the unit tests.
+fn size_field_on(m: &mesh::Mesh, sizes: &[f64]) {
+    if sizes.iter().all(|&h| h >= 0.2) && m.points.len() <= 64 {
+        let circle = geometry::Region::builtin("circle").expect("a built-in region");
+        if let Ok(h) = geometry::SizeField::from_mesh(&circle, &m.points, &m.triangles, sizes) {
+            let v = h.at(geometry::DVec2::new(0.1, 0.2));
+            assert!(v.is_finite() && v > 0.0, "size {v}");
+        }
+    }
+}

@@ -33,10 +33,13 @@ pub struct MeshArgs {
     /// Target edge length h; K follows from the region's area (this or --points is required).
     #[arg(long, conflicts_with = "graded")]
     size: Option<f64>,
-    /// Target edge length as a function of x and y, for graded meshes, e.g.
-    /// '0.01 + 0.1*sqrt(x^2+y^2)'; K follows from the field, (2/√3)∫h⁻², unless --points is
-    /// given [default: none, a uniform mesh].
-    #[arg(long, conflicts_with = "density")]
+    /// Target edge length for graded meshes: a function of x and y, e.g.
+    /// '0.01 + 0.1*sqrt(x^2+y^2)', or a mesh with a size at each vertex (Triangle FILE.node
+    /// whose first attribute is h, with FILE.ele; Gmsh FILE.msh with a $NodeData view),
+    /// linear on its triangles, as an adaptive solver leaves them or Gmsh takes a background
+    /// mesh; K follows from the field, (2/√3)∫h⁻², unless --points is given [default: none,
+    /// a uniform mesh].
+    #[arg(long, value_name = "EXPR|MESH", conflicts_with = "density")]
     size_field: Option<String>,
     /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
     /// region of several parts each outer loop is followed by its holes) or a point
@@ -180,7 +183,20 @@ fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
-    inputs::check_not_input(&a.output, &[Path::new(&a.region)])?;
+    // A size field given on a mesh is read from its files too (.node with .ele).
+    let field_files = a.size_field.iter().flat_map(|f| {
+        let p = Path::new(f);
+        [
+            p.to_path_buf(),
+            p.with_extension("node"),
+            p.with_extension("ele"),
+        ]
+    });
+    let read: Vec<std::path::PathBuf> = std::iter::once(Path::new(&a.region).to_path_buf())
+        .chain(field_files)
+        .collect();
+    let read: Vec<&Path> = read.iter().map(|p| p.as_path()).collect();
+    inputs::check_not_input(&a.output, &read)?;
     let method = inputs::method(&a.method)?;
     let raw = inputs::region(&a.region, None)?;
     let (mut region, mut corners) = inputs::with_corners(raw.clone(), a.corner_angle)?;
@@ -377,10 +393,11 @@ pub struct MeasureArgs {
     /// Coordinate scale for the sampled estimate (the paper's circle/annulus τ, d match 0.5).
     #[arg(long, default_value_t = 1.0)]
     scale: f64,
-    /// Also print how well the edges follow this size field h(x, y): the share of edges with
-    /// length/h in [1/√2, √2], the efficiency index, the smallest angles, and the vertex count
-    /// the field asks for [default: none].
-    #[arg(long)]
+    /// Also print how well the edges follow this size field h(x, y) (an expression or a mesh
+    /// with a size at each vertex, as for `mesh`): the share of edges with length/h in
+    /// [1/√2, √2], the efficiency index, the smallest angles, and the vertex count the field
+    /// asks for [default: none].
+    #[arg(long, value_name = "EXPR|MESH")]
     size_field: Option<String>,
     /// As for `mesh`: measure against the distance field toward this loop or point (with
     /// --size-threshold; the smaller of this and --size-field where both are given)

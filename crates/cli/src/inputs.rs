@@ -74,8 +74,17 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
     cvtmesh::geometry::expr::density_from_expr(text).map_err(|e| anyhow!("--density '{text}': {e}"))
 }
 
-/// Parse `--size-field`; its positivity on the region is checked with the request.
-pub fn size_field(text: &str) -> Result<SizeField> {
+/// Parse `--size-field`: an expression, or a mesh file with a size at each vertex (its name
+/// ends in `.node`, `.ele` or `.msh`). An expression's positivity on the region is checked
+/// with the request.
+pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
+    let lower = text.to_ascii_lowercase();
+    if [".node", ".ele", ".msh"].iter().any(|e| lower.ends_with(e)) {
+        let (mesh, sizes) = cvtmesh::io::read_sizes(Path::new(text))
+            .map_err(|e| anyhow!("--size-field {text}: {e}"))?;
+        return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
+            .map_err(|e| anyhow!("--size-field {text}: {e}"));
+    }
     SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
 }
 
@@ -87,7 +96,7 @@ pub fn graded_field(
     threshold: Option<&str>,
     region: &Region,
 ) -> Result<Option<SizeField>> {
-    let by_expr = expr.map(size_field).transpose()?;
+    let by_expr = expr.map(|e| size_field(e, region)).transpose()?;
     let by_distance = if toward.is_empty() {
         None
     } else {

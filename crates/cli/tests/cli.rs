@@ -727,15 +727,125 @@ fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
     );
 }
 
+/// A size at each vertex of a mesh, as an adaptive solver leaves them: h = 0.02 + 0.08 |x − c|
+/// on a mesh of the circle, written as Triangle files (first attribute) and as Gmsh 2.2 with a
+/// `$NodeData` view. Returns the two paths and the same field as an expression.
+fn sizes_on_a_mesh(
+    dir: &std::path::Path,
+) -> (std::path::PathBuf, std::path::PathBuf, &'static str) {
+    let expr = "0.02 + 0.08*sqrt((x-0.3)^2 + y^2)";
+    let h = |x: f64, y: f64| 0.02 + 0.08 * ((x - 0.3).powi(2) + y * y).sqrt();
+    let src = dir.join("src.node");
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--points",
+        "1500",
+        "--quiet",
+        "-o",
+        s(&src),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let mesh = cvtmesh::io::read_mesh(&src).unwrap();
+    let (mut node, mut nodes) = (format!("{} 2 1 0\n", mesh.points.len()), String::new());
+    for (i, p) in mesh.points.iter().enumerate() {
+        node += &format!("{} {} {} {}\n", i + 1, p.x, p.y, h(p.x, p.y));
+        nodes += &format!("{} {} {} 0\n", i + 1, p.x, p.y);
+    }
+    let (mut ele, mut elements) = (format!("{} 3 0\n", mesh.triangles.len()), String::new());
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        ele += &format!("{} {} {} {}\n", i + 1, t[0] + 1, t[1] + 1, t[2] + 1);
+        elements += &format!("{} 2 0 {} {} {}\n", i + 1, t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    let data: String = mesh
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| format!("{} {}\n", i + 1, h(p.x, p.y)))
+        .collect();
+    let (tri, msh) = (dir.join("sizes.node"), dir.join("sizes.msh"));
+    std::fs::write(&tri, node).unwrap();
+    std::fs::write(tri.with_extension("ele"), ele).unwrap();
+    let n = mesh.points.len();
+    std::fs::write(
+        &msh,
+        format!(
+            "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n{n}\n{nodes}$EndNodes\n$Elements\n{}\n\
+             {elements}$EndElements\n$NodeData\n1\n\"h\"\n1\n0\n3\n0\n1\n{n}\n{data}$EndNodeData\n",
+            mesh.triangles.len()
+        ),
+    )
+    .unwrap();
+    (tri, msh, expr)
+}
+
+#[test]
+fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
+    let dir = scratch("size_mesh");
+    let (tri, msh, expr) = sizes_on_a_mesh(&dir);
+    let mut rows = Vec::new();
+    for field in [s(&tri), s(&msh)] {
+        let out = dir.join("graded.msh");
+        let o = cvtmesh(&[
+            "mesh",
+            "circle",
+            "--size-field",
+            field,
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        // Judged against the field as given and against the expression it samples.
+        for judge in [field, expr] {
+            let row = size_conformity(&out, "circle", judge);
+            assert!(
+                row[1] >= 0.95 && row[2] >= 0.9 && row[4] >= 30.0,
+                "{field} by {judge}: {row:?}"
+            );
+        }
+        rows.push(size_conformity(&out, "circle", expr));
+    }
+    // The two files hold the same sizes: the same mesh.
+    assert_eq!(rows[0], rows[1]);
+    // K follows the field: within 2 % of what the expression asks for.
+    let predicted = rows[0][7];
+    assert!(
+        (rows[0][6] - predicted).abs() <= 0.02 * predicted,
+        "{:?}",
+        rows[0]
+    );
+    // A mesh file is an input: never overwritten.
+    assert_refused(
+        &["mesh", "circle", "--size-field", s(&msh), "-o", s(&msh)],
+        &dir.join("never.msh"),
+        "would replace the input file",
+    );
+}
+
 #[test]
 fn bad_size_fields_are_refused_before_any_work() {
     let dir = scratch("bad_size_field");
     let out = dir.join("never.msh");
+    let missing = dir.join("missing.msh");
+    let region_as_sizes = dir.join("ours.node");
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "--points",
+        "50",
+        "--quiet",
+        "-o",
+        s(&region_as_sizes),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
     for (field, needle) in [
         ("x", "positive and finite"),
         ("1/0", "positive and finite"),
         ("0.1 +", "--size-field"),
         ("1e-9", "more than cvtmesh meshes"),
+        (s(&missing), "cannot read"),
+        (s(&region_as_sizes), "vertex markers, not sizes"),
     ] {
         assert_refused(
             &["mesh", "circle", "--size-field", field, "-o", s(&out)],

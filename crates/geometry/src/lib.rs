@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+mod background;
 mod build;
 mod crossings;
 mod density;

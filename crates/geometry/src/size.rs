@@ -89,6 +89,43 @@ pub enum SizeFieldError {
     /// A background grid needs at least 2 nodes per side.
     #[error("size field: a background grid needs at least 2 nodes per side, got {0}")]
     GridTooSmall(usize),
+    /// Sizes given on a mesh do not match its vertices.
+    #[error("size field: {sizes} sizes for a mesh of {vertices} vertices (one size per vertex)")]
+    MeshSizes {
+        /// Sizes given.
+        sizes: usize,
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+    /// A size given on a mesh that is not positive and finite.
+    #[error(
+        "size field: the size at vertex {vertex} is {value}; sizes must be positive and finite"
+    )]
+    MeshSize {
+        /// The vertex (0-based).
+        vertex: usize,
+        /// Its size.
+        value: f64,
+    },
+    /// A mesh vertex with a coordinate that is not finite.
+    #[error("size field: vertex {vertex} of the mesh has a coordinate that is not finite")]
+    MeshPoint {
+        /// The vertex (0-based).
+        vertex: usize,
+    },
+    /// A mesh triangle naming a vertex the mesh does not have.
+    #[error("size field: triangle {triangle} refers to vertex {vertex}, but the mesh has {vertices} vertices")]
+    MeshTriangle {
+        /// The triangle (0-based).
+        triangle: usize,
+        /// The vertex it names (0-based).
+        vertex: u32,
+        /// Vertices of the mesh.
+        vertices: usize,
+    },
+    /// Sizes given on a mesh without triangles.
+    #[error("size field: the mesh has no triangles to interpolate the sizes on")]
+    EmptyMesh,
 }
 
 /// Six times the uniform cubic B-spline weights of the four nodes around a point at `u` ∈

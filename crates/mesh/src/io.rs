@@ -29,9 +29,11 @@ mod obj;
 mod triangle;
 mod vtu;
 
-pub use gmsh::{gmsh_from_str, read_gmsh, write_gmsh};
+pub use gmsh::{gmsh_from_str, gmsh_sizes_from_str, read_gmsh, read_gmsh_sizes, write_gmsh};
 pub use obj::{obj_from_str, read_obj, write_obj};
-pub use triangle::{read_triangle, triangle_from_str, write_triangle};
+pub use triangle::{
+    read_triangle, read_triangle_sizes, triangle_from_str, triangle_sizes_from_str, write_triangle,
+};
 pub use vtu::{triangle_quality, write_vtu};
 
 /// The `piece` of a boundary marker read from a file that does not record pieces.
@@ -109,6 +111,22 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
         Some("msh") => read_gmsh(path),
         Some("obj") => read_obj(path),
         _ => Err(unknown_extension(path, "read", READ_EXTENSIONS)),
+    }
+}
+
+/// Extensions [`read_sizes`] understands.
+pub const SIZE_EXTENSIONS: &[&str] = &["node", "msh"];
+
+/// A mesh and a size at each of its vertices, for a size field given on a mesh (an adaptive
+/// solver's sizes on its last mesh, a background mesh; [`geometry::SizeField::from_mesh`]):
+/// a Triangle `.node` whose first attribute is the size, with its `.ele`
+/// ([`read_triangle_sizes`]), or a Gmsh `.msh` with a `$NodeData` view of one value per node
+/// ([`read_gmsh_sizes`]).
+pub fn read_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+    match extension(path).as_deref() {
+        Some("node") | Some("ele") => read_triangle_sizes(&path.with_extension("node")),
+        Some("msh") => read_gmsh_sizes(path),
+        _ => Err(unknown_extension(path, "read sizes from", SIZE_EXTENSIONS)),
     }
 }
 

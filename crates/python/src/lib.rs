@@ -35,6 +35,31 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(e.to_string())
 }
 
+/// Triangles of an (m, 3) integer array of 0-based vertex numbers below `n`.
+fn triangles_of(triangles: &PyReadonlyArray2<'_, i64>, n: usize) -> PyResult<Vec<[u32; 3]>> {
+    if triangles.shape()[1] != 3 {
+        return Err(err(format!(
+            "triangles must be an array of shape (m, 3), got {:?}",
+            triangles.shape()
+        )));
+    }
+    let t = triangles.as_array();
+    let mut tris = Vec::with_capacity(t.nrows());
+    for (j, row) in t.rows().into_iter().enumerate() {
+        let mut tri = [0u32; 3];
+        for (k, &v) in row.iter().enumerate() {
+            if v < 0 || v as usize >= n {
+                return Err(err(format!(
+                    "triangle {j} refers to vertex {v}, but there are {n} points"
+                )));
+            }
+            tri[k] = v as u32;
+        }
+        tris.push(tri);
+    }
+    Ok(tris)
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -499,7 +524,37 @@ fn scalar_field(
 ) -> PyResult<SizeField> {
     if spec.is_instance_of::<PyString>() {
         let text: String = spec.extract()?;
+        let lower = text.to_ascii_lowercase();
+        if [".node", ".ele", ".msh"].iter().any(|e| lower.ends_with(e)) {
+            let (mesh, sizes) =
+                cvtmesh::io::read_sizes(std::path::Path::new(&text)).map_err(err)?;
+            return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
+                .map_err(|e| err(format!("{what} {text}: {e}")));
+        }
         return SizeField::from_expr(&text).map_err(|e| err(format!("{what}: {e}")));
+    }
+    // (points, triangles, values): values at the vertices of a mesh, linear on its triangles.
+    if let Ok((points, triangles, values)) =
+        spec.extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>)>()
+    {
+        let np = py.import("numpy")?;
+        let points = np.call_method1("asarray", (points, "float64"))?;
+        let points: PyReadonlyArray2<'_, f64> = points
+            .extract()
+            .map_err(|_| err(format!("{what}: the mesh's points must be an (n, 2) array")))?;
+        let triangles = np.call_method1("asarray", (triangles, "int64"))?;
+        let triangles: PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| {
+            err(format!(
+                "{what}: the mesh's triangles must be an (m, 3) array"
+            ))
+        })?;
+        let values = np.call_method1("asarray", (values, "float64"))?;
+        let values = np.call_method1("ravel", (values,))?;
+        let values: PyReadonlyArray1<'_, f64> = values.extract()?;
+        let pts = points_of(&points, "points")?;
+        let tris = triangles_of(&triangles, pts.len())?;
+        return SizeField::from_mesh(region, &pts, &tris, &values.as_array().to_vec())
+            .map_err(|e| err(format!("{what}: {e}")));
     }
     if spec.is_callable() {
         let np = py.import("numpy")?;
@@ -516,7 +571,7 @@ fn scalar_field(
     }
     let h: f64 = spec.extract().map_err(|_| {
         err(format!(
-            "{what} must be a number, an expression string in x and y, or a callable taking an (n, 2) array"
+            "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array"
         ))
     })?;
     Ok(SizeField::constant(h))
@@ -707,27 +762,7 @@ fn measures<'py>(
     region: &PyRegion,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pts = points_of(&points, "points")?;
-    let t = triangles.as_array();
-    if triangles.shape()[1] != 3 {
-        return Err(err(format!(
-            "triangles must be an array of shape (m, 3), got {:?}",
-            triangles.shape()
-        )));
-    }
-    let mut tris = Vec::with_capacity(t.nrows());
-    for (j, row) in t.rows().into_iter().enumerate() {
-        let mut tri = [0u32; 3];
-        for (k, &v) in row.iter().enumerate() {
-            if v < 0 || v as usize >= pts.len() {
-                return Err(err(format!(
-                    "triangle {j} refers to vertex {v}, but there are {} points",
-                    pts.len()
-                )));
-            }
-            tri[k] = v as u32;
-        }
-        tris.push(tri);
-    }
+    let tris = triangles_of(&triangles, pts.len())?;
     let mesh = Mesh {
         markers: cvtmesh::io::markers_from_topology(&pts, &tris),
         points: pts,

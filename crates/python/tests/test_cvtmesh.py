@@ -125,6 +125,34 @@ def test_size_field_grades_the_mesh_and_callable_is_called_once():
     assert len(m.points) == pytest.approx(exact, rel=0.02)
 
 
+def test_sizes_on_a_mesh_grade_as_the_expression_they_sample(tmp_path):
+    expr = "0.02 + 0.08*sqrt((x-0.3)^2 + y^2)"
+    bg = cvtmesh.mesh("circle", n=1500, tol=1e-3)
+    h = 0.02 + 0.08 * np.hypot(bg.points[:, 0] - 0.3, bg.points[:, 1])
+    on_mesh = cvtmesh.mesh("circle", size=(bg.points, bg.triangles, h), tol=1e-3)
+    by_expr = cvtmesh.mesh("circle", size=expr, tol=1e-3)
+    assert len(on_mesh.points) == pytest.approx(len(by_expr.points), rel=0.02)
+    # The same sizes from a Triangle file (first attribute) give the same mesh.
+    node = tmp_path / "bg.node"
+    node.write_text(
+        f"{len(bg.points)} 2 1 0\n"
+        + "".join(
+            f"{i} {float(x)!r} {float(y)!r} {float(v)!r}\n"
+            for i, ((x, y), v) in enumerate(zip(bg.points, h))
+        )
+    )
+    (tmp_path / "bg.ele").write_text(
+        f"{len(bg.triangles)} 3 0\n"
+        + "".join(f"{i} {a} {b} {c}\n" for i, (a, b, c) in enumerate(bg.triangles))
+    )
+    from_file = cvtmesh.mesh("circle", size=str(node), tol=1e-3)
+    assert np.array_equal(from_file.points, on_mesh.points)
+    with pytest.raises(cvtmesh.MeshError, match="sizes for a mesh of"):
+        cvtmesh.mesh("circle", size=(bg.points, bg.triangles, h[:-1]))
+    with pytest.raises(cvtmesh.MeshError, match="refers to vertex"):
+        cvtmesh.mesh("circle", size=(bg.points, bg.triangles + len(bg.points), h))
+
+
 def test_size_expression_with_n_keeps_the_shape_and_hits_n():
     m = cvtmesh.mesh("circle", size="0.03 + 0.12*sqrt(x^2+y^2)", n=500, tol=1e-3)
     assert len(m.points) == 500

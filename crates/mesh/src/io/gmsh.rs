@@ -127,7 +127,41 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 /// names them) is taken from that name.
 pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    parse(&String::from_utf8_lossy(&bytes), path)
+    Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.0)
+}
+
+/// A Gmsh mesh and a size at each vertex, from the first `$NodeData` view of the file (one
+/// value per node, as Gmsh writes a background mesh's sizes): a background mesh for a graded
+/// mesh ([`geometry::SizeField::from_mesh`]). The mesh is read as [`read_gmsh`] reads it.
+pub fn read_gmsh_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
+    sizes_from(&String::from_utf8_lossy(&bytes), path)
+}
+
+/// [`read_gmsh_sizes`] from the text of a file; errors name `mesh.msh`.
+///
+/// ```
+/// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n\
+///     $EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n$NodeData\n1\n\"h\"\n1\n0\n3\n0\n1\n3\n\
+///     1 0.1\n2 0.2\n3 0.3\n$EndNodeData\n";
+/// let (m, h) = cvtmesh_mesh::io::gmsh_sizes_from_str(text)?;
+/// assert_eq!((m.num_triangles(), h), (1, vec![0.1, 0.2, 0.3]));
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn gmsh_sizes_from_str(text: &str) -> Result<(Mesh, Vec<f64>), MeshError> {
+    sizes_from(text, Path::new("mesh.msh"))
+}
+
+fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+    let (mesh, sizes) = parse(text, path, true)?;
+    let sizes = sizes.ok_or_else(|| {
+        file_err(
+            path,
+            "no $NodeData section: the size at each vertex is read from the first $NodeData \
+             view (one value per node)",
+        )
+    })?;
+    Ok((mesh, sizes))
 }
 
 /// Parse the text of a Gmsh ASCII mesh, as [`read_gmsh`] reads a file; errors name
@@ -141,7 +175,7 @@ pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
 /// # Ok::<(), cvtmesh_mesh::MeshError>(())
 /// ```
 pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
-    parse(text, Path::new("mesh.msh"))
+    Ok(parse(text, Path::new("mesh.msh"), false)?.0)
 }
 
 /// Element kinds the reader distinguishes.
@@ -196,9 +230,13 @@ struct Raw {
     /// Line elements: end nodes and physical tag (0 if none).
     lines: Vec<(u64, u64, i64)>,
     names: HashMap<(i64, i64), String>,
+    /// The first `$NodeData` view, when asked for: (node tag, value).
+    node_data: Option<Vec<(u64, f64)>>,
 }
 
-fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
+/// The mesh of a Gmsh file, and with `sizes` the first `$NodeData` view's value at each of
+/// its vertices (None when the file has no such view).
+fn parse(text: &str, path: &Path, sizes: bool) -> Result<(Mesh, Option<Vec<f64>>), MeshError> {
     let mut t = Tokens::new(text, None, path);
     if t.peek() != Some("$MeshFormat") {
         return Err(t.err("not a Gmsh mesh: expected '$MeshFormat'"));
@@ -258,6 +296,10 @@ fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
                 }
                 expect_end(&mut t, "$EndElements")?;
             }
+            "$NodeData" if sizes && raw.node_data.is_none() => {
+                raw.node_data = Some(parse_node_data(&mut t)?);
+                expect_end(&mut t, "$EndNodeData")?;
+            }
             s if s.starts_with('$') && !s.starts_with("$End") => {
                 // A section this reader does not need ($NodeData, $Periodic, ...): skip it.
                 let end = format!("$End{}", &s[1..]);
@@ -281,6 +323,52 @@ fn parse(text: &str, path: &Path) -> Result<Mesh, MeshError> {
         }
     }
     assemble(raw, path)
+}
+
+/// A `$NodeData` section's header (string, real and integer tags: the view's name, its time,
+/// then time step, components, count and maybe a partition) and its values, which must be one
+/// per node.
+fn parse_node_data(t: &mut Tokens) -> Result<Vec<(u64, f64)>, MeshError> {
+    let strings = t.usize("the number of string tags")?;
+    // Each string tag (a quoted name) fills a line of its own.
+    t.rest_of_line();
+    for _ in 0..strings {
+        if t.peek().is_none() {
+            return Err(t.err("unexpected end of file in $NodeData's string tags"));
+        }
+        t.rest_of_line();
+    }
+    let reals = t.usize("the number of real tags")?;
+    for _ in 0..reals {
+        t.f64("a real tag")?;
+    }
+    let ints = t.usize("the number of integer tags")?;
+    let mut tags = Vec::with_capacity(ints.min(16));
+    for _ in 0..ints {
+        tags.push(t.i64("an integer tag")?);
+    }
+    let (components, count) = match tags[..] {
+        [_, c, n, ..] => (c, n),
+        _ => {
+            return Err(t.err(format!(
+                "$NodeData has {ints} integer tags; expected the time step, the number of \
+                 components and the number of values"
+            )))
+        }
+    };
+    if components != 1 {
+        return Err(t.err(format!(
+            "$NodeData has {components} components per node; a size field needs 1"
+        )));
+    }
+    let count =
+        usize::try_from(count).map_err(|_| t.err(format!("$NodeData has {count} values")))?;
+    let mut values = Vec::with_capacity(count.min(1 << 20));
+    for _ in 0..count {
+        let tag = t.usize("a node tag")? as u64;
+        values.push((tag, t.f64("a node value")?));
+    }
+    Ok(values)
 }
 
 fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
@@ -454,7 +542,7 @@ fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
     Ok(())
 }
 
-fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
+fn assemble(mut raw: Raw, path: &Path) -> Result<(Mesh, Option<Vec<f64>>), MeshError> {
     raw.nodes.sort_by_key(|n| n.0);
     if let Some(w) = raw.nodes.windows(2).find(|w| w[0].0 == w[1].0) {
         return Err(file_err(path, format!("node tag {} appears twice", w[0].0)));
@@ -524,7 +612,38 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Mesh, MeshError> {
             }
         }
     }
-    Ok(mesh)
+    let sizes = match raw.node_data.take() {
+        None => None,
+        Some(data) => {
+            let mut sizes = vec![None; mesh.points.len()];
+            for (tag, value) in data {
+                let i = lookup(tag).map_err(|_| {
+                    file_err(
+                        path,
+                        format!("$NodeData gives a value for node {tag}, which is not in $Nodes"),
+                    )
+                })?;
+                if sizes[i as usize].replace(value).is_some() {
+                    return Err(file_err(
+                        path,
+                        format!("$NodeData gives node {tag} two values"),
+                    ));
+                }
+            }
+            let values: Option<Vec<f64>> = sizes.iter().copied().collect();
+            match values {
+                Some(v) => Some(v),
+                None => {
+                    let i = sizes.iter().position(Option::is_none).unwrap_or(0);
+                    return Err(file_err(
+                        path,
+                        format!("$NodeData gives no value for node {}", raw.nodes[i].0),
+                    ));
+                }
+            }
+        }
+    };
+    Ok((mesh, sizes))
 }
 
 #[cfg(test)]
@@ -577,18 +696,24 @@ mod tests {
         let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Comments\nanything here\n$EndComments\n\
                     $Nodes\n5\n10 0 0 0\n20 1 0 0\n30 1 1 0\n40 0 1 0\n50 0.5 0.5 0\n$EndNodes\n\
                     $Elements\n3\n1 15 2 0 1 10\n2 1 2 7 1 10 20\n3 2 2 0 3 10 40 30\n$EndElements\n";
-        let r = parse(text, Path::new("v2.msh")).unwrap();
+        let r = parse(text, Path::new("v2.msh"), false)
+            .map(|r| r.0)
+            .unwrap();
         assert_eq!(r.points.len(), 5);
         assert_eq!(r.points[1], DVec2::new(1.0, 0.0));
         assert_eq!(r.triangles, [[0, 2, 3]]);
         let text4 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n2 1 1 3\n1\n2\n3\n\
                      0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n2 1 9 1\n1 1 2 3 1 2 3\n$EndElements\n";
-        let r = parse(text4, Path::new("p.msh")).unwrap();
+        let r = parse(text4, Path::new("p.msh"), false)
+            .map(|r| r.0)
+            .unwrap();
         assert_eq!(r.triangles, [[0, 1, 2]]);
         // Sparse node tags (looked up through a hash map), listed out of order.
         let sparse = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n9000000000 0 1 0\n7 0 0 0\n\
                       123456789 1 0 0\n$EndNodes\n$Elements\n1\n1 2 0 7 123456789 9000000000\n$EndElements\n";
-        let r = parse(sparse, Path::new("s.msh")).unwrap();
+        let r = parse(sparse, Path::new("s.msh"), false)
+            .map(|r| r.0)
+            .unwrap();
         assert_eq!(r.points, [DVec2::ZERO, DVec2::X, DVec2::Y]);
         assert_eq!(r.triangles, [[0, 1, 2]]);
         assert!(r.markers.iter().all(|m| m.loop_index() == Some(0)));
@@ -612,7 +737,10 @@ mod tests {
             (&format!("{head}junk\n"), "line 4: expected a section"),
         ];
         for (text, want) in cases {
-            let e = parse(text, Path::new("bad.msh")).unwrap_err().to_string();
+            let e = parse(text, Path::new("bad.msh"), false)
+                .map(|r| r.0)
+                .unwrap_err()
+                .to_string();
             assert!(
                 e.starts_with("bad.msh: ") && e.contains(want),
                 "{e:?} should contain {want:?}"
@@ -623,14 +751,71 @@ mod tests {
     proptest::proptest! {
         #[test]
         fn random_bytes_never_panic(bytes in proptest::collection::vec(proptest::num::u8::ANY, 0..300)) {
-            let _ = parse(&String::from_utf8_lossy(&bytes), Path::new("r.msh"));
+            let _ = parse(&String::from_utf8_lossy(&bytes), Path::new("r.msh"), false).map(|r| r.0);
         }
 
         #[test]
         fn random_numbers_after_a_valid_header_never_panic(body in "[0-9 \n.$a-zA-Z-]{0,200}") {
-            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"));
-            let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"));
-            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"));
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
+            let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
+            let _ = sizes_from(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$NodeData\n{body}"), Path::new("r.msh"));
         }
+    }
+
+    /// A square of two triangles (nodes tagged 10, 20, 30, 40) and a `$NodeData` body.
+    fn with_node_data(version: &str, data: &str) -> String {
+        let mesh = if version == "2.2" {
+            "$Nodes\n4\n10 0 0 0\n20 1 0 0\n30 1 1 0\n40 0 1 0\n$EndNodes\n\
+             $Elements\n2\n1 2 0 10 20 30\n2 2 0 10 30 40\n$EndElements\n"
+        } else {
+            "$Nodes\n1 4 10 40\n2 1 0 4\n10\n20\n30\n40\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n\
+             $Elements\n1 2 1 2\n2 1 2 2\n1 10 20 30\n2 10 30 40\n$EndElements\n"
+        };
+        format!("$MeshFormat\n{version} 0 8\n$EndMeshFormat\n{mesh}$NodeData\n{data}$EndNodeData\n")
+    }
+
+    #[test]
+    fn sizes_come_from_the_first_node_data_view_in_node_order() {
+        // Gmsh 4.1 writes a fourth integer tag (the partition); values in any order.
+        let data = "1\n\"size\"\n1\n0\n4\n0\n1\n4\n0\n30 0.3\n10 0.1\n40 0.4\n20 0.2\n";
+        for version in ["2.2", "4.1"] {
+            let text = with_node_data(version, data)
+                + "$NodeData\n1\n\"other\"\n1\n0\n3\n0\n1\n1\n10 9\n$EndNodeData\n";
+            let (m, h) = sizes_from(&text, Path::new("bg.msh")).unwrap();
+            assert_eq!(m.num_triangles(), 2, "{version}");
+            assert_eq!(h, [0.1, 0.2, 0.3, 0.4], "{version}");
+            // The mesh reader alone still skips the view.
+            assert_eq!(parse(&text, Path::new("bg.msh"), false).unwrap().1, None);
+        }
+    }
+
+    #[test]
+    fn bad_node_data_is_refused_naming_the_problem() {
+        let view = |values: &str, components: u32, count: u32| {
+            format!("1\n\"h\"\n1\n0\n3\n0\n{components}\n{count}\n{values}")
+        };
+        let cases = [
+            (view("10 1\n20 1\n30 1\n", 1, 3), "no value for node 40"),
+            (
+                view("10 1\n20 1\n30 1\n40 1\n50 1\n", 1, 5),
+                "node 50, which is not in $Nodes",
+            ),
+            (view("10 1\n20 1\n30 1\n10 2\n", 1, 4), "node 10 two values"),
+            (view("10 1 0 0\n", 3, 1), "3 components per node"),
+            (view("10 x\n", 1, 1), "expected a node value"),
+            ("1\n\"h\"\n0\n1\n0\n".to_string(), "1 integer tags"),
+            (
+                "999999999999\n\"h\"\n".to_string(),
+                "end of file in $NodeData's string tags",
+            ),
+        ];
+        for (data, want) in cases {
+            let e = sizes_from(&with_node_data("2.2", &data), Path::new("bg.msh")).unwrap_err();
+            assert!(e.to_string().contains(want), "{e} should contain {want:?}");
+        }
+        let no_view = with_node_data("2.2", "").replace("$NodeData\n$EndNodeData\n", "");
+        let e = sizes_from(&no_view, Path::new("bg.msh")).unwrap_err();
+        assert!(e.to_string().contains("no $NodeData section"), "{e}");
     }
 }

@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    edges_by_loop, read_mesh_parts, read_text, validate_for_writing, write_files, Producer, Tokens,
-    F, UNKNOWN_PIECE,
+    edges_by_loop, file_err, read_mesh_parts, read_text, validate_for_writing, write_files,
+    Producer, Tokens, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -184,7 +184,7 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
         },
         e => e,
     })?;
-    let (points, base, exact) = parse_node(&node_text, node_path)?;
+    let (points, base, exact, _) = parse_node(&node_text, node_path)?;
     let triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
     Ok(read_mesh_parts(points, triangles, exact))
 }
@@ -200,12 +200,74 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
 /// ```
 pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
     let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
-    let (points, base, exact) = parse_node(node_text, node_path)?;
+    let (points, base, exact, _) = parse_node(node_text, node_path)?;
     let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
     Ok(read_mesh_parts(points, triangles, exact))
 }
 
-type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>);
+/// A Triangle mesh and a size at each vertex, its first attribute (a background mesh for a
+/// graded mesh, [`geometry::SizeField::from_mesh`]): `node_path` and the `.ele` beside it,
+/// read as [`read_triangle`] reads them.
+pub fn read_triangle_sizes(node_path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+    let node_text = read_text(node_path)?;
+    let ele_path = node_path.with_extension("ele");
+    let ele_text = read_text(&ele_path)?;
+    sizes_from(&node_text, &ele_text, node_path, &ele_path)
+}
+
+/// [`read_triangle_sizes`] from the texts of the two files; errors name `mesh.node` and
+/// `mesh.ele`.
+///
+/// ```
+/// use cvtmesh_mesh::io::triangle_sizes_from_str;
+/// let node = "3 2 1 0\n1 0 0 0.1\n2 1 0 0.2\n3 0 1 0.3\n";
+/// let (m, h) = triangle_sizes_from_str(node, "1 3 0\n1 1 2 3\n")?;
+/// assert_eq!((m.num_triangles(), h), (1, vec![0.1, 0.2, 0.3]));
+/// // Without an attribute there is no size to read.
+/// let e = triangle_sizes_from_str("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n");
+/// assert!(e.unwrap_err().to_string().contains("no attribute"));
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn triangle_sizes_from_str(
+    node_text: &str,
+    ele_text: &str,
+) -> Result<(Mesh, Vec<f64>), MeshError> {
+    sizes_from(
+        node_text,
+        ele_text,
+        Path::new("mesh.node"),
+        Path::new("mesh.ele"),
+    )
+}
+
+fn sizes_from(
+    node_text: &str,
+    ele_text: &str,
+    node_path: &Path,
+    ele_path: &Path,
+) -> Result<(Mesh, Vec<f64>), MeshError> {
+    let (points, base, exact, sizes) = parse_node(node_text, node_path)?;
+    if exact.is_some() {
+        return Err(file_err(
+            node_path,
+            "its attributes are cvtmesh's vertex markers, not sizes; give the size at each \
+             vertex as the first attribute of a .node file of your own",
+        ));
+    }
+    if sizes.len() != points.len() {
+        return Err(file_err(
+            node_path,
+            "the vertices have no attribute: the size at each vertex is read from the first \
+             attribute column",
+        ));
+    }
+    let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
+    Ok((read_mesh_parts(points, triangles, None), sizes))
+}
+
+/// Vertices, the index base, our exact markers, and the first attribute of every vertex
+/// (empty without attributes).
+type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>, Vec<f64>);
 
 /// Vertices, the index base (0 or 1), and the exact markers when the file is one of ours.
 fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
@@ -225,6 +287,7 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
     let ours = text.starts_with(SIGNATURE) && nattr == 3 && nmark == 1;
     let mut points = Vec::with_capacity(n.min(1 << 20));
     let mut markers = Vec::with_capacity(if ours { n.min(1 << 20) } else { 0 });
+    let mut first_attr = Vec::with_capacity(if nattr > 0 { n.min(1 << 20) } else { 0 });
     let mut base = 0;
     for i in 0..n {
         let line = t.line_no();
@@ -256,6 +319,9 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
                 *slot = v;
             }
         }
+        if nattr > 0 {
+            first_attr.push(attrs[0]);
+        }
         let marker = if nmark == 1 {
             t.i64("a boundary marker")?
         } else {
@@ -268,7 +334,7 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
             }
         }
     }
-    Ok((points, base, ours.then_some(markers)))
+    Ok((points, base, ours.then_some(markers), first_attr))
 }
 
 /// Inverse of the attribute encoding of [`write_triangle`].
@@ -504,12 +570,27 @@ mod tests {
                                     ele in "[0-9 \n#.-]{0,80}") {
             let p = Path::new("r.node");
             if let Ok(text) = std::str::from_utf8(&node) {
-                if let Ok((pts, base, _)) = parse_node(text, p) {
+                if let Ok((pts, base, _, _)) = parse_node(text, p) {
                     let _ = parse_ele(&ele, Path::new("r.ele"), pts.len(), base);
                 }
             }
             let _ = parse_node(&format!("3 2 0 0\n{ele}"), p);
             let _ = parse_ele(&ele, Path::new("r.ele"), 3, 1);
         }
+    }
+
+    #[test]
+    fn sizes_are_the_first_attribute_and_markers_are_not_sizes() {
+        let node = "# a background mesh\n4 2 2 1\n0 0 0 0.1 7 1\n1 1 0 0.2 7 1\n2 1 1 0.3 7 1\n3 0 1 0.4 7 1\n";
+        let ele = "2 3 0\n0 0 1 2\n1 0 2 3\n";
+        let (m, h) = triangle_sizes_from_str(node, ele).unwrap();
+        assert_eq!((m.num_vertices(), m.num_triangles()), (4, 2));
+        assert_eq!(h, [0.1, 0.2, 0.3, 0.4]);
+        // A file of ours keeps markers in its attributes.
+        let dir = TempDir::new("tri-sizes");
+        let base = dir.path("ours");
+        write_triangle(&square_with_hole(), &base).unwrap();
+        let e = read_triangle_sizes(&base.with_extension("node")).unwrap_err();
+        assert!(e.to_string().contains("vertex markers, not sizes"), "{e}");
     }
 }

@@ -65,7 +65,7 @@ def mesh(
     *,
     holes: Optional[Sequence[Any]] = None,
     n: Optional[int] = None,
-    size: Union[None, float, str, Callable[[np.ndarray], Any]] = None,
+    size: Union[None, float, str, Tuple[Any, Any, Any], Callable[[np.ndarray], Any]] = None,
     method: str = "ccvt",
     seed: int = 1,
     tol: float = 1e-4,
@@ -96,9 +96,12 @@ def mesh(
         scaled so that the mesh has exactly ``n`` vertices.
     size
         The target edge length h: a number, an expression in ``x`` and ``y``
-        (``"0.01 + 0.1*sqrt(x^2+y^2)"``), or a vectorized callable ``f(xy) -> h`` that
+        (``"0.01 + 0.1*sqrt(x^2+y^2)"``), a vectorized callable ``f(xy) -> h`` that
         receives an ``(n, 2)`` array and returns ``n`` values (it is called once, on the nodes
-        of a 256×256 background grid). Without ``n`` the vertex count is
+        of a 256×256 background grid), or sizes at the vertices of a mesh, linear on its
+        triangles (an adaptive solver's sizes on its last mesh): ``(points, triangles, h)``
+        arrays, or a Triangle ``.node`` file whose first attribute is h (with its ``.ele``) or
+        a Gmsh ``.msh`` file with a ``$NodeData`` view. Without ``n`` the vertex count is
         (2/√3)∫h⁻² over the region.
     method
         One of :func:`methods` (default ``"ccvt"``: Algorithm 2 with Newton's method).

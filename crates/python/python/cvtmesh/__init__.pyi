@@ -18,7 +18,7 @@ def mesh(
     *,
     holes: Optional[Sequence[npt.ArrayLike]] = None,
     n: Optional[int] = None,
-    size: Union[None, float, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
+    size: Union[None, float, str, Tuple[Any, Any, Any], Callable[[npt.NDArray[np.float64]], Any]] = None,
     method: str = "ccvt",
     seed: int = 1,
     tol: float = 1e-4,

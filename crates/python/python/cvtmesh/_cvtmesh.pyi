@@ -67,7 +67,7 @@ def mesh(
     region: Region,
     *,
     n: Optional[int] = None,
-    size: Union[None, float, str, Callable[[npt.NDArray[np.float64]], Any]] = None,
+    size: Union[None, float, str, Tuple[Any, Any, Any], Callable[[npt.NDArray[np.float64]], Any]] = None,
     method: str = "ccvt",
     seed: int = 1,
     tol: float = 1e-4,
