@@ -562,12 +562,11 @@ impl Engine<'_> {
         // the bad triangle (whose circumcircle holds c) and bounded by subsegments. Every
         // triangle the segment from the bad triangle to c crosses has c in its circumcircle, so
         // c is visible from the triangle iff the face holding c is in the cavity.
-        // The cavity is a handful of faces: a list is cheaper than hashing. Its faces are
-        // walked along their edges, each held with the edge from its first vertex to its
-        // second, so no neighbour has to be looked up by its vertices.
-        let mut cavity: Vec<[u32; 3]> = vec![canonical(f)];
+        // Its faces are walked along their edges, each held with the edge from its first
+        // vertex to its second, so no neighbour has to be looked up by its vertices.
+        let mut cavity = Listed::from(canonical(f));
         let mut stack = vec![(f, first)];
-        let mut walls: Vec<SegKey> = Vec::new();
+        let mut walls: Listed<SegKey> = Listed::default();
         while let Some((fc, edge)) = stack.pop() {
             let mut e = self.cdt.directed_edge(edge);
             for i in 0..3 {
@@ -619,6 +618,7 @@ impl Engine<'_> {
             }
             _ => Vec::new(),
         };
+        let walls = walls.items;
         let on_wall = walls.iter().copied().find(|k| {
             let (a, b) = (self.pos(k.0), self.pos(k.1));
             robust::orient2d(coord(a), coord(b), coord(c)) == 0.0 && (a - c).dot(b - c) <= 0.0
@@ -930,6 +930,57 @@ fn crossing_param(g: DVec2, c: DVec2, a: DVec2, b: DVec2) -> Option<f64> {
     ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&u)).then_some(s)
 }
 
+/// A list in insertion order that answers membership in constant time once it grows. A
+/// cavity is a handful of faces, where a list is cheaper than hashing; but in a sliver with a
+/// small input angle, refined down to the vertex budget, a cavity held nearly a thousand
+/// faces and its wall as many subsegments, and searching the lists made each insertion
+/// quadratic.
+struct Listed<T> {
+    items: Vec<T>,
+    index: Option<HashSet<T>>,
+}
+
+impl<T> Default for Listed<T> {
+    fn default() -> Self {
+        Listed {
+            items: Vec::new(),
+            index: None,
+        }
+    }
+}
+
+impl<T: Copy + Eq + std::hash::Hash> Listed<T> {
+    /// Past this many items, membership goes through a hash set.
+    const INDEX_FROM: usize = 32;
+
+    fn from(first: T) -> Self {
+        Listed {
+            items: vec![first],
+            index: None,
+        }
+    }
+
+    fn contains(&self, x: &T) -> bool {
+        match &self.index {
+            Some(set) => set.contains(x),
+            None => self.items.contains(x),
+        }
+    }
+
+    fn push(&mut self, x: T) {
+        self.items.push(x);
+        match &mut self.index {
+            Some(set) => {
+                set.insert(x);
+            }
+            None if self.items.len() > Self::INDEX_FROM => {
+                self.index = Some(self.items.iter().copied().collect());
+            }
+            None => {}
+        }
+    }
+}
+
 /// Rotation-invariant key of a CCW triangle.
 fn canonical(f: [u32; 3]) -> [u32; 3] {
     let i = (0..3).min_by_key(|&i| f[i]).unwrap();
@@ -1023,6 +1074,18 @@ mod tests {
         assert!((s - 0.25).abs() < 1e-15);
         assert!(crossing_param(g, c, DVec2::new(5.0, -1.0), DVec2::new(5.0, 1.0)).is_none());
         assert!(crossing_param(g, c, DVec2::new(1.0, 1.0), DVec2::new(2.0, 1.0)).is_none());
+    }
+
+    #[test]
+    fn a_listed_set_keeps_its_order_and_answers_membership_past_its_index_size() {
+        let mut l: Listed<u32> = Listed::default();
+        for i in (0..100).rev() {
+            assert!(!l.contains(&i));
+            l.push(i);
+            assert!(l.contains(&i) && l.contains(&99));
+        }
+        assert!(l.index.is_some() && !l.contains(&100));
+        assert_eq!(l.items, (0..100).rev().collect::<Vec<_>>());
     }
 
     #[test]
