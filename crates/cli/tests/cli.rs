@@ -686,11 +686,8 @@ fn size_conformity(mesh: &std::path::Path, region: &str, field: &str) -> Vec<f64
         .collect()
 }
 
-#[test]
-fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
-    let dir = scratch("size_field");
-    let out = dir.join("graded.msh");
-    let field = "0.03 + 0.12*sqrt(x^2+y^2)";
+/// `cvtmesh mesh circle --size-field FIELD -o OUT`, which must succeed.
+fn mesh_circle_by(field: &str, out: &std::path::Path) -> Output {
     let o = cvtmesh(&[
         "mesh",
         "circle",
@@ -698,9 +695,18 @@ fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
         field,
         "--quiet",
         "-o",
-        s(&out),
+        s(out),
     ]);
     assert!(o.status.success(), "{}", text(&o));
+    o
+}
+
+#[test]
+fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
+    let dir = scratch("size_field");
+    let out = dir.join("graded.msh");
+    let field = "0.03 + 0.12*sqrt(x^2+y^2)";
+    let o = mesh_circle_by(field, &out);
     assert!(text(&o).contains("asked for by the field"), "{}", text(&o));
     let row = size_conformity(&out, "circle", field);
     let (unit_share, efficiency, min_angle) = (row[1], row[2], row[4]);
@@ -786,16 +792,7 @@ fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
     let mut rows = Vec::new();
     for field in [s(&tri), s(&msh)] {
         let out = dir.join("graded.msh");
-        let o = cvtmesh(&[
-            "mesh",
-            "circle",
-            "--size-field",
-            field,
-            "--quiet",
-            "-o",
-            s(&out),
-        ]);
-        assert!(o.status.success(), "{}", text(&o));
+        mesh_circle_by(field, &out);
         // Judged against the field as given and against the expression it samples.
         for judge in [field, expr] {
             let row = size_conformity(&out, "circle", judge);
