@@ -4,7 +4,8 @@
 //! to 0.3 (`SizeField::bounded`), and the density the methods read. The four fields are those of
 //! `scripts/compare_graded.sh` at about 10⁴ vertices, each on a 1024 × 1024 grid: O(nodes) work,
 //! independent of K once the grid is at its cap, so at small K it is a large part of a run.
-//! Run: `cargo bench -p cvtmesh-geometry --bench size_fields`. Prints a Markdown table of
+//! Then a field given at the vertices of meshes of 10⁴ to 10⁶ vertices (`SizeField::from_mesh`).
+//! Run: `cargo bench -p cvtmesh-geometry --bench size_fields`. Prints Markdown tables of
 //! best-of-3 wall-clock seconds.
 use cvtmesh_geometry::{formats, DVec2, Region, SizeField, Threshold, Toward};
 mod common;
@@ -63,6 +64,36 @@ fn main() {
         println!(
             "| {name} | {sample:.4} | {limit:.4} | {density:.4} | {:.4} |",
             sample + limit + density
+        );
+    }
+    // Sizes at the vertices of a mesh (an adaptive solver's): a structured mesh of n × n
+    // vertices over the circle's box, h = 0.005 + 0.05·|x|, located on a grid of up to 1024²
+    // nodes.
+    println!("\n| sizes on a mesh of the circle's box | vertices | triangles | from_mesh (s) |");
+    println!("| :--- | ---: | ---: | ---: |");
+    let circle = Region::builtin("circle").unwrap();
+    for n in [101usize, 317, 1001] {
+        let step = 2.2 / (n - 1) as f64;
+        let points: Vec<DVec2> = (0..n * n)
+            .map(|k| DVec2::new(-1.1 + step * (k % n) as f64, -1.1 + step * (k / n) as f64))
+            .collect();
+        let mut triangles = Vec::with_capacity(2 * (n - 1) * (n - 1));
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = (j * n + i) as u32;
+                let (b, c, d) = (a + 1, a + 1 + n as u32, a + n as u32);
+                triangles.push([a, b, c]);
+                triangles.push([a, c, d]);
+            }
+        }
+        let sizes: Vec<f64> = points.iter().map(|p| 0.005 + 0.05 * p.length()).collect();
+        let (t, _) = best_of(3, || {
+            SizeField::from_mesh(&circle, &points, &triangles, &sizes).unwrap()
+        });
+        println!(
+            "| structured | {} | {} | {t:.4} |",
+            points.len(),
+            triangles.len()
         );
     }
 }

@@ -73,21 +73,46 @@ impl SizeField {
             })
             .collect();
         let bvh = Bvh::build(&boxes, (0..triangles.len() as u32).collect());
-        let at = |p: DVec2| {
-            let (t, _) = bvh
-                .nearest(p, |t, _| nearest_in(corners(&triangles[t as usize]), p).1)
-                .expect("at least one triangle");
+        let value = |t: u32, w: [f64; 3]| {
             let tri = &triangles[t as usize];
-            let (w, _) = nearest_in(corners(tri), p);
             w[0] * sizes[tri[0] as usize]
                 + w[1] * sizes[tri[1] as usize]
                 + w[2] * sizes[tri[2] as usize]
+        };
+        // The value at `p` and the triangle it came from. Consecutive grid nodes mostly lie in
+        // the same triangle: the last one is tried first, and the hierarchy searched only when
+        // it does not hold the node.
+        let at = |p: DVec2, last: Option<u32>| {
+            if let Some(t) = last {
+                let (w, d2) = nearest_in(corners(&triangles[t as usize]), p);
+                if d2 == 0.0 {
+                    return (value(t, w), t);
+                }
+            }
+            let (t, _) = bvh
+                .nearest(p, |t, _| nearest_in(corners(&triangles[t as usize]), p).1)
+                .expect("at least one triangle");
+            (
+                value(t, nearest_in(corners(&triangles[t as usize]), p).0),
+                t,
+            )
         };
         let smallest = sizes.iter().copied().fold(f64::INFINITY, f64::min);
         let (lo, hi) = region.bbox();
         let n = ((4.0 * (hi - lo).max_element() / smallest).ceil() as usize).clamp(64, 1024);
         let field = SizeField::from_samples(region, n, |nodes| {
-            Ok::<_, std::convert::Infallible>(nodes.par_iter().map(|&p| at(p)).collect())
+            let values = nodes
+                .par_chunks(1024)
+                .flat_map_iter(|chunk| {
+                    let mut last = None;
+                    chunk.iter().map(move |&p| {
+                        let (v, t) = at(p, last);
+                        last = Some(t);
+                        v
+                    })
+                })
+                .collect();
+            Ok::<_, std::convert::Infallible>(values)
         })?;
         Ok(field.unwrap_or_else(|never| match never {}))
     }
