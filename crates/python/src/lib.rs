@@ -775,6 +775,43 @@ fn measures<'py>(
     measures_dict(py, &m)
 }
 
+/// How well the edges of any mesh of `region` follow the size field `size` (any form `mesh`
+/// takes): the share of edges with length / h(midpoint) in [1/√2, √2], the efficiency index,
+/// the mean of that ratio, the smallest angle and its 1st percentile, the vertex count and
+/// the count the field asks for.
+#[pyfunction]
+fn size_conformity<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'_, f64>,
+    triangles: PyReadonlyArray2<'_, i64>,
+    region: &PyRegion,
+    size: &Bound<'_, PyAny>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pts = points_of(&points, "points")?;
+    let tris = triangles_of(&triangles, pts.len())?;
+    let mesh = Mesh {
+        markers: cvtmesh::io::markers_from_topology(&pts, &tris),
+        points: pts,
+        triangles: tris,
+    };
+    let region = region.inner.clone();
+    let field = scalar_field(py, &region, size, "size")?;
+    field
+        .check(&region)
+        .map_err(|e| err(format!("size: {e}")))?;
+    let c = py
+        .detach(|| cvtmesh::metrics::size_conformity(&mesh, &field, &region))
+        .map_err(err)?;
+    let d = PyDict::new(py);
+    for (name, value) in cvtmesh::metrics::SizeConformity::NAMES
+        .iter()
+        .zip(c.values())
+    {
+        d.set_item(*name, value)?;
+    }
+    Ok(d)
+}
+
 /// Names of the built-in regions.
 #[pyfunction]
 fn regions() -> Vec<&'static str> {
@@ -795,6 +832,7 @@ fn _cvtmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyMesh>()?;
     m.add_function(wrap_pyfunction!(mesh, m)?)?;
     m.add_function(wrap_pyfunction!(measures, m)?)?;
+    m.add_function(wrap_pyfunction!(size_conformity, m)?)?;
     m.add_function(wrap_pyfunction!(regions, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     Ok(())

@@ -153,6 +153,30 @@ def test_sizes_on_a_mesh_grade_as_the_expression_they_sample(tmp_path):
         cvtmesh.mesh("circle", size=(bg.points, bg.triangles + len(bg.points), h))
 
 
+def test_size_conformity_scores_a_graded_mesh_against_any_form_of_its_field():
+    expr = "0.03 + 0.12*sqrt(x^2+y^2)"
+    m = cvtmesh.mesh("circle", size=expr, tol=1e-3)
+    by_expr = cvtmesh.size_conformity(m.points, m.triangles, "circle", expr)
+    assert by_expr["unit_share"] >= 0.95 and by_expr["efficiency"] >= 0.9
+    assert by_expr["vertices"] == len(m.points)
+    assert by_expr["predicted_vertices"] == pytest.approx(len(m.points), rel=0.02)
+    # The same field as sizes at the vertices of another mesh, and as a callable.
+    bg = cvtmesh.mesh("circle", n=2000, tol=1e-3)
+    h = 0.03 + 0.12 * np.hypot(bg.points[:, 0], bg.points[:, 1])
+    on_mesh = cvtmesh.size_conformity(m.points, m.triangles, "circle", (bg.points, bg.triangles, h))
+    by_call = cvtmesh.size_conformity(
+        m.points, m.triangles, "circle", lambda xy: 0.03 + 0.12 * np.hypot(xy[:, 0], xy[:, 1])
+    )
+    for other in (on_mesh, by_call):
+        assert other["unit_share"] == pytest.approx(by_expr["unit_share"], abs=0.01)
+        assert other["efficiency"] == pytest.approx(by_expr["efficiency"], abs=0.01)
+    # A uniform mesh is far from this field.
+    u = cvtmesh.mesh("circle", n=len(m.points), tol=1e-3)
+    assert cvtmesh.size_conformity(u.points, u.triangles, "circle", expr)["unit_share"] < 0.8
+    with pytest.raises(cvtmesh.MeshError, match="positive"):
+        cvtmesh.size_conformity(m.points, m.triangles, "circle", "x")
+
+
 def test_size_expression_with_n_keeps_the_shape_and_hits_n():
     m = cvtmesh.mesh("circle", size="0.03 + 0.12*sqrt(x^2+y^2)", n=500, tol=1e-3)
     assert len(m.points) == 500

@@ -20,6 +20,7 @@ import numpy as np
 
 from ._cvtmesh import Mesh, MeshError, Region, __version__
 from ._cvtmesh import measures as _measures
+from ._cvtmesh import size_conformity as _size_conformity
 from ._cvtmesh import mesh as _mesh
 from ._cvtmesh import methods, regions
 
@@ -30,6 +31,7 @@ __all__ = [
     "mesh",
     "measures",
     "methods",
+    "size_conformity",
     "regions",
     "__version__",
 ]
@@ -200,6 +202,32 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     if tri.ndim != 2 or tri.shape[1] != 3:
         raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
     return _measures(pts, tri, r)
+
+
+def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) -> dict:
+    """How well the edges of any triangle mesh of ``region`` follow a size field.
+
+    ``size`` takes every form :func:`mesh` takes (a number, an expression in ``x`` and ``y``, a
+    vectorized callable, ``(points, triangles, h)`` arrays or a ``.node``/``.msh`` file of sizes
+    at a mesh's vertices). The result maps ``edges``, ``unit_share`` (the share of edges whose
+    length over h at their midpoint lies in [1/√2, √2]), ``efficiency`` (exp of the mean of
+    l − 1 for l < 1 and 1/l − 1 otherwise; 1 is ideal), ``mean_length`` (of l),
+    ``min_angle_deg``, ``min_angle_p1_deg`` (the 1st percentile of the triangles' smallest
+    angles), ``vertices`` and ``predicted_vertices`` ((2/√3)∫h⁻²) to floats.
+
+        >>> import cvtmesh
+        >>> m = cvtmesh.mesh("circle", size="0.05 + 0.1*sqrt(x^2+y^2)", tol=1e-3)
+        >>> cvtmesh.size_conformity(m.points, m.triangles, "circle", "0.05 + 0.1*sqrt(x^2+y^2)")["unit_share"] > 0.95
+        True
+    """
+    r = _region(region, None, None)
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    tri = np.ascontiguousarray(triangles, dtype=np.int64)
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise MeshError(f"points must be an array of shape (n, 2), got {pts.shape}")
+    if tri.ndim != 2 or tri.shape[1] != 3:
+        raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
+    return _size_conformity(pts, tri, r, size)
 
 
 def _to_meshio(self: Mesh) -> Any:
