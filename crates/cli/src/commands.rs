@@ -2,7 +2,7 @@
 use crate::inputs;
 use anyhow::{bail, Result};
 use clap::{ArgGroup, Args};
-use cvtmesh::geometry::Region;
+use cvtmesh::geometry::{Piece, Region};
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -42,13 +42,14 @@ pub struct MeshArgs {
     #[arg(long, value_name = "EXPR|MESH", conflicts_with = "density")]
     size_field: Option<String>,
     /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
-    /// region of several parts each outer loop is followed by its holes) or a point
-    /// (`point:X,Y`); repeat for several. The size grows with the distance as
+    /// region of several parts each outer loop is followed by its holes), one boundary piece
+    /// (`piece:J`, a wall: `cvtmesh regions REGION` lists them) or a point (`point:X,Y`);
+    /// repeat for several. The size grows with the distance as
     /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
     /// --size-field is used [default: none].
     #[arg(
         long,
-        value_name = "loop:I|point:X,Y",
+        value_name = "loop:I|piece:J|point:X,Y",
         conflicts_with = "density",
         requires = "size_threshold"
     )]
@@ -399,10 +400,14 @@ pub struct MeasureArgs {
     /// asks for [default: none].
     #[arg(long, value_name = "EXPR|MESH")]
     size_field: Option<String>,
-    /// As for `mesh`: measure against the distance field toward this loop or point (with
+    /// As for `mesh`: measure against the distance field toward this loop, piece or point (with
     /// --size-threshold; the smaller of this and --size-field where both are given)
     /// [default: none].
-    #[arg(long, value_name = "loop:I|point:X,Y", requires = "size_threshold")]
+    #[arg(
+        long,
+        value_name = "loop:I|piece:J|point:X,Y",
+        requires = "size_threshold"
+    )]
     size_toward: Vec<String>,
     /// As for `mesh`: HMIN,HMAX,DMIN,DMAX of --size-toward's field [default: none].
     #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
@@ -574,7 +579,64 @@ fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {
 }
 
 /// `cvtmesh regions`.
-pub fn regions() -> Result<()> {
+/// `cvtmesh regions`.
+#[derive(Args)]
+pub struct RegionsArgs {
+    /// A region (file or built-in name): list its loops and boundary pieces, numbered as
+    /// `--size-toward loop:I` and `piece:J` name them [default: list the built-in regions].
+    region: Option<String>,
+    /// As for `mesh`: keep only corners turning more than this (degrees); pieces between
+    /// corners are merged, so the numbering follows it [default: as `mesh` does].
+    #[arg(long, requires = "region")]
+    corner_angle: Option<f64>,
+}
+
+/// `cvtmesh regions`: the built-in regions, or one region's loops and pieces.
+pub fn regions(a: RegionsArgs) -> Result<()> {
+    let Some(name) = a.region else {
+        return builtin_regions();
+    };
+    let raw = inputs::region(&name, None)?;
+    let (region, _) = inputs::with_corners(raw, a.corner_angle)?;
+    outln!(
+        "region {}: area {:.6}, {} loops, {} pieces, {} corners",
+        region.name(),
+        region.area(),
+        region.loops().len(),
+        region.pieces().len(),
+        region.corners().len()
+    );
+    for (i, l) in region.loops().iter().enumerate() {
+        let role = if l.role == cvtmesh::geometry::LoopRole::Outer {
+            "outer"
+        } else {
+            "hole"
+        };
+        outln!("loop {i} ({role}), length {:.6}:", l.length);
+        for &j in &l.pieces {
+            let p = &region.pieces()[j];
+            let kind = match p {
+                Piece::Line { .. } => "line",
+                Piece::Arc { .. } => "arc",
+                Piece::Circle { .. } => "circle",
+                Piece::SuperEllipse { .. } => "super-ellipse",
+                Piece::Chain(_) => "chain",
+            };
+            let (s, e) = (p.start(), p.end());
+            outln!(
+                "  piece {j:<4} {kind:<13} from ({}, {}) to ({}, {}), length {:.6}",
+                s.x,
+                s.y,
+                e.x,
+                e.y,
+                p.length()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn builtin_regions() -> Result<()> {
     outln!(
         "{:<16} {:>14} {:>6} {:>8}  title",
         "name",

@@ -52,8 +52,13 @@ enum Command {
         after_help = "Examples:\n  cvtmesh show lake -o lake.png\n  cvtmesh show out.msh -o out.png\n  cvtmesh show out.msh --region lake --colour min-angle -o lake_mesh.svg"
     )]
     Show(commands::ShowArgs),
-    /// List the built-in regions (the paper's ten), usable by name wherever a region is asked.
-    Regions,
+    /// List the built-in regions (the paper's ten), usable by name wherever a region is asked;
+    /// with a region, its loops and boundary pieces (what --size-toward loop:I and piece:J
+    /// name).
+    #[command(
+        after_help = "Examples:\n  cvtmesh regions\n  cvtmesh regions square_hole\n  cvtmesh regions channel.poly --corner-angle 30"
+    )]
+    Regions(commands::RegionsArgs),
 }
 
 fn main() -> ExitCode {
@@ -63,7 +68,7 @@ fn main() -> ExitCode {
         Command::Measure(a) => commands::measure(a),
         Command::Polish(a) => commands::polish(a),
         Command::Show(a) => commands::show(a),
-        Command::Regions => commands::regions(),
+        Command::Regions(a) => commands::regions(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

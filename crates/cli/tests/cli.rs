@@ -821,6 +821,75 @@ fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
 }
 
 #[test]
+fn a_distance_field_toward_one_piece_refines_that_wall_and_regions_names_it() {
+    let dir = scratch("size_piece");
+    let channel = dir.join("channel.txt");
+    std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
+    // `regions REGION` lists the pieces: the bottom wall is piece 0.
+    let o = cvtmesh(&["regions", s(&channel)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let listing = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        listing.contains("piece 0    line          from (0, 0) to (4, 0)"),
+        "{listing}"
+    );
+    let out = dir.join("wall.node");
+    let field = [
+        "--size-toward",
+        "piece:0",
+        "--size-threshold",
+        "0.01,0.08,0,0.4",
+    ];
+    let o = cvtmesh(
+        &[
+            &["mesh", s(&channel), "--quiet", "-o", s(&out)][..],
+            &field[..],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let m = cvtmesh::io::read_mesh(&out).unwrap();
+    // Edges near the bottom wall are several times shorter than near the top one.
+    let mean_edge = |near: &dyn Fn(f64) -> bool| {
+        let (mut sum, mut n) = (0.0, 0);
+        for t in &m.triangles {
+            for k in 0..3 {
+                let (a, b) = (m.points[t[k] as usize], m.points[t[(k + 1) % 3] as usize]);
+                if near(0.5 * (a.y + b.y)) {
+                    sum += (b - a).length();
+                    n += 1;
+                }
+            }
+        }
+        sum / n as f64
+    };
+    let (bottom, top) = (mean_edge(&|y| y < 0.05), mean_edge(&|y| y > 0.9));
+    assert!(top > 4.0 * bottom, "bottom {bottom}, top {top}");
+    let o = cvtmesh(
+        &[
+            &["measure", s(&out), "--region", s(&channel), "--csv"][..],
+            &field[..],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert_refused(
+        &[
+            &["mesh", s(&channel), "-o", s(&dir.join("never.node"))][..],
+            &[
+                "--size-toward",
+                "piece:4",
+                "--size-threshold",
+                "0.01,0.08,0,0.4",
+            ][..],
+        ]
+        .concat(),
+        &dir.join("never.node"),
+        "no piece 4",
+    );
+}
+
+#[test]
 fn bad_size_fields_are_refused_before_any_work() {
     let dir = scratch("bad_size_field");
     let out = dir.join("never.msh");

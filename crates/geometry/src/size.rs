@@ -80,9 +80,17 @@ pub enum SizeFieldError {
         /// Distance from which the size is `size_max`.
         dist_max: f64,
     },
-    /// A distance target that is neither `loop:I` nor `point:X,Y`.
-    #[error("'{0}': expected loop:I (0 = outer, then the holes) or point:X,Y")]
+    /// A distance target that is none of `loop:I`, `piece:J`, `point:X,Y`.
+    #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J or point:X,Y")]
     Toward(String),
+    /// A distance field names a boundary piece the region does not have.
+    #[error("size field: the region has {pieces} boundary pieces (0 to {last}; `cvtmesh regions REGION` lists them), so there is no piece {index}", last = pieces.saturating_sub(1))]
+    UnknownPiece {
+        /// The piece asked for.
+        index: usize,
+        /// How many the region has.
+        pieces: usize,
+    },
     /// A distance field with nothing to measure the distance to.
     #[error("size field: a distance field needs at least one loop or point to refine toward")]
     NothingToward,
@@ -493,6 +501,9 @@ enum Kind {
 pub enum Toward {
     /// A boundary loop: 0 the outer one, then the holes in order.
     Loop(usize),
+    /// One boundary piece (a side, an arc: a wall where a boundary layer forms), numbered as
+    /// [`Region::pieces`] lists them (`cvtmesh regions REGION` prints them).
+    Piece(usize),
     /// A point (a source, a re-entrant corner).
     Point(DVec2),
 }
@@ -500,12 +511,13 @@ pub enum Toward {
 impl std::str::FromStr for Toward {
     type Err = SizeFieldError;
 
-    /// `loop:I` (0 the outer loop, then the holes) or `point:X,Y`, as the command line and the
-    /// Python package take them.
+    /// `loop:I` (0 the outer loop, then the holes), `piece:J` or `point:X,Y`, as the command
+    /// line and the Python package take them.
     ///
     /// ```
     /// use cvtmesh_geometry::{DVec2, Toward};
     /// assert_eq!("loop:1".parse::<Toward>()?, Toward::Loop(1));
+    /// assert_eq!("piece:3".parse::<Toward>()?, Toward::Piece(3));
     /// assert_eq!("point: 0.5, 0.25".parse::<Toward>()?, Toward::Point(DVec2::new(0.5, 0.25)));
     /// assert!("corner:1".parse::<Toward>().is_err());
     /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
@@ -515,6 +527,7 @@ impl std::str::FromStr for Toward {
         let (kind, rest) = text.split_once(':').ok_or_else(bad)?;
         match kind.trim() {
             "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
+            "piece" => Ok(Toward::Piece(rest.trim().parse().map_err(|_| bad())?)),
             "point" => {
                 let (x, y) = rest.split_once(',').ok_or_else(bad)?;
                 let p = DVec2::new(
@@ -643,25 +656,34 @@ impl SizeField {
             return Err(SizeFieldError::NothingToward);
         }
         let loops = region.loops();
+        let pieces = region.pieces().len();
         for t in toward {
-            if let Toward::Loop(index) = *t {
-                if index >= loops.len() {
+            match *t {
+                Toward::Loop(index) if index >= loops.len() => {
                     return Err(SizeFieldError::UnknownLoop {
                         index,
                         loops: loops.len(),
                     });
                 }
+                Toward::Piece(index) if index >= pieces => {
+                    return Err(SizeFieldError::UnknownPiece { index, pieces });
+                }
+                _ => {}
             }
         }
         let (lo, hi) = region.bbox();
         let extent = (hi - lo).max_element();
         let n = ((4.0 * extent / threshold.size_min).ceil() as usize).clamp(64, 1024);
-        let mut target_piece = vec![false; region.pieces().len()];
+        let mut target_piece = vec![false; pieces];
         for t in toward {
-            if let Toward::Loop(i) = *t {
-                for &piece in &loops[i].pieces {
-                    target_piece[piece] = true;
+            match *t {
+                Toward::Loop(i) => {
+                    for &piece in &loops[i].pieces {
+                        target_piece[piece] = true;
+                    }
                 }
+                Toward::Piece(j) => target_piece[j] = true,
+                Toward::Point(_) => {}
             }
         }
         let to_loops = target_piece.iter().any(|&t| t);
@@ -670,7 +692,7 @@ impl SizeField {
                 .iter()
                 .filter_map(|t| match *t {
                     Toward::Point(q) => Some((p - q).length()),
-                    Toward::Loop(_) => None,
+                    Toward::Loop(_) | Toward::Piece(_) => None,
                 })
                 .fold(f64::INFINITY, f64::min);
             if to_loops {
@@ -1321,6 +1343,38 @@ mod tests {
             .bounded(&r, None, Some(0.1), Some(0.3))
             .unwrap();
         assert!(k.is_constant() && k.at(DVec2::ZERO) == 0.1);
+    }
+
+    #[test]
+    fn a_distance_field_toward_one_piece_refines_that_wall_only() {
+        // square_hole's outer loop is four straight pieces; find the bottom side y = -1.
+        let r = Region::builtin("square_hole").unwrap();
+        let bottom = r
+            .pieces()
+            .iter()
+            .position(|p| p.start().y == -1.0 && p.end().y == -1.0)
+            .expect("a bottom side");
+        let t = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 0.5,
+        };
+        let wall = SizeField::threshold(&r, &[Toward::Piece(bottom)], t).unwrap();
+        for (p, d) in [
+            ((0.5, -0.9), 0.1),
+            ((-0.7, -0.8), 0.2),
+            ((0.0, 0.9), 1.9),
+            ((0.9, 0.0), 1.0),
+        ] {
+            let want = t.at(d);
+            let got = wall.at(DVec2::new(p.0, p.1));
+            assert!((got - want).abs() < 2e-3, "{p:?}: {got} vs {want}");
+        }
+        let pieces = r.pieces().len();
+        let e = SizeField::threshold(&r, &[Toward::Piece(pieces)], t).unwrap_err();
+        assert!(matches!(e, SizeFieldError::UnknownPiece { index, .. } if index == pieces));
+        assert!(e.to_string().contains(&format!("no piece {pieces}")), "{e}");
     }
 
     #[test]

@@ -215,6 +215,13 @@ def test_distance_fields_refine_toward_a_hole_and_a_point():
         cvtmesh.mesh("circle", size_toward=["loop:0"])
     with pytest.raises(MeshError, match="no loop 3"):
         cvtmesh.mesh("square_hole", size_toward=["loop:3"], size_threshold=(0.02, 0.2, 0, 1))
+    # One piece: square_hole's piece 0 is the side y = -1, a wall with a boundary layer.
+    wall = cvtmesh.mesh("square_hole", size_toward=["piece:0"], size_threshold=(0.02, 0.2, 0, 1))
+    e, lengths = edge_lengths(wall.points, wall.triangles)
+    y = 0.5 * (wall.points[e[:, 0], 1] + wall.points[e[:, 1], 1])
+    assert lengths[y > 0.8].mean() > 4 * lengths[y < -0.95].mean()
+    with pytest.raises(MeshError, match="no piece 5"):
+        cvtmesh.mesh("square_hole", size_toward=["piece:5"], size_threshold=(0.02, 0.2, 0, 1))
 
 
 def min_angles(points, triangles):

@@ -129,9 +129,10 @@ def mesh(
         distance, h(x) = min_y h(y) + g|x - y| (default 0.3; ``None`` leaves the field as
         given).
     size_toward, size_threshold
-        Refine toward boundary loops or points, as Gmsh's Distance + Threshold fields do:
-        ``size_toward=["loop:1", "point:0.5,0.5"]`` (loop 0 is the outer boundary, then the
-        holes) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
+        Refine toward boundary loops, pieces or points, as Gmsh's Distance + Threshold fields
+        do: ``size_toward=["loop:1", "piece:0", "point:0.5,0.5"]`` (loop 0 is the outer
+        boundary, then the holes; pieces are numbered as ``cvtmesh regions REGION`` lists
+        them) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
         to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
         well, the smaller of the two is used.
     simplify
