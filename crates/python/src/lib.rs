@@ -60,6 +60,20 @@ fn triangles_of(triangles: &PyReadonlyArray2<'_, i64>, n: usize) -> PyResult<Vec
     Ok(tris)
 }
 
+/// A mesh of (n, 2) points and (m, 3) 0-based triangles, its boundary read off its topology.
+fn mesh_of(
+    points: &PyReadonlyArray2<'_, f64>,
+    triangles: &PyReadonlyArray2<'_, i64>,
+) -> PyResult<Mesh> {
+    let points = points_of(points, "points")?;
+    let triangles = triangles_of(triangles, points.len())?;
+    Ok(Mesh {
+        markers: cvtmesh::io::markers_from_topology(&points, &triangles),
+        points,
+        triangles,
+    })
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -761,13 +775,7 @@ fn measures<'py>(
     triangles: PyReadonlyArray2<'_, i64>,
     region: &PyRegion,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let pts = points_of(&points, "points")?;
-    let tris = triangles_of(&triangles, pts.len())?;
-    let mesh = Mesh {
-        markers: cvtmesh::io::markers_from_topology(&pts, &tris),
-        points: pts,
-        triangles: tris,
-    };
+    let mesh = mesh_of(&points, &triangles)?;
     let region = region.inner.clone();
     let m = py
         .detach(|| cvtmesh::measures(&mesh, &region))
@@ -787,13 +795,7 @@ fn size_conformity<'py>(
     region: &PyRegion,
     size: &Bound<'_, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let pts = points_of(&points, "points")?;
-    let tris = triangles_of(&triangles, pts.len())?;
-    let mesh = Mesh {
-        markers: cvtmesh::io::markers_from_topology(&pts, &tris),
-        points: pts,
-        triangles: tris,
-    };
+    let mesh = mesh_of(&points, &triangles)?;
     let region = region.inner.clone();
     let field = scalar_field(py, &region, size, "size")?;
     field

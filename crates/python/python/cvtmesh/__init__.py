@@ -188,6 +188,17 @@ def mesh(
     )
 
 
+def _mesh_arrays(points: Any, triangles: Any) -> Tuple[np.ndarray, np.ndarray]:
+    """``points`` as contiguous ``(n, 2)`` float64 and ``triangles`` as ``(m, 3)`` int64."""
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    tri = np.ascontiguousarray(triangles, dtype=np.int64)
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise MeshError(f"points must be an array of shape (n, 2), got {pts.shape}")
+    if tri.ndim != 2 or tri.shape[1] != 3:
+        raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
+    return pts, tri
+
+
 def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     """The 12 quality measures of the paper's Section 3 for any triangle mesh of ``region``.
 
@@ -196,12 +207,7 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     floats (lower is better, 0 on an ideal hexagonal lattice).
     """
     r = _region(region, None, None)
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    tri = np.ascontiguousarray(triangles, dtype=np.int64)
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise MeshError(f"points must be an array of shape (n, 2), got {pts.shape}")
-    if tri.ndim != 2 or tri.shape[1] != 3:
-        raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
+    pts, tri = _mesh_arrays(points, triangles)
     return _measures(pts, tri, r)
 
 
@@ -222,12 +228,7 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
         True
     """
     r = _region(region, None, None)
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    tri = np.ascontiguousarray(triangles, dtype=np.int64)
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise MeshError(f"points must be an array of shape (n, 2), got {pts.shape}")
-    if tri.ndim != 2 or tri.shape[1] != 3:
-        raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
+    pts, tri = _mesh_arrays(points, triangles)
     return _size_conformity(pts, tri, r, size)
 
 
