@@ -2,7 +2,7 @@
 use crate::inputs;
 use anyhow::{bail, Result};
 use clap::{ArgGroup, Args};
-use cvtmesh::geometry::{Piece, Region};
+use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -615,13 +615,7 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
         outln!("loop {i} ({role}), length {:.6}:", l.length);
         for &j in &l.pieces {
             let p = &region.pieces()[j];
-            let kind = match p {
-                Piece::Line { .. } => "line",
-                Piece::Arc { .. } => "arc",
-                Piece::Circle { .. } => "circle",
-                Piece::SuperEllipse { .. } => "super-ellipse",
-                Piece::Chain(_) => "chain",
-            };
+            let kind = p.kind();
             let (s, e) = (p.start(), p.end());
             outln!(
                 "  piece {j:<4} {kind:<13} from ({}, {}) to ({}, {}), length {:.6}",

@@ -80,6 +80,21 @@ impl Piece {
             Piece::Chain(p) => p.last().copied().unwrap_or(DVec2::NAN),
         }
     }
+    /// What the piece is, in a word: `line`, `arc`, `circle`, `super-ellipse` or `chain`.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Piece};
+    /// assert_eq!(Piece::Line { a: DVec2::ZERO, b: DVec2::X }.kind(), "line");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Piece::Line { .. } => "line",
+            Piece::Arc { .. } => "arc",
+            Piece::Circle { .. } => "circle",
+            Piece::SuperEllipse { .. } => "super-ellipse",
+            Piece::Chain(_) => "chain",
+        }
+    }
     /// True for pieces that form a whole loop (circle, super-ellipse).
     pub fn is_closed(&self) -> bool {
         matches!(self, Piece::Circle { .. } | Piece::SuperEllipse { .. })

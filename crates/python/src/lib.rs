@@ -244,6 +244,28 @@ impl PyRegion {
         xy_array(py, &c)
     }
 
+    /// The boundary pieces, numbered as `size_toward=["piece:J"]` names them: a list of dicts
+    /// with `piece`, `loop` (0 the outer loop, then the holes), `kind` (`line`, `arc`,
+    /// `circle`, `super-ellipse`, `chain`), `start`, `end` and `length`.
+    #[getter]
+    fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let mut out = Vec::new();
+        for (i, l) in self.inner.loops().iter().enumerate() {
+            for &j in &l.pieces {
+                let p = &self.inner.pieces()[j];
+                let d = PyDict::new(py);
+                d.set_item("piece", j)?;
+                d.set_item("loop", i)?;
+                d.set_item("kind", p.kind())?;
+                d.set_item("start", (p.start().x, p.start().y))?;
+                d.set_item("end", (p.end().x, p.end().y))?;
+                d.set_item("length", p.length())?;
+                out.push(d);
+            }
+        }
+        Ok(out)
+    }
+
     /// ((xmin, ymin), (xmax, ymax)).
     #[getter]
     fn bbox(&self) -> ((f64, f64), (f64, f64)) {

@@ -216,6 +216,12 @@ def test_distance_fields_refine_toward_a_hole_and_a_point():
     with pytest.raises(MeshError, match="no loop 3"):
         cvtmesh.mesh("square_hole", size_toward=["loop:3"], size_threshold=(0.02, 0.2, 0, 1))
     # One piece: square_hole's piece 0 is the side y = -1, a wall with a boundary layer.
+    pieces = cvtmesh.Region.builtin("square_hole").pieces
+    assert [(p["piece"], p["loop"], p["kind"]) for p in pieces] == [
+        (0, 0, "line"), (1, 0, "line"), (2, 0, "line"), (3, 0, "line"), (4, 1, "circle")
+    ]
+    assert pieces[0]["start"] == (-1.0, -1.0) and pieces[0]["end"] == (1.0, -1.0)
+    assert pieces[4]["length"] == pytest.approx(2 * math.pi * 0.4)
     wall = cvtmesh.mesh("square_hole", size_toward=["piece:0"], size_threshold=(0.02, 0.2, 0, 1))
     e, lengths = edge_lengths(wall.points, wall.triangles)
     y = 0.5 * (wall.points[e[:, 0], 1] + wall.points[e[:, 1], 1])
