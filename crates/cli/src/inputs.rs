@@ -167,10 +167,14 @@ pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
     for file in cvtmesh::io::files_written(output) {
         if let Ok(c) = std::fs::canonicalize(&file) {
             if inputs.contains(&c) {
+                let why = if file.as_path() == output {
+                    ""
+                } else {
+                    " (Triangle's format writes .node, .ele and .poly files of that name)"
+                };
                 bail!(
-                    "writing '{}' would replace the input file '{}' (Triangle's format writes \
-                     .node, .ele and .poly files of that name); choose another output name; \
-                     nothing written",
+                    "writing '{}' would replace the input file '{}'{why}; choose another output \
+                     name; nothing written",
                     output.display(),
                     file.display()
                 );
