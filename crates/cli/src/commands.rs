@@ -139,12 +139,15 @@ fn method_help() -> String {
 }
 
 /// The request `a` makes of `region`, and for a size field a line saying the K it gives.
-fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>)> {
+/// The request of `mesh`'s options for `region`; `named` is the region whose loops and pieces
+/// `--size-toward` numbers (the region as given, with its corners, before any simplification:
+/// what `cvtmesh regions` lists).
+fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest, Option<String>)> {
     let graded = inputs::graded_field(
         a.size_field.as_deref(),
         &a.size_toward,
         a.size_threshold.as_deref(),
-        region,
+        named,
     )?;
     let (request, line) = match graded {
         Some(field) => {
@@ -185,15 +188,8 @@ fn request(a: &MeshArgs, region: &Region) -> Result<(MeshRequest, Option<String>
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
     // A size field given on a mesh is read from its files too (.node with .ele).
-    let field_files = a.size_field.iter().flat_map(|f| {
-        let p = Path::new(f);
-        [
-            p.to_path_buf(),
-            p.with_extension("node"),
-            p.with_extension("ele"),
-        ]
-    });
-    let read: Vec<std::path::PathBuf> = std::iter::once(Path::new(&a.region).to_path_buf())
+    let field_files = a.size_field.iter().flat_map(|f| inputs::size_files(f));
+    let read: Vec<PathBuf> = std::iter::once(PathBuf::from(&a.region))
         .chain(field_files)
         .collect();
     let read: Vec<&Path> = read.iter().map(|p| p.as_path()).collect();
@@ -201,9 +197,10 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     let method = inputs::method(&a.method)?;
     let raw = inputs::region(&a.region, None)?;
     let (mut region, mut corners) = inputs::with_corners(raw.clone(), a.corner_angle)?;
+    let named = region.clone();
     if let Some(spec) = &a.simplify {
         let tol = match spec.as_str() {
-            "auto" => request(&a, &region)?.0.simplify_tolerance(&region),
+            "auto" => request(&a, &region, &named)?.0.simplify_tolerance(&region),
             t => inputs::positive("--simplify", t)?,
         };
         let s = raw.simplified(tol)?;
@@ -217,7 +214,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             region.num_parts()
         );
     }
-    let (request, field_line) = request(&a, &region)?;
+    let (request, field_line) = request(&a, &region, &named)?;
     if let Some(line) = field_line {
         eprintln!("{line}");
     }
@@ -412,6 +409,10 @@ pub struct MeasureArgs {
     /// As for `mesh`: HMIN,HMAX,DMIN,DMAX of --size-toward's field [default: none].
     #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
     size_threshold: Option<String>,
+    /// As for `mesh`: the corner angle that numbers the pieces --size-toward piece:J names
+    /// [default: as `mesh` does].
+    #[arg(long, requires = "size_toward")]
+    corner_angle: Option<f64>,
 }
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
@@ -441,11 +442,17 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         )?),
         None => None,
     };
+    // Loops and pieces numbered as `mesh` numbers them: on the region with its corners.
+    let named = if a.size_toward.is_empty() {
+        region.clone()
+    } else {
+        inputs::with_corners(region.clone(), a.corner_angle)?.0
+    };
     let field = inputs::graded_field(
         a.size_field.as_deref(),
         &a.size_toward,
         a.size_threshold.as_deref(),
-        &region,
+        &named,
     )?;
     let conformity = match &field {
         Some(field) => {

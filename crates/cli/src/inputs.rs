@@ -3,7 +3,7 @@
 use anyhow::{anyhow, bail, Result};
 use cvtmesh::geometry::{Density, Region, SizeField, Threshold, Toward};
 use cvtmesh::{Mesh, Mesher, Method};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Pixels spanned by the longer side of a picture's bounding box, unless `show --px` says.
 pub const PICTURE_PX: u32 = 1200;
@@ -78,14 +78,28 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
 /// ends in `.node`, `.ele` or `.msh`). An expression's positivity on the region is checked
 /// with the request.
 pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
-    let lower = text.to_ascii_lowercase();
-    if [".node", ".ele", ".msh"].iter().any(|e| lower.ends_with(e)) {
+    if !size_files(text).is_empty() {
         let (mesh, sizes) = cvtmesh::io::read_sizes(Path::new(text))
             .map_err(|e| anyhow!("--size-field {text}: {e}"))?;
         return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
             .map_err(|e| anyhow!("--size-field {text}: {e}"));
     }
     SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
+}
+
+/// The files a `--size-field` argument reads: a Triangle `.node` with its `.ele`, a Gmsh
+/// `.msh`, or none for an expression.
+pub fn size_files(text: &str) -> Vec<PathBuf> {
+    let path = Path::new(text);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("node") | Some("ele") => vec![path.with_extension("node"), path.with_extension("ele")],
+        Some("msh") => vec![path.to_path_buf()],
+        _ => Vec::new(),
+    }
 }
 
 /// The size field of `--size-field` and `--size-toward`/`--size-threshold` (the smaller of the

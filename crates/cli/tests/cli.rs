@@ -890,6 +890,104 @@ fn a_distance_field_toward_one_piece_refines_that_wall_and_regions_names_it() {
 }
 
 #[test]
+fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
+    let dir = scratch("piece_numbers");
+    // The vertex at (0, -1.02) turns by less than the default corner angle: with the default
+    // corners the bottom is one piece and the region has four.
+    let sq = dir.join("sq.txt");
+    std::fs::write(&sq, "-1 -1\n0 -1.02\n1 -1\n1 1\n-1 1\n").unwrap();
+    let o = cvtmesh(&["regions", s(&sq)]);
+    let listing = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        listing.contains("4 pieces") && !listing.contains("piece 4"),
+        "{listing}"
+    );
+    let out = dir.join("sq.node");
+    let wall = [
+        "--size-toward",
+        "piece:3",
+        "--size-threshold",
+        "0.02,0.2,0,1",
+    ];
+    let o = cvtmesh(&[&["mesh", s(&sq), "--quiet", "-o", s(&out)][..], &wall[..]].concat());
+    assert!(o.status.success(), "{}", text(&o));
+    // measure numbers the pieces as mesh does: the field it judges by is the one meshed.
+    let o = cvtmesh(
+        &[
+            &["measure", s(&out), "--region", s(&sq), "--csv"][..],
+            &wall[..],
+        ]
+        .concat(),
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    let row: Vec<f64> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("edges,unit_share"))
+        .nth(1)
+        .expect("a size conformity row")
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(row[1] >= 0.95, "{row:?}");
+    let beyond = [
+        "--size-toward",
+        "piece:4",
+        "--size-threshold",
+        "0.02,0.2,0,1",
+    ];
+    let o = cvtmesh(&[&["measure", s(&out), "--region", s(&sq)][..], &beyond[..]].concat());
+    assert!(
+        !o.status.success() && text(&o).contains("no piece 4"),
+        "{}",
+        text(&o)
+    );
+    // With --simplify the pieces are still those `regions` lists (of the region as given).
+    let notch = dir.join("notch.txt");
+    std::fs::write(
+        &notch,
+        "-1 -1\n-0.01 -1\n0 -1.005\n0.01 -1\n1 -1\n1 1\n-1 1\n",
+    )
+    .unwrap();
+    let listing = String::from_utf8_lossy(&cvtmesh(&["regions", s(&notch)]).stdout).to_string();
+    let last = listing
+        .lines()
+        .filter(|l| l.trim_start().starts_with("piece"))
+        .count()
+        - 1;
+    let field = format!("piece:{last}");
+    let o = cvtmesh(&[
+        "mesh",
+        s(&notch),
+        "--points",
+        "300",
+        "--simplify",
+        "0.01",
+        "--size-toward",
+        &field,
+        "--size-threshold",
+        "0.02,0.2,0,1",
+        "--quiet",
+        "-o",
+        s(&dir.join("notch.node")),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    // An expression or a .msh field is not a Triangle pair: meshing twice to the same name
+    // is no overwrite of an input.
+    for _ in 0..2 {
+        let o = cvtmesh(&[
+            "mesh",
+            "circle",
+            "--size-field",
+            "0.08",
+            "--quiet",
+            "-o",
+            s(&dir.join("0.node")),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+    }
+}
+
+#[test]
 fn bad_size_fields_are_refused_before_any_work() {
     let dir = scratch("bad_size_field");
     let out = dir.join("never.msh");

@@ -89,9 +89,13 @@ impl SizeField {
                     return (value(t, w), t);
                 }
             }
-            let (t, _) = bvh
-                .nearest(p, |t, _| nearest_in(corners(&triangles[t as usize]), p).1)
-                .expect("at least one triangle");
+            // Nothing is found only when every distance overflows (coordinates near 1e154 or
+            // beyond): NaN, which the check below reports.
+            let Some((t, _)) =
+                bvh.nearest(p, |t, _| nearest_in(corners(&triangles[t as usize]), p).1)
+            else {
+                return (f64::NAN, last.unwrap_or(0));
+            };
             (
                 value(t, nearest_in(corners(&triangles[t as usize]), p).0),
                 t,
@@ -114,7 +118,11 @@ impl SizeField {
                 .collect();
             Ok::<_, std::convert::Infallible>(values)
         })?;
-        Ok(field.unwrap_or_else(|never| match never {}))
+        let field = field.unwrap_or_else(|never| match never {});
+        // Sizes are positive, and a linear interpolant of them too, unless the arithmetic
+        // overflowed on a mesh far out of scale: say so rather than hand on NaN.
+        field.check(region)?;
+        Ok(field)
     }
 }
 
@@ -232,5 +240,11 @@ mod tests {
         bad[3].x = f64::INFINITY;
         let e = SizeField::from_mesh(&region, &bad, &triangles, &ok).unwrap_err();
         assert!(e.to_string().contains("vertex 3"), "{e}");
+        // Finite but so far away that every squared distance overflows: an error, no panic.
+        let far: Vec<DVec2> = [(1e200, 0.0), (2e200, 0.0), (1e200, 1e200)]
+            .map(|(x, y)| DVec2::new(x, y))
+            .to_vec();
+        let e = SizeField::from_mesh(&region, &far, &[[0, 1, 2]], &[0.1; 3]).unwrap_err();
+        assert!(e.to_string().contains("positive and finite"), "{e}");
     }
 }

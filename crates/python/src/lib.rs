@@ -244,15 +244,18 @@ impl PyRegion {
         xy_array(py, &c)
     }
 
-    /// The boundary pieces, numbered as `size_toward=["piece:J"]` names them: a list of dicts
-    /// with `piece`, `loop` (0 the outer loop, then the holes), `kind` (`line`, `arc`,
-    /// `circle`, `super-ellipse`, `chain`), `start`, `end` and `length`.
+    /// The boundary pieces, numbered as `size_toward=["piece:J"]` names them in
+    /// `cvtmesh.mesh(region)` (on this region with its default corners; with
+    /// `corner_angle=`, use `with_corner_angle(...).pieces`): a list of dicts with `piece`,
+    /// `loop` (0 the outer loop, then the holes), `kind` (`line`, `arc`, `circle`,
+    /// `super-ellipse`, `chain`), `start`, `end` and `length`.
     #[getter]
     fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let region = self.inner.with_default_corners();
         let mut out = Vec::new();
-        for (i, l) in self.inner.loops().iter().enumerate() {
+        for (i, l) in region.loops().iter().enumerate() {
             for &j in &l.pieces {
-                let p = &self.inner.pieces()[j];
+                let p = &region.pieces()[j];
                 let d = PyDict::new(py);
                 d.set_item("piece", j)?;
                 d.set_item("loop", i)?;
@@ -564,7 +567,8 @@ fn scalar_field(
         if [".node", ".ele", ".msh"].iter().any(|e| lower.ends_with(e)) {
             let (mesh, sizes) =
                 cvtmesh::io::read_sizes(std::path::Path::new(&text)).map_err(err)?;
-            return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
+            return py
+                .detach(|| SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes))
                 .map_err(|e| err(format!("{what} {text}: {e}")));
         }
         return SizeField::from_expr(&text).map_err(|e| err(format!("{what}: {e}")));
@@ -589,7 +593,9 @@ fn scalar_field(
         let values: PyReadonlyArray1<'_, f64> = values.extract()?;
         let pts = points_of(&points, "points")?;
         let tris = triangles_of(&triangles, pts.len())?;
-        return SizeField::from_mesh(region, &pts, &tris, &values.as_array().to_vec())
+        let values = values.as_array().to_vec();
+        return py
+            .detach(|| SizeField::from_mesh(region, &pts, &tris, &values))
             .map_err(|e| err(format!("{what}: {e}")));
     }
     if spec.is_callable() {

@@ -366,7 +366,13 @@ fn parse_node_data(t: &mut Tokens) -> Result<Vec<(u64, f64)>, MeshError> {
     let mut values = Vec::with_capacity(count.min(1 << 20));
     for _ in 0..count {
         let tag = t.usize("a node tag")? as u64;
-        values.push((tag, t.f64("a node value")?));
+        let value = t.f64("a node value")?;
+        if !(value > 0.0 && value < f64::INFINITY) {
+            return Err(t.err(format!(
+                "$NodeData gives node {tag} the size {value}; sizes must be positive and finite"
+            )));
+        }
+        values.push((tag, value));
     }
     Ok(values)
 }
@@ -804,6 +810,10 @@ mod tests {
             (view("10 1\n20 1\n30 1\n10 2\n", 1, 4), "node 10 two values"),
             (view("10 1 0 0\n", 3, 1), "3 components per node"),
             (view("10 x\n", 1, 1), "expected a node value"),
+            (
+                view("10 1\n20 -1\n30 1\n40 1\n", 1, 4),
+                "node 20 the size -1",
+            ),
             ("1\n\"h\"\n0\n1\n0\n".to_string(), "1 integer tags"),
             (
                 "999999999999\n\"h\"\n".to_string(),

@@ -172,7 +172,15 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
     let node_text = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
-    let ele_text = read_text(&ele_path).map_err(|e| match e {
+    let ele_text = read_ele_of(&ele_path, node_path)?;
+    let (points, base, exact, _) = parse_node(&node_text, node_path)?;
+    let triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
+    Ok(read_mesh_parts(points, triangles, exact))
+}
+
+/// The text of `ele_path`, its errors saying whose triangles it holds.
+fn read_ele_of(ele_path: &Path, node_path: &Path) -> Result<String, MeshError> {
+    read_text(ele_path).map_err(|e| match e {
         MeshError::File { path, message } => MeshError::File {
             path,
             message: format!("{message} (the triangles of {})", node_path.display()),
@@ -183,10 +191,7 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
             cause,
         },
         e => e,
-    })?;
-    let (points, base, exact, _) = parse_node(&node_text, node_path)?;
-    let triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
-    Ok(read_mesh_parts(points, triangles, exact))
+    })
 }
 
 /// Parse a Triangle mesh from the texts of its `.node` and `.ele` files, as [`read_triangle`]
@@ -211,7 +216,7 @@ pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshEr
 pub fn read_triangle_sizes(node_path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
     let node_text = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
-    let ele_text = read_text(&ele_path)?;
+    let ele_text = read_ele_of(&ele_path, node_path)?;
     sizes_from(&node_text, &ele_text, node_path, &ele_path)
 }
 
@@ -259,6 +264,19 @@ fn sizes_from(
             node_path,
             "the vertices have no attribute: the size at each vertex is read from the first \
              attribute column",
+        ));
+    }
+    if let Some((i, h)) = sizes
+        .iter()
+        .enumerate()
+        .find(|(_, &h)| !(h > 0.0 && h < f64::INFINITY))
+    {
+        return Err(file_err(
+            node_path,
+            format!(
+                "the size of vertex {} is {h}; sizes must be positive and finite",
+                i + base
+            ),
         ));
     }
     let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
@@ -586,6 +604,9 @@ mod tests {
         let (m, h) = triangle_sizes_from_str(node, ele).unwrap();
         assert_eq!((m.num_vertices(), m.num_triangles()), (4, 2));
         assert_eq!(h, [0.1, 0.2, 0.3, 0.4]);
+        // A bad size is named by the file's own vertex number.
+        let e = triangle_sizes_from_str(&node.replace("2 1 1 0.3", "2 1 1 0"), ele).unwrap_err();
+        assert!(e.to_string().contains("size of vertex 2 is 0"), "{e}");
         // A file of ours keeps markers in its attributes.
         let dir = TempDir::new("tri-sizes");
         let base = dir.path("ours");
