@@ -665,15 +665,18 @@ fn absurd_sizes_are_refused_up_front() {
 /// `measure --size-field FIELD --csv`'s size conformity row: edges, unit share, efficiency,
 /// mean length, min angle, its 1st percentile, vertices, predicted vertices.
 fn size_conformity(mesh: &std::path::Path, region: &str, field: &str) -> Vec<f64> {
-    let o = cvtmesh(&[
-        "measure",
-        s(mesh),
-        "--region",
-        region,
-        "--size-field",
-        field,
-        "--csv",
-    ]);
+    size_conformity_by(mesh, region, &["--size-field", field])
+}
+
+/// `measure --csv`'s size conformity row against the field of `field_args`.
+fn size_conformity_by(mesh: &std::path::Path, region: &str, field_args: &[&str]) -> Vec<f64> {
+    let o = cvtmesh(
+        &[
+            &["measure", s(mesh), "--region", region, "--csv"][..],
+            field_args,
+        ]
+        .concat(),
+    );
     assert!(o.status.success(), "{}", text(&o));
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     stdout
@@ -820,15 +823,20 @@ fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
     );
 }
 
+/// What `cvtmesh regions REGION` prints.
+fn pieces_of(region: &std::path::Path) -> String {
+    let o = cvtmesh(&["regions", s(region)]);
+    assert!(o.status.success(), "{}", text(&o));
+    String::from_utf8_lossy(&o.stdout).to_string()
+}
+
 #[test]
 fn a_distance_field_toward_one_piece_refines_that_wall_and_regions_names_it() {
     let dir = scratch("size_piece");
     let channel = dir.join("channel.txt");
     std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
     // `regions REGION` lists the pieces: the bottom wall is piece 0.
-    let o = cvtmesh(&["regions", s(&channel)]);
-    assert!(o.status.success(), "{}", text(&o));
-    let listing = String::from_utf8_lossy(&o.stdout).to_string();
+    let listing = pieces_of(&channel);
     assert!(
         listing.contains("piece 0    line          from (0, 0) to (4, 0)"),
         "{listing}"
@@ -896,8 +904,7 @@ fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
     // corners the bottom is one piece and the region has four.
     let sq = dir.join("sq.txt");
     std::fs::write(&sq, "-1 -1\n0 -1.02\n1 -1\n1 1\n-1 1\n").unwrap();
-    let o = cvtmesh(&["regions", s(&sq)]);
-    let listing = String::from_utf8_lossy(&o.stdout).to_string();
+    let listing = pieces_of(&sq);
     assert!(
         listing.contains("4 pieces") && !listing.contains("piece 4"),
         "{listing}"
@@ -912,22 +919,7 @@ fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
     let o = cvtmesh(&[&["mesh", s(&sq), "--quiet", "-o", s(&out)][..], &wall[..]].concat());
     assert!(o.status.success(), "{}", text(&o));
     // measure numbers the pieces as mesh does: the field it judges by is the one meshed.
-    let o = cvtmesh(
-        &[
-            &["measure", s(&out), "--region", s(&sq), "--csv"][..],
-            &wall[..],
-        ]
-        .concat(),
-    );
-    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
-    let row: Vec<f64> = stdout
-        .lines()
-        .skip_while(|l| !l.starts_with("edges,unit_share"))
-        .nth(1)
-        .expect("a size conformity row")
-        .split(',')
-        .map(|v| v.parse().unwrap())
-        .collect();
+    let row = size_conformity_by(&out, s(&sq), &wall);
     assert!(row[1] >= 0.95, "{row:?}");
     let beyond = [
         "--size-toward",
@@ -948,7 +940,7 @@ fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
         "-1 -1\n-0.01 -1\n0 -1.005\n0.01 -1\n1 -1\n1 1\n-1 1\n",
     )
     .unwrap();
-    let listing = String::from_utf8_lossy(&cvtmesh(&["regions", s(&notch)]).stdout).to_string();
+    let listing = pieces_of(&notch);
     let last = listing
         .lines()
         .filter(|l| l.trim_start().starts_with("piece"))
