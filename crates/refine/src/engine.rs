@@ -109,9 +109,6 @@ struct Engine<'a> {
     off_constant: f64,
     cdt: Cdt,
     kinds: Vec<VKind>,
-    /// Whether each vertex is a Steiner point inside Ω: `kinds` as one byte per vertex, for
-    /// the test every considered face makes.
-    interior: Vec<bool>,
     segs: BTreeMap<SegKey, Seg>,
     /// End points (origin, destination) of each input segment.
     inputs: Vec<(u32, u32)>,
@@ -209,7 +206,6 @@ pub(crate) fn refine(
         off_constant,
         bounds,
         cdt,
-        interior: pslg.kinds.iter().map(|k| *k == VKind::Interior).collect(),
         kinds: pslg.kinds,
         segs,
         inputs,
@@ -370,7 +366,7 @@ impl Engine<'_> {
 
     /// The class of a face from its own vertices and edges, if they decide it.
     fn classify_local(&self, f: [u32; 3]) -> Option<bool> {
-        if f.iter().any(|&v| self.interior[v as usize]) {
+        if f.iter().any(|&v| self.kinds[v as usize] == VKind::Interior) {
             return Some(true);
         }
         for i in 0..3 {
@@ -419,8 +415,8 @@ impl Engine<'_> {
     /// triangle would only cascade towards the input angle.
     fn input_angle_forced(&self, b1: u32, b2: u32) -> bool {
         if self.segs.contains_key(&key(b1, b2))
-            || self.interior[b1 as usize]
-            || self.interior[b2 as usize]
+            || self.kinds[b1 as usize] == VKind::Interior
+            || self.kinds[b2 as usize] == VKind::Interior
         {
             return false;
         }
@@ -675,7 +671,6 @@ impl Engine<'_> {
             return Ok(());
         }
         self.kinds.push(VKind::Interior);
-        self.interior.push(true);
         self.consider_star(v.index() as u32);
         Ok(())
     }
@@ -839,7 +834,6 @@ impl Engine<'_> {
             return Ok(());
         };
         self.kinds.push(VKind::Boundary(s.piece));
-        self.interior.push(false);
         let vi = v.index() as u32;
         let e1 = self.cdt.try_add_constraint(vh(a), v);
         let e2 = self.cdt.try_add_constraint(v, vh(b));
