@@ -102,8 +102,7 @@ impl SizeField {
             )
         };
         let smallest = sizes.iter().copied().fold(f64::INFINITY, f64::min);
-        let (lo, hi) = region.bbox();
-        let n = ((4.0 * (hi - lo).max_element() / smallest).ceil() as usize).clamp(64, 1024);
+        let n = crate::size::grid_side(region, smallest, 1024);
         let field = SizeField::from_samples(region, n, |nodes| {
             let values = nodes
                 .par_chunks(1024)

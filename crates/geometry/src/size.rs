@@ -136,6 +136,13 @@ pub enum SizeFieldError {
     EmptyMesh,
 }
 
+/// Nodes per side of a background grid over `region` fine enough for sizes down to `h_min`:
+/// 4 per `h_min` across the longer side of its bounding box, from 64 up to `max`.
+pub(crate) fn grid_side(region: &Region, h_min: f64, max: usize) -> usize {
+    let (lo, hi) = region.bbox();
+    ((4.0 * (hi - lo).max_element() / h_min).ceil() as usize).clamp(64, max)
+}
+
 /// Six times the uniform cubic B-spline weights of the four nodes around a point at `u` ∈
 /// [0, 1] of its interval (nodes at −1, 0, 1, 2). The factor 1/6 of each axis is applied
 /// once per interpolation, as a multiplication: the compiler keeps a division by 6 a
@@ -671,9 +678,7 @@ impl SizeField {
                 _ => {}
             }
         }
-        let (lo, hi) = region.bbox();
-        let extent = (hi - lo).max_element();
-        let n = ((4.0 * extent / threshold.size_min).ceil() as usize).clamp(64, 1024);
+        let n = grid_side(region, threshold.size_min, 1024);
         let mut target_piece = vec![false; pieces];
         for t in toward {
             match *t {
@@ -717,8 +722,7 @@ impl SizeField {
     /// their background grids over `region`.
     pub fn min(&self, other: &SizeField, region: &Region) -> Result<SizeField, SizeFieldError> {
         let smallest = self.check(region)?.min.min(other.check(region)?.min);
-        let (lo, hi) = region.bbox();
-        let n = ((4.0 * (hi - lo).max_element() / smallest).ceil() as usize).clamp(64, 2048);
+        let n = grid_side(region, smallest, 2048);
         let field = SizeField::from_samples(region, n, |nodes| {
             Ok::<_, std::convert::Infallible>(
                 nodes.iter().map(|&p| self.at(p).min(other.at(p))).collect(),
@@ -818,9 +822,7 @@ impl SizeField {
         match &self.kind {
             Kind::Constant(_) | Kind::Grid(_) => self.clone(),
             Kind::Expr(e) => {
-                let (lo, hi) = region.bbox();
-                let extent = (hi - lo).max_element();
-                let n = ((4.0 * extent / h_min).ceil() as usize).clamp(64, 2048);
+                let n = grid_side(region, h_min, 2048);
                 SizeField::from_samples(region, n, |nodes| {
                     Ok::<_, std::convert::Infallible>(
                         nodes.par_iter().map(|&p| e.eval(p)).collect(),
