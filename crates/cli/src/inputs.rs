@@ -78,7 +78,7 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
 /// ends in `.node`, `.ele` or `.msh`). An expression's positivity on the region is checked
 /// with the request.
 pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
-    if !size_files(text).is_empty() {
+    if cvtmesh::io::names_sizes(Path::new(text)) {
         let (mesh, sizes) = cvtmesh::io::read_sizes(Path::new(text))
             .map_err(|e| anyhow!("--size-field {text}: {e}"))?;
         return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
@@ -91,14 +91,15 @@ pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
 /// `.msh`, or none for an expression.
 pub fn size_files(text: &str) -> Vec<PathBuf> {
     let path = Path::new(text);
-    let ext = path
+    if !cvtmesh::io::names_sizes(path) {
+        Vec::new()
+    } else if path
         .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("node") | Some("ele") => vec![path.with_extension("node"), path.with_extension("ele")],
-        Some("msh") => vec![path.to_path_buf()],
-        _ => Vec::new(),
+        .is_some_and(|e| e.eq_ignore_ascii_case("msh"))
+    {
+        vec![path.to_path_buf()]
+    } else {
+        vec![path.with_extension("node"), path.with_extension("ele")]
     }
 }
 

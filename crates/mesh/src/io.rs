@@ -115,7 +115,20 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
 }
 
 /// Extensions [`read_sizes`] understands.
-pub const SIZE_EXTENSIONS: &[&str] = &["node", "msh"];
+pub const SIZE_EXTENSIONS: &[&str] = &["node", "ele", "msh"];
+
+/// Whether `path` names a file [`read_sizes`] reads (by its extension), as opposed to, say,
+/// an expression given where a size field is asked for.
+///
+/// ```
+/// use cvtmesh_mesh::io::names_sizes;
+/// use std::path::Path;
+/// assert!(names_sizes(Path::new("run3/sizes.NODE")) && names_sizes(Path::new("bg.msh")));
+/// assert!(!names_sizes(Path::new("0.01 + 0.1*x")) && !names_sizes(Path::new("0.08")));
+/// ```
+pub fn names_sizes(path: &Path) -> bool {
+    extension(path).is_some_and(|e| SIZE_EXTENSIONS.contains(&e.as_str()))
+}
 
 /// A mesh and a size at each of its vertices, for a size field given on a mesh (an adaptive
 /// solver's sizes on its last mesh, a background mesh; [`geometry::SizeField::from_mesh`]):

@@ -563,8 +563,7 @@ fn scalar_field(
 ) -> PyResult<SizeField> {
     if spec.is_instance_of::<PyString>() {
         let text: String = spec.extract()?;
-        let lower = text.to_ascii_lowercase();
-        if [".node", ".ele", ".msh"].iter().any(|e| lower.ends_with(e)) {
+        if cvtmesh::io::names_sizes(std::path::Path::new(&text)) {
             let (mesh, sizes) =
                 cvtmesh::io::read_sizes(std::path::Path::new(&text)).map_err(err)?;
             return py
