@@ -853,6 +853,14 @@ fn methods() -> Vec<&'static str> {
     Method::ALL.iter().map(|m| m.name()).collect()
 }
 
+/// Runs the `cvtmesh` command line `argv` (the program's name first) and returns its exit
+/// code; what the command prints goes to the process's standard output and error. The
+/// package's `cvtmesh` entry point and `python -m cvtmesh` call this.
+#[pyfunction]
+fn cli(py: Python<'_>, argv: Vec<std::ffi::OsString>) -> i32 {
+    py.detach(|| cvtmesh_cli::run(argv))
+}
+
 #[pymodule]
 fn _cvtmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MeshError", m.py().get_type::<MeshError>())?;
@@ -864,5 +872,6 @@ fn _cvtmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(size_conformity, m)?)?;
     m.add_function(wrap_pyfunction!(regions, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(cli, m)?)?;
     Ok(())
 }

@@ -1,8 +1,8 @@
 """End-to-end tests of the Python package: real meshes, checked for real properties."""
 
 import math
-import shutil
 import subprocess
+import sys
 from pathlib import Path
 import threading
 
@@ -382,18 +382,54 @@ def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
 
 
 def _cli():
-    here = Path(__file__).resolve()
-    for parent in here.parents:
-        exe = parent / "target" / "release" / "cvtmesh"
-        if exe.exists():
-            return exe
-    return shutil.which("cvtmesh")
+    """The ``cvtmesh`` command the package installed beside this Python."""
+    exe = Path(sys.executable).parent / ("cvtmesh.exe" if sys.platform == "win32" else "cvtmesh")
+    assert exe.exists(), f"the package installed no cvtmesh command at {exe}"
+    return exe
+
+
+def test_the_installed_command_gives_the_librarys_mesh_for_the_same_seed(tmp_path):
+    out = tmp_path / "c.node"
+    run = subprocess.run(
+        [str(_cli()), "mesh", "circle", "-n", "300", "--seed", "7", "--quiet", "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    back = cvtmesh.Mesh.read(out)
+    own = cvtmesh.mesh("circle", n=300, seed=7)
+    assert back.points.shape == (300, 2)
+    assert triangle_set(back.points, back.triangles) == triangle_set(own.points, own.triangles)
+    # python -m cvtmesh is the same command.
+    again = tmp_path / "again.node"
+    run = subprocess.run(
+        [sys.executable, "-m", "cvtmesh", "mesh", "circle", "-n", "300", "--seed", "7", "-q", "-o", str(again)],
+        capture_output=True,
+    )
+    assert run.returncode == 0, run.stderr
+    assert again.read_bytes() == out.read_bytes()
+    assert again.with_suffix(".ele").read_bytes() == out.with_suffix(".ele").read_bytes()
+
+
+def test_the_installed_command_names_bad_input_and_exits_non_zero(tmp_path):
+    out = tmp_path / "x.msh"
+    run = subprocess.run(
+        [str(_cli()), "mesh", "no_such_region", "-n", "100", "-o", str(out)], capture_output=True, text=True
+    )
+    assert run.returncode == 1
+    assert "unknown region 'no_such_region'" in run.stderr
+    assert not out.exists()
+    run = subprocess.run([str(_cli()), "mesh", "circle", "--no-such-option"], capture_output=True, text=True)
+    assert run.returncode == 2 and "--no-such-option" in run.stderr
+    run = subprocess.run([str(_cli()), "--version"], capture_output=True, text=True)
+    assert run.returncode == 0 and run.stdout.split() == ["cvtmesh", cvtmesh.__version__]
+    # Its output goes through a pipe like any command's.
+    listing = subprocess.run(f"'{_cli()}' regions | head -1", shell=True, capture_output=True, text=True)
+    assert listing.returncode == 0 and listing.stderr == "" and listing.stdout.startswith("name")
 
 
 def test_measures_equal_the_command_lines_on_the_same_mesh(tmp_path):
     exe = _cli()
-    if exe is None:
-        pytest.skip("the cvtmesh command is not built (cargo build --release -p cvtmesh-cli)")
     m = cvtmesh.mesh("lake", n=1109)
     m.write(tmp_path / "lake.node")
     out = subprocess.run(
