@@ -1,4 +1,5 @@
-//! Gmsh .msh (2.2 and 4.1 ASCII): a mesh or an error, never a panic.
+//! Gmsh .msh (2.2 and 4.1 ASCII): a mesh (and the region its triangles cover) or an error,
+//! never a panic.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -6,6 +7,10 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
         if let Ok(m) = mesh::io::gmsh_from_str(text) {
             let _ = m.boundary_edges();
+            // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
+            if let Ok(r) = geometry::Region::from_triangles("fuzz", &m.points, &m.triangles) {
+                assert!(!r.loops().is_empty());
+            }
         }
         // The same file read as a size field on a mesh (its first $NodeData view).
         if let Ok((m, sizes)) = mesh::io::gmsh_sizes_from_str(text) {

@@ -1,4 +1,5 @@
-//! Triangle's .node and .ele, split at the first NUL byte: a mesh or an error, never a panic.
+//! Triangle's .node and .ele, split at the first NUL byte: a mesh (and the region its triangles cover) or an error,
+//! never a panic.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -8,6 +9,10 @@ fuzz_target!(|data: &[u8]| {
     if let (Ok(node), Ok(ele)) = (std::str::from_utf8(node), std::str::from_utf8(ele)) {
         if let Ok(m) = mesh::io::triangle_from_str(node, ele) {
             let _ = m.boundary_edges();
+            // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
+            if let Ok(r) = geometry::Region::from_triangles("fuzz", &m.points, &m.triangles) {
+                assert!(!r.loops().is_empty());
+            }
         }
         // The same files read as a size field on a mesh (first attribute = size).
         if let Ok((m, sizes)) = mesh::io::triangle_sizes_from_str(node, ele) {

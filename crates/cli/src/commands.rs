@@ -19,7 +19,7 @@ const MAX_SAMPLES: usize = 100_000_000;
 #[derive(Args)]
 #[command(group(ArgGroup::new("graded").multiple(true).args(["size_field", "size_toward"])))]
 pub struct MeshArgs {
-    /// Region file (.json, .geojson, .poly, .txt loop list) or built-in name (see `cvtmesh regions`).
+    /// Region file (.json, .geojson, .poly, .txt loop list), built-in name (see `cvtmesh regions`), or a mesh (.node/.ele, .msh, .obj): the region its triangles cover, to mesh again.
     region: String,
     /// Number of vertices K (this, --size or --size-field is required; with --size-field the
     /// field's shape is kept and scaled to K vertices).
@@ -187,9 +187,10 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
-    // A size field given on a mesh is read from its files too (.node with .ele).
-    let field_files = a.size_field.iter().flat_map(|f| inputs::size_files(f));
+    // A region or a size field given as a mesh is read from its files (.node with .ele).
+    let field_files = a.size_field.iter().flat_map(|f| inputs::mesh_files(f));
     let read: Vec<PathBuf> = std::iter::once(PathBuf::from(&a.region))
+        .chain(inputs::mesh_files(&a.region))
         .chain(field_files)
         .collect();
     let read: Vec<&Path> = read.iter().map(|p| p.as_path()).collect();
@@ -316,9 +317,11 @@ pub struct PolishArgs {
     /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj;
     /// its boundary vertices are those the file marks, or those on an edge of one triangle.
     mesh: PathBuf,
-    /// The region the mesh is of (file or built-in name): boundary vertices slide along it.
+    /// The region the mesh is of (file or built-in name): boundary vertices slide along it
+    /// [default: the region the mesh's triangles cover, every vertex where its boundary turns
+    /// a corner, so the boundary stays as it is].
     #[arg(long, short)]
-    region: String,
+    region: Option<String>,
     /// Move the vertices of triangles with an angle below this many degrees.
     #[arg(long, value_name = "DEGREES", default_value_t = cvtmesh::POLISH_BELOW_DEG, allow_negative_numbers = true)]
     below: f64,
@@ -337,8 +340,8 @@ pub fn polish(a: PolishArgs) -> Result<()> {
             a.below
         );
     }
-    let region = inputs::region(&a.region, None)?;
     let mut mesh = inputs::mesh(&a.mesh)?;
+    let region = inputs::region_of(a.region.as_deref(), &a.mesh, &mesh)?;
     let start = Instant::now();
     let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
         Ok(report) => report,
@@ -378,9 +381,10 @@ pub fn polish(a: PolishArgs) -> Result<()> {
 pub struct MeasureArgs {
     /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj.
     mesh: PathBuf,
-    /// The region the mesh is of (file or built-in name).
+    /// The region the mesh is of (file or built-in name) [default: the region the mesh's
+    /// triangles cover].
     #[arg(long, short)]
-    region: String,
+    region: Option<String>,
     /// Two CSV lines (header, values at full precision) instead of a table.
     #[arg(long)]
     csv: bool,
@@ -417,8 +421,8 @@ pub struct MeasureArgs {
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
 pub fn measure(a: MeasureArgs) -> Result<()> {
-    let region = inputs::region(&a.region, None)?;
     let mesh = inputs::mesh(&a.mesh)?;
+    let region = inputs::region_of(a.region.as_deref(), &a.mesh, &mesh)?;
     if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
         eprintln!(
             "warning: the mesh does not conform to region '{}': {e}",

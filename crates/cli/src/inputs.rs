@@ -55,6 +55,23 @@ fn with_corner_angle(region: Region, deg: f64) -> Result<Region> {
     Ok(region.with_corner_angle(deg))
 }
 
+/// The region `spec` names, or without one the region the triangles of `mesh` (read from
+/// `path`) cover, named after the file.
+pub fn region_of(spec: Option<&str>, path: &Path, mesh: &Mesh) -> Result<Region> {
+    if let Some(spec) = spec {
+        return region(spec, None);
+    }
+    let name = path
+        .file_stem()
+        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
+    Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| {
+        anyhow!(
+            "{}: no --region given, and the region its triangles cover is not valid: {e}",
+            path.display()
+        )
+    })
+}
+
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.
 pub fn mesh(path: &Path) -> Result<Mesh> {
     Ok(cvtmesh::io::read_mesh(path)?)
@@ -87,15 +104,16 @@ pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
     SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
 }
 
-/// The files a `--size-field` argument reads: a Triangle `.node` with its `.ele`, a Gmsh
-/// `.msh`, or none for an expression.
-pub fn size_files(text: &str) -> Vec<PathBuf> {
+/// The mesh files an argument reads where a mesh may be named (a region, a `--size-field`): a
+/// Triangle `.node` with its `.ele`, a Gmsh `.msh` or an `.obj`, or none for anything else (a
+/// region file, a built-in name, an expression).
+pub fn mesh_files(text: &str) -> Vec<PathBuf> {
     let path = Path::new(text);
-    if !cvtmesh::io::names_sizes(path) {
+    if !cvtmesh::io::names_mesh(path) {
         Vec::new()
     } else if path
         .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("msh"))
+        .is_some_and(|e| e.eq_ignore_ascii_case("msh") || e.eq_ignore_ascii_case("obj"))
     {
         vec![path.to_path_buf()]
     } else {

@@ -1519,3 +1519,72 @@ fn polish_raises_the_smallest_angle_of_a_mesh_from_a_file() {
         "does not conform",
     );
 }
+
+#[test]
+fn a_mesh_names_its_own_region_to_mesh_again_measure_and_polish() {
+    let dir = scratch("own_region");
+    let old = dir.join("old.node");
+    let o = quiet_mesh("square_hole", "800", &["--method", "triangle"], &old);
+    assert!(o.status.success(), "{}", text(&o));
+    // Meshed again from the old mesh alone: the new mesh conforms to the region the old one
+    // covers (its boundary vertices on the old boundary, nothing outside, nothing missing).
+    let again = dir.join("again.msh");
+    let o = quiet_mesh(s(&old), "800", &[], &again);
+    assert!(o.status.success(), "{}", text(&o));
+    let m = cvtmesh(&["measure", s(&again), "--region", s(&old), "--csv"]);
+    assert!(
+        m.status.success() && !text(&m).contains("warning"),
+        "{}",
+        text(&m)
+    );
+    assert!(text(&m).lines().nth(1).unwrap().starts_with("800,"));
+    // Measured and polished with no region: the mesh's own.
+    let own = cvtmesh(&["measure", s(&again), "--csv"]);
+    assert!(own.status.success() && !text(&own).contains("warning"));
+    let polished = dir.join("polished.vtu");
+    let p = cvtmesh(&["polish", s(&old), "-o", s(&polished)]);
+    assert!(p.status.success(), "{}", text(&p));
+    let listed = cvtmesh(&["regions", s(&old)]);
+    assert!(text(&listed).contains("region old: "), "{}", text(&listed));
+    assert!(text(&listed).contains("2 loops"), "{}", text(&listed));
+    // Writing over the mesh's own files is refused, as for any input, and leaves them.
+    let ele = std::fs::read(old.with_extension("ele")).unwrap();
+    let o = cvtmesh(&[
+        "mesh",
+        s(&old),
+        "-n",
+        "800",
+        "-o",
+        s(&old.with_extension("ele")),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("would replace the input file"),
+        "{}",
+        text(&o)
+    );
+    assert_eq!(std::fs::read(old.with_extension("ele")).unwrap(), ele);
+}
+
+#[test]
+fn a_mesh_whose_triangles_make_no_region_is_refused_by_name() {
+    let dir = scratch("bad_own_region");
+    let node = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 2 2\n";
+    // Two triangles on the same side of edge 1–3: they overlap.
+    let overlap = dir.join("overlap.node");
+    std::fs::write(&overlap, node).unwrap();
+    std::fs::write(overlap.with_extension("ele"), "2 3 0\n1 1 2 3\n2 1 3 2\n").unwrap();
+    let out = dir.join("x.msh");
+    assert_refused(
+        &["mesh", s(&overlap), "-n", "50", "-o", s(&out)],
+        &out,
+        "overlap",
+    );
+    // Two triangles that meet at one vertex only: loops that touch.
+    let pinch = dir.join("pinch.node");
+    std::fs::write(&pinch, node).unwrap();
+    std::fs::write(pinch.with_extension("ele"), "2 3 0\n1 1 2 3\n2 3 5 4\n").unwrap();
+    let m = cvtmesh(&["measure", s(&pinch)]);
+    assert_eq!(m.status.code(), Some(1), "{}", text(&m));
+    assert!(text(&m).contains("no --region given"), "{}", text(&m));
+}

@@ -89,18 +89,47 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 }
 
 /// A region by what a user types: the path of a region file in any format
-/// [`Region::from_file`] reads, or, when no such file exists and the text looks
-/// like no path (no `.` or `/`), the name of a built-in region.
+/// [`Region::from_file`] reads; the path of a mesh ([`io::read_mesh`]: Triangle `.node`/`.ele`,
+/// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
+/// ([`Region::from_triangles`]), so a mesh can be meshed again, polished or measured with no
+/// region file; or, when no such file exists and the text looks like no path (no `.` or
+/// `/`), the name of a built-in region.
 ///
 /// ```
 /// let lake = cvtmesh::load_region("lake")?;
 /// assert_eq!(lake.name(), "lake");
 /// let e = cvtmesh::load_region("no_such_dir/region.poly").unwrap_err();
 /// assert!(e.to_string().contains("no_such_dir/region.poly"), "{e}");
-/// # Ok::<(), cvtmesh::GeometryError>(())
+///
+/// // A mesh file names the region its triangles cover.
+/// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-load-region-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let mesh = cvtmesh::mesh(&cvtmesh::Region::builtin("square_hole")?, 400)?.mesh;
+/// cvtmesh::io::write_mesh(&mesh, &dir.join("old.msh"))?;
+/// let again = cvtmesh::load_region(dir.join("old.msh").to_str().unwrap())?;
+/// assert_eq!((again.name(), again.loops().len()), ("old", 2));
+/// assert!((again.area() - mesh.area()).abs() < 1e-12 * mesh.area());
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
     let path = std::path::Path::new(spec);
+    if io::names_mesh(path) {
+        let mesh = io::read_mesh(path).map_err(|e| GeometryError::Parse {
+            path: spec.to_string(),
+            message: e.to_string(),
+        })?;
+        let name = path
+            .file_stem()
+            .map_or_else(|| "region".into(), |s| s.to_string_lossy());
+        return Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| match e {
+            GeometryError::Invalid { message, .. } => GeometryError::Invalid {
+                region: spec.to_string(),
+                message: format!("the region its triangles cover: {message}"),
+            },
+            e => e,
+        });
+    }
     if path.exists() || spec.contains('.') || spec.contains('/') {
         Region::from_file(path)
     } else {

@@ -305,7 +305,11 @@ fn dedup_closed(points: &mut Vec<DVec2>) -> Result<(), DVec2> {
 
 /// Build the region from straight loops: check sizes, orient, make line pieces and corners.
 /// Geometric validity (simple, non-crossing, holes inside) is [`Region::new`]'s to check.
-fn polygon_region(name: &str, label: &str, loops: Loops) -> Result<Region, GeometryError> {
+pub(crate) fn polygon_region(
+    name: &str,
+    label: &str,
+    loops: Loops,
+) -> Result<Region, GeometryError> {
     let mut out = Vec::with_capacity(loops.len());
     let mut corners = Vec::new();
     for (k, (role, mut pts)) in loops.into_iter().enumerate() {

@@ -27,6 +27,7 @@ mod se;
 mod simplify;
 mod size;
 mod spacing_corners;
+mod triangulated;
 mod types;
 
 pub use build::DEFAULT_CORNER_ANGLE;

@@ -114,6 +114,18 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
     }
 }
 
+/// Whether `path` names a file [`read_mesh`] reads (by its extension).
+///
+/// ```
+/// use cvtmesh_mesh::io::names_mesh;
+/// use std::path::Path;
+/// assert!(names_mesh(Path::new("run3/out.MSH")) && names_mesh(Path::new("a.ele")));
+/// assert!(!names_mesh(Path::new("lake")) && !names_mesh(Path::new("region.poly")));
+/// ```
+pub fn names_mesh(path: &Path) -> bool {
+    extension(path).is_some_and(|e| READ_EXTENSIONS.contains(&e.as_str()))
+}
+
 /// Extensions [`read_sizes`] understands.
 pub const SIZE_EXTENSIONS: &[&str] = &["node", "ele", "msh"];
 

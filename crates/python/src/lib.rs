@@ -74,6 +74,30 @@ fn mesh_of(
     })
 }
 
+/// The points and triangles of a mesh given as any array-likes (lists, int32 triangles as
+/// scipy's Delaunay gives, ...): converted to float64 and int64 by numpy, then checked as
+/// [`points_of`] and [`triangles_of`] check them; `what` heads the errors.
+fn mesh_arrays(
+    points: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
+    what: &str,
+) -> PyResult<(Vec<DVec2>, Vec<[u32; 3]>)> {
+    let np = points.py().import("numpy")?;
+    let points = np.call_method1("asarray", (points, "float64"))?;
+    let points: PyReadonlyArray2<'_, f64> = points
+        .extract()
+        .map_err(|_| err(format!("{what}: the mesh's points must be an (n, 2) array")))?;
+    let triangles = np.call_method1("asarray", (triangles, "int64"))?;
+    let triangles: PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| {
+        err(format!(
+            "{what}: the mesh's triangles must be an (m, 3) array"
+        ))
+    })?;
+    let pts = points_of(&points, "points")?;
+    let tris = triangles_of(&triangles, pts.len())?;
+    Ok((pts, tris))
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -131,7 +155,8 @@ impl PyRegion {
         })
     }
 
-    /// A file path, or a built-in name when no such file exists.
+    /// A file path (a region file, or a mesh file: .node/.ele, .msh, .obj, whose region is
+    /// what its triangles cover), or a built-in name when no such file exists.
     #[staticmethod]
     fn load(spec: &str) -> PyResult<PyRegion> {
         Ok(PyRegion {
@@ -154,6 +179,28 @@ impl PyRegion {
         }
         Ok(PyRegion {
             inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
+        })
+    }
+
+    /// The region the triangles of a mesh cover: `points` (n, 2), `triangles` (m, 3) 0-based,
+    /// in either orientation. Its loops are the chains of edges of exactly one triangle (holes
+    /// where the triangles lie outside them); every vertex where the boundary turns is a
+    /// corner. Overlapping triangles, an edge of more than two triangles, or loops that touch
+    /// raise `MeshError`.
+    #[staticmethod]
+    #[pyo3(signature = (points, triangles, name = "mesh"))]
+    fn from_triangles(
+        py: Python<'_>,
+        points: Bound<'_, PyAny>,
+        triangles: Bound<'_, PyAny>,
+        name: &str,
+    ) -> PyResult<PyRegion> {
+        let (pts, tris) = mesh_arrays(&points, &triangles, "from_triangles")?;
+        let region = py
+            .detach(|| Region::from_triangles(name, &pts, &tris))
+            .map_err(err)?;
+        Ok(PyRegion {
+            inner: Arc::new(region),
         })
     }
 
@@ -576,22 +623,11 @@ fn scalar_field(
     if let Ok((points, triangles, values)) =
         spec.extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>)>()
     {
+        let (pts, tris) = mesh_arrays(&points, &triangles, what)?;
         let np = py.import("numpy")?;
-        let points = np.call_method1("asarray", (points, "float64"))?;
-        let points: PyReadonlyArray2<'_, f64> = points
-            .extract()
-            .map_err(|_| err(format!("{what}: the mesh's points must be an (n, 2) array")))?;
-        let triangles = np.call_method1("asarray", (triangles, "int64"))?;
-        let triangles: PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| {
-            err(format!(
-                "{what}: the mesh's triangles must be an (m, 3) array"
-            ))
-        })?;
         let values = np.call_method1("asarray", (values, "float64"))?;
         let values = np.call_method1("ravel", (values,))?;
         let values: PyReadonlyArray1<'_, f64> = values.extract()?;
-        let pts = points_of(&points, "points")?;
-        let tris = triangles_of(&triangles, pts.len())?;
         let values = values.as_array().to_vec();
         return py
             .detach(|| SizeField::from_mesh(region, &pts, &tris, &values))

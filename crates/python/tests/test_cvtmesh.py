@@ -598,3 +598,28 @@ def test_a_mesh_read_from_a_file_can_be_polished(tmp_path):
     # The same as polishing while meshing.
     made = cvtmesh.mesh("square_hole", **kw)
     assert after == pytest.approx(min_angles(made.points, made.triangles).min(), abs=1e-9)
+
+
+def test_a_mesh_names_the_region_its_triangles_cover(tmp_path):
+    old = cvtmesh.mesh("square_hole", n=600, method="distmesh")
+    old.write(tmp_path / "old.msh")
+    covered = triangle_areas(old.points, old.triangles).sum()
+    r = Region.load(str(tmp_path / "old.msh"))
+    assert r.name == "old" and len(r.pieces) > 4
+    assert r.area == pytest.approx(covered, rel=1e-12)
+    # From arrays too, in any integer type and orientation (scipy's Delaunay gives int32).
+    flipped = old.triangles[:, ::-1].astype(np.int32)
+    same = Region.from_triangles(old.points.tolist(), flipped)
+    assert same.area == pytest.approx(covered, rel=1e-12)
+    # Meshed again from the file alone: every new vertex lies in the old region, and the new
+    # triangles cover it up to the chords between boundary vertices where the old boundary
+    # bends less than a corner (the hole's polygon).
+    new = cvtmesh.mesh(tmp_path / "old.msh", n=600)
+    assert new.points.shape == (600, 2)
+    assert (r.signed_distance(new.points) < 1e-9).all()
+    assert triangle_areas(new.points, new.triangles).sum() == pytest.approx(covered, rel=5e-3)
+    # Triangles that overlap make no region.
+    with pytest.raises(MeshError, match="overlap"):
+        Region.from_triangles(SQUARE, [[0, 1, 2], [0, 2, 1]])
+    with pytest.raises(MeshError, match=r"triangles must be an \(m, 3\) array"):
+        Region.from_triangles(SQUARE, [0, 1, 2])

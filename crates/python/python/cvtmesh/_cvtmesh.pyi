@@ -21,6 +21,10 @@ class Region:
     @staticmethod
     def load(spec: str) -> Region: ...
     @staticmethod
+    def from_triangles(
+        points: npt.ArrayLike, triangles: npt.ArrayLike, name: str = "mesh"
+    ) -> Region: ...
+    @staticmethod
     def from_loops(
         outer: npt.ArrayLike, holes: Sequence[npt.ArrayLike] = ..., name: str = "region"
     ) -> Region: ...
