@@ -108,6 +108,11 @@ pub struct MeshArgs {
     /// method put it.
     #[arg(long, value_name = "DEGREES", default_value_t = MeshRequest::points(0).polish_below_deg, allow_negative_numbers = true)]
     polish: f64,
+    /// Element order: 1 writes three-node triangles; 2 six-node (quadratic) triangles with a
+    /// node on every edge, on the region's exact boundary (arcs, circles, curves) where the
+    /// edge is a boundary edge, as P2 finite elements use them (.msh, .vtu or .node/.ele).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
+    order: u8,
     /// Fail (exit 1, mesh still written) if the iteration cap is reached before convergence;
     /// refuse (before any work) a region narrower than half the spacing somewhere, and (nothing
     /// written) a mesh that leaves out a tenth of the region or has triangles flatter than 1°.
@@ -186,7 +191,13 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
 
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
-    inputs::output_kind(&a.output)?;
+    let kind = inputs::output_kind(&a.output)?;
+    if a.order == 2 && !matches!(kind, "triangle" | "msh" | "vtu") {
+        bail!(
+            "--order 2 writes six-node triangles, which '{}' cannot hold; use .msh, .vtu or .node",
+            a.output.display()
+        );
+    }
     // A region or a size field given as a mesh is read from its files (.node with .ele).
     let field_files = a.size_field.iter().flat_map(|f| inputs::mesh_files(f));
     let read: Vec<PathBuf> = std::iter::once(PathBuf::from(&a.region))
@@ -274,7 +285,15 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         method.name(),
         result.mesh.num_vertices()
     );
-    inputs::write(&result.mesh, &region, &a.output, &title)?;
+    if a.order == 2 {
+        let quadratic = cvtmesh::Quadratic::new(&result.mesh, Some(&region));
+        inputs::written(
+            cvtmesh::io::write_quadratic(&quadratic, &a.output),
+            &a.output,
+        )?;
+    } else {
+        inputs::write(&result.mesh, &region, &a.output, &title)?;
+    }
     for note in &result.notes {
         eprintln!("note: {note}");
     }

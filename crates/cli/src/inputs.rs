@@ -221,17 +221,22 @@ pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
         "svg" | "png" => draw(Some(mesh), region, path, title, None, PICTURE_PX),
-        _ => cvtmesh::io::write_mesh(mesh, path).map_err(|e| {
-            // Most of the writer's errors name the file already.
-            let named = e.to_string().contains(&path.display().to_string());
-            let e = anyhow::Error::new(e);
-            if named {
-                e
-            } else {
-                e.context(format!("writing {}", path.display()))
-            }
-        }),
+        _ => written(cvtmesh::io::write_mesh(mesh, path), path),
     }
+}
+
+/// A mesh writer's result, its error naming the file `path`.
+pub fn written(result: Result<(), cvtmesh::MeshError>, path: &Path) -> Result<()> {
+    result.map_err(|e| {
+        // Most of the writer's errors name the file already.
+        let named = e.to_string().contains(&path.display().to_string());
+        let e = anyhow::Error::new(e);
+        if named {
+            e
+        } else {
+            e.context(format!("writing {}", path.display()))
+        }
+    })
 }
 
 /// Draw a region, or a mesh on it, optionally coloured per triangle, `px` pixels across.

@@ -1588,3 +1588,108 @@ fn a_mesh_whose_triangles_make_no_region_is_refused_by_name() {
     assert_eq!(m.status.code(), Some(1), "{}", text(&m));
     assert!(text(&m).contains("no --region given"), "{}", text(&m));
 }
+
+#[test]
+fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
+    let dir = scratch("order2");
+    let msh = dir.join("c.msh");
+    let o = quiet_mesh("annulus", "300", &["--order", "2"], &msh);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&msh).unwrap();
+    // Six-node triangles (type 9) and three-node boundary lines (type 8), nothing linear.
+    let mut lines = t.split("$Elements\n").nth(1).unwrap().lines();
+    let nblocks: usize = lines
+        .next()
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let mut types = Vec::new();
+    for _ in 0..nblocks {
+        let header: Vec<usize> = lines
+            .next()
+            .unwrap()
+            .split(' ')
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let nodes = if header[2] == 9 { 6 } else { 3 };
+        for _ in 0..header[3] {
+            assert_eq!(lines.next().unwrap().split(' ').count(), 1 + nodes);
+        }
+        types.push(header[2].to_string());
+    }
+    let types: Vec<&str> = types.iter().map(String::as_str).collect();
+    assert!(types.contains(&"9") && types.contains(&"8"), "{types:?}");
+    assert!(!types.contains(&"2") && !types.contains(&"1"), "{types:?}");
+    // Read back by its corners: the same mesh as the linear run.
+    let linear = dir.join("c1.msh");
+    assert!(quiet_mesh("annulus", "300", &[], &linear).status.success());
+    let csv = |p: &Path| text(&cvtmesh(&["measure", s(p), "--region", "annulus", "--csv"]));
+    assert_eq!(csv(&msh), csv(&linear));
+    // Triangle's format and VTK take it too; .obj and orders other than 1 and 2 are refused.
+    for ok in ["c.node", "c.vtu"] {
+        let o = quiet_mesh("annulus", "300", &["--order", "2"], &dir.join(ok));
+        assert!(o.status.success(), "{ok}: {}", text(&o));
+    }
+    assert!(quiet_mesh("annulus", "300", &[], &dir.join("c1.node"))
+        .status
+        .success());
+    // Every boundary node (marker > 0 in the .node file) lies on its circle (radii 1 and 0.4),
+    // the nodes the second order adds as well as the corners: twice the boundary vertices.
+    let boundary_radii = |p: &Path| -> Vec<f64> {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .filter_map(|l| {
+                let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                (v[6] > 0.0).then(|| v[1].hypot(v[2]))
+            })
+            .collect()
+    };
+    let (quadratic, linear) = (
+        boundary_radii(&dir.join("c.node")),
+        boundary_radii(&dir.join("c1.node")),
+    );
+    assert_eq!(quadratic.len(), 2 * linear.len());
+    for r in quadratic {
+        assert!(
+            (r - 1.0).abs() < 1e-12 || (r - 0.4).abs() < 1e-12,
+            "radius {r}"
+        );
+    }
+    let ele = std::fs::read_to_string(dir.join("c.ele")).unwrap();
+    assert!(ele.lines().nth(1).unwrap().ends_with(" 6 0"), "{ele}");
+    let bad = dir.join("c.obj");
+    assert_refused(
+        &[
+            "mesh",
+            "annulus",
+            "-n",
+            "300",
+            "--order",
+            "2",
+            "-o",
+            s(&bad),
+        ],
+        &bad,
+        "six-node",
+    );
+    assert_refused(
+        &[
+            "mesh",
+            "annulus",
+            "-n",
+            "300",
+            "--order",
+            "3",
+            "-o",
+            s(&msh.with_extension("x.msh")),
+        ],
+        &msh.with_extension("x.msh"),
+        "--order",
+    );
+}

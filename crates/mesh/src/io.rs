@@ -15,7 +15,7 @@
 //! attributes). The other formats keep only which loop a boundary vertex lies on; a mesh read
 //! from them (or from a foreign file) carries [`UNKNOWN_PIECE`] and a NaN `loop_param` in its
 //! boundary markers, and [`restore_markers`] fills these in from the region.
-use crate::{Mesh, MeshError, VertexMarker};
+use crate::{Mesh, MeshError, Quadratic, VertexMarker};
 use geometry::{DVec2, PieceId, Region};
 use std::collections::HashMap;
 use std::fmt;
@@ -79,6 +79,109 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
         Some("vtu") => write_vtu(mesh, path),
         Some("obj") => write_obj(mesh, path),
         _ => Err(unknown_extension(path, "write", WRITE_EXTENSIONS)),
+    }
+}
+
+/// Extensions [`write_quadratic`] writes.
+pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu"];
+
+/// Write a mesh of six-node triangles, choosing the format by extension as [`write_mesh`]
+/// does: `.msh` (Gmsh element types 9 and 8, the three-node boundary lines), `.vtu` (VTK's
+/// quadratic triangle, type 22) or `.node`/`.ele` (Triangle's `-o2` layout: corners, then the
+/// node opposite each corner; the `.poly` keeps two-node segments). Other formats have no
+/// six-node triangle and are refused.
+///
+/// ```
+/// use cvtmesh_mesh::{io, Quadratic};
+/// let region = geometry::Region::builtin("circle")?;
+/// let mesh = ccvt_free_mesh();
+/// # fn ccvt_free_mesh() -> cvtmesh_mesh::Mesh {
+/// #     let ring: Vec<geometry::DVec2> = (0..8).map(|k| geometry::DVec2::from_angle(k as f64 * std::f64::consts::TAU / 8.0)).collect();
+/// #     let points = [vec![geometry::DVec2::ZERO], ring].concat();
+/// #     let triangles: Vec<[u32; 3]> = (1..=8).map(|k| [0, k, k % 8 + 1]).collect();
+/// #     cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles }
+/// # }
+/// let q = Quadratic::new(&mesh, Some(&region));
+/// let path = std::env::temp_dir().join(format!("cvtmesh-doc-p2-{}.msh", std::process::id()));
+/// io::write_quadratic(&q, &path)?;
+/// // Read back by its corners: the linear mesh.
+/// let back = io::read_mesh(&path)?;
+/// assert_eq!((back.points, back.triangles), (mesh.points, mesh.triangles));
+/// assert!(io::write_quadratic(&q, &path.with_extension("obj")).is_err());
+/// std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_quadratic(q: &Quadratic, path: &Path) -> Result<(), MeshError> {
+    let nodes = Nodes::quadratic(q);
+    match extension(path).as_deref() {
+        Some("node") | Some("ele") => triangle::write_nodes(&nodes, &path.with_extension("")),
+        Some("msh") => gmsh::write_nodes(&nodes, path),
+        Some("vtu") => vtu::write_nodes(&nodes, path),
+        _ => Err(unknown_extension(
+            path,
+            "write six-node triangles to",
+            QUADRATIC_EXTENSIONS,
+        )),
+    }
+}
+
+/// What a writer writes: nodes and their markers, triangles of three or six nodes, and each
+/// loop's boundary edges as lines of two nodes (or three, the edge's node last).
+pub(crate) struct Nodes<'a> {
+    /// Every node.
+    pub points: &'a [DVec2],
+    /// One marker per node.
+    pub markers: &'a [VertexMarker],
+    /// Each triangle's nodes: its corners counter-clockwise, then (six-node triangles) the
+    /// nodes of its edges ab, bc, ca.
+    pub triangles: Vec<&'a [u32]>,
+    /// Per loop, its boundary lines in boundary order.
+    pub lines: Vec<Vec<Vec<u32>>>,
+    /// The three-node mesh of the corners.
+    pub linear: &'a Mesh,
+}
+
+impl<'a> Nodes<'a> {
+    /// The nodes of a mesh of three-node triangles.
+    pub fn linear(mesh: &'a Mesh) -> Nodes<'a> {
+        let (groups, _) = edges_by_loop(mesh);
+        Nodes {
+            points: &mesh.points,
+            markers: &mesh.markers,
+            triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
+            lines: groups
+                .iter()
+                .map(|g| g.iter().map(|&(a, b)| vec![a, b]).collect())
+                .collect(),
+            linear: mesh,
+        }
+    }
+
+    /// The nodes of a mesh of six-node triangles.
+    pub fn quadratic(q: &'a Quadratic) -> Nodes<'a> {
+        let (groups, _) = edges_by_loop(q.linear());
+        Nodes {
+            points: &q.points,
+            markers: &q.markers,
+            triangles: q.triangles.iter().map(|t| &t[..]).collect(),
+            lines: groups
+                .iter()
+                .map(|g| {
+                    g.iter()
+                        .map(|&(a, b)| {
+                            let m = q.edge_node(a, b).expect("a boundary edge is an edge");
+                            vec![a, b, m]
+                        })
+                        .collect()
+                })
+                .collect(),
+            linear: q.linear(),
+        }
+    }
+
+    /// Nodes per triangle: 3 or 6.
+    pub fn per_triangle(&self) -> usize {
+        self.triangles.first().map_or(3, |t| t.len())
     }
 }
 
@@ -239,6 +342,30 @@ pub fn markers_from_topology(points: &[DVec2], triangles: &[[u32; 3]]) -> Vec<Ve
             }
         })
         .collect()
+}
+
+/// The vertices of `n` that the triangles' corners use, in order (a six-node file's nodes on
+/// edges are not vertices), with the triangles renumbered to them.
+pub(crate) fn keep_corners(n: usize, triangles: &mut [[u32; 3]]) -> Vec<usize> {
+    let mut new_index = vec![u32::MAX; n];
+    for t in triangles.iter() {
+        for &v in t {
+            new_index[v as usize] = 0;
+        }
+    }
+    let mut kept = Vec::new();
+    for (i, slot) in new_index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = kept.len() as u32;
+            kept.push(i);
+        }
+    }
+    for t in triangles.iter_mut() {
+        for v in t.iter_mut() {
+            *v = new_index[*v as usize];
+        }
+    }
+    kept
 }
 
 /// Boundary edges grouped by loop, each group ordered along the loop parameter of its start

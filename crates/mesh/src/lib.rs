@@ -10,6 +10,7 @@ pub mod io;
 mod mesher;
 mod parts;
 mod polish;
+mod quadratic;
 mod thin;
 mod types;
 
@@ -26,5 +27,6 @@ pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use polish::{
     polish, polish_restored, polish_within, PolishReport, Polished, POLISH_BELOW_DEG,
 };
+pub use quadratic::Quadratic;
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -395,7 +395,19 @@ struct PyMesh {
     energy_history: Py<PyArray1<f64>>,
 }
 
+/// Points (n, 2) and six-node triangles (m, 6) as numpy arrays.
+type QuadraticArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
+
 impl PyMesh {
+    /// The six-node mesh, its boundary nodes on `region` if given, else on the region the
+    /// mesh was made for, else (a mesh read from a file) at its boundary edges' midpoints.
+    fn quadratic_mesh(&self, py: Python<'_>, region: Option<&PyRegion>) -> cvtmesh::Quadratic {
+        let region = region
+            .map(|r| r.inner.clone())
+            .or_else(|| self.region.clone());
+        py.detach(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref()))
+    }
+
     /// `region` if given, else the region the mesh was made for; a mesh read from a file
     /// has none, and `call` (the method asking) names what to pass.
     fn region_or(&self, region: Option<&PyRegion>, call: &str) -> PyResult<Arc<Region>> {
@@ -457,12 +469,23 @@ impl PyMesh {
 impl PyMesh {
     /// Write the mesh; the format follows the extension: .node/.ele (Triangle), .msh (Gmsh
     /// 4.1), .vtu, .obj, or a .png/.svg picture (on the region's exact boundary when the mesh
-    /// was made here, else outlined by its own boundary edges).
-    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    /// was made here, else outlined by its own boundary edges). `order=2` writes six-node
+    /// triangles (see `quadratic`) to .msh, .vtu or .node.
+    #[pyo3(signature = (path, order = 1))]
+    fn write(&self, py: Python<'_>, path: PathBuf, order: u8) -> PyResult<()> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
+        if order == 2 {
+            let q = self.quadratic_mesh(py, None);
+            return py
+                .detach(|| cvtmesh::io::write_quadratic(&q, &path))
+                .map_err(err);
+        }
+        if order != 1 {
+            return Err(err(format!("order must be 1 or 2, got {order}")));
+        }
         py.detach(|| match ext.as_deref() {
             Some(kind @ ("png" | "svg")) => {
                 let title = path
@@ -481,6 +504,27 @@ impl PyMesh {
             }
             _ => cvtmesh::io::write_mesh(&self.mesh, &path).map_err(err),
         })
+    }
+
+    /// Six-node (quadratic, P2) triangles: `(points, triangles)` with `points` (N + E, 2), the
+    /// mesh's N vertices first and then one node per edge, and `triangles` (M, 6): corners
+    /// counter-clockwise, then the nodes of edges (0, 1), (1, 2), (2, 0), the order of Gmsh,
+    /// VTK and meshio's "triangle6". Boundary edges' nodes lie on the exact boundary of
+    /// `region`, or of the region the mesh was made for (arcs of a circle, not its chords); a
+    /// mesh read from a file without `region` keeps them at the edges' midpoints.
+    #[pyo3(signature = (region = None))]
+    fn quadratic<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<QuadraticArrays<'py>> {
+        let q = self.quadratic_mesh(py, region);
+        let points = xy_array(py, &q.points)?;
+        let flat: Vec<i64> = q.triangles.iter().flatten().map(|&v| v as i64).collect();
+        let triangles = PyArray1::from_vec(py, flat).reshape([q.triangles.len(), 6])?;
+        read_only(&points)?;
+        read_only(&triangles)?;
+        Ok((points, triangles))
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the

@@ -623,3 +623,37 @@ def test_a_mesh_names_the_region_its_triangles_cover(tmp_path):
         Region.from_triangles(SQUARE, [[0, 1, 2], [0, 2, 1]])
     with pytest.raises(MeshError, match=r"triangles must be an \(m, 3\) array"):
         Region.from_triangles(SQUARE, [0, 1, 2])
+
+
+def test_quadratic_triangles_put_boundary_nodes_on_the_exact_boundary(tmp_path):
+    m = cvtmesh.mesh("circle", n=300)
+    pts, tri = m.quadratic()
+    assert tri.shape == (len(m.triangles), 6) and tri.dtype == np.int64
+    # The mesh's vertices come first and are the corners.
+    assert np.array_equal(pts[:300], m.points) and np.array_equal(tri[:, :3], m.triangles)
+    # One node per edge, shared by the triangles on it.
+    edges = {tuple(sorted(e)) for t in m.triangles for e in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]}
+    assert len(pts) == 300 + len(edges) and len(np.unique(tri[:, 3:])) == len(edges)
+    # Boundary edges' nodes on the unit circle, interior ones at their edge's midpoint.
+    boundary = {tuple(sorted(e)) for e in m.boundary_edges}
+    for t in tri:
+        for k, (a, b) in enumerate([(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]):
+            node = pts[t[3 + k]]
+            if tuple(sorted((a, b))) in boundary:
+                assert abs(np.hypot(*node) - 1.0) < 1e-12
+            else:
+                assert np.allclose(node, 0.5 * (pts[a] + pts[b]), rtol=0, atol=1e-15)
+    # Written as .msh and .vtu, meshio reads the same six-node triangles, node for node.
+    meshio = pytest.importorskip("meshio")
+
+    def six_node_set(points, triangles):
+        return {tuple(map(tuple, np.round(points[t], 12))) for t in triangles}
+
+    for ext in ["msh", "vtu"]:
+        m.write(tmp_path / f"c.{ext}", order=2)
+        back = meshio.read(tmp_path / f"c.{ext}")
+        assert six_node_set(back.points[:, :2], back.cells_dict["triangle6"]) == six_node_set(pts, tri)
+    with pytest.raises(MeshError, match="six-node"):
+        m.write(tmp_path / "c.obj", order=2)
+    with pytest.raises(MeshError, match="order must be 1 or 2"):
+        m.write(tmp_path / "c.msh", order=3)

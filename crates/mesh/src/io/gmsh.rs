@@ -1,6 +1,6 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
-    edges_by_loop, file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files,
+    file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, Nodes,
     Producer, Tokens, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
@@ -18,20 +18,31 @@ use std::path::Path;
 /// vertex index + 1, so reading the file back gives the same vertex order.
 pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, path)?;
-    let (groups, nloops) = edges_by_loop(mesh);
+    write_nodes(&Nodes::linear(mesh), path)
+}
+
+/// Write `nodes` as Gmsh 4.1 ASCII, laid out as [`write_gmsh`] says; six-node triangles are
+/// element type 9 and their boundary lines three-node lines (type 8).
+pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
+    let nloops = nodes.lines.len();
+    let (line_type, triangle_type) = if nodes.per_triangle() == 6 {
+        (8, 9)
+    } else {
+        (1, 2)
+    };
     // Physical tags 1..=nloops are the loops; keep the surface tag clear of them.
     let surface_phys = 100.max(nloops + 1);
-    let n = mesh.points.len();
-    // Vertices per entity: curve blocks 0..nloops, then the surface block.
+    let n = nodes.points.len();
+    // Nodes per entity: curve blocks 0..nloops, then the surface block.
     let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); nloops + 1];
-    for (v, m) in mesh.markers.iter().enumerate() {
-        blocks[m.loop_index().unwrap_or(nloops)].push(v);
+    for (v, m) in nodes.markers.iter().enumerate() {
+        blocks[m.loop_index().unwrap_or(nloops).min(nloops)].push(v);
     }
     let bbox = |vs: &mut dyn Iterator<Item = usize>| {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for v in vs {
-            lo = lo.min(mesh.points[v]);
-            hi = hi.max(mesh.points[v]);
+            lo = lo.min(nodes.points[v]);
+            hi = hi.max(nodes.points[v]);
         }
         if lo.x > hi.x {
             (DVec2::ZERO, DVec2::ZERO)
@@ -47,12 +58,12 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
         }
         writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
         writeln!(w, "$Entities\n0 {nloops} 1 0")?;
-        for (l, edges) in groups.iter().enumerate() {
+        for (l, lines) in nodes.lines.iter().enumerate() {
             let (lo, hi) = bbox(
                 &mut blocks[l]
                     .iter()
                     .copied()
-                    .chain(edges.iter().map(|e| e.0 as usize)),
+                    .chain(lines.iter().flatten().map(|&v| v as usize)),
             );
             writeln!(
                 w,
@@ -88,29 +99,40 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
                 writeln!(w, "{}", v + 1)?;
             }
             for &v in vs {
-                writeln!(w, "{} {} 0", F(mesh.points[v].x), F(mesh.points[v].y))?;
+                writeln!(w, "{} {} 0", F(nodes.points[v].x), F(nodes.points[v].y))?;
             }
         }
         writeln!(w, "$EndNodes")?;
 
-        let nedges: usize = groups.iter().map(Vec::len).sum();
-        let total = nedges + mesh.triangles.len();
-        let nblocks = groups.iter().filter(|g| !g.is_empty()).count()
-            + usize::from(!mesh.triangles.is_empty());
+        let nlines: usize = nodes.lines.iter().map(Vec::len).sum();
+        let total = nlines + nodes.triangles.len();
+        let nblocks = nodes.lines.iter().filter(|g| !g.is_empty()).count()
+            + usize::from(!nodes.triangles.is_empty());
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
         let mut tag = 0;
-        for (l, edges) in groups.iter().enumerate().filter(|(_, g)| !g.is_empty()) {
-            writeln!(w, "1 {} 1 {}", l + 1, edges.len())?;
-            for &(a, b) in edges {
-                tag += 1;
-                writeln!(w, "{tag} {} {}", a + 1, b + 1)?;
+        let mut element = |w: &mut dyn Write, vs: &[u32]| -> std::io::Result<()> {
+            tag += 1;
+            write!(w, "{tag}")?;
+            for v in vs {
+                write!(w, " {}", v + 1)?;
+            }
+            writeln!(w)
+        };
+        for (l, lines) in nodes
+            .lines
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| !g.is_empty())
+        {
+            writeln!(w, "1 {} {line_type} {}", l + 1, lines.len())?;
+            for line in lines {
+                element(w, line)?;
             }
         }
-        if !mesh.triangles.is_empty() {
-            writeln!(w, "2 1 2 {}", mesh.triangles.len())?;
-            for [a, b, c] in &mesh.triangles {
-                tag += 1;
-                writeln!(w, "{tag} {} {} {}", a + 1, b + 1, c + 1)?;
+        if !nodes.triangles.is_empty() {
+            writeln!(w, "2 1 {triangle_type} {}", nodes.triangles.len())?;
+            for t in &nodes.triangles {
+                element(w, t)?;
             }
         }
         writeln!(w, "$EndElements")
@@ -232,6 +254,8 @@ struct Raw {
     names: HashMap<(i64, i64), String>,
     /// The first `$NodeData` view, when asked for: (node tag, value).
     node_data: Option<Vec<(u64, f64)>>,
+    /// Whether a triangle element had more nodes than its corners (six-node or higher).
+    higher_order: bool,
 }
 
 /// The mesh of a Gmsh file, and with `sizes` the first `$NodeData` view's value at each of
@@ -495,7 +519,10 @@ fn add_element(
     }
     match kind {
         Kind::Line => raw.lines.push((nodes[0], nodes[1], phys)),
-        Kind::Triangle => raw.triangles.push(nodes),
+        Kind::Triangle => {
+            raw.triangles.push(nodes);
+            raw.higher_order |= nn > 3;
+        }
         _ => {}
     }
     Ok(())
@@ -555,6 +582,19 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<(Mesh, Option<Vec<f64>>), MeshE
     }
     if raw.triangles.is_empty() && !raw.nodes.is_empty() {
         return Err(file_err(path, "the file has no triangle elements"));
+    }
+    if raw.higher_order {
+        // The mesh is the corners' triangles: the nodes on edges and inside go, with their
+        // values, so a six-node mesh reads as the three-node mesh of its corners.
+        let mut corners: Vec<u64> = raw.triangles.iter().flatten().copied().collect();
+        corners.sort_unstable();
+        corners.dedup();
+        let corner = |tag: &u64| corners.binary_search(tag).is_ok();
+        raw.nodes.retain(|n| corner(&n.0));
+        raw.lines.retain(|(a, b, _)| corner(a) && corner(b));
+        if let Some(data) = raw.node_data.as_mut() {
+            data.retain(|(tag, _)| corner(tag));
+        }
     }
     // Node tags are usually dense (1..=n): index them with a table, else with a hash map.
     let max_tag = raw.nodes.last().map_or(0, |n| n.0);

@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    edges_by_loop, file_err, read_mesh_parts, read_text, validate_for_writing, write_files,
-    Producer, Tokens, F, UNKNOWN_PIECE,
+    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, Nodes, Producer,
+    Tokens, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -32,23 +32,40 @@ fn with_suffix(base: &Path, ext: &str) -> PathBuf {
 ///
 /// All three files appear together or not at all.
 pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
+    validate_for_writing(mesh, &with_suffix(base, "node"))?;
+    write_nodes(&Nodes::linear(mesh), base)
+}
+
+/// Write `nodes` as [`write_triangle`] does; six-node triangles list their corners, then the
+/// node opposite each corner (Triangle's `-o2` order), and the `.poly` keeps two-node segments.
+pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
     let node = with_suffix(base, "node");
-    validate_for_writing(mesh, &node)?;
-    let (groups, _) = edges_by_loop(mesh);
-    let holes: Vec<DVec2> = groups
+    let mesh = nodes.linear;
+    let segments: Vec<Vec<(u32, u32)>> = nodes
+        .lines
+        .iter()
+        .map(|lines| lines.iter().map(|l| (l[0], l[1])).collect())
+        .collect();
+    let holes: Vec<DVec2> = segments
         .iter()
         .skip(1)
         .filter_map(|edges| hole_point(mesh, edges))
         .collect();
+    // Triangle's order: corners, then the nodes of edges bc, ca, ab.
+    let order: &[usize] = if nodes.per_triangle() == 6 {
+        &[0, 1, 2, 4, 5, 3]
+    } else {
+        &[0, 1, 2]
+    };
     let write_node: Producer = Box::new(|w: &mut dyn Write| {
-        writeln!(w, "{SIGNATURE}: {} vertices.", mesh.points.len())?;
+        writeln!(w, "{SIGNATURE}: {} vertices.", nodes.points.len())?;
         writeln!(
             w,
             "# index x y | attributes: kind (0 interior, 1 boundary, 2 corner), piece or corner index, \
              loop arc-length parameter (-1 unknown) | boundary marker (loop index + 1, 0 interior)"
         )?;
-        writeln!(w, "{} 2 3 1", mesh.points.len())?;
-        for (i, (p, m)) in mesh.points.iter().zip(&mesh.markers).enumerate() {
+        writeln!(w, "{} 2 3 1", nodes.points.len())?;
+        for (i, (p, m)) in nodes.points.iter().zip(nodes.markers).enumerate() {
             let (kind, id, param, marker) = match *m {
                 VertexMarker::Interior => (0, 0i64, 0.0, 0),
                 VertexMarker::Boundary {
@@ -77,11 +94,15 @@ pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
         writeln!(
             w,
             "# Triangle .ele written by cvtmesh: {} counter-clockwise triangles.",
-            mesh.triangles.len()
+            nodes.triangles.len()
         )?;
-        writeln!(w, "{} 3 0", mesh.triangles.len())?;
-        for (t, [a, b, c]) in mesh.triangles.iter().enumerate() {
-            writeln!(w, "{} {} {} {}", t + 1, a + 1, b + 1, c + 1)?;
+        writeln!(w, "{} {} 0", nodes.triangles.len(), order.len())?;
+        for (t, tri) in nodes.triangles.iter().enumerate() {
+            write!(w, "{}", t + 1)?;
+            for &k in order {
+                write!(w, " {}", tri[k] + 1)?;
+            }
+            writeln!(w)?;
         }
         Ok(())
     });
@@ -91,14 +112,14 @@ pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
             "# Triangle .poly written by cvtmesh: vertices are in the .node file beside it."
         )?;
         writeln!(w, "0 2 0 1")?;
-        let nseg: usize = groups.iter().map(Vec::len).sum();
+        let nseg: usize = segments.iter().map(Vec::len).sum();
         writeln!(
             w,
             "# segments: the mesh boundary edges, marker = loop index + 1"
         )?;
         writeln!(w, "{nseg} 1")?;
         let mut k = 0;
-        for (l, edges) in groups.iter().enumerate() {
+        for (l, edges) in segments.iter().enumerate() {
             for &(a, b) in edges {
                 k += 1;
                 writeln!(w, "{k} {} {} {}", a + 1, b + 1, l + 1)?;
@@ -165,7 +186,8 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// Read a Triangle mesh: `node_path` (the `.node` file) and the `.ele` file beside it.
 ///
 /// Accepts 0- or 1-based numbering, `#` comments, any number of attribute columns, with or
-/// without a boundary-marker column, and second-order (6-node) triangles (corners kept).
+/// without a boundary-marker column, and second-order (6-node) triangles (their corners; the
+/// nodes on edges are dropped).
 /// Markers: files written by [`write_triangle`] restore the exact [`VertexMarker`]s; for other
 /// files they come from the mesh topology ([`super::markers_from_topology`]), since the meaning
 /// of foreign markers is up to their author.
@@ -174,8 +196,13 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
     let ele_path = node_path.with_extension("ele");
     let ele_text = read_ele_of(&ele_path, node_path)?;
     let (points, base, exact, _) = parse_node(&node_text, node_path)?;
-    let triangles = parse_ele(&ele_text, &ele_path, points.len(), base)?;
-    Ok(read_mesh_parts(points, triangles, exact))
+    let (mut triangles, second) = parse_ele(&ele_text, &ele_path, points.len(), base)?;
+    let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
+    Ok(read_mesh_parts(
+        points,
+        triangles,
+        (!exact.is_empty()).then_some(exact),
+    ))
 }
 
 /// The text of `ele_path`, its errors saying whose triangles it holds.
@@ -206,8 +233,13 @@ fn read_ele_of(ele_path: &Path, node_path: &Path) -> Result<String, MeshError> {
 pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
     let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
     let (points, base, exact, _) = parse_node(node_text, node_path)?;
-    let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
-    Ok(read_mesh_parts(points, triangles, exact))
+    let (mut triangles, second) = parse_ele(ele_text, ele_path, points.len(), base)?;
+    let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
+    Ok(read_mesh_parts(
+        points,
+        triangles,
+        (!exact.is_empty()).then_some(exact),
+    ))
 }
 
 /// A Triangle mesh and a size at each vertex, its first attribute (a background mesh for a
@@ -279,7 +311,8 @@ fn sizes_from(
             ),
         ));
     }
-    let triangles = parse_ele(ele_text, ele_path, points.len(), base)?;
+    let (mut triangles, second) = parse_ele(ele_text, ele_path, points.len(), base)?;
+    let (points, sizes) = corners_of(second, points, &mut triangles, sizes);
     Ok((read_mesh_parts(points, triangles, None), sizes))
 }
 
@@ -383,12 +416,13 @@ fn decode_marker([kind, id, param]: [f64; 3], marker: i64) -> Option<VertexMarke
     }
 }
 
+/// The triangles of an `.ele` file by their corners, and whether they had six nodes.
 fn parse_ele(
     text: &str,
     path: &Path,
     nvert: usize,
     base: usize,
-) -> Result<Vec<[u32; 3]>, MeshError> {
+) -> Result<(Vec<[u32; 3]>, bool), MeshError> {
     let mut t = Tokens::new(text, Some('#'), path);
     let ntri = t.usize("the number of triangles")?;
     let per = t.usize("the number of nodes per triangle")?;
@@ -420,7 +454,28 @@ fn parse_ele(
         }
         triangles.push(tri);
     }
-    Ok(triangles)
+    Ok((triangles, per == 6))
+}
+
+/// A six-node mesh's corners: the vertices its triangles' corners use (the nodes on edges are
+/// not vertices), with `values` per vertex kept alongside. Nothing changes for three-node
+/// triangles.
+fn corners_of<T: Copy>(
+    second_order: bool,
+    points: Vec<DVec2>,
+    triangles: &mut [[u32; 3]],
+    values: Vec<T>,
+) -> (Vec<DVec2>, Vec<T>) {
+    if !second_order {
+        return (points, values);
+    }
+    let kept = super::keep_corners(points.len(), triangles);
+    let values = if values.len() == points.len() {
+        kept.iter().map(|&i| values[i]).collect()
+    } else {
+        values
+    };
+    (kept.iter().map(|&i| points[i]).collect(), values)
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! VTK XML unstructured grid (`.vtu`, ASCII), for ParaView and meshio.
-use super::{validate_for_writing, write_files, Producer, F};
+use super::{validate_for_writing, write_files, Nodes, Producer, F};
 use crate::{Mesh, MeshError};
 use geometry::DVec2;
 use std::io::Write;
@@ -40,10 +40,19 @@ pub fn triangle_quality(p: [DVec2; 3]) -> (f64, f64, f64) {
 /// `boundary_marker` (loop index + 1, 0 for interior vertices).
 pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, path)?;
+    write_nodes(&Nodes::linear(mesh), path)
+}
+
+/// Write `nodes` as [`write_vtu`] does; six-node triangles are VTK's quadratic triangle (type
+/// 22, the same node order), their qualities those of their corners' triangle.
+pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
+    let per = nodes.per_triangle();
+    let cell_type = if per == 6 { 22 } else { 5 };
     let produce: Producer = Box::new(|w: &mut dyn Write| {
-        let (n, t) = (mesh.points.len(), mesh.triangles.len());
-        let quality: Vec<(f64, f64, f64)> =
-            (0..t).map(|k| triangle_quality(mesh.triangle(k))).collect();
+        let (n, t) = (nodes.points.len(), nodes.triangles.len());
+        let quality: Vec<(f64, f64, f64)> = (0..t)
+            .map(|k| triangle_quality(nodes.linear.triangle(k)))
+            .collect();
         writeln!(w, "<?xml version=\"1.0\"?>")?;
         writeln!(w, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">")?;
         writeln!(w, "  <UnstructuredGrid>")?;
@@ -56,7 +65,7 @@ pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
             w,
             "        <DataArray type=\"Int32\" Name=\"boundary_marker\" format=\"ascii\">"
         )?;
-        for m in &mesh.markers {
+        for m in nodes.markers {
             writeln!(w, "{}", m.loop_index().map_or(0, |l| l + 1))?;
         }
         writeln!(w, "        </DataArray>\n      </PointData>")?;
@@ -74,7 +83,7 @@ pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
         writeln!(w, "      </CellData>")?;
         writeln!(w, "      <Points>")?;
         writeln!(w, "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">")?;
-        for p in &mesh.points {
+        for p in nodes.points {
             writeln!(w, "{} {} 0", F(p.x), F(p.y))?;
         }
         writeln!(w, "        </DataArray>\n      </Points>")?;
@@ -83,8 +92,12 @@ pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
             w,
             "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
         )?;
-        for [a, b, c] in &mesh.triangles {
-            writeln!(w, "{a} {b} {c}")?;
+        for tri in &nodes.triangles {
+            write!(w, "{}", tri[0])?;
+            for v in &tri[1..] {
+                write!(w, " {v}")?;
+            }
+            writeln!(w)?;
         }
         writeln!(w, "        </DataArray>")?;
         writeln!(
@@ -92,7 +105,7 @@ pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
             "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
         )?;
         for k in 1..=t {
-            writeln!(w, "{}", 3 * k)?;
+            writeln!(w, "{}", per * k)?;
         }
         writeln!(w, "        </DataArray>")?;
         writeln!(
@@ -100,7 +113,7 @@ pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
             "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
         )?;
         for _ in 0..t {
-            writeln!(w, "5")?;
+            writeln!(w, "{cell_type}")?;
         }
         writeln!(w, "        </DataArray>\n      </Cells>")?;
         writeln!(w, "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>")
