@@ -147,9 +147,12 @@ impl Quadratic {
             let mut nodes = self.triangles[t].map(|v| self.points[v as usize]);
             nodes[slot] = hit.point;
             if unfolded(&nodes) {
-                self.points[self.corners + e] = hit.point;
-                self.markers[self.corners + e] = VertexMarker::Boundary {
-                    loop_index: hit.loop_index,
+                let node = self.corners + e;
+                self.points[node] = hit.point;
+                // The loop as the mesh numbers it (a mesh read from a file numbers its loops
+                // by its own topology), the piece and place on it as the region has them.
+                self.markers[node] = VertexMarker::Boundary {
+                    loop_index: self.markers[node].loop_index().unwrap_or(hit.loop_index),
                     piece: hit.piece,
                     loop_param: hit.loop_param,
                 };
