@@ -6,8 +6,9 @@
     ((500, 2), 3)
 
 A region is a built-in name (``cvtmesh.regions()``), the path of a region file (JSON, Triangle
-``.poly``, GeoJSON, plain loop list), a :class:`Region`, or an ``(k, 2)`` array of the outer
-loop with ``holes=[(m, 2), ...]``. The mesh's arrays are numpy arrays: ``points`` (N, 2)
+``.poly``, GeoJSON, plain loop list) or of a mesh (``.msh``, ``.node``, ``.obj``: the region its
+triangles cover), a :class:`Region`, or an ``(k, 2)`` array of the outer loop with
+``holes=[(m, 2), ...]``. The mesh's arrays are numpy arrays: ``points`` (N, 2)
 float64, ``triangles`` (M, 3) int64, 0-based and counter-clockwise.
 """
 
@@ -89,8 +90,9 @@ def mesh(
     Parameters
     ----------
     region
-        A built-in name, a region file's path, a :class:`Region`, or the outer loop as a
-        ``(k, 2)`` array (then ``holes`` lists ``(m, 2)`` arrays). A region of several parts
+        A built-in name, a region file's path, a mesh file's path (the region its triangles
+        cover, to mesh again), a :class:`Region`, or the outer loop as a ``(k, 2)`` array
+        (then ``holes`` lists ``(m, 2)`` arrays). A region of several parts
         (a GeoJSON MultiPolygon, a loop list of disjoint loops) has every part meshed, with
         the vertices shared by area.
     n
