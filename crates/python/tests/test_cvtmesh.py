@@ -653,6 +653,14 @@ def test_quadratic_triangles_put_boundary_nodes_on_the_exact_boundary(tmp_path):
         m.write(tmp_path / f"c.{ext}", order=2)
         back = meshio.read(tmp_path / f"c.{ext}")
         assert six_node_set(back.points[:, :2], back.cells_dict["triangle6"]) == six_node_set(pts, tri)
+    # And as a meshio object: six-node triangles, three-node boundary lines whose middle node
+    # is on the circle, the same cell sets.
+    mm = m.to_meshio(order=2)
+    assert six_node_set(mm.points[:, :2], mm.cells_dict["triangle6"]) == six_node_set(pts, tri)
+    line3 = mm.cells_dict["line3"]
+    assert len(line3) == len(m.boundary_edges)
+    assert np.allclose(np.hypot(*mm.points[line3[:, 2], :2].T), 1.0, rtol=0, atol=1e-12)
+    assert set(mm.cell_sets) == set(m.to_meshio().cell_sets)
     with pytest.raises(MeshError, match="six-node"):
         m.write(tmp_path / "c.obj", order=2)
     with pytest.raises(MeshError, match="order must be 1 or 2"):

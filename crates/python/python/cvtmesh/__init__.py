@@ -234,10 +234,12 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
     return _size_conformity(pts, tri, r, size)
 
 
-def _to_meshio(self: Mesh) -> Any:
+def _to_meshio(self: Mesh, order: int = 1) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
     edges, and one cell set per boundary loop (``boundary_0`` is the outer loop), which
-    finite-element libraries reading meshio see as named boundaries."""
+    finite-element libraries reading meshio see as named boundaries. ``order=2`` gives
+    ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
+    the region's exact boundary)."""
     import meshio
 
     loops = np.asarray(self.boundary_loop)
@@ -246,11 +248,24 @@ def _to_meshio(self: Mesh) -> Any:
         for k in np.unique(loops)
     }
     cell_sets["domain"] = [np.arange(len(self.triangles)), np.empty(0, dtype=np.int64)]
-    return meshio.Mesh(
-        np.array(self.points),
-        [("triangle", np.array(self.triangles)), ("line", np.array(self.boundary_edges))],
-        cell_sets=cell_sets,
-    )
+    if order == 1:
+        points, cells = np.array(self.points), [
+            ("triangle", np.array(self.triangles)),
+            ("line", np.array(self.boundary_edges)),
+        ]
+    elif order == 2:
+        points, tri6 = self.quadratic()
+        # Each edge's node, by the edge's sorted ends: the triangles hold every edge.
+        ends = np.concatenate([tri6[:, [0, 1]], tri6[:, [1, 2]], tri6[:, [2, 0]]])
+        nodes = np.concatenate([tri6[:, 3], tri6[:, 4], tri6[:, 5]])
+        node_of = dict(zip(map(tuple, np.sort(ends, axis=1).tolist()), nodes.tolist()))
+        edges = np.array(self.boundary_edges)
+        mids = [node_of[tuple(e)] for e in np.sort(edges, axis=1).tolist()]
+        line3 = np.column_stack([edges, np.array(mids, dtype=np.int64).reshape(-1)])
+        points, cells = np.array(points), [("triangle6", np.array(tri6)), ("line3", line3)]
+    else:
+        raise MeshError(f"order must be 1 or 2, got {order}")
+    return meshio.Mesh(points, cells, cell_sets=cell_sets)
 
 
 Mesh.to_meshio = _to_meshio  # type: ignore[attr-defined]
