@@ -61,15 +61,8 @@ pub fn region_of(spec: Option<&str>, path: &Path, mesh: &Mesh) -> Result<Region>
     if let Some(spec) = spec {
         return region(spec, None);
     }
-    let name = path
-        .file_stem()
-        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
-    Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| {
-        anyhow!(
-            "{}: no --region given, and the region its triangles cover is not valid: {e}",
-            path.display()
-        )
-    })
+    cvtmesh::region_of_mesh(mesh, path)
+        .map_err(|e| anyhow!("no --region given, and the mesh is no region: {e}"))
 }
 
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.

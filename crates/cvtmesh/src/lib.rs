@@ -88,6 +88,31 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
     Method::default().run(region, &MeshRequest::points(n))
 }
 
+/// The region the triangles of `mesh`, read from `path`, cover ([`Region::from_triangles`]),
+/// named after the file; its errors name the file.
+///
+/// ```
+/// use cvtmesh::{io::markers_from_topology, DVec2, Mesh};
+/// let points = vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+/// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+/// let mesh = Mesh { markers: markers_from_topology(&points, &triangles), points, triangles };
+/// let r = cvtmesh::region_of_mesh(&mesh, std::path::Path::new("runs/square.msh"))?;
+/// assert_eq!((r.name(), r.area()), ("square", 1.0));
+/// # Ok::<(), cvtmesh::GeometryError>(())
+/// ```
+pub fn region_of_mesh(mesh: &Mesh, path: &std::path::Path) -> Result<Region, GeometryError> {
+    let name = path
+        .file_stem()
+        .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
+    Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| match e {
+        GeometryError::Invalid { message, .. } => GeometryError::Invalid {
+            region: path.display().to_string(),
+            message: format!("the region its triangles cover: {message}"),
+        },
+        e => e,
+    })
+}
+
 /// A region by what a user types: the path of a region file in any format
 /// [`Region::from_file`] reads; the path of a mesh ([`io::read_mesh`]: Triangle `.node`/`.ele`,
 /// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
@@ -119,16 +144,7 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
             path: spec.to_string(),
             message: e.to_string(),
         })?;
-        let name = path
-            .file_stem()
-            .map_or_else(|| "region".into(), |s| s.to_string_lossy());
-        return Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| match e {
-            GeometryError::Invalid { message, .. } => GeometryError::Invalid {
-                region: spec.to_string(),
-                message: format!("the region its triangles cover: {message}"),
-            },
-            e => e,
-        });
+        return region_of_mesh(&mesh, path);
     }
     if path.exists() || spec.contains('.') || spec.contains('/') {
         Region::from_file(path)
