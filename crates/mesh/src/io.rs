@@ -112,6 +112,7 @@ pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu"];
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn write_quadratic(q: &Quadratic, path: &Path) -> Result<(), MeshError> {
+    validate_for_writing(q.linear(), path)?;
     let nodes = Nodes::quadratic(q);
     match extension(path).as_deref() {
         Some("node") | Some("ele") => triangle::write_nodes(&nodes, &path.with_extension("")),
