@@ -1,12 +1,13 @@
 //! Score a mesh with the paper's 12 quality measures.
 //!
 //! ```text
-//! cargo run --release -p cvtmesh --example measure_mesh -- MESH REGION
+//! cargo run --release -p cvtmesh --example measure_mesh -- MESH [REGION]
 //! ```
 //!
 //! reads MESH (Triangle `.node` with its `.ele`, Gmsh `.msh` or `.obj`) and REGION (a region
-//! file, or a built-in name such as `lake`; see `cvtmesh regions`). Without arguments it
-//! meshes the built-in `square_hole` with 500 vertices and scores that.
+//! file, or a built-in name such as `lake`; see `cvtmesh regions`; without it, the region the
+//! mesh's triangles cover). Without arguments it meshes the built-in `square_hole` with 500
+//! vertices and scores that.
 use cvtmesh::{Measures, Mesh, Region};
 use std::path::Path;
 
@@ -17,12 +18,18 @@ pub fn inputs(args: &[String]) -> Result<(Mesh, Region), Box<dyn std::error::Err
             cvtmesh::io::read_mesh(Path::new(mesh))?,
             cvtmesh::load_region(region_spec)?,
         )),
+        [mesh] => {
+            let path = Path::new(mesh);
+            let mesh = cvtmesh::io::read_mesh(path)?;
+            let region = cvtmesh::region_of_mesh(&mesh, path)?;
+            Ok((mesh, region))
+        }
         [] => {
             let region = Region::builtin("square_hole")?;
             let mesh = cvtmesh::mesh(&region, 500)?.mesh;
             Ok((mesh, region))
         }
-        _ => Err("usage: measure_mesh [MESH REGION]".into()),
+        _ => Err("usage: measure_mesh [MESH [REGION]]".into()),
     }
 }
 

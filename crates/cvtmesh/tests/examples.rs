@@ -16,6 +16,10 @@ mod graded_mesh;
 #[path = "../examples/adaptive_remesh.rs"]
 mod adaptive_remesh;
 
+#[allow(dead_code)] // its `main`
+#[path = "../examples/quadratic_mesh.rs"]
+mod quadratic_mesh;
+
 use cvtmesh::DVec2;
 use mesh_polygon_with_hole::{HOLE, OUTER, POINTS};
 use std::path::PathBuf;
@@ -93,6 +97,10 @@ fn measures_of_a_written_mesh_match_the_mesh_in_memory() {
     let args = [out, region_file].map(|p| p.to_str().unwrap().to_string());
     let (mesh, read_region) = measure_mesh::inputs(&args).unwrap();
     assert!((read_region.area() - region.area()).abs() < 1e-12);
+    // Without the region file, the region the mesh covers: the same polygon, the same measures.
+    let (_, own) = measure_mesh::inputs(&args[..1]).unwrap();
+    assert!((own.area() - region.area()).abs() < 1e-12);
+    let own_measures = cvtmesh::measures(&mesh, &own).unwrap();
     let from_file = cvtmesh::measures(&mesh, &read_region).unwrap();
     let in_memory = cvtmesh::measures(&result.mesh, &region).unwrap();
     assert_eq!(
@@ -107,6 +115,15 @@ fn measures_of_a_written_mesh_match_the_mesh_in_memory() {
     );
     for ((name, a), (_, b)) in table.iter().zip(measure_mesh::table(&in_memory)) {
         assert!(a.is_finite() && *a >= 0.0, "{name} = {a}");
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1e-12),
+            "{name}: {a} vs {b}"
+        );
+    }
+    for ((name, a), (_, b)) in measure_mesh::table(&own_measures)
+        .iter()
+        .zip(measure_mesh::table(&from_file))
+    {
         assert!(
             (a - b).abs() <= 1e-9 * b.abs().max(1e-12),
             "{name}: {a} vs {b}"
@@ -128,7 +145,10 @@ fn measure_mesh_without_arguments_scores_a_fresh_mesh() {
     assert_eq!(mesh.num_vertices(), 500);
     let m = cvtmesh::measures(&mesh, &region).unwrap();
     assert_eq!(measure_mesh::table(&m).len(), 12);
-    let e = measure_mesh::inputs(&["only-one.msh".to_string()]).unwrap_err();
+    let e = measure_mesh::inputs(&["missing.msh".to_string()]).unwrap_err();
+    assert!(e.to_string().contains("missing.msh"), "{e}");
+    let three = ["a", "b", "c"].map(String::from);
+    let e = measure_mesh::inputs(&three).unwrap_err();
     assert!(e.to_string().contains("usage"), "{e}");
     let e = measure_mesh::inputs(&["m.msh".to_string(), "nonesuch".to_string()]).unwrap_err();
     assert!(
@@ -206,4 +226,27 @@ fn adaptive_remeshing_from_sizes_on_the_last_mesh_lowers_the_interpolation_error
         g[g.len() / 2]
     };
     assert!(median_gap(&meshes[2]) < 0.5 * median_gap(&meshes[0]));
+}
+
+#[test]
+fn quadratic_triangles_cover_the_circle_far_better_than_chords() {
+    let d = Scratch::new("quadratic");
+    let out = d.0.join("circle_p2.msh");
+    let region = cvtmesh::Region::builtin("circle").unwrap();
+    let (q, linear, quadratic) = quadratic_mesh::run(&region, 400, &out).unwrap();
+    let exact = region.area();
+    // The chords cut across the circle: the three-node mesh misses area of order h² times the
+    // boundary's length (5.6e-3 here); the six-node mesh's parabolas a hundredth of that or
+    // less (7e-7: the error falls from O(h²) to O(h⁴)).
+    assert!(exact - linear > 1e-3, "{}", exact - linear);
+    assert!(
+        (exact - quadratic).abs() < (exact - linear) * 1e-2,
+        "{} against {}",
+        exact - quadratic,
+        exact - linear
+    );
+    // Read back by its corners, the file is the three-node mesh.
+    let back = cvtmesh::io::read_mesh(&out).unwrap();
+    assert_eq!(back.num_vertices(), q.num_corners());
+    assert_eq!(back.num_triangles(), q.triangles.len());
 }
