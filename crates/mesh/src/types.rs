@@ -174,6 +174,56 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// The piece of `region` each edge of [`Mesh::boundary_edges`] lies on, in the same order:
+    /// the piece nearest the edge's midpoint when both ends lie on it, else the piece whose
+    /// distance to the farther end is least (a curve the mesher followed through a chain's
+    /// vertices, say). Pieces run from corner to corner and `cvtmesh
+    /// regions` numbers them, so a finite-element code can set a boundary condition per wall.
+    /// (The vertices' markers are not asked: a mesher may have split pieces at corners of its
+    /// own, and a mesh read from a foreign file has none.)
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{io::markers_from_topology, Mesh};
+    /// use geometry::{DVec2, LoopRole, Region};
+    /// // A 2 × 1 channel whose four sides are its four pieces (every vertex a corner).
+    /// let corners = vec![DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 1.0), DVec2::Y];
+    /// let channel = Region::from_loops("channel", vec![(LoopRole::Outer, corners.clone())])?;
+    /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+    /// let mesh = Mesh { markers: markers_from_topology(&corners, &triangles), points: corners, triangles };
+    /// let pieces = mesh.boundary_pieces(&channel);
+    /// for (e, piece) in mesh.boundary_edges().iter().zip(&pieces) {
+    ///     let mid = 0.5 * (mesh.points[e.a as usize] + mesh.points[e.b as usize]);
+    ///     assert_eq!(channel.project(mid).piece, *piece);
+    /// }
+    /// assert_eq!(pieces.len(), 4);
+    /// # Ok::<(), geometry::GeometryError>(())
+    /// ```
+    pub fn boundary_pieces(&self, region: &geometry::Region) -> Vec<PieceId> {
+        let (lo, hi) = region.bbox();
+        let tol = 1e-9 * (hi - lo).length();
+        let pieces = region.pieces();
+        // How far the farther end of a-b lies from piece p.
+        let off = |p: PieceId, a: DVec2, b: DVec2| {
+            let d = |x: DVec2| pieces[p].closest_point(x).0.distance(x);
+            d(a).max(d(b))
+        };
+        self.boundary_edges()
+            .iter()
+            .map(|e| {
+                let (a, b) = (self.points[e.a as usize], self.points[e.b as usize]);
+                let guess = region.project(0.5 * (a + b)).piece;
+                if off(guess, a, b) <= tol {
+                    return guess;
+                }
+                (0..pieces.len())
+                    .min_by(|&p, &q| off(p, a, b).total_cmp(&off(q, a, b)))
+                    .unwrap_or(guess)
+            })
+            .collect()
+    }
+}
+
 /// The edges of exactly one triangle, each oriented as in its triangle, in triangle order.
 /// An edge is matched by its unordered vertex pair, so the triangles' orientation does not
 /// matter. Per-vertex lists of outgoing edges (a few entries each) make this linear, where

@@ -527,6 +527,22 @@ impl PyMesh {
         Ok((points, triangles))
     }
 
+    /// The piece (wall) of the region each row of `boundary_edges` lies on, as
+    /// `Region.pieces` numbers them: the region the mesh was made for, or `region` (needed for
+    /// a mesh read from a file). Boundary conditions per wall select edges by it.
+    #[pyo3(signature = (region = None))]
+    fn boundary_pieces<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let region = self.region_or(region, "boundary_pieces")?;
+        let pieces = py.detach(|| self.mesh.boundary_pieces(&region));
+        let a = PyArray1::from_vec(py, pieces.into_iter().map(|p| p as i64).collect());
+        read_only(&a)?;
+        Ok(a)
+    }
+
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the
     /// mesh was made for, or `region` if given.
     #[pyo3(signature = (region = None))]

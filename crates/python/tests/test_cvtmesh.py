@@ -352,7 +352,15 @@ def test_region_api():
     assert len(lake.with_corner_angle(60).corners) <= len(lake.corners)
 
 
-def test_to_meshio_names_each_boundary_loop():
+def _written(m):
+    import tempfile
+
+    path = Path(tempfile.mkdtemp()) / "m.msh"
+    m.write(path)
+    return path
+
+
+def test_to_meshio_names_each_boundary_loop_and_piece():
     meshio = pytest.importorskip("meshio")
     m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=200)
     mm = m.to_meshio()
@@ -362,6 +370,22 @@ def test_to_meshio_names_each_boundary_loop():
     assert set(mm.cell_sets) >= {"boundary_0", "boundary_1", "domain"}
     hole_edges = mm.cell_sets["boundary_1"][1]
     assert (m.boundary_loop[hole_edges] == 1).all()
+    # And each piece (wall): the square's four sides and the hole's four, each edge on its own.
+    pieces = m.boundary_pieces()
+    assert pieces.shape == (len(m.boundary_edges),)
+    assert set(np.unique(pieces)) == set(range(8))
+    sides = {p["piece"]: p for p in Region.from_loops(SQUARE, [HOLE]).pieces}
+    for j in range(8):
+        edges = mm.cell_sets[f"piece_{j}"][1]
+        assert (pieces[edges] == j).all() and len(edges) > 0
+        a, b = np.array(sides[j]["start"]), np.array(sides[j]["end"])
+        ends = m.points[m.boundary_edges[edges].ravel()]
+        # Every end on the segment a-b.
+        t = np.clip(((ends - a) @ (b - a)) / ((b - a) @ (b - a)), 0.0, 1.0)
+        assert np.abs(a + t[:, None] * (b - a) - ends).max() < 1e-9
+    # A mesh read from a file needs the region for its pieces.
+    with pytest.raises(MeshError, match="pass the region"):
+        cvtmesh.Mesh.read(_written(m)).boundary_pieces()
 
 
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():

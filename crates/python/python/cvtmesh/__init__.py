@@ -236,7 +236,8 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
 
 def _to_meshio(self: Mesh, order: int = 1) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
-    edges, and one cell set per boundary loop (``boundary_0`` is the outer loop), which
+    edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
+    made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``), which
     finite-element libraries reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
     the region's exact boundary)."""
@@ -248,6 +249,12 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
         for k in np.unique(loops)
     }
     cell_sets["domain"] = [np.arange(len(self.triangles)), np.empty(0, dtype=np.int64)]
+    try:
+        pieces = np.asarray(self.boundary_pieces())
+    except MeshError:  # read from a file: its pieces need the region
+        pieces = np.empty(0, dtype=np.int64)
+    for j in np.unique(pieces):
+        cell_sets[f"piece_{j}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(pieces == j)]
     if order == 1:
         points, cells = np.array(self.points), [
             ("triangle", np.array(self.triangles)),
