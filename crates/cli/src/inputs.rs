@@ -214,7 +214,7 @@ pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
 pub fn write(mesh: &Mesh, region: &Region, path: &Path, title: &str) -> Result<()> {
     match output_kind(path)? {
         "svg" | "png" => draw(Some(mesh), region, path, title, None, PICTURE_PX),
-        _ => written(cvtmesh::io::write_mesh(mesh, path), path),
+        _ => written(cvtmesh::io::write_mesh_on(mesh, region, path), path),
     }
 }
 

@@ -1693,3 +1693,81 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
         "--order",
     );
 }
+
+#[test]
+fn gmsh_files_name_each_wall_as_a_physical_curve() {
+    let dir = scratch("pieces_msh");
+    let channel = dir.join("channel.txt");
+    std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
+    for order in ["1", "2"] {
+        let out = dir.join(format!("c{order}.msh"));
+        let o = quiet_mesh(s(&channel), "800", &["--order", order], &out);
+        assert!(o.status.success(), "{}", text(&o));
+        let t = std::fs::read_to_string(&out).unwrap();
+        // The loop as before, and each of the four sides: "piece<j>" with tag 101 + j.
+        for (tag, name) in [
+            (1, "loop0"),
+            (101, "piece0"),
+            (102, "piece1"),
+            (103, "piece2"),
+            (104, "piece3"),
+        ] {
+            assert!(
+                t.contains(&format!("1 {tag} \"{name}\"")),
+                "{name} in order {order}"
+            );
+        }
+        // Each curve entity is in its loop's and its piece's physical curves.
+        let entities: Vec<&str> = t
+            .split("$Entities\n")
+            .nth(1)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .take(4)
+            .collect();
+        for (j, e) in entities.iter().enumerate() {
+            let f: Vec<&str> = e.split(' ').collect();
+            assert_eq!(&f[7..10], ["2", "1", &(101 + j).to_string()], "{e}");
+        }
+        // The line elements of each piece's entity: the walls (length 4) hold about four
+        // times the edges of the ends (length 1).
+        let mut lines = t.split("$Elements\n").nth(1).unwrap().lines();
+        let nblocks: usize = lines
+            .next()
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        let mut per_entity = Vec::new();
+        for _ in 0..nblocks {
+            let h: Vec<usize> = lines
+                .next()
+                .unwrap()
+                .split(' ')
+                .map(|x| x.parse().unwrap())
+                .collect();
+            if h[0] == 1 {
+                per_entity.push(h[3]);
+            }
+            for _ in 0..h[3] {
+                lines.next();
+            }
+        }
+        assert_eq!(per_entity.len(), 4, "{per_entity:?}");
+        let (ends, walls) = (per_entity[1] + per_entity[3], per_entity[0] + per_entity[2]);
+        assert!(
+            (3.0..5.0).contains(&(walls as f64 / ends as f64)),
+            "{per_entity:?}"
+        );
+        // And it reads back as any .msh: the loop's markers, the same mesh measured.
+        let m = cvtmesh(&["measure", s(&out), "--region", s(&channel), "--csv"]);
+        assert!(
+            m.status.success() && !text(&m).contains("warning"),
+            "{}",
+            text(&m)
+        );
+    }
+}

@@ -29,7 +29,9 @@ mod obj;
 mod triangle;
 mod vtu;
 
-pub use gmsh::{gmsh_from_str, gmsh_sizes_from_str, read_gmsh, read_gmsh_sizes, write_gmsh};
+pub use gmsh::{
+    gmsh_from_str, gmsh_sizes_from_str, read_gmsh, read_gmsh_sizes, write_gmsh, write_gmsh_on,
+};
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{
     read_triangle, read_triangle_sizes, triangle_from_str, triangle_sizes_from_str, write_triangle,
@@ -82,11 +84,22 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     }
 }
 
+/// [`write_mesh`] for a mesh of `region`: a `.msh` file also gets a physical curve per
+/// boundary piece ([`write_gmsh_on`]), so a solver can set a condition per wall; the other
+/// formats are written as [`write_mesh`] writes them.
+pub fn write_mesh_on(mesh: &Mesh, region: &Region, path: &Path) -> Result<(), MeshError> {
+    match extension(path).as_deref() {
+        Some("msh") => write_gmsh_on(mesh, region, path),
+        _ => write_mesh(mesh, path),
+    }
+}
+
 /// Extensions [`write_quadratic`] writes.
 pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu"];
 
 /// Write a mesh of six-node triangles, choosing the format by extension as [`write_mesh`]
-/// does: `.msh` (Gmsh element types 9 and 8, the three-node boundary lines), `.vtu` (VTK's
+/// does: `.msh` (Gmsh element types 9 and 8, the three-node boundary lines; with a physical
+/// curve per piece, as [`write_gmsh_on`] writes them, when `q` was placed on a region), `.vtu` (VTK's
 /// quadratic triangle, type 22) or `.node`/`.ele` (Triangle's `-o2` layout: corners, then the
 /// node opposite each corner; the `.poly` keeps two-node segments). Other formats have no
 /// six-node triangle and are refused.
@@ -138,15 +151,20 @@ pub(crate) struct Nodes<'a> {
     pub triangles: Vec<&'a [u32]>,
     /// Per loop, its boundary lines in boundary order.
     pub lines: Vec<Vec<Vec<u32>>>,
+    /// Per loop, the piece of the region each line lies on (empty lists when no region was
+    /// given): Gmsh's files then get a physical curve per piece beside the one per loop.
+    pub pieces: Vec<Vec<PieceId>>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
 
 impl<'a> Nodes<'a> {
-    /// The nodes of a mesh of three-node triangles.
-    pub fn linear(mesh: &'a Mesh) -> Nodes<'a> {
-        let (groups, _) = edges_by_loop(mesh);
+    /// The nodes of a mesh of three-node triangles, with each boundary line's piece of
+    /// `region` if given.
+    pub fn linear(mesh: &'a Mesh, region: Option<&Region>) -> Nodes<'a> {
+        let (groups, pieces, _) = edges_and_pieces_by_loop(mesh, region);
         Nodes {
+            pieces,
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -160,8 +178,9 @@ impl<'a> Nodes<'a> {
 
     /// The nodes of a mesh of six-node triangles.
     pub fn quadratic(q: &'a Quadratic) -> Nodes<'a> {
-        let (groups, _) = edges_by_loop(q.linear());
+        let (groups, pieces, _) = edges_and_pieces_by_loop(q.linear(), q.region());
         Nodes {
+            pieces,
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -370,9 +389,14 @@ pub(crate) fn keep_corners(n: usize, triangles: &mut [[u32; 3]]) -> Vec<usize> {
 }
 
 /// Boundary edges grouped by loop, each group ordered along the loop parameter of its start
-/// vertex (so that files list edges in boundary order), and the number of loops.
-pub(crate) fn edges_by_loop(mesh: &Mesh) -> (Vec<Vec<(u32, u32)>>, usize) {
+/// vertex (so that files list edges in boundary order); each edge's piece of `region` in a
+/// second list of the same shape (empty lists without a region); and the number of loops.
+pub(crate) fn edges_and_pieces_by_loop(
+    mesh: &Mesh,
+    region: Option<&Region>,
+) -> (Vec<Vec<(u32, u32)>>, Vec<Vec<PieceId>>, usize) {
     let edges = mesh.boundary_edges();
+    let pieces = region.map(|r| mesh.pieces_of(&edges, r));
     let nloops = mesh
         .markers
         .iter()
@@ -382,10 +406,14 @@ pub(crate) fn edges_by_loop(mesh: &Mesh) -> (Vec<Vec<(u32, u32)>>, usize) {
         .max()
         .unwrap_or(0);
     let mut groups = vec![Vec::new(); nloops];
-    for e in edges {
+    let mut piece_groups = vec![Vec::new(); nloops];
+    for (k, e) in edges.iter().enumerate() {
         groups[e.loop_index].push((e.a, e.b));
+        if let Some(p) = &pieces {
+            piece_groups[e.loop_index].push(p[k]);
+        }
     }
-    (groups, nloops)
+    (groups, piece_groups, nloops)
 }
 
 /// The mesh-file error for `path`.

@@ -22,6 +22,8 @@ pub struct Quadratic {
     corners: usize,
     /// The linear mesh: its boundary edges and triangles' qualities go into the files too.
     linear: Mesh,
+    /// The region whose boundary the boundary nodes were placed on, if one was given.
+    region: Option<Region>,
 }
 
 impl Quadratic {
@@ -107,6 +109,7 @@ impl Quadratic {
             edges,
             corners,
             linear: mesh.clone(),
+            region: region.cloned(),
         };
         if let Some(region) = region {
             q.onto_boundary(mesh, region, &on_boundary);
@@ -171,6 +174,11 @@ impl Quadratic {
     /// The three-node mesh this one was made from: its vertices are the corner nodes.
     pub fn linear(&self) -> &Mesh {
         &self.linear
+    }
+
+    /// The region the boundary nodes were placed on, if one was given.
+    pub fn region(&self) -> Option<&Region> {
+        self.region.as_ref()
     }
 
     /// The number of corner nodes, which are the linear mesh's vertices and come first.

@@ -200,6 +200,16 @@ impl Mesh {
     /// # Ok::<(), geometry::GeometryError>(())
     /// ```
     pub fn boundary_pieces(&self, region: &geometry::Region) -> Vec<PieceId> {
+        self.pieces_of(&self.boundary_edges(), region)
+    }
+
+    /// [`Mesh::boundary_pieces`] of the boundary edges `edges` (as [`Mesh::boundary_edges`]
+    /// lists them).
+    pub(crate) fn pieces_of(
+        &self,
+        edges: &[BoundaryEdge],
+        region: &geometry::Region,
+    ) -> Vec<PieceId> {
         let (lo, hi) = region.bbox();
         let tol = 1e-9 * (hi - lo).length();
         let pieces = region.pieces();
@@ -208,7 +218,7 @@ impl Mesh {
             let d = |x: DVec2| pieces[p].closest_point(x).0.distance(x);
             d(a).max(d(b))
         };
-        self.boundary_edges()
+        edges
             .iter()
             .map(|e| {
                 let (a, b) = (self.points[e.a as usize], self.points[e.b as usize]);

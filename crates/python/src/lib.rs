@@ -502,7 +502,11 @@ impl PyMesh {
                     render::render_svg(&[panel], &layout, &path).map_err(err)
                 }
             }
-            _ => cvtmesh::io::write_mesh(&self.mesh, &path).map_err(err),
+            _ => match &self.region {
+                Some(r) => cvtmesh::io::write_mesh_on(&self.mesh, r, &path),
+                None => cvtmesh::io::write_mesh(&self.mesh, &path),
+            }
+            .map_err(err),
         })
     }
 

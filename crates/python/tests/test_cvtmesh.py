@@ -383,6 +383,12 @@ def test_to_meshio_names_each_boundary_loop_and_piece():
         # Every end on the segment a-b.
         t = np.clip(((ends - a) @ (b - a)) / ((b - a) @ (b - a)), 0.0, 1.0)
         assert np.abs(a + t[:, None] * (b - a) - ends).max() < 1e-9
+    # The .msh file names the same walls as physical curves "piece0", ... for any Gmsh reader.
+    back = meshio.read(_written(m))
+    line_block = [k for k, c in enumerate(back.cells) if c.type == "line"]
+    for j in range(8):
+        in_file = sum(len(back.cell_sets[f"piece{j}"][k]) for k in line_block)
+        assert in_file == len(mm.cell_sets[f"piece_{j}"][1])
     # A mesh read from a file needs the region for its pieces.
     with pytest.raises(MeshError, match="pass the region"):
         cvtmesh.Mesh.read(_written(m)).boundary_pieces()

@@ -16,13 +16,53 @@ use std::path::Path;
 /// elements in boundary order; one surface entity (tag 1, physical surface `"domain"`, tag 100)
 /// holding the interior vertices and all triangles (type 2, counter-clockwise). Node tags are
 /// vertex index + 1, so reading the file back gives the same vertex order.
+/// [`write_gmsh_on`] adds a physical curve per boundary piece.
 pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, path)?;
-    write_nodes(&Nodes::linear(mesh), path)
+    write_nodes(&Nodes::linear(mesh, None), path)
 }
 
-/// Write `nodes` as Gmsh 4.1 ASCII, laid out as [`write_gmsh`] says; six-node triangles are
-/// element type 9 and their boundary lines three-node lines (type 8).
+/// Write `mesh`, a mesh of `region`, as [`write_gmsh`] does, but with one curve entity per
+/// boundary piece (a wall: pieces run from corner to corner, numbered as `cvtmesh regions`
+/// lists them), each in two physical curves: its loop's `"loop<i>"` (tag i + 1, as before) and
+/// its own `"piece<j>"` (tag j + 1 past the surface's), so a solver reading the file can set a
+/// boundary condition per wall. Readers that take an entity's first physical curve, as
+/// [`read_gmsh`] does, see the loops.
+///
+/// ```
+/// use cvtmesh_mesh::io;
+/// use geometry::{DVec2, LoopRole, Region};
+/// let corners = vec![DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 1.0), DVec2::Y];
+/// let channel = Region::from_loops("channel", vec![(LoopRole::Outer, corners.clone())])?;
+/// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+/// let mesh = cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&corners, &triangles), points: corners, triangles };
+/// let path = std::env::temp_dir().join(format!("cvtmesh-doc-pieces-{}.msh", std::process::id()));
+/// io::write_gmsh_on(&mesh, &channel, &path)?;
+/// let text = std::fs::read_to_string(&path)?;
+/// assert!(text.contains("1 1 \"loop0\"") && text.contains("1 104 \"piece3\""));
+/// // Read back as any .msh is: the same mesh, every vertex on loop 0.
+/// let back = io::read_mesh(&path)?;
+/// assert_eq!((&back.points, &back.triangles), (&mesh.points, &mesh.triangles));
+/// assert!(back.markers.iter().all(|m| m.loop_index() == Some(0)));
+/// std::fs::remove_file(&path)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_gmsh_on(mesh: &Mesh, region: &geometry::Region, path: &Path) -> Result<(), MeshError> {
+    validate_for_writing(mesh, path)?;
+    write_nodes(&Nodes::linear(mesh, Some(region)), path)
+}
+
+/// A curve entity of the file: its loop, its piece (when the file has a curve per piece), and
+/// its lines (indices into the loop's lines).
+struct Curve {
+    loop_index: usize,
+    piece: Option<usize>,
+    lines: Vec<usize>,
+}
+
+/// Write `nodes` as Gmsh 4.1 ASCII, laid out as [`write_gmsh`] says (with a curve per piece
+/// where `nodes` knows the pieces); six-node triangles are element type 9 and their boundary
+/// lines three-node lines (type 8).
 pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     let nloops = nodes.lines.len();
     let (line_type, triangle_type) = if nodes.per_triangle() == 6 {
@@ -30,13 +70,59 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     } else {
         (1, 2)
     };
-    // Physical tags 1..=nloops are the loops; keep the surface tag clear of them.
+    // Physical tags 1..=nloops are the loops; keep the surface tag clear of them, and the
+    // pieces' tags past it.
     let surface_phys = 100.max(nloops + 1);
     let n = nodes.points.len();
-    // Nodes per entity: curve blocks 0..nloops, then the surface block.
-    let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); nloops + 1];
-    for (v, m) in nodes.markers.iter().enumerate() {
-        blocks[m.loop_index().unwrap_or(nloops).min(nloops)].push(v);
+    let by_piece = nodes
+        .pieces
+        .iter()
+        .zip(&nodes.lines)
+        .all(|(p, l)| p.len() == l.len())
+        && nodes.pieces.iter().any(|p| !p.is_empty());
+    let mut curves: Vec<Curve> = Vec::new();
+    for (l, lines) in nodes.lines.iter().enumerate() {
+        if !by_piece {
+            curves.push(Curve {
+                loop_index: l,
+                piece: None,
+                lines: (0..lines.len()).collect(),
+            });
+            continue;
+        }
+        let first = curves.len();
+        for (k, &j) in nodes.pieces[l].iter().enumerate() {
+            match curves[first..].iter_mut().find(|c| c.piece == Some(j)) {
+                Some(c) => c.lines.push(k),
+                None => curves.push(Curve {
+                    loop_index: l,
+                    piece: Some(j),
+                    lines: vec![k],
+                }),
+            }
+        }
+    }
+    // Nodes per entity: the curves', then the surface block (index curves.len()).
+    let surface = curves.len();
+    let mut block_of = vec![surface; n];
+    if by_piece {
+        // A boundary node goes with the curve of a line it starts (or whose middle it is).
+        for (c, curve) in curves.iter().enumerate() {
+            for &k in &curve.lines {
+                let line = &nodes.lines[curve.loop_index][k];
+                for &v in line.iter().take(1).chain(line.get(2)) {
+                    block_of[v as usize] = c;
+                }
+            }
+        }
+    } else {
+        for (v, m) in nodes.markers.iter().enumerate() {
+            block_of[v] = m.loop_index().unwrap_or(surface).min(surface);
+        }
+    }
+    let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); surface + 1];
+    for (v, &b) in block_of.iter().enumerate() {
+        blocks[b].push(v);
     }
     let bbox = |vs: &mut dyn Iterator<Item = usize>| {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -50,50 +136,64 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             (lo, hi)
         }
     };
+    let mut pieces_named: Vec<usize> = curves.iter().filter_map(|c| c.piece).collect();
+    pieces_named.sort_unstable();
+    pieces_named.dedup();
+    let piece_phys = |j: usize| surface_phys + 1 + j;
     let produce: Producer = Box::new(move |w: &mut dyn Write| {
         writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
-        writeln!(w, "$PhysicalNames\n{}", nloops + 1)?;
+        writeln!(w, "$PhysicalNames\n{}", nloops + 1 + pieces_named.len())?;
         for l in 0..nloops {
             writeln!(w, "1 {} \"loop{l}\"", l + 1)?;
         }
+        for &j in &pieces_named {
+            writeln!(w, "1 {} \"piece{j}\"", piece_phys(j))?;
+        }
         writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
-        writeln!(w, "$Entities\n0 {nloops} 1 0")?;
-        for (l, lines) in nodes.lines.iter().enumerate() {
+        writeln!(w, "$Entities\n0 {} 1 0", curves.len())?;
+        for (c, curve) in curves.iter().enumerate() {
+            let lines = &nodes.lines[curve.loop_index];
             let (lo, hi) = bbox(
-                &mut blocks[l]
-                    .iter()
-                    .copied()
-                    .chain(lines.iter().flatten().map(|&v| v as usize)),
+                &mut blocks[c].iter().copied().chain(
+                    curve
+                        .lines
+                        .iter()
+                        .flat_map(|&k| lines[k].iter().map(|&v| v as usize)),
+                ),
             );
-            writeln!(
+            write!(
                 w,
-                "{} {} {} 0 {} {} 0 1 {} 0",
-                l + 1,
+                "{} {} {} 0 {} {} 0",
+                c + 1,
                 F(lo.x),
                 F(lo.y),
                 F(hi.x),
-                F(hi.y),
-                l + 1
+                F(hi.y)
             )?;
+            match curve.piece {
+                Some(j) => writeln!(w, " 2 {} {} 0", curve.loop_index + 1, piece_phys(j))?,
+                None => writeln!(w, " 1 {} 0", curve.loop_index + 1)?,
+            }
         }
         let (lo, hi) = bbox(&mut (0..n));
         write!(
             w,
-            "1 {} {} 0 {} {} 0 1 {surface_phys} {nloops}",
+            "1 {} {} 0 {} {} 0 1 {surface_phys} {}",
             F(lo.x),
             F(lo.y),
             F(hi.x),
-            F(hi.y)
+            F(hi.y),
+            curves.len()
         )?;
-        for l in 0..nloops {
-            write!(w, " {}", l + 1)?;
+        for c in 0..curves.len() {
+            write!(w, " {}", c + 1)?;
         }
         writeln!(w, "\n$EndEntities")?;
 
         let nonempty = blocks.iter().filter(|b| !b.is_empty()).count();
         writeln!(w, "$Nodes\n{nonempty} {n} {} {n}", n.min(1))?;
         for (b, vs) in blocks.iter().enumerate().filter(|(_, vs)| !vs.is_empty()) {
-            let (dim, tag) = if b < nloops { (1, b + 1) } else { (2, 1) };
+            let (dim, tag) = if b < surface { (1, b + 1) } else { (2, 1) };
             writeln!(w, "{dim} {tag} 0 {}", vs.len())?;
             for v in vs {
                 writeln!(w, "{}", v + 1)?;
@@ -106,7 +206,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
 
         let nlines: usize = nodes.lines.iter().map(Vec::len).sum();
         let total = nlines + nodes.triangles.len();
-        let nblocks = nodes.lines.iter().filter(|g| !g.is_empty()).count()
+        let nblocks = curves.iter().filter(|c| !c.lines.is_empty()).count()
             + usize::from(!nodes.triangles.is_empty());
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
         let mut tag = 0;
@@ -118,15 +218,14 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             }
             writeln!(w)
         };
-        for (l, lines) in nodes
-            .lines
+        for (c, curve) in curves
             .iter()
             .enumerate()
-            .filter(|(_, g)| !g.is_empty())
+            .filter(|(_, c)| !c.lines.is_empty())
         {
-            writeln!(w, "1 {} {line_type} {}", l + 1, lines.len())?;
-            for line in lines {
-                element(w, line)?;
+            writeln!(w, "1 {} {line_type} {}", c + 1, curve.lines.len())?;
+            for &k in &curve.lines {
+                element(w, &nodes.lines[curve.loop_index][k])?;
             }
         }
         if !nodes.triangles.is_empty() {

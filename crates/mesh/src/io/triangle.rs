@@ -33,7 +33,7 @@ fn with_suffix(base: &Path, ext: &str) -> PathBuf {
 /// All three files appear together or not at all.
 pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, &with_suffix(base, "node"))?;
-    write_nodes(&Nodes::linear(mesh), base)
+    write_nodes(&Nodes::linear(mesh, None), base)
 }
 
 /// Write `nodes` as [`write_triangle`] does; six-node triangles list their corners, then the

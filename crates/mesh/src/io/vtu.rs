@@ -40,7 +40,7 @@ pub fn triangle_quality(p: [DVec2; 3]) -> (f64, f64, f64) {
 /// `boundary_marker` (loop index + 1, 0 for interior vertices).
 pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, path)?;
-    write_nodes(&Nodes::linear(mesh), path)
+    write_nodes(&Nodes::linear(mesh, None), path)
 }
 
 /// Write `nodes` as [`write_vtu`] does; six-node triangles are VTK's quadratic triangle (type
