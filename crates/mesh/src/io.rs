@@ -388,13 +388,13 @@ pub(crate) fn keep_corners(n: usize, triangles: &mut [[u32; 3]]) -> Vec<usize> {
     kept
 }
 
+/// Boundary edges per loop, each edge's piece per loop, and the number of loops.
+type ByLoop = (Vec<Vec<(u32, u32)>>, Vec<Vec<PieceId>>, usize);
+
 /// Boundary edges grouped by loop, each group ordered along the loop parameter of its start
 /// vertex (so that files list edges in boundary order); each edge's piece of `region` in a
 /// second list of the same shape (empty lists without a region); and the number of loops.
-pub(crate) fn edges_and_pieces_by_loop(
-    mesh: &Mesh,
-    region: Option<&Region>,
-) -> (Vec<Vec<(u32, u32)>>, Vec<Vec<PieceId>>, usize) {
+pub(crate) fn edges_and_pieces_by_loop(mesh: &Mesh, region: Option<&Region>) -> ByLoop {
     let edges = mesh.boundary_edges();
     let pieces = region.map(|r| mesh.pieces_of(&edges, r));
     let nloops = mesh
