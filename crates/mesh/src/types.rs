@@ -176,9 +176,10 @@ impl Mesh {
 
 impl Mesh {
     /// The piece of `region` each edge of [`Mesh::boundary_edges`] lies on, in the same order:
-    /// the piece nearest the edge's midpoint when both ends lie on it, else the piece whose
-    /// distance to the farther end is least (a curve the mesher followed through a chain's
-    /// vertices, say). Pieces run from corner to corner and `cvtmesh
+    /// the piece nearest the edge's midpoint when both ends lie on it, else, of the pieces
+    /// nearest the midpoint and each end, the one whose distance to the farther end is least (a
+    /// curve the mesher followed through a chain's vertices, say): three nearest-piece queries
+    /// per edge at most. Pieces run from corner to corner and `cvtmesh
     /// regions` numbers them, so a finite-element code can set a boundary condition per wall.
     /// (The vertices' markers are not asked: a mesher may have split pieces at corners of its
     /// own, and a mesh read from a foreign file has none.)
@@ -226,7 +227,10 @@ impl Mesh {
                 if off(guess, a, b) <= tol {
                     return guess;
                 }
-                (0..pieces.len())
+                // Each end lies on (or, on a curve the mesher followed through a chain's
+                // vertices, next to) the edge's piece, so it is the piece nearest one of them.
+                [guess, region.project(a).piece, region.project(b).piece]
+                    .into_iter()
                     .min_by(|&p, &q| off(p, a, b).total_cmp(&off(q, a, b)))
                     .unwrap_or(guess)
             })
