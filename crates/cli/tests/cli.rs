@@ -1589,15 +1589,10 @@ fn a_mesh_whose_triangles_make_no_region_is_refused_by_name() {
     assert!(text(&m).contains("no --region given"), "{}", text(&m));
 }
 
-#[test]
-fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
-    let dir = scratch("order2");
-    let msh = dir.join("c.msh");
-    let o = quiet_mesh("annulus", "300", &["--order", "2"], &msh);
-    assert!(o.status.success(), "{}", text(&o));
-    let t = std::fs::read_to_string(&msh).unwrap();
-    // Six-node triangles (type 9) and three-node boundary lines (type 8), nothing linear.
-    let mut lines = t.split("$Elements\n").nth(1).unwrap().lines();
+/// The element blocks of a Gmsh 4.1 file: each block's header (entity dimension, entity tag,
+/// element type, count) and its elements' lines.
+fn element_blocks(msh: &str) -> Vec<([usize; 4], Vec<&str>)> {
+    let mut lines = msh.split("$Elements\n").nth(1).unwrap().lines();
     let nblocks: usize = lines
         .next()
         .unwrap()
@@ -1606,17 +1601,33 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
         .unwrap()
         .parse()
         .unwrap();
+    (0..nblocks)
+        .map(|_| {
+            let h: Vec<usize> = lines
+                .next()
+                .unwrap()
+                .split(' ')
+                .map(|x| x.parse().unwrap())
+                .collect();
+            let header = [h[0], h[1], h[2], h[3]];
+            (header, (0..h[3]).map(|_| lines.next().unwrap()).collect())
+        })
+        .collect()
+}
+
+#[test]
+fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
+    let dir = scratch("order2");
+    let msh = dir.join("c.msh");
+    let o = quiet_mesh("annulus", "300", &["--order", "2"], &msh);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&msh).unwrap();
+    // Six-node triangles (type 9) and three-node boundary lines (type 8), nothing linear.
     let mut types = Vec::new();
-    for _ in 0..nblocks {
-        let header: Vec<usize> = lines
-            .next()
-            .unwrap()
-            .split(' ')
-            .map(|x| x.parse().unwrap())
-            .collect();
+    for (header, elements) in element_blocks(&t) {
         let nodes = if header[2] == 9 { 6 } else { 3 };
-        for _ in 0..header[3] {
-            assert_eq!(lines.next().unwrap().split(' ').count(), 1 + nodes);
+        for e in elements {
+            assert_eq!(e.split(' ').count(), 1 + nodes);
         }
         types.push(header[2].to_string());
     }
@@ -1732,30 +1743,11 @@ fn gmsh_files_name_each_wall_as_a_physical_curve() {
         }
         // The line elements of each piece's entity: the walls (length 4) hold about four
         // times the edges of the ends (length 1).
-        let mut lines = t.split("$Elements\n").nth(1).unwrap().lines();
-        let nblocks: usize = lines
-            .next()
-            .unwrap()
-            .split(' ')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
-        let mut per_entity = Vec::new();
-        for _ in 0..nblocks {
-            let h: Vec<usize> = lines
-                .next()
-                .unwrap()
-                .split(' ')
-                .map(|x| x.parse().unwrap())
-                .collect();
-            if h[0] == 1 {
-                per_entity.push(h[3]);
-            }
-            for _ in 0..h[3] {
-                lines.next();
-            }
-        }
+        let per_entity: Vec<usize> = element_blocks(&t)
+            .iter()
+            .filter(|(h, _)| h[0] == 1)
+            .map(|(h, _)| h[3])
+            .collect();
         assert_eq!(per_entity.len(), 4, "{per_entity:?}");
         let (ends, walls) = (per_entity[1] + per_entity[3], per_entity[0] + per_entity[2]);
         assert!(
