@@ -1763,3 +1763,34 @@ fn gmsh_files_name_each_wall_as_a_physical_curve() {
         );
     }
 }
+
+#[test]
+fn a_solvers_mesh_with_sizes_alone_gives_the_next_mesh() {
+    // The adaptive loop with nothing but the solver's files: its mesh is the region and its
+    // sizes at the vertices are the field (Triangle's .node/.ele and Gmsh's .msh alike).
+    let dir = scratch("solver_files");
+    let (tri, msh, _) = sizes_on_a_mesh(&dir);
+    for input in [&tri, &msh] {
+        let next = dir.join("next.msh");
+        let _ = std::fs::remove_file(&next);
+        let o = cvtmesh(&[
+            "mesh",
+            s(input),
+            "--size-field",
+            s(input),
+            "-q",
+            "-o",
+            s(&next),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        // It covers the region the old mesh covers, and its edges follow the old sizes.
+        let m = cvtmesh(&["measure", s(&next), "--region", s(input)]);
+        assert!(
+            m.status.success() && !text(&m).contains("warning"),
+            "{}",
+            text(&m)
+        );
+        let row = size_conformity_by(&next, s(input), &["--size-field", s(input)]);
+        assert!(row[1] > 0.95, "unit share {}", row[1]);
+    }
+}
