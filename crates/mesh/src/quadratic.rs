@@ -16,10 +16,9 @@ pub struct Quadratic {
     pub markers: Vec<VertexMarker>,
     /// Corners a, b, c, then the nodes of edges ab, bc, ca.
     pub triangles: Vec<[u32; 6]>,
-    /// The edges (low vertex, high vertex) in order: edge `e`'s node is `corners + e`.
+    /// The edges (low vertex, high vertex) in order: edge `e`'s node is the number of corners
+    /// plus `e`.
     edges: Vec<(u32, u32)>,
-    /// The number of corner nodes (the linear mesh's vertices).
-    corners: usize,
     /// The linear mesh: its boundary edges and triangles' qualities go into the files too.
     linear: Mesh,
     /// The region whose boundary the boundary nodes were placed on, if one was given.
@@ -107,7 +106,6 @@ impl Quadratic {
             markers,
             triangles,
             edges,
-            corners,
             linear: mesh.clone(),
             region: region.cloned(),
         };
@@ -124,7 +122,7 @@ impl Quadratic {
         let mut owner: Vec<Option<(usize, usize)>> = vec![None; self.edges.len()];
         for (t, tri) in self.triangles.iter().enumerate() {
             for k in 0..3 {
-                let e = tri[3 + k] as usize - self.corners;
+                let e = tri[3 + k] as usize - self.num_corners();
                 if on_boundary[e] {
                     owner[e] = Some((t, 3 + k));
                 }
@@ -134,7 +132,8 @@ impl Quadratic {
             let Some((t, slot)) = owner[e] else {
                 continue;
             };
-            let mid = self.points[self.corners + e];
+            let node = self.num_corners() + e;
+            let mid = self.points[node];
             let piece = [a, b].iter().find_map(|&v| match mesh.markers[v as usize] {
                 VertexMarker::Boundary { piece, .. } if piece != UNKNOWN_PIECE => Some(piece),
                 _ => None,
@@ -150,7 +149,6 @@ impl Quadratic {
             let mut nodes = self.triangles[t].map(|v| self.points[v as usize]);
             nodes[slot] = hit.point;
             if unfolded(&nodes) {
-                let node = self.corners + e;
                 self.points[node] = hit.point;
                 // The loop as the mesh numbers it (a mesh read from a file numbers its loops
                 // by its own topology), the piece and place on it as the region has them.
@@ -168,7 +166,7 @@ impl Quadratic {
         self.edges
             .binary_search(&(a.min(b), a.max(b)))
             .ok()
-            .map(|e| (self.corners + e) as u32)
+            .map(|e| (self.num_corners() + e) as u32)
     }
 
     /// The three-node mesh this one was made from: its vertices are the corner nodes.
@@ -183,7 +181,7 @@ impl Quadratic {
 
     /// The number of corner nodes, which are the linear mesh's vertices and come first.
     pub fn num_corners(&self) -> usize {
-        self.corners
+        self.linear.points.len()
     }
 
     /// The exact area the curved triangles cover (each triangle's Jacobian is quadratic, and
