@@ -90,16 +90,18 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             });
             continue;
         }
-        let first = curves.len();
+        // A loop's pieces get curves in the order the loop meets them.
+        let mut curve_of: HashMap<usize, usize> = HashMap::new();
         for (k, &j) in nodes.pieces[l].iter().enumerate() {
-            match curves[first..].iter_mut().find(|c| c.piece == Some(j)) {
-                Some(c) => c.lines.push(k),
-                None => curves.push(Curve {
+            let c = *curve_of.entry(j).or_insert_with(|| {
+                curves.push(Curve {
                     loop_index: l,
                     piece: Some(j),
-                    lines: vec![k],
-                }),
-            }
+                    lines: Vec::new(),
+                });
+                curves.len() - 1
+            });
+            curves[c].lines.push(k);
         }
     }
     // Nodes per entity: the curves', then the surface block (index curves.len()).
