@@ -352,15 +352,7 @@ def test_region_api():
     assert len(lake.with_corner_angle(60).corners) <= len(lake.corners)
 
 
-def _written(m):
-    import tempfile
-
-    path = Path(tempfile.mkdtemp()) / "m.msh"
-    m.write(path)
-    return path
-
-
-def test_to_meshio_names_each_boundary_loop_and_piece():
+def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     meshio = pytest.importorskip("meshio")
     m = cvtmesh.mesh(SQUARE, holes=[HOLE], n=200)
     mm = m.to_meshio()
@@ -384,14 +376,15 @@ def test_to_meshio_names_each_boundary_loop_and_piece():
         t = np.clip(((ends - a) @ (b - a)) / ((b - a) @ (b - a)), 0.0, 1.0)
         assert np.abs(a + t[:, None] * (b - a) - ends).max() < 1e-9
     # The .msh file names the same walls as physical curves "piece0", ... for any Gmsh reader.
-    back = meshio.read(_written(m))
+    m.write(tmp_path / "m.msh")
+    back = meshio.read(tmp_path / "m.msh")
     line_block = [k for k, c in enumerate(back.cells) if c.type == "line"]
     for j in range(8):
         in_file = sum(len(back.cell_sets[f"piece{j}"][k]) for k in line_block)
         assert in_file == len(mm.cell_sets[f"piece_{j}"][1])
     # A mesh read from a file needs the region for its pieces.
     with pytest.raises(MeshError, match="pass the region"):
-        cvtmesh.Mesh.read(_written(m)).boundary_pieces()
+        cvtmesh.Mesh.read(tmp_path / "m.msh").boundary_pieces()
 
 
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
