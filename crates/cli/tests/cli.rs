@@ -824,6 +824,14 @@ fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
 }
 
 /// What `cvtmesh regions REGION` prints.
+/// A 4 × 1 channel as a loop list in `dir`: pieces 0 (bottom wall), 1 (outlet), 2 (top wall)
+/// and 3 (inlet).
+fn channel_file(dir: &Path) -> PathBuf {
+    let channel = dir.join("channel.txt");
+    std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
+    channel
+}
+
 fn pieces_of(region: &std::path::Path) -> String {
     let o = cvtmesh(&["regions", s(region)]);
     assert!(o.status.success(), "{}", text(&o));
@@ -833,8 +841,7 @@ fn pieces_of(region: &std::path::Path) -> String {
 #[test]
 fn a_distance_field_toward_one_piece_refines_that_wall_and_regions_names_it() {
     let dir = scratch("size_piece");
-    let channel = dir.join("channel.txt");
-    std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
+    let channel = channel_file(&dir);
     // `regions REGION` lists the pieces: the bottom wall is piece 0.
     let listing = pieces_of(&channel);
     assert!(
@@ -1708,8 +1715,7 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
 #[test]
 fn gmsh_files_name_each_wall_as_a_physical_curve() {
     let dir = scratch("pieces_msh");
-    let channel = dir.join("channel.txt");
-    std::fs::write(&channel, "0 0\n4 0\n4 1\n0 1\n").unwrap();
+    let channel = channel_file(&dir);
     for order in ["1", "2"] {
         let out = dir.join(format!("c{order}.msh"));
         let o = quiet_mesh(s(&channel), "800", &["--order", order], &out);
