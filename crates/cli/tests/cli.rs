@@ -1800,3 +1800,85 @@ fn a_solvers_mesh_with_sizes_alone_gives_the_next_mesh() {
         assert!(row[1] > 0.95, "unit share {}", row[1]);
     }
 }
+
+/// A 4 × 1 channel as Triangle users write it: walls marked 1, the inlet 2, the outlet 3, and
+/// a heated strip 4 on the bottom wall from x = 1.5 to 2.5 (three collinear segments).
+fn marked_channel(dir: &Path) -> PathBuf {
+    let poly = dir.join("marked.poly");
+    std::fs::write(
+        &poly,
+        "6 2 0 0\n1 0 0\n2 1.5 0\n3 2.5 0\n4 4 0\n5 4 1\n6 0 1\n\
+         6 1\n1 1 2 1\n2 2 3 4\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n0\n",
+    )
+    .unwrap();
+    poly
+}
+
+#[test]
+fn poly_segment_markers_reach_the_mesh_files() {
+    let dir = scratch("markers");
+    let poly = marked_channel(&dir);
+    let listed = pieces_of(&poly);
+    assert!(
+        listed.contains("from (1.5, 0) to (2.5, 0), length 1.000000, marker 4"),
+        "{listed}"
+    );
+    // Triangle's files: each segment and boundary vertex carries its wall's number.
+    let base = dir.join("c.node");
+    let o = quiet_mesh(s(&poly), "800", &[], &base);
+    assert!(o.status.success(), "{}", text(&o));
+    let node = std::fs::read_to_string(&base).unwrap();
+    let points: Vec<(f64, f64, i64)> = node
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            assert_eq!(f.len(), 8, "{l}");
+            (
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+                f[7].parse().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(points.len(), 800);
+    let on = |m: i64| points.iter().filter(move |p| p.2 == m);
+    assert!(on(2).all(|p| p.0 == 0.0) && on(2).count() > 5);
+    assert!(on(3).all(|p| p.0 == 4.0) && on(3).count() > 5);
+    assert!(on(4).all(|p| p.1 == 0.0 && (1.5..2.5).contains(&p.0)));
+    assert!(on(4).any(|p| p.0 == 1.5), "the strip's start is a vertex");
+    let poly_out = std::fs::read_to_string(dir.join("c.poly")).unwrap();
+    let strip: f64 = poly_out
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(2)
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            (f.len() == 4 && f[3] == "4").then(|| {
+                let p = |k: &str| points[k.parse::<usize>().unwrap() - 1];
+                let (a, b) = (p(f[1]), p(f[2]));
+                assert!(a.1 == 0.0 && b.1 == 0.0, "{l}");
+                (a.0 - b.0).abs()
+            })
+        })
+        .sum();
+    assert!((strip - 1.0).abs() < 1e-12, "strip edges span {strip}");
+    // Read back: the same mesh, its vertices on their loop.
+    let m = cvtmesh(&["measure", s(&base), "--region", s(&poly), "--csv"]);
+    assert!(
+        m.status.success() && !text(&m).contains("warning"),
+        "{}",
+        text(&m)
+    );
+    // Gmsh's file: a physical curve per marker beside the loop's and the pieces'.
+    let msh = dir.join("c.msh");
+    let o = quiet_mesh(s(&poly), "800", &[], &msh);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&msh).unwrap();
+    for name in [
+        "loop0", "piece0", "marker1", "marker2", "marker3", "marker4",
+    ] {
+        assert!(t.contains(&format!("\"{name}\"")), "{name}");
+    }
+}

@@ -80,6 +80,7 @@ impl Region {
         let arc_tol = 1e-7 * self.diameter();
         let mut lps = Vec::with_capacity(self.loops.len());
         let mut flags = Vec::with_capacity(self.loops.len());
+        let mut markers = Vec::new();
         for lp in &self.loops {
             let n = lp.pieces.len();
             // keep[k]: the junction at the start of piece k stays a corner; cut[k]: pieces
@@ -92,6 +93,7 @@ impl Region {
                         let c = &self.corners[c];
                         turning_angle(&self.pieces[c.piece_in], &self.pieces[c.piece_out])
                             > threshold
+                            || self.markers.get(c.piece_in) != self.markers.get(c.piece_out)
                     })
                 })
                 .collect();
@@ -100,6 +102,7 @@ impl Region {
                 .collect();
             let first = (0..n).find(|&k| cut[k]).unwrap_or(0);
             let (mut pieces, mut f) = (Vec::new(), Vec::new());
+            let mut m: Vec<i64> = Vec::new();
             let mut k = 0;
             while k < n {
                 // One run: from a cut up to (not including) the next cut.
@@ -111,6 +114,8 @@ impl Region {
                     k += 1;
                 }
                 f.push(keep[start]);
+                // A run never crosses a change of marker (those junctions are kept).
+                m.extend(self.markers.get(lp.pieces[start]));
                 if run.len() == 1 {
                     pieces.push(self.pieces[lp.pieces[start]].clone());
                 } else {
@@ -130,9 +135,11 @@ impl Region {
             }
             lps.push((lp.role, pieces));
             flags.push(f);
+            markers.extend(m);
         }
         let mut merged = assemble(self.name.clone(), lps, &flags, Some(degrees));
         merged.corners_computed = self.corners_computed;
+        merged.markers = markers;
         merged
     }
 
@@ -624,5 +631,6 @@ pub(crate) fn assemble(
         corner_at_start,
         corner_at_end,
         piece_offset,
+        markers: Vec::new(),
     }
 }

@@ -151,16 +151,16 @@ fn json_region(text: &str, path: &Path) -> Result<Region, GeometryError> {
 pub fn read_poly(path: &Path) -> Result<Region, GeometryError> {
     let text = read_text(path)?;
     let node_path = path.with_extension("node");
-    let (loops, holes) = parse_poly(&text, &label(path), &mut || {
+    let (loops, holes, markers) = parse_poly(&text, &label(path), &mut || {
         Ok((read_text(&node_path)?, label(&node_path)))
     })?;
-    poly_region(&stem(path), &label(path), loops, &holes)
+    poly_region(&stem(path), &label(path), loops, &holes, markers)
 }
 
 /// Parse `.poly` text (`label` names it in errors, `name` is the region's name). The vertices
 /// must be in the text itself.
 pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
-    let (loops, holes) = parse_poly(text, label, &mut || {
+    let (loops, holes, markers) = parse_poly(text, label, &mut || {
         Err(GeometryError::Parse {
             path: label.to_string(),
             message: "the vertex count is 0, so the vertices are in a separate .node file; \
@@ -168,20 +168,47 @@ pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geom
                 .into(),
         })
     })?;
-    poly_region(name, label, loops, &holes)
+    poly_region(name, label, loops, &holes, markers)
 }
 
 /// The region of a `.poly`'s loops, nesting deciding the roles, checked against its hole
 /// points as Triangle would use them: every hole loop must hold a hole point (else Triangle
 /// meshes its inside, an internal boundary a region cannot express), and no hole point may
-/// lie in a part that is meshed (Triangle would eat that part).
+/// lie in a part that is meshed (Triangle would eat that part). Segment markers become the
+/// pieces' markers, and every vertex where the marker changes a corner (a mesh vertex), so that
+/// no mesh edge straddles two walls.
 fn poly_region(
     name: &str,
     label: &str,
     loops: Loops,
     holes: &[(usize, DVec2)],
+    markers: Option<SegmentMarkers>,
 ) -> Result<Region, GeometryError> {
-    let region = polygon_region(name, label, loops)?;
+    let changes: Vec<DVec2> = match &markers {
+        Some(m) => loops
+            .iter()
+            .flat_map(|(_, pts)| {
+                let n = pts.len();
+                (0..n).filter_map(move |i| {
+                    let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
+                    (m.get(&segment_key(prev, p)) != m.get(&segment_key(p, next))).then_some(p)
+                })
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let mut region = polygon_region_with(name, label, loops, &changes)?;
+    if let Some(m) = markers {
+        region.markers = region
+            .pieces
+            .iter()
+            .map(|p| match *p {
+                // Every piece is one of the file's segments; 0 is Triangle's "no marker".
+                Piece::Line { a, b } => m.get(&segment_key(a, b)).copied().unwrap_or(0),
+                _ => 0,
+            })
+            .collect();
+    }
     for &(line, h) in holes {
         if region.contains(h) {
             return Err(parse_err(
@@ -310,6 +337,18 @@ pub(crate) fn polygon_region(
     label: &str,
     loops: Loops,
 ) -> Result<Region, GeometryError> {
+    polygon_region_with(name, label, loops, &[])
+}
+
+/// [`polygon_region`] with the vertices at `corners` corners too, however little the boundary
+/// turns there.
+fn polygon_region_with(
+    name: &str,
+    label: &str,
+    loops: Loops,
+    corners_too: &[DVec2],
+) -> Result<Region, GeometryError> {
+    let corners_too: std::collections::HashSet<Key> = corners_too.iter().map(|&p| key(p)).collect();
     let mut out = Vec::with_capacity(loops.len());
     let mut corners = Vec::new();
     for (k, (role, mut pts)) in loops.into_iter().enumerate() {
@@ -359,7 +398,7 @@ pub(crate) fn polygon_region(
         let n = pts.len();
         for i in 0..n {
             let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
-            if (p - prev).angle_to(next - p).abs() > CORNER_TURN {
+            if (p - prev).angle_to(next - p).abs() > CORNER_TURN || corners_too.contains(&key(p)) {
                 corners.push(p);
             }
         }
@@ -471,11 +510,25 @@ type NodeSource<'a> = dyn FnMut() -> Result<(String, String), GeometryError> + '
 /// Hole points of a `.poly`, with their line numbers.
 type HolePoints = Vec<(usize, DVec2)>;
 
+/// A `.poly`'s segment markers, by the segment's end points (either order): how Triangle users
+/// name walls for boundary conditions.
+type SegmentMarkers = HashMap<(Key, Key), i64>;
+type Key = (u64, u64);
+
+fn key(p: DVec2) -> Key {
+    (p.x.to_bits(), p.y.to_bits())
+}
+
+fn segment_key(a: DVec2, b: DVec2) -> (Key, Key) {
+    let (a, b) = (key(a), key(b));
+    (a.min(b), a.max(b))
+}
+
 fn parse_poly(
     text: &str,
     label: &str,
     node_file: &mut NodeSource,
-) -> Result<(Loops, HolePoints), GeometryError> {
+) -> Result<(Loops, HolePoints, Option<SegmentMarkers>), GeometryError> {
     let last_line = text.lines().count().max(1);
     let mut recs = records(text);
     let (line, head) = recs
@@ -499,6 +552,26 @@ fn parse_poly(
         .next()
         .ok_or_else(|| parse_err(label, last_line, "file ends before the segment header"))?;
     let nseg: usize = num(label, line, t.first(), "the number of segments")?;
+    let marked = match t.get(1) {
+        None => false,
+        Some(_) => {
+            let m: usize = num(
+                label,
+                line,
+                t.get(1),
+                "the number of segment markers (0 or 1)",
+            )?;
+            if m > 1 {
+                return Err(parse_err(
+                    label,
+                    line,
+                    format!("{m} segment-marker columns; Triangle allows 0 or 1"),
+                ));
+            }
+            m == 1
+        }
+    };
+    let mut markers: SegmentMarkers = HashMap::new();
     // Vertices with equal coordinates are one vertex (some files repeat a loop's first vertex).
     let mut canon: HashMap<(u64, u64), usize> = HashMap::new();
     let ids: Vec<usize> = verts
@@ -531,6 +604,10 @@ fn parse_poly(
         let (a, b) = (end(1)?, end(2)?);
         if a == b {
             return Err(parse_err(label, line, "segment joins a vertex to itself"));
+        }
+        if marked {
+            let m: i64 = num(label, line, t.get(3), "a segment marker")?;
+            markers.insert(segment_key(verts[a], verts[b]), m);
         }
         if let Some(prev) = seen.insert((a.min(b), a.max(b)), line) {
             return Err(parse_err(
@@ -625,7 +702,7 @@ fn parse_poly(
     }
     // Regional attributes may follow; they do not change the region. Which loops are holes
     // is for nesting to decide and the hole points to confirm (`poly_region`).
-    Ok((by_nesting(rings), holes))
+    Ok((by_nesting(rings), holes, marked.then_some(markers)))
 }
 
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -879,6 +956,56 @@ mod tests {
         assert_eq!(region_areas(&poly(zero).unwrap()), [(LoopRole::Outer, 4.5)]);
     }
 
+    /// A 3 × 1 channel with a square hole: the bottom wall three collinear segments marked 1,
+    /// 4, 1 (a heated strip in the middle), the outlet 3, the top 1, the inlet 2, the hole 9;
+    /// listed clockwise, so the outer loop is turned round.
+    const MARKED: &str = "10 2 0 0\n1 0 0\n2 1 0\n3 2 0\n4 3 0\n5 3 1\n6 0 1\n\
+        7 1.4 0.4\n8 1.6 0.4\n9 1.6 0.6\n10 1.4 0.6\n\
+        10 1\n1 6 5 1\n2 5 4 3\n3 4 3 1\n4 3 2 4\n5 2 1 1\n6 1 6 2\n\
+        7 7 8 9\n8 8 9 9\n9 9 10 9\n10 10 7 9\n1\n1 1.5 0.5\n";
+
+    #[test]
+    fn poly_segment_markers_name_the_pieces_and_their_changes_are_corners() {
+        let r = poly(MARKED).unwrap();
+        let at = |x: f64, y: f64| DVec2::new(x, y);
+        // Each piece's marker is that of the segment it is, whatever the orientation.
+        let marker_of = |a: DVec2, b: DVec2| {
+            let m = r.piece_markers().unwrap();
+            let j = r
+                .pieces()
+                .iter()
+                .position(|p| {
+                    let (s, e) = (p.start(), p.end());
+                    (s == a && e == b) || (s == b && e == a)
+                })
+                .unwrap();
+            m[j]
+        };
+        assert_eq!(marker_of(at(1.0, 0.0), at(2.0, 0.0)), 4);
+        assert_eq!(marker_of(at(2.0, 0.0), at(3.0, 0.0)), 1);
+        assert_eq!(marker_of(at(0.0, 1.0), at(0.0, 0.0)), 2);
+        assert_eq!(marker_of(at(1.6, 0.6), at(1.4, 0.6)), 9);
+        // The strip's ends are corners whatever the corner angle; (3, 1) turns too.
+        for deg in [0.0, 30.0, 90.0, 179.0] {
+            let c = r.with_corner_angle(deg);
+            let pos: Vec<DVec2> = c.corners().iter().map(|c| c.pos).collect();
+            for p in [at(1.0, 0.0), at(2.0, 0.0), at(0.0, 0.0), at(3.0, 0.0)] {
+                assert!(pos.contains(&p), "{deg}°: no corner at {p}");
+            }
+            let m = c.piece_markers().unwrap();
+            assert_eq!(m.len(), c.pieces().len());
+            assert_eq!(m.iter().filter(|&&m| m == 4).count(), 1);
+        }
+        // Without markers in the file, none.
+        let plain = MARKED.replace("10 1\n1 6 5 1", "10 0\n1 6 5 1");
+        assert!(poly(&plain).unwrap().piece_markers().is_none());
+        // A second marker column is Triangle's error.
+        let e = poly(&MARKED.replace("10 1\n1 6", "10 2\n1 6"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("segment-marker columns"), "{e}");
+    }
+
     #[test]
     fn poly_with_vertices_in_a_node_file() {
         let text = "0 2 0 0\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n";
@@ -888,7 +1015,7 @@ mod tests {
                 "t.node".to_string(),
             ))
         };
-        let (loops, _) = parse_poly(text, "t.poly", &mut node).unwrap();
+        let (loops, _, _) = parse_poly(text, "t.poly", &mut node).unwrap();
         assert_eq!(areas(&loops), [(None, 2.0)]);
         let e = parse_poly(text, "t.poly", &mut no_node())
             .unwrap_err()

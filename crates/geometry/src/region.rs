@@ -77,6 +77,8 @@ pub struct Region {
     pub(crate) corner_at_end: Vec<Option<usize>>,
     /// Arc length along its loop at the start of each piece.
     pub(crate) piece_offset: Vec<f64>,
+    /// Each piece's marker as the region file named it (empty when it named none).
+    pub(crate) markers: Vec<i64>,
 }
 
 impl Region {
@@ -87,6 +89,30 @@ impl Region {
     /// All pieces, indexed by `PieceId`.
     pub fn pieces(&self) -> &[Piece] {
         &self.pieces
+    }
+    /// Each piece's marker, indexed by `PieceId`, where the region file names walls by number
+    /// (a Triangle `.poly`'s segment markers, how Triangle users set boundary conditions);
+    /// `None` where it names none. Where the marker changes along a loop there is a corner, so
+    /// a mesh has a vertex there and no boundary edge lies on two walls.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::formats::poly_from_str;
+    /// // A 4 × 1 channel: bottom and top walls marked 1, the inlet 2 and the outlet 3; the
+    /// // bottom wall is two collinear segments.
+    /// let poly = "5 2 0 0\n1 0 0\n2 2 0\n3 4 0\n4 4 1\n5 0 1\n\
+    ///             5 1\n1 1 2 1\n2 2 3 1\n3 3 4 3\n4 4 5 1\n5 5 1 2\n0\n";
+    /// let r = poly_from_str(poly, "channel.poly", "channel")?;
+    /// let markers = r.piece_markers().expect("the file marks its segments");
+    /// let mut sorted = markers.to_vec();
+    /// sorted.sort();
+    /// assert_eq!(sorted, [1, 1, 1, 2, 3]);
+    /// // The four corners of the rectangle; (2, 0) joins two segments of the same wall.
+    /// assert_eq!(r.with_default_corners().corners().len(), 4);
+    /// assert!(cvtmesh_geometry::Region::builtin("circle")?.piece_markers().is_none());
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn piece_markers(&self) -> Option<&[i64]> {
+        (!self.markers.is_empty()).then_some(&self.markers[..])
     }
     /// The centre about which the region is rotationally symmetric: every piece a full circle
     /// about one centre (a disc, an annulus). `None` otherwise.

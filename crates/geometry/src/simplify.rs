@@ -5,6 +5,7 @@ use crate::piece::{douglas_peucker, Piece};
 use crate::predicates::closest_on_segment;
 use crate::region::Region;
 use glam::DVec2;
+use std::collections::HashMap;
 
 impl std::fmt::Display for Simplified {
     /// One line for a user: what was simplified, at which tolerance, and how far the new
@@ -111,17 +112,48 @@ impl Region {
         if tolerance == 0.0 || before == 0 {
             return Ok(unchanged);
         }
+        // Where the pieces carry markers, the vertices where the marker changes stay, and stay
+        // corners, and each simplified edge keeps the marker of the edges it replaces.
+        let ring_markers: Vec<Option<Vec<i64>>> = (0..self.loops.len())
+            .map(|l| rings[l].as_ref().and(self.ring_markers(l)))
+            .collect();
+        let changes: Vec<Vec<usize>> = ring_markers
+            .iter()
+            .map(|m| match m {
+                Some(m) => (0..m.len())
+                    .filter(|&i| m[(i + m.len() - 1) % m.len()] != m[i])
+                    .collect(),
+                None => Vec::new(),
+            })
+            .collect();
+        let marked = self.piece_markers().is_some();
         let mut tol = tolerance;
         for _ in 0..=RETRIES {
             let mut loops = Vec::with_capacity(self.loops.len());
+            let mut markers = Vec::new();
+            let mut corners = Vec::new();
             let (mut after, mut deviation) = (0, 0.0f64);
             for (l, ring) in rings.iter().enumerate() {
                 let lp = &self.loops[l];
-                let pieces = match ring {
+                let pieces: Vec<Piece> = match ring {
                     Some(ring) => {
-                        let kept = simplify_ring(ring, tol);
+                        let kept = simplify_ring(ring, tol, &changes[l]);
                         after += kept.len();
                         deviation = deviation.max(ring_deviation(ring, &kept));
+                        if let Some(m) = &ring_markers[l] {
+                            let index: HashMap<(u64, u64), usize> = ring
+                                .iter()
+                                .enumerate()
+                                .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i))
+                                .collect();
+                            let at = |p: DVec2| index[&(p.x.to_bits(), p.y.to_bits())];
+                            markers.extend(kept.iter().map(|&p| m[at(p)]));
+                            let k = kept.len();
+                            corners.extend((0..k).map(|i| kept[i]).filter(|&p| {
+                                let i = at(p);
+                                changes[l].binary_search(&i).is_ok()
+                            }));
+                        }
                         (0..kept.len())
                             .map(|i| Piece::Line {
                                 a: kept[i],
@@ -129,14 +161,29 @@ impl Region {
                             })
                             .collect()
                     }
-                    None => lp.pieces.iter().map(|&p| self.pieces[p].clone()).collect(),
+                    None => {
+                        let pieces = lp.pieces.iter().map(|&p| self.pieces[p].clone());
+                        if let Some(m) = self.piece_markers() {
+                            markers.extend(lp.pieces.iter().map(|&p| m[p]));
+                        }
+                        pieces.collect()
+                    }
                 };
+                if marked {
+                    corners.extend(turning_vertices(&pieces));
+                }
                 loops.push((lp.role, pieces));
             }
             if after == before {
                 return Ok(unchanged);
             }
-            if let Ok(mut region) = Region::new(&self.name, loops, None) {
+            corners.sort_by_key(|p| (p.x.to_bits(), p.y.to_bits()));
+            corners.dedup();
+            let listed = marked.then_some(corners);
+            if let Ok(mut region) = Region::new(&self.name, loops, listed) {
+                if marked {
+                    region.markers = markers;
+                }
                 region.corners_computed = true;
                 if let Some(degrees) = self.corner_threshold {
                     region = region.with_corner_angle(degrees);
@@ -168,13 +215,29 @@ impl Region {
         }
         Some(ring)
     }
+
+    /// The marker of the edge leaving each vertex of [`Region::straight_ring`]`(l)`, where
+    /// the region's pieces have markers.
+    fn ring_markers(&self, l: usize) -> Option<Vec<i64>> {
+        let markers = self.piece_markers()?;
+        let mut out = Vec::new();
+        for &p in &self.loops[l].pieces {
+            let edges = match &self.pieces[p] {
+                Piece::Chain(c) => c.len() - 1,
+                _ => 1,
+            };
+            out.extend(std::iter::repeat_n(markers[p], edges));
+        }
+        Some(out)
+    }
 }
 
 /// Douglas–Peucker on a closed ring, anchored at three of its vertices that are always kept:
 /// the vertex farthest from the first one's farthest vertex, that vertex, and the vertex
 /// farthest from the chord between them (so at least three are kept, and every dropped vertex
-/// lies within `tol` of the arc of kept vertices that spans it).
-fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
+/// lies within `tol` of the arc of kept vertices that spans it). The vertices at the indices
+/// `fixed` are kept too.
+fn simplify_ring(ring: &[DVec2], tol: f64, fixed: &[usize]) -> Vec<DVec2> {
     let n = ring.len();
     if n <= 3 {
         return ring.to_vec();
@@ -191,11 +254,13 @@ fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
         // Only a degenerate ring has nothing off the chord; any third vertex will do.
         c = (0..n).find(|&i| i != a && i != b).expect("n > 3");
     }
-    let mut anchors = [a, b, c];
+    let mut anchors: Vec<usize> = [a, b, c].into_iter().chain(fixed.iter().copied()).collect();
     anchors.sort_unstable();
+    anchors.dedup();
+    let m = anchors.len();
     let mut kept = Vec::with_capacity(n);
-    for k in 0..3 {
-        let (from, to) = (anchors[k], anchors[(k + 1) % 3]);
+    for k in 0..m {
+        let (from, to) = (anchors[k], anchors[(k + 1) % m]);
         let arc: Vec<DVec2> = if from < to {
             ring[from..=to].to_vec()
         } else {
@@ -205,6 +270,18 @@ fn simplify_ring(ring: &[DVec2], tol: f64) -> Vec<DVec2> {
         kept.extend_from_slice(&part[..part.len() - 1]);
     }
     kept
+}
+
+/// The junctions of a loop's pieces where it turns (the corners a polygon file gets).
+fn turning_vertices(pieces: &[Piece]) -> Vec<DVec2> {
+    let n = pieces.len();
+    (0..n)
+        .filter(|&k| {
+            let (a, b) = (&pieces[(k + n - 1) % n], &pieces[k]);
+            a.end_tangents().1.angle_to(b.end_tangents().0).abs() > 1e-9
+        })
+        .map(|k| pieces[k].start())
+        .collect()
 }
 
 /// The largest distance from a vertex of `ring` to the closed polyline `kept`.
@@ -251,9 +328,65 @@ mod tests {
     }
 
     #[test]
+    fn simplifying_keeps_where_the_marker_changes_and_each_edge_its_marker() {
+        // A 4 × 1 rectangle whose bottom wiggles by ±0.001 over 41 vertices, marked 1 left of
+        // x = 2 and 4 from there on; the other sides 2 (x = 4), 3 (top), 5 (x = 0).
+        let mut pts: Vec<DVec2> = (0..=40)
+            .map(|i| DVec2::new(0.1 * i as f64, 0.001 * (i as f64 * 1.7).sin()))
+            .collect();
+        pts.extend([DVec2::new(4.0, 1.0), DVec2::new(0.0, 1.0)]);
+        let n = pts.len();
+        let mut poly = format!("{n} 2 0 0\n");
+        for (i, p) in pts.iter().enumerate() {
+            poly += &format!("{} {} {}\n", i + 1, p.x, p.y);
+        }
+        poly += &format!("{n} 1\n");
+        for i in 0..n {
+            let m = match i {
+                0..=19 => 1,
+                20..=39 => 4,
+                40 => 2,
+                41 => 3,
+                _ => 5,
+            };
+            poly += &format!("{} {} {} {m}\n", i + 1, i + 1, (i + 1) % n + 1);
+        }
+        poly += "0\n";
+        let raw = crate::formats::poly_from_str(&poly, "wiggly.poly", "wiggly").unwrap();
+        let s = raw.simplified(0.01).unwrap();
+        assert_eq!(s.vertices, (43, 5), "{s}");
+        let r = s.region.with_default_corners();
+        let m = r.piece_markers().expect("the markers survive");
+        let mut by_start: Vec<(f64, f64, i64)> = r
+            .pieces()
+            .iter()
+            .zip(m)
+            .map(|(p, &m)| (p.start().x, p.start().y, m))
+            .collect();
+        by_start.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let change = pts[20];
+        assert_eq!(
+            by_start,
+            [
+                (0.0, 0.0, 1),
+                (0.0, 1.0, 5),
+                (change.x, change.y, 4),
+                (4.0, pts[40].y, 2),
+                (4.0, 1.0, 3)
+            ]
+        );
+        // The change of marker is a corner though the boundary hardly turns there.
+        assert!(r.corners().iter().any(|c| c.pos == change));
+        // Unmarked, the same boundary keeps its four corners only.
+        let plain = poly.replace(&format!("{n} 1\n"), &format!("{n} 0\n"));
+        let raw = crate::formats::poly_from_str(&plain, "wiggly.poly", "wiggly").unwrap();
+        assert_eq!(raw.simplified(0.01).unwrap().vertices, (43, 4));
+    }
+
+    #[test]
     fn deviation_bounds_every_dropped_vertex() {
         let ring = wiggly_circle(2000, 0.01);
-        let kept = simplify_ring(&ring, 0.03);
+        let kept = simplify_ring(&ring, 0.03, &[]);
         assert!(kept.len() < 200, "{}", kept.len());
         let dev = ring_deviation(&ring, &kept);
         assert!(dev <= 0.03, "{dev}");

@@ -35,6 +35,7 @@ pub use gmsh::{
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{
     read_triangle, read_triangle_sizes, triangle_from_str, triangle_sizes_from_str, write_triangle,
+    write_triangle_on,
 };
 pub use vtu::{triangle_quality, write_vtu};
 
@@ -85,11 +86,15 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 }
 
 /// [`write_mesh`] for a mesh of `region`: a `.msh` file also gets a physical curve per
-/// boundary piece ([`write_gmsh_on`]), so a solver can set a condition per wall; the other
-/// formats are written as [`write_mesh`] writes them.
+/// boundary piece ([`write_gmsh_on`]), so a solver can set a condition per wall; where the
+/// region names its walls by number ([`Region::piece_markers`], a `.poly`'s segment markers)
+/// Triangle's files carry those numbers as their boundary markers, as Triangle itself passes
+/// them on ([`write_triangle_on`]). The other formats are written as [`write_mesh`]
+/// writes them.
 pub fn write_mesh_on(mesh: &Mesh, region: &Region, path: &Path) -> Result<(), MeshError> {
     match extension(path).as_deref() {
         Some("msh") => write_gmsh_on(mesh, region, path),
+        Some("node") | Some("ele") => write_triangle_on(mesh, region, &path.with_extension("")),
         _ => write_mesh(mesh, path),
     }
 }
@@ -154,6 +159,10 @@ pub(crate) struct Nodes<'a> {
     /// Per loop, the piece of the region each line lies on (empty lists when no region was
     /// given): Gmsh's files then get a physical curve per piece beside the one per loop.
     pub pieces: Vec<Vec<PieceId>>,
+    /// Each piece's marker where the region names its walls by number
+    /// ([`Region::piece_markers`]): Triangle's files then carry them as boundary markers, and
+    /// Gmsh's a physical curve per marker.
+    pub piece_markers: Option<Vec<i64>>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -165,6 +174,7 @@ impl<'a> Nodes<'a> {
         let (groups, pieces, _) = edges_and_pieces_by_loop(mesh, region);
         Nodes {
             pieces,
+            piece_markers: region.and_then(Region::piece_markers).map(<[i64]>::to_vec),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -181,6 +191,10 @@ impl<'a> Nodes<'a> {
         let (groups, pieces, _) = edges_and_pieces_by_loop(q.linear(), q.region());
         Nodes {
             pieces,
+            piece_markers: q
+                .region()
+                .and_then(Region::piece_markers)
+                .map(<[i64]>::to_vec),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -202,6 +216,39 @@ impl<'a> Nodes<'a> {
     /// Nodes per triangle: 3 or 6.
     pub fn per_triangle(&self) -> usize {
         self.triangles.first().map_or(3, |t| t.len())
+    }
+
+    /// Each boundary line's marker (per loop, in boundary order) and each node's (0 inside),
+    /// where the region names its walls by number: a line takes its piece's, a node the marker
+    /// of the line it starts or whose middle it is (so a corner takes the wall that leaves it,
+    /// counter-clockwise along an outer loop).
+    pub fn wall_markers(&self) -> Option<(Vec<Vec<i64>>, Vec<i64>)> {
+        let pm = self.piece_markers.as_ref()?;
+        let by_line: Vec<Vec<i64>> = self
+            .pieces
+            .iter()
+            .map(|ps| {
+                ps.iter()
+                    .map(|&j| pm.get(j).copied().unwrap_or(0))
+                    .collect()
+            })
+            .collect();
+        if by_line
+            .iter()
+            .zip(&self.lines)
+            .any(|(m, l)| m.len() != l.len())
+        {
+            return None;
+        }
+        let mut by_node = vec![0; self.points.len()];
+        for (lines, marks) in self.lines.iter().zip(&by_line) {
+            for (line, &m) in lines.iter().zip(marks) {
+                for &v in line.iter().take(1).chain(line.get(2)) {
+                    by_node[v as usize] = m;
+                }
+            }
+        }
+        Some((by_line, by_node))
     }
 }
 

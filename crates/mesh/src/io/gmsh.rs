@@ -26,8 +26,10 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 /// boundary piece (a wall: pieces run from corner to corner, numbered as `cvtmesh regions`
 /// lists them), each in two physical curves: its loop's `"loop<i>"` (tag i + 1, as before) and
 /// its own `"piece<j>"` (tag j + 1 past the surface's), so a solver reading the file can set a
-/// boundary condition per wall. Readers that take an entity's first physical curve, as
-/// [`read_gmsh`] does, see the loops.
+/// boundary condition per wall. Where the region numbers its walls
+/// ([`geometry::Region::piece_markers`], a `.poly`'s segment markers), each piece's curve is
+/// also in a third physical curve `"marker<m>"` (tags past the pieces'), one per number.
+/// Readers that take an entity's first physical curve, as [`read_gmsh`] does, see the loops.
 ///
 /// ```
 /// use cvtmesh_mesh::io;
@@ -142,14 +144,33 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     pieces_named.sort_unstable();
     pieces_named.dedup();
     let piece_phys = |j: usize| surface_phys + 1 + j;
+    // Where the region numbers its walls, a third physical curve per number, past the pieces'.
+    let marker_of = |j: usize| nodes.piece_markers.as_ref().and_then(|m| m.get(j).copied());
+    let mut markers_named: Vec<i64> = pieces_named.iter().filter_map(|&j| marker_of(j)).collect();
+    markers_named.sort_unstable();
+    markers_named.dedup();
+    let first_marker_phys = piece_phys(pieces_named.last().map_or(0, |&j| j + 1));
+    let marker_tags: HashMap<i64, usize> = markers_named
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| (m, first_marker_phys + k))
+        .collect();
+    let marker_phys = move |m: i64| marker_tags[&m];
     let produce: Producer = Box::new(move |w: &mut dyn Write| {
         writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
-        writeln!(w, "$PhysicalNames\n{}", nloops + 1 + pieces_named.len())?;
+        writeln!(
+            w,
+            "$PhysicalNames\n{}",
+            nloops + 1 + pieces_named.len() + markers_named.len()
+        )?;
         for l in 0..nloops {
             writeln!(w, "1 {} \"loop{l}\"", l + 1)?;
         }
         for &j in &pieces_named {
             writeln!(w, "1 {} \"piece{j}\"", piece_phys(j))?;
+        }
+        for &m in &markers_named {
+            writeln!(w, "1 {} \"marker{m}\"", marker_phys(m))?;
         }
         writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
         writeln!(w, "$Entities\n0 {} 1 0", curves.len())?;
@@ -172,9 +193,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 F(hi.x),
                 F(hi.y)
             )?;
-            match curve.piece {
-                Some(j) => writeln!(w, " 2 {} {} 0", curve.loop_index + 1, piece_phys(j))?,
-                None => writeln!(w, " 1 {} 0", curve.loop_index + 1)?,
+            match (curve.piece, curve.piece.and_then(marker_of)) {
+                (Some(j), Some(m)) => writeln!(
+                    w,
+                    " 3 {} {} {} 0",
+                    curve.loop_index + 1,
+                    piece_phys(j),
+                    marker_phys(m)
+                )?,
+                (Some(j), None) => writeln!(w, " 2 {} {} 0", curve.loop_index + 1, piece_phys(j))?,
+                (None, _) => writeln!(w, " 1 {} 0", curve.loop_index + 1)?,
             }
         }
         let (lo, hi) = bbox(&mut (0..n));

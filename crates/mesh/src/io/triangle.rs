@@ -36,6 +36,47 @@ pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
     write_nodes(&Nodes::linear(mesh, None), base)
 }
 
+/// [`write_triangle`] for a mesh of `region`: where the region names its walls by number
+/// ([`geometry::Region::piece_markers`], a `.poly`'s segment markers), the boundary markers
+/// are those numbers, as Triangle passes its input's markers on: each `.poly` segment carries
+/// its wall's, each boundary vertex the marker of the boundary edge it starts (a corner takes
+/// the wall that leaves it, counter-clockwise along an outer loop), and the loop index moves
+/// to a fourth vertex attribute. Without such numbers the files are [`write_triangle`]'s.
+///
+/// ```
+/// use cvtmesh_mesh::io;
+/// use geometry::formats::poly_from_str;
+/// // The unit square, its bottom marked 5 and the rest 7.
+/// let poly = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 1\n1 1 2 5\n2 2 3 7\n3 3 4 7\n4 4 1 7\n0\n";
+/// let region = poly_from_str(poly, "square.poly", "square")?;
+/// let points: Vec<geometry::DVec2> = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(geometry::DVec2::from).to_vec();
+/// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+/// let markers = io::markers_from_topology(&points, &triangles);
+/// let mut mesh = cvtmesh_mesh::Mesh { points, triangles, markers };
+/// io::restore_markers(&mut mesh, &region);
+/// let base = std::env::temp_dir().join(format!("cvtmesh-doc-walls-{}", std::process::id()));
+/// io::write_triangle_on(&mesh, &region, &base)?;
+/// let poly = std::fs::read_to_string(base.with_extension("poly"))?;
+/// let markers: Vec<&str> = poly.lines().filter(|l| !l.starts_with('#')).skip(2).take(4)
+///     .map(|l| l.split_whitespace().last().unwrap()).collect();
+/// assert_eq!(markers, ["5", "7", "7", "7"]);
+/// // Read back, the mesh is the same, its vertices on the same loops.
+/// let back = io::read_mesh(&base.with_extension("node"))?;
+/// assert_eq!((back.points, back.markers), (mesh.points, mesh.markers));
+/// for ext in ["node", "ele", "poly"] {
+///     std::fs::remove_file(base.with_extension(ext))?;
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_triangle_on(
+    mesh: &Mesh,
+    region: &geometry::Region,
+    base: &Path,
+) -> Result<(), MeshError> {
+    validate_for_writing(mesh, &with_suffix(base, "node"))?;
+    write_nodes(&Nodes::linear(mesh, Some(region)), base)
+}
+
 /// Write `nodes` as [`write_triangle`] does; six-node triangles list their corners, then the
 /// node opposite each corner (Triangle's `-o2` order), and the `.poly` keeps two-node segments.
 pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
@@ -57,14 +98,19 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
     } else {
         &[0, 1, 2]
     };
+    let walls = nodes.wall_markers();
     let write_node: Producer = Box::new(|w: &mut dyn Write| {
         writeln!(w, "{SIGNATURE}: {} vertices.", nodes.points.len())?;
+        let (nattr, last) = match walls {
+            None => (3, "| boundary marker (loop index + 1, 0 interior)"),
+            Some(_) => (4, ", loop index + 1 (0 interior) | boundary marker (the region's wall number, 0 interior)"),
+        };
         writeln!(
             w,
             "# index x y | attributes: kind (0 interior, 1 boundary, 2 corner), piece or corner index, \
-             loop arc-length parameter (-1 unknown) | boundary marker (loop index + 1, 0 interior)"
+             loop arc-length parameter (-1 unknown){last}"
         )?;
-        writeln!(w, "{} 2 3 1", nodes.points.len())?;
+        writeln!(w, "{} 2 {nattr} 1", nodes.points.len())?;
         for (i, (p, m)) in nodes.points.iter().zip(nodes.markers).enumerate() {
             let (kind, id, param, marker) = match *m {
                 VertexMarker::Interior => (0, 0i64, 0.0, 0),
@@ -79,9 +125,13 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
                     loop_param,
                 } => (2, known_id(corner), known_param(loop_param), loop_index + 1),
             };
+            let fourth = match &walls {
+                Some((_, by_node)) => format!("{marker} {}", by_node[i]),
+                None => format!("{marker}"),
+            };
             writeln!(
                 w,
-                "{} {} {} {kind} {id} {} {marker}",
+                "{} {} {} {kind} {id} {} {fourth}",
                 i + 1,
                 F(p.x),
                 F(p.y),
@@ -115,14 +165,22 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
         let nseg: usize = segments.iter().map(Vec::len).sum();
         writeln!(
             w,
-            "# segments: the mesh boundary edges, marker = loop index + 1"
+            "# segments: the mesh boundary edges, marker = {}",
+            if walls.is_some() {
+                "the region's wall number"
+            } else {
+                "loop index + 1"
+            }
         )?;
         writeln!(w, "{nseg} 1")?;
         let mut k = 0;
         for (l, edges) in segments.iter().enumerate() {
-            for &(a, b) in edges {
+            for (e, &(a, b)) in edges.iter().enumerate() {
                 k += 1;
-                writeln!(w, "{k} {} {} {}", a + 1, b + 1, l + 1)?;
+                let marker = walls
+                    .as_ref()
+                    .map_or(l as i64 + 1, |(by_line, _)| by_line[l][e]);
+                writeln!(w, "{k} {} {} {marker}", a + 1, b + 1)?;
             }
         }
         writeln!(w, "# holes: a point inside each hole loop")?;
@@ -335,7 +393,9 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
             "{nmark} boundary-marker columns; Triangle allows 0 or 1"
         )));
     }
-    let ours = text.starts_with(SIGNATURE) && nattr == 3 && nmark == 1;
+    // Our files keep the loop in the marker column, or (when the marker column holds the
+    // region's wall numbers) in a fourth attribute.
+    let ours = text.starts_with(SIGNATURE) && (nattr == 3 || nattr == 4) && nmark == 1;
     let mut points = Vec::with_capacity(n.min(1 << 20));
     let mut markers = Vec::with_capacity(if ours { n.min(1 << 20) } else { 0 });
     let mut first_attr = Vec::with_capacity(if nattr > 0 { n.min(1 << 20) } else { 0 });
@@ -363,7 +423,7 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
         let x = t.f64("x")?;
         let y = t.f64("y")?;
         points.push(DVec2::new(x, y));
-        let mut attrs = [0.0; 3];
+        let mut attrs = [0.0; 4];
         for a in 0..nattr {
             let v = t.f64("an attribute")?;
             if let Some(slot) = attrs.get_mut(a) {
@@ -379,6 +439,15 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
             0
         };
         if ours {
+            let (attrs, marker) = match attrs {
+                [kind, id, param, l] if nattr == 4 && l.fract() == 0.0 && l.abs() < 9.0e15 => {
+                    ([kind, id, param], l as i64)
+                }
+                [_, _, _, _] if nattr == 4 => {
+                    return Err(t.err_line(line, "marker attributes are inconsistent"))
+                }
+                [kind, id, param, _] => ([kind, id, param], marker),
+            };
             match decode_marker(attrs, marker) {
                 Some(m) => markers.push(m),
                 None => return Err(t.err_line(line, "marker attributes are inconsistent")),
