@@ -80,9 +80,20 @@ pub enum SizeFieldError {
         /// Distance from which the size is `size_max`.
         dist_max: f64,
     },
-    /// A distance target that is none of `loop:I`, `piece:J`, `point:X,Y`.
-    #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J or point:X,Y")]
+    /// A distance target that is none of `loop:I`, `piece:J`, `marker:M`, `point:X,Y`.
+    #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J, marker:M or point:X,Y")]
     Toward(String),
+    /// A distance field names a wall marker no piece of the region has.
+    #[error("size field: no boundary piece is marked {marker} ({})", match markers.is_empty() {
+        true => "the region file numbers no walls; only a .poly's segment markers do".to_string(),
+        false => format!("the region's markers are {}", markers.iter().map(i64::to_string).collect::<Vec<_>>().join(", ")),
+    })]
+    UnknownMarker {
+        /// The marker asked for.
+        marker: i64,
+        /// The region's markers, sorted, each once.
+        markers: Vec<i64>,
+    },
     /// A distance field names a boundary piece the region does not have.
     #[error("size field: the region has {pieces} boundary pieces (0 to {last}; `cvtmesh regions REGION` lists them), so there is no piece {index}", last = pieces.saturating_sub(1))]
     UnknownPiece {
@@ -513,18 +524,22 @@ pub enum Toward {
     Piece(usize),
     /// A point (a source, a re-entrant corner).
     Point(DVec2),
+    /// Every piece with this marker, where the region file numbers its walls
+    /// ([`Region::piece_markers`], a Triangle `.poly`'s segment markers).
+    Marker(i64),
 }
 
 impl std::str::FromStr for Toward {
     type Err = SizeFieldError;
 
-    /// `loop:I` (0 the outer loop, then the holes), `piece:J` or `point:X,Y`, as the command
-    /// line and the Python package take them.
+    /// `loop:I` (0 the outer loop, then the holes), `piece:J`, `marker:M` or `point:X,Y`, as
+    /// the command line and the Python package take them.
     ///
     /// ```
     /// use cvtmesh_geometry::{DVec2, Toward};
     /// assert_eq!("loop:1".parse::<Toward>()?, Toward::Loop(1));
     /// assert_eq!("piece:3".parse::<Toward>()?, Toward::Piece(3));
+    /// assert_eq!("marker:-2".parse::<Toward>()?, Toward::Marker(-2));
     /// assert_eq!("point: 0.5, 0.25".parse::<Toward>()?, Toward::Point(DVec2::new(0.5, 0.25)));
     /// assert!("corner:1".parse::<Toward>().is_err());
     /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
@@ -535,6 +550,7 @@ impl std::str::FromStr for Toward {
         match kind.trim() {
             "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
             "piece" => Ok(Toward::Piece(rest.trim().parse().map_err(|_| bad())?)),
+            "marker" => Ok(Toward::Marker(rest.trim().parse().map_err(|_| bad())?)),
             "point" => {
                 let (x, y) = rest.split_once(',').ok_or_else(bad)?;
                 let p = DVec2::new(
@@ -675,6 +691,14 @@ impl SizeField {
                 Toward::Piece(index) if index >= pieces => {
                     return Err(SizeFieldError::UnknownPiece { index, pieces });
                 }
+                Toward::Marker(marker)
+                    if !region.piece_markers().is_some_and(|m| m.contains(&marker)) =>
+                {
+                    let mut markers = region.piece_markers().unwrap_or_default().to_vec();
+                    markers.sort_unstable();
+                    markers.dedup();
+                    return Err(SizeFieldError::UnknownMarker { marker, markers });
+                }
                 _ => {}
             }
         }
@@ -688,6 +712,16 @@ impl SizeField {
                     }
                 }
                 Toward::Piece(j) => target_piece[j] = true,
+                Toward::Marker(m) => {
+                    for (j, &pm) in region
+                        .piece_markers()
+                        .unwrap_or_default()
+                        .iter()
+                        .enumerate()
+                    {
+                        target_piece[j] |= pm == m;
+                    }
+                }
                 Toward::Point(_) => {}
             }
         }
@@ -697,7 +731,7 @@ impl SizeField {
                 .iter()
                 .filter_map(|t| match *t {
                     Toward::Point(q) => Some((p - q).length()),
-                    Toward::Loop(_) | Toward::Piece(_) => None,
+                    Toward::Loop(_) | Toward::Piece(_) | Toward::Marker(_) => None,
                 })
                 .fold(f64::INFINITY, f64::min);
             if to_loops {
@@ -1345,6 +1379,41 @@ mod tests {
             .bounded(&r, None, Some(0.1), Some(0.3))
             .unwrap();
         assert!(k.is_constant() && k.at(DVec2::ZERO) == 0.1);
+    }
+
+    #[test]
+    fn a_distance_field_toward_a_marker_refines_the_walls_so_marked() {
+        // A 4 × 1 channel: walls 1, inlet 2, outlet 3, a strip 4 on the bottom from 1.5 to 2.5.
+        let r = crate::formats::poly_from_str(
+            "6 2 0 0\n1 0 0\n2 1.5 0\n3 2.5 0\n4 4 0\n5 4 1\n6 0 1\n\
+             6 1\n1 1 2 1\n2 2 3 4\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n0\n",
+            "channel.poly",
+            "channel",
+        )
+        .unwrap()
+        .with_default_corners();
+        let t = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 0.5,
+        };
+        let strip = SizeField::threshold(&r, &[Toward::Marker(4)], t).unwrap();
+        let ends = SizeField::threshold(&r, &[Toward::Marker(2), Toward::Marker(3)], t).unwrap();
+        for (p, d_strip, d_ends) in [
+            ((2.0, 0.1), 0.1, 1.9),
+            ((0.5, 0.1), 1.0_f64.hypot(0.1), 0.5),
+            ((3.9, 0.5), 1.4_f64.hypot(0.5), 0.1),
+        ] {
+            let p = DVec2::new(p.0, p.1);
+            assert!((strip.at(p) - t.at(d_strip)).abs() < 2e-3, "{p}");
+            assert!((ends.at(p) - t.at(d_ends)).abs() < 2e-3, "{p}");
+        }
+        let e = SizeField::threshold(&r, &[Toward::Marker(7)], t).unwrap_err();
+        assert!(e.to_string().contains("markers are 1, 2, 3, 4"), "{e}");
+        let circle = Region::builtin("circle").unwrap();
+        let e = SizeField::threshold(&circle, &[Toward::Marker(1)], t).unwrap_err();
+        assert!(e.to_string().contains("numbers no walls"), "{e}");
     }
 
     #[test]

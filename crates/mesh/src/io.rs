@@ -89,12 +89,16 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 /// boundary piece ([`write_gmsh_on`]), so a solver can set a condition per wall; where the
 /// region names its walls by number ([`Region::piece_markers`], a `.poly`'s segment markers)
 /// Triangle's files carry those numbers as their boundary markers, as Triangle itself passes
-/// them on ([`write_triangle_on`]). The other formats are written as [`write_mesh`]
-/// writes them.
+/// them on ([`write_triangle_on`]), and a `.vtu` a `wall_marker` array. The other formats
+/// are written as [`write_mesh`] writes them.
 pub fn write_mesh_on(mesh: &Mesh, region: &Region, path: &Path) -> Result<(), MeshError> {
     match extension(path).as_deref() {
         Some("msh") => write_gmsh_on(mesh, region, path),
         Some("node") | Some("ele") => write_triangle_on(mesh, region, &path.with_extension("")),
+        Some("vtu") if region.piece_markers().is_some() => {
+            validate_for_writing(mesh, path)?;
+            vtu::write_nodes(&Nodes::linear(mesh, Some(region)), path)
+        }
         _ => write_mesh(mesh, path),
     }
 }

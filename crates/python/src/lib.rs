@@ -295,7 +295,8 @@ impl PyRegion {
     /// `cvtmesh.mesh(region)` (on this region with its default corners; with
     /// `corner_angle=`, use `with_corner_angle(...).pieces`): a list of dicts with `piece`,
     /// `loop` (0 the outer loop, then the holes), `kind` (`line`, `arc`, `circle`,
-    /// `super-ellipse`, `chain`), `start`, `end` and `length`.
+    /// `super-ellipse`, `chain`), `start`, `end` and `length`; and `marker` where the region
+    /// file numbers its walls (a Triangle `.poly`'s segment markers, see `piece_markers`).
     #[getter]
     fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let region = self.inner.with_default_corners();
@@ -310,10 +311,25 @@ impl PyRegion {
                 d.set_item("start", (p.start().x, p.start().y))?;
                 d.set_item("end", (p.end().x, p.end().y))?;
                 d.set_item("length", p.length())?;
+                if let Some(m) = region.piece_markers() {
+                    d.set_item("marker", m[j])?;
+                }
                 out.push(d);
             }
         }
         Ok(out)
+    }
+
+    /// Each piece's marker, numbered as `pieces`, where the region file numbers its walls (a
+    /// Triangle `.poly`'s segment markers: Triangle users' names for boundary conditions);
+    /// `None` where it does not. Where the marker changes there is a corner, so no mesh edge
+    /// lies on two walls.
+    #[getter]
+    fn piece_markers(&self) -> Option<Vec<i64>> {
+        self.inner
+            .with_default_corners()
+            .piece_markers()
+            .map(<[i64]>::to_vec)
     }
 
     /// ((xmin, ymin), (xmax, ymax)).
@@ -543,6 +559,29 @@ impl PyMesh {
         let region = self.region_or(region, "boundary_pieces")?;
         let pieces = py.detach(|| self.mesh.boundary_pieces(&region));
         let a = PyArray1::from_vec(py, pieces.into_iter().map(|p| p as i64).collect());
+        read_only(&a)?;
+        Ok(a)
+    }
+
+    /// The marker of the wall each row of `boundary_edges` lies on, where the region file
+    /// numbers its walls (`Region.piece_markers`, a Triangle `.poly`'s segment markers): the
+    /// region the mesh was made for, or `region`. A `MeshError` where the region has none.
+    #[pyo3(signature = (region = None))]
+    fn boundary_markers<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let region = self.region_or(region, "boundary_markers")?;
+        let Some(markers) = region.piece_markers().map(<[i64]>::to_vec) else {
+            return Err(err(format!(
+                "region {} numbers no walls (only a .poly with segment markers does); \
+                 boundary_pieces() names the walls by piece",
+                region.name()
+            )));
+        };
+        let pieces = py.detach(|| self.mesh.boundary_pieces(&region));
+        let a = PyArray1::from_vec(py, pieces.into_iter().map(|p| markers[p]).collect());
         read_only(&a)?;
         Ok(a)
     }

@@ -387,6 +387,39 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
         cvtmesh.Mesh.read(tmp_path / "m.msh").boundary_pieces()
 
 
+MARKED_CHANNEL = (
+    "6 2 0 0\n1 0 0\n2 1.5 0\n3 2.5 0\n4 4 0\n5 4 1\n6 0 1\n"
+    "6 1\n1 1 2 1\n2 2 3 4\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n0\n"
+)
+
+
+def test_a_poly_s_segment_markers_name_the_walls(tmp_path):
+    # A 4 x 1 channel: walls 1, inlet 2, outlet 3, a heated strip 4 on the bottom wall.
+    path = tmp_path / "channel.poly"
+    path.write_text(MARKED_CHANNEL)
+    region = Region.load(str(path))
+    assert sorted(region.piece_markers) == [1, 1, 1, 2, 3, 4]
+    assert {p["marker"] for p in region.pieces if p["start"] == (1.5, 0.0)} == {4}
+    m = cvtmesh.mesh(region, n=600)
+    markers = m.boundary_markers()
+    assert markers.shape == (len(m.boundary_edges),)
+    ends = m.points[m.boundary_edges]
+    strip = ends[markers == 4]
+    assert (strip[:, :, 1] == 0.0).all()
+    # The strip's edges cover exactly [1.5, 2.5]: its ends are mesh vertices.
+    assert np.abs(strip[:, 1, 0] - strip[:, 0, 0]).sum() == pytest.approx(1.0, abs=1e-12)
+    assert (ends[markers == 2][:, :, 0] == 0.0).all()
+    assert (ends[markers == 3][:, :, 0] == 4.0).all()
+    meshio = pytest.importorskip("meshio")
+    sets = m.to_meshio().cell_sets
+    for k in (1, 2, 3, 4):
+        assert (markers[sets[f"marker_{k}"][1]] == k).all()
+    # A region that numbers no walls says so.
+    with pytest.raises(MeshError, match="numbers no walls"):
+        cvtmesh.mesh("circle", n=100).boundary_markers()
+    assert Region.builtin("circle").piece_markers is None
+
+
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
     region = Region.builtin("annulus")
     m = cvtmesh.mesh(region, n=303)

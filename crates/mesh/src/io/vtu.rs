@@ -37,7 +37,10 @@ pub fn triangle_quality(p: [DVec2; 3]) -> (f64, f64, f64) {
 
 /// Write `mesh` as a VTK XML unstructured grid in ASCII: points (z = 0), triangles (VTK type 5),
 /// cell data `min_angle_deg`, `area` and `q` (see [`triangle_quality`]), and point data
-/// `boundary_marker` (loop index + 1, 0 for interior vertices).
+/// `boundary_marker` (loop index + 1, 0 for interior vertices). Through
+/// [`write_mesh_on`](super::write_mesh_on), a region that numbers its walls
+/// ([`geometry::Region::piece_markers`]) adds point data `wall_marker`: each boundary vertex's
+/// wall, as Triangle's `.node` gets it.
 pub fn write_vtu(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(mesh, path)?;
     write_nodes(&Nodes::linear(mesh, None), path)
@@ -68,7 +71,18 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         for m in nodes.markers {
             writeln!(w, "{}", m.loop_index().map_or(0, |l| l + 1))?;
         }
-        writeln!(w, "        </DataArray>\n      </PointData>")?;
+        writeln!(w, "        </DataArray>")?;
+        if let Some((_, by_node)) = nodes.wall_markers() {
+            writeln!(
+                w,
+                "        <DataArray type=\"Int64\" Name=\"wall_marker\" format=\"ascii\">"
+            )?;
+            for m in by_node {
+                writeln!(w, "{m}")?;
+            }
+            writeln!(w, "        </DataArray>")?;
+        }
+        writeln!(w, "      </PointData>")?;
         writeln!(w, "      <CellData Scalars=\"q\">")?;
         for (name, field) in [("min_angle_deg", 0), ("area", 1), ("q", 2)] {
             writeln!(

@@ -134,7 +134,7 @@ def mesh(
         Refine toward boundary loops, pieces or points, as Gmsh's Distance + Threshold fields
         do: ``size_toward=["loop:1", "piece:0", "point:0.5,0.5"]`` (loop 0 is the outer
         boundary, then the holes; pieces are numbered as ``cvtmesh regions REGION`` lists
-        them) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
+        them; ``"marker:4"`` is every wall a ``.poly`` marks 4) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
         to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
         well, the smaller of the two is used.
     simplify
@@ -237,8 +237,9 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
 def _to_meshio(self: Mesh, order: int = 1) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
-    made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``), which
-    finite-element libraries reading meshio see as named boundaries. ``order=2`` gives
+    made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
+    the region file numbers its walls (a ``.poly``'s segment markers), one per number
+    (``marker_4``), which finite-element libraries reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
     the region's exact boundary)."""
     import meshio
@@ -255,6 +256,12 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
         pieces = np.empty(0, dtype=np.int64)
     for j in np.unique(pieces):
         cell_sets[f"piece_{j}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(pieces == j)]
+    try:
+        markers = np.asarray(self.boundary_markers())
+    except MeshError:  # no region, or one that numbers no walls
+        markers = np.empty(0, dtype=np.int64)
+    for m in np.unique(markers):
+        cell_sets[f"marker_{m}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(markers == m)]
     if order == 1:
         points, cells = np.array(self.points), [
             ("triangle", np.array(self.triangles)),
