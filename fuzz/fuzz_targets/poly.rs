@@ -1,9 +1,19 @@
-//! Triangle's .poly: any text is a region or an error, never a panic.
+//! Triangle's .poly: any text is a region or an error, never a panic; a region's corners
+//! chosen, and its boundary simplified, keep a marker for every piece.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        let _ = geometry::formats::poly_from_str(text, "fuzz.poly", "fuzz");
+        if let Ok(r) = geometry::formats::poly_from_str(text, "fuzz.poly", "fuzz") {
+            let marked = r.piece_markers().is_some();
+            let c = r.with_default_corners();
+            assert_eq!(c.piece_markers().is_some(), marked);
+            if let Ok(s) = r.simplified(0.05 * r.diameter()) {
+                if let Some(m) = s.region.piece_markers() {
+                    assert_eq!(m.len(), s.region.pieces().len());
+                }
+            }
+        }
     }
 });
