@@ -1,5 +1,5 @@
-//! Gmsh .msh (2.2 and 4.1 ASCII): a mesh (and the region its triangles cover) or an error,
-//! never a panic.
+//! Gmsh .msh (2.2 and 4.1 ASCII): a mesh (and the region its triangles cover, with the walls
+//! its physical curves number) or an error, never a panic.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -8,8 +8,14 @@ fuzz_target!(|data: &[u8]| {
         if let Ok(m) = mesh::io::gmsh_from_str(text) {
             let _ = m.boundary_edges();
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
-            if let Ok(r) = geometry::Region::from_triangles("fuzz", &m.points, &m.triangles) {
+            let walls = mesh::io::gmsh_walls_from_str(text).expect("the mesh was read");
+            if let Ok(r) =
+                geometry::Region::from_triangles_marked("fuzz", &m.points, &m.triangles, &walls)
+            {
                 assert!(!r.loops().is_empty());
+                if let Some(markers) = r.with_default_corners().piece_markers() {
+                    assert!(!walls.is_empty() && !markers.is_empty());
+                }
             }
         }
         // The same file read as a size field on a mesh (its first $NodeData view).

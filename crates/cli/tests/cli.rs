@@ -1882,3 +1882,87 @@ fn poly_segment_markers_reach_the_mesh_files() {
         assert!(t.contains(&format!("\"{name}\"")), "{name}");
     }
 }
+
+#[test]
+fn a_mesh_meshed_again_keeps_its_walls() {
+    let dir = scratch("walls_again");
+    let poly = marked_channel(&dir);
+    for ext in ["msh", "node"] {
+        let old = dir.join(format!("old.{ext}"));
+        let o = quiet_mesh(s(&poly), "800", &[], &old);
+        assert!(o.status.success(), "{}", text(&o));
+        // The old mesh's region is the channel again: its straight walls one piece each
+        // (a piece per old boundary edge used to leave Algorithm 2 cycling), with the markers.
+        let listed = pieces_of(&old);
+        assert!(listed.contains("6 pieces, 6 corners"), "{listed}");
+        assert!(
+            listed.contains("from (1.5, 0) to (2.5, 0), length 1.000000, marker 4"),
+            "{listed}"
+        );
+        let new = dir.join(format!("new.{ext}"));
+        let o = quiet_mesh(s(&old), "2000", &[], &new);
+        assert!(
+            o.status.success() && !text(&o).contains("NOT CONVERGED"),
+            "{}",
+            text(&o)
+        );
+        if ext == "msh" {
+            let t = std::fs::read_to_string(&new).unwrap();
+            for m in 1..=4 {
+                assert!(t.contains(&format!("\"marker{m}\"")), "marker{m}");
+            }
+        } else {
+            let segments = std::fs::read_to_string(dir.join("new.poly")).unwrap();
+            let mut markers: Vec<&str> = segments
+                .lines()
+                .filter(|l| !l.starts_with('#'))
+                .skip(2)
+                .filter_map(|l| l.split_whitespace().nth(3))
+                .collect();
+            markers.sort_unstable();
+            markers.dedup();
+            assert_eq!(markers, ["1", "2", "3", "4"]);
+        }
+    }
+}
+
+#[test]
+fn a_gmsh_users_physical_curves_survive_meshing_again() {
+    // A 4 × 1 rectangle of two triangles in Gmsh 2.2's format, its bottom and top in physical
+    // curve 12, the outlet 13, the inlet 11: a solver's boundary-condition numbers.
+    let dir = scratch("gmsh_walls");
+    let old = dir.join("g.msh");
+    std::fs::write(
+        &old,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 4 0 0\n3 4 1 0\n4 0 1 0\n\
+         $EndNodes\n$Elements\n6\n1 1 2 12 1 1 2\n2 1 2 13 2 2 3\n3 1 2 12 3 3 4\n\
+         4 1 2 11 4 4 1\n5 2 2 1 1 1 2 3\n6 2 2 1 1 1 3 4\n$EndElements\n",
+    )
+    .unwrap();
+    let listed = pieces_of(&old);
+    assert!(
+        listed.contains("from (0, 1) to (0, 0), length 1.000000, marker 11"),
+        "{listed}"
+    );
+    let new = dir.join("h.msh");
+    let o = quiet_mesh(s(&old), "600", &[], &new);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&new).unwrap();
+    for m in [11, 12, 13] {
+        assert!(t.contains(&format!("\"marker{m}\"")), "marker{m}");
+    }
+    // And as a size field's target: refine toward the inlet by its number.
+    let graded = dir.join("i.msh");
+    let o = quiet_mesh(
+        s(&old),
+        "1500",
+        &[
+            "--size-toward",
+            "marker:11",
+            "--size-threshold",
+            "0.01,0.1,0,2",
+        ],
+        &graded,
+    );
+    assert!(o.status.success(), "{}", text(&o));
+}

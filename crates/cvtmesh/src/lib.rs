@@ -89,7 +89,10 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 }
 
 /// The region the triangles of `mesh`, read from `path`, cover ([`Region::from_triangles`]),
-/// named after the file; its errors name the file.
+/// named after the file, with the walls the file numbers when `path` is a file
+/// ([`io::read_walls`]: Gmsh physical curves, a Triangle `.poly`'s segment markers), so that
+/// the mesh made of it carries the same boundary conditions
+/// ([`Region::from_triangles_marked`]); its errors name the file.
 ///
 /// ```
 /// use cvtmesh::{io::markers_from_topology, DVec2, Mesh};
@@ -104,7 +107,15 @@ pub fn region_of_mesh(mesh: &Mesh, path: &std::path::Path) -> Result<Region, Geo
     let name = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
-    Region::from_triangles(&name, &mesh.points, &mesh.triangles).map_err(|e| match e {
+    let walls = match path.is_file() {
+        true => io::read_walls(path).map_err(|e| GeometryError::Invalid {
+            region: path.display().to_string(),
+            message: format!("its walls: {e}"),
+        })?,
+        false => Vec::new(),
+    };
+    Region::from_triangles_marked(&name, &mesh.points, &mesh.triangles, &walls).map_err(|e| match e
+    {
         GeometryError::Invalid { message, .. } => GeometryError::Invalid {
             region: path.display().to_string(),
             message: format!("the region its triangles cover: {message}"),

@@ -171,17 +171,12 @@ pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geom
     poly_region(name, label, loops, &holes, markers)
 }
 
-/// The region of a `.poly`'s loops, nesting deciding the roles, checked against its hole
-/// points as Triangle would use them: every hole loop must hold a hole point (else Triangle
-/// meshes its inside, an internal boundary a region cannot express), and no hole point may
-/// lie in a part that is meshed (Triangle would eat that part). Segment markers become the
-/// pieces' markers, and every vertex where the marker changes a corner (a mesh vertex), so that
-/// no mesh edge straddles two walls.
-fn poly_region(
+/// [`polygon_region`] with each piece's marker from `markers` (0 where it has none), and a
+/// corner wherever the marker changes along a loop, so that no mesh edge lies on two walls.
+pub(crate) fn marked_polygon_region(
     name: &str,
     label: &str,
     loops: Loops,
-    holes: &[(usize, DVec2)],
     markers: Option<SegmentMarkers>,
 ) -> Result<Region, GeometryError> {
     let changes: Vec<DVec2> = match &markers {
@@ -199,16 +194,49 @@ fn poly_region(
     };
     let mut region = polygon_region_with(name, label, loops, &changes)?;
     if let Some(m) = markers {
+        // A piece is one segment or a straight run of them, all with one marker (a change is
+        // a corner): the marker of the segment that leaves its start along it. 0 (Triangle's
+        // "no marker") where that segment has none.
+        let mut leaving: HashMap<Key, Vec<(DVec2, i64)>> = HashMap::new();
+        for (&(a, b), &marker) in &m {
+            let (pa, pb) = (from_key(a), from_key(b));
+            leaving.entry(a).or_default().push((pb, marker));
+            leaving.entry(b).or_default().push((pa, marker));
+        }
         region.markers = region
             .pieces
             .iter()
-            .map(|p| match *p {
-                // Every piece is one of the file's segments; 0 is Triangle's "no marker".
-                Piece::Line { a, b } => m.get(&segment_key(a, b)).copied().unwrap_or(0),
-                _ => 0,
+            .map(|p| {
+                let (a, b) = (p.start(), p.end());
+                let along = (b - a).normalize_or_zero();
+                leaving.get(&key(a)).map_or(0, |out| {
+                    out.iter()
+                        .max_by(|x, y| {
+                            let d = |q: DVec2| (q - a).normalize_or_zero().dot(along);
+                            d(x.0).total_cmp(&d(y.0))
+                        })
+                        .map_or(0, |&(_, marker)| marker)
+                })
             })
             .collect();
     }
+    Ok(region)
+}
+
+/// The region of a `.poly`'s loops, nesting deciding the roles, checked against its hole
+/// points as Triangle would use them: every hole loop must hold a hole point (else Triangle
+/// meshes its inside, an internal boundary a region cannot express), and no hole point may
+/// lie in a part that is meshed (Triangle would eat that part). Segment markers become the
+/// pieces' markers, and every vertex where the marker changes a corner (a mesh vertex), so that
+/// no mesh edge straddles two walls.
+fn poly_region(
+    name: &str,
+    label: &str,
+    loops: Loops,
+    holes: &[(usize, DVec2)],
+    markers: Option<SegmentMarkers>,
+) -> Result<Region, GeometryError> {
+    let region = marked_polygon_region(name, label, loops, markers)?;
     for &(line, h) in holes {
         if region.contains(h) {
             return Err(parse_err(
@@ -261,7 +289,7 @@ pub fn loops_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geo
 }
 
 /// Loops with their roles, or `None` where nesting decides.
-type Loops = Vec<(Option<LoopRole>, Vec<DVec2>)>;
+pub(crate) type Loops = Vec<(Option<LoopRole>, Vec<DVec2>)>;
 
 /// Rings whose roles nesting decides.
 fn by_nesting(rings: Vec<Vec<DVec2>>) -> Loops {
@@ -395,11 +423,25 @@ fn polygon_region_with(
         if role.is_some_and(|r| (area > 0.0) != (r == LoopRole::Outer)) {
             pts.reverse();
         }
+        // A vertex where the boundary goes straight on (a straight wall drawn, or meshed,
+        // in several segments) joins its two segments into one piece: a piece per segment
+        // would end at points no corner holds. One of `corners_too` stays, as a corner.
+        let turns = |i: usize, pts: &[DVec2]| {
+            let n = pts.len();
+            let (u, v) = (pts[i] - pts[(i + n - 1) % n], pts[(i + 1) % n] - pts[i]);
+            u.perp_dot(v).atan2(u.dot(v)).abs() > CORNER_TURN
+        };
+        let kept: Vec<bool> = (0..pts.len())
+            .map(|i| turns(i, &pts) || corners_too.contains(&key(pts[i])))
+            .collect();
+        if kept.iter().filter(|&&k| k).count() >= 3 {
+            let mut k = kept.iter();
+            pts.retain(|_| *k.next().expect("one flag per point"));
+        }
         let n = pts.len();
         for i in 0..n {
-            let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
-            if (p - prev).angle_to(next - p).abs() > CORNER_TURN || corners_too.contains(&key(p)) {
-                corners.push(p);
+            if turns(i, &pts) || corners_too.contains(&key(pts[i])) {
+                corners.push(pts[i]);
             }
         }
         let pieces = (0..n)
@@ -512,14 +554,18 @@ type HolePoints = Vec<(usize, DVec2)>;
 
 /// A `.poly`'s segment markers, by the segment's end points (either order): how Triangle users
 /// name walls for boundary conditions.
-type SegmentMarkers = HashMap<(Key, Key), i64>;
+pub(crate) type SegmentMarkers = HashMap<(Key, Key), i64>;
 type Key = (u64, u64);
 
 fn key(p: DVec2) -> Key {
     (p.x.to_bits(), p.y.to_bits())
 }
 
-fn segment_key(a: DVec2, b: DVec2) -> (Key, Key) {
+fn from_key((x, y): Key) -> DVec2 {
+    DVec2::new(f64::from_bits(x), f64::from_bits(y))
+}
+
+pub(crate) fn segment_key(a: DVec2, b: DVec2) -> (Key, Key) {
     let (a, b) = (key(a), key(b));
     (a.min(b), a.max(b))
 }
@@ -1289,15 +1335,9 @@ mod tests {
             ),
         ];
         for (f, name) in files.iter().zip(["a", "b", "c", "d", "e"]) {
+            // In d, the boundary goes straight on at (2, 0): its two segments are one piece.
             let r = read_region(&f.0).unwrap_or_else(|e| panic!("{name}: {e}"));
-            if name == "d" {
-                // (2, 0) is a vertex but not a corner: nine pieces, eight corners.
-                assert_eq!(r.pieces().len(), 9);
-                assert_eq!(r.corners().len(), 8);
-                assert!((r.area() - 15.0).abs() < 1e-12);
-            } else {
-                assert_square_with_hole(&r, name);
-            }
+            assert_square_with_hole(&r, name);
         }
     }
 

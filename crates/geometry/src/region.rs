@@ -105,8 +105,8 @@ impl Region {
     /// let markers = r.piece_markers().expect("the file marks its segments");
     /// let mut sorted = markers.to_vec();
     /// sorted.sort();
-    /// assert_eq!(sorted, [1, 1, 1, 2, 3]);
-    /// // The four corners of the rectangle; (2, 0) joins two segments of the same wall.
+    /// // The bottom wall's two segments go straight on at (2, 0) with one marker: one piece.
+    /// assert_eq!(sorted, [1, 1, 2, 3]);
     /// assert_eq!(r.with_default_corners().corners().len(), 4);
     /// assert!(cvtmesh_geometry::Region::builtin("circle")?.piece_markers().is_none());
     /// # Ok::<(), cvtmesh_geometry::GeometryError>(())

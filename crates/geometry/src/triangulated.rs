@@ -2,7 +2,7 @@
 //! exactly one triangle. This is how a user with only a mesh (a solver's last mesh, Gmsh's or
 //! Triangle's output) names the region to mesh again, polish or measure against.
 use crate::error::GeometryError;
-use crate::formats::polygon_region;
+use crate::formats::{marked_polygon_region, segment_key};
 use crate::predicates::ring_signed_area;
 use crate::region::Region;
 use crate::types::LoopRole;
@@ -46,6 +46,35 @@ impl Region {
         name: &str,
         points: &[DVec2],
         triangles: &[[u32; 3]],
+    ) -> Result<Region, GeometryError> {
+        Self::from_triangles_marked(name, points, triangles, &[])
+    }
+
+    /// [`Region::from_triangles`] with the walls a mesh file numbers: each `(edge, marker)` of
+    /// `walls` gives the boundary edge between those two vertices (either order) its marker,
+    /// as a Gmsh file's physical curves or a Triangle `.poly`'s segment markers do, and the
+    /// region's pieces take them ([`Region::piece_markers`]; 0 for a boundary edge `walls`
+    /// does not name, none at all when `walls` is empty). A vertex where the marker changes is
+    /// a corner, so a mesh of the region keeps the walls apart: remeshing keeps its boundary
+    /// conditions. Pairs that are not boundary edges are ignored.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    /// // Two triangles of the unit square; its bottom edge is wall 7, the rest wall 9.
+    /// let points = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+    /// let triangles = [[0, 1, 2], [0, 2, 3]];
+    /// let walls = [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9), ([0, 2], 5)];
+    /// let r = Region::from_triangles_marked("square", &points, &triangles, &walls)?;
+    /// let mut m = r.with_default_corners().piece_markers().unwrap().to_vec();
+    /// m.sort();
+    /// assert_eq!(m, [7, 9, 9, 9]);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn from_triangles_marked(
+        name: &str,
+        points: &[DVec2],
+        triangles: &[[u32; 3]],
+        walls: &[([u32; 2], i64)],
     ) -> Result<Region, GeometryError> {
         let invalid = |message: String| GeometryError::Invalid {
             region: name.to_string(),
@@ -129,7 +158,16 @@ impl Region {
                 (Some(role), ring)
             })
             .collect();
-        polygon_region(name, name, loops)
+        let markers = (!walls.is_empty()).then(|| {
+            walls
+                .iter()
+                .filter_map(|&([a, b], m)| {
+                    let (a, b) = (points.get(a as usize)?, points.get(b as usize)?);
+                    Some((segment_key(*a, *b), m))
+                })
+                .collect()
+        });
+        marked_polygon_region(name, name, loops, markers)
     }
 }
 

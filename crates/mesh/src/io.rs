@@ -30,12 +30,13 @@ mod triangle;
 mod vtu;
 
 pub use gmsh::{
-    gmsh_from_str, gmsh_sizes_from_str, read_gmsh, read_gmsh_sizes, write_gmsh, write_gmsh_on,
+    gmsh_from_str, gmsh_sizes_from_str, gmsh_walls_from_str, read_gmsh, read_gmsh_sizes,
+    read_gmsh_walls, write_gmsh, write_gmsh_on,
 };
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{
-    read_triangle, read_triangle_sizes, triangle_from_str, triangle_sizes_from_str, write_triangle,
-    write_triangle_on,
+    read_triangle, read_triangle_sizes, read_triangle_walls, triangle_from_str,
+    triangle_sizes_from_str, write_triangle, write_triangle_on,
 };
 pub use vtu::{triangle_quality, write_vtu};
 
@@ -285,6 +286,19 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
         Some("msh") => read_gmsh(path),
         Some("obj") => read_obj(path),
         _ => Err(unknown_extension(path, "read", READ_EXTENSIONS)),
+    }
+}
+
+/// The boundary edges the mesh file `path` numbers as walls, by their end vertices as
+/// [`read_mesh`] numbers them: a Gmsh file's physical curves ([`read_gmsh_walls`]) or the
+/// segment markers of the `.poly` beside a Triangle `.node` ([`read_triangle_walls`]); empty
+/// for `.obj` and for files that number none. With the mesh they make the region to mesh again
+/// with the same boundary conditions ([`geometry::Region::from_triangles_marked`]).
+pub fn read_walls(path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    match extension(path).as_deref() {
+        Some("msh") => read_gmsh_walls(path),
+        Some("node") | Some("ele") => read_triangle_walls(&path.with_extension("node")),
+        _ => Ok(Vec::new()),
     }
 }
 

@@ -98,6 +98,48 @@ fn mesh_arrays(
     Ok((pts, tris))
 }
 
+/// `walls=(edges, markers)`: boundary edges (e, 2) of vertex indices below `n` and a marker
+/// for each (e,), any integer types.
+fn walls_of(
+    edges: &Bound<'_, PyAny>,
+    markers: &Bound<'_, PyAny>,
+    n: usize,
+) -> PyResult<Vec<([u32; 2], i64)>> {
+    let np = edges.py().import("numpy")?;
+    let bad = || err("walls must be (edges, markers): an (e, 2) integer array and e integers");
+    let edges: PyReadonlyArray2<'_, i64> = np
+        .call_method1("asarray", (edges, "int64"))?
+        .extract()
+        .map_err(|_| bad())?;
+    let markers: PyReadonlyArray1<'_, i64> = np
+        .call_method1("asarray", (markers, "int64"))?
+        .call_method0("ravel")?
+        .extract()
+        .map_err(|_| bad())?;
+    let (e, m) = (edges.as_array(), markers.as_array());
+    if e.ncols() != 2 || e.nrows() != m.len() {
+        return Err(err(format!(
+            "walls: {} edges of {} vertices and {} markers; need (e, 2) edges and e markers",
+            e.nrows(),
+            e.ncols(),
+            m.len()
+        )));
+    }
+    e.rows()
+        .into_iter()
+        .zip(m.iter())
+        .map(|(r, &marker)| {
+            let v = |k: i64| {
+                u32::try_from(k)
+                    .ok()
+                    .filter(|&k| (k as usize) < n)
+                    .ok_or_else(|| err(format!("walls: vertex {k} is not one of the {n} points")))
+            };
+            Ok(([v(r[0])?, v(r[1])?], marker))
+        })
+        .collect()
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -186,18 +228,26 @@ impl PyRegion {
     /// in either orientation. Its loops are the chains of edges of exactly one triangle (holes
     /// where the triangles lie outside them); every vertex where the boundary turns is a
     /// corner. Overlapping triangles, an edge of more than two triangles, or loops that touch
-    /// raise `MeshError`.
+    /// raise `MeshError`. `walls=(edges, markers)` numbers its walls as a solver's mesh does
+    /// (meshio's `line` cells and their `gmsh:physical` data): each boundary edge (e, 2) gets
+    /// its marker (e,), the region's pieces take them (`piece_markers`), and a vertex where the
+    /// marker changes is a corner, so a mesh of the region keeps the boundary conditions.
     #[staticmethod]
-    #[pyo3(signature = (points, triangles, name = "mesh"))]
+    #[pyo3(signature = (points, triangles, name = "mesh", walls = None))]
     fn from_triangles(
         py: Python<'_>,
         points: Bound<'_, PyAny>,
         triangles: Bound<'_, PyAny>,
         name: &str,
+        walls: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
     ) -> PyResult<PyRegion> {
         let (pts, tris) = mesh_arrays(&points, &triangles, "from_triangles")?;
+        let walls = match walls {
+            None => Vec::new(),
+            Some((edges, markers)) => walls_of(&edges, &markers, pts.len())?,
+        };
         let region = py
-            .detach(|| Region::from_triangles(name, &pts, &tris))
+            .detach(|| Region::from_triangles_marked(name, &pts, &tris, &walls))
             .map_err(err)?;
         Ok(PyRegion {
             inner: Arc::new(region),

@@ -420,6 +420,34 @@ def test_a_poly_s_segment_markers_name_the_walls(tmp_path):
     assert Region.builtin("circle").piece_markers is None
 
 
+def test_a_solver_s_mesh_meshed_again_keeps_its_boundary_conditions(tmp_path):
+    # A channel meshed with walls numbered, written, read back by meshio as a solver would
+    # hold it: triangles, boundary lines and their physical tags.
+    meshio = pytest.importorskip("meshio")
+    path = tmp_path / "channel.poly"
+    path.write_text(MARKED_CHANNEL)
+    old = cvtmesh.mesh(Region.load(str(path)), n=600)
+    xy, tri = old.points, old.triangles
+    lines, tags = old.boundary_edges, old.boundary_markers()
+    region = Region.from_triangles(xy, tri, walls=(lines, tags))
+    # The old mesh's boundary is the channel's: six straight pieces, with their markers.
+    assert sorted(region.piece_markers) == [1, 1, 1, 2, 3, 4]
+    new = cvtmesh.mesh(region, n=1500)
+    assert new.converged
+    markers = new.boundary_markers()
+    strip = new.points[new.boundary_edges[markers == 4]]
+    assert np.abs(strip[:, 1, 0] - strip[:, 0, 0]).sum() == pytest.approx(1.0, abs=1e-12)
+    # Through a file as well: Region.load of a .msh takes its physical curves.
+    old.write(tmp_path / "old.msh")
+    assert sorted(Region.load(str(tmp_path / "old.msh")).piece_markers) == [1, 1, 1, 2, 3, 4]
+    back = meshio.read(tmp_path / "old.msh")
+    assert "marker4" in back.cell_sets
+    with pytest.raises(MeshError, match="walls"):
+        Region.from_triangles(xy, tri, walls=(lines, tags[:-1]))
+    with pytest.raises(MeshError, match="not one of the"):
+        Region.from_triangles(xy, tri, walls=(lines + len(xy), tags))
+
+
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
     region = Region.builtin("annulus")
     m = cvtmesh.mesh(region, n=303)

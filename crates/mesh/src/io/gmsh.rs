@@ -278,7 +278,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
 /// names them) is taken from that name.
 pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.0)
+    Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.mesh)
 }
 
 /// A Gmsh mesh and a size at each vertex, from the first `$NodeData` view of the file (one
@@ -304,7 +304,7 @@ pub fn gmsh_sizes_from_str(text: &str) -> Result<(Mesh, Vec<f64>), MeshError> {
 }
 
 fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
-    let (mesh, sizes) = parse(text, path, true)?;
+    let Parsed { mesh, sizes, .. } = parse(text, path, true)?;
     let sizes = sizes.ok_or_else(|| {
         file_err(
             path,
@@ -326,7 +326,33 @@ fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
 /// # Ok::<(), cvtmesh_mesh::MeshError>(())
 /// ```
 pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
-    Ok(parse(text, Path::new("mesh.msh"), false)?.0)
+    Ok(parse(text, Path::new("mesh.msh"), false)?.mesh)
+}
+
+/// The boundary lines of a Gmsh mesh that carry a wall number, by their end vertices (as
+/// [`read_gmsh`] numbers them): the `m` of a physical curve named `"marker<m>"` (as
+/// [`write_gmsh_on`] writes a region's numbered walls), else, in a file not written here, the
+/// line's first physical tag, which is how a Gmsh user numbers a boundary condition. A mesh
+/// and its walls are the region to mesh again with the same boundary conditions
+/// ([`geometry::Region::from_triangles_marked`]).
+///
+/// ```
+/// // A unit square of two triangles; its bottom line in physical curve 7, the rest in 9.
+/// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n\
+///     4 0 1 0\n$EndNodes\n$Elements\n6\n1 1 2 7 1 1 2\n2 1 2 9 2 2 3\n3 1 2 9 2 3 4\n\
+///     4 1 2 9 2 4 1\n5 2 2 0 1 1 2 3\n6 2 2 0 1 1 3 4\n$EndElements\n";
+/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(text)?;
+/// assert_eq!(walls, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
+pub fn gmsh_walls_from_str(text: &str) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    Ok(parse(text, Path::new("mesh.msh"), false)?.walls)
+}
+
+/// [`gmsh_walls_from_str`] of a file.
+pub fn read_gmsh_walls(path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
+    Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.walls)
 }
 
 /// Element kinds the reader distinguishes.
@@ -380,6 +406,8 @@ struct Raw {
     triangles: Vec<[u64; 3]>,
     /// Line elements: end nodes and physical tag (0 if none).
     lines: Vec<(u64, u64, i64)>,
+    /// Line elements with a wall number ([`wall_of`]): end nodes and the number.
+    walls: Vec<(u64, u64, i64)>,
     names: HashMap<(i64, i64), String>,
     /// The first `$NodeData` view, when asked for: (node tag, value).
     node_data: Option<Vec<(u64, f64)>>,
@@ -387,9 +415,16 @@ struct Raw {
     higher_order: bool,
 }
 
-/// The mesh of a Gmsh file, and with `sizes` the first `$NodeData` view's value at each of
-/// its vertices (None when the file has no such view).
-fn parse(text: &str, path: &Path, sizes: bool) -> Result<(Mesh, Option<Vec<f64>>), MeshError> {
+/// What a Gmsh file holds for us: the mesh, with `sizes` the first `$NodeData` view's value
+/// at each of its vertices (None when the file has no such view), and the boundary lines that
+/// carry a wall number.
+struct Parsed {
+    mesh: Mesh,
+    sizes: Option<Vec<f64>>,
+    walls: Vec<([u32; 2], i64)>,
+}
+
+fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     let mut t = Tokens::new(text, None, path);
     if t.peek() != Some("$MeshFormat") {
         return Err(t.err("not a Gmsh mesh: expected '$MeshFormat'"));
@@ -414,7 +449,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<(Mesh, Option<Vec<f64>>
     t.rest_of_line();
     expect_end(&mut t, "$EndMeshFormat")?;
     let mut raw = Raw::default();
-    let mut curve_phys: HashMap<i64, i64> = HashMap::new();
+    let mut curve_phys: HashMap<i64, (i64, Option<i64>)> = HashMap::new();
     while let Some(section) = t.peek() {
         let line = t.line_no();
         t.next("a section")?;
@@ -430,7 +465,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<(Mesh, Option<Vec<f64>>
                 expect_end(&mut t, "$EndPhysicalNames")?;
             }
             "$Entities" if !v2 => {
-                curve_phys = parse_entities(&mut t)?;
+                curve_phys = parse_entities(&mut t, &raw.names)?;
                 expect_end(&mut t, "$EndEntities")?;
             }
             "$Nodes" => {
@@ -541,8 +576,37 @@ fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
     }
 }
 
-/// 4.1 `$Entities`: the first physical tag of each curve.
-fn parse_entities(t: &mut Tokens) -> Result<HashMap<i64, i64>, MeshError> {
+/// The wall number of a curve in the physical groups `phys` (`names` naming them): the `m` of
+/// a group named `marker<m>`, as this module writes them; none if one is named `loop<i>` or
+/// `piece<j>` (a file of ours whose region numbered no walls); else the first group's tag,
+/// which is how a Gmsh user numbers a boundary condition.
+fn wall_of(names: &HashMap<(i64, i64), String>, phys: &[i64]) -> Option<i64> {
+    let named = |p: &i64| names.get(&(1, *p)).map(String::as_str);
+    if let Some(m) = phys
+        .iter()
+        .filter_map(|p| named(p)?.strip_prefix("marker")?.parse().ok())
+        .next()
+    {
+        return Some(m);
+    }
+    let ours = phys.iter().filter_map(named).any(|n| {
+        let digits = |prefix: &str| {
+            n.strip_prefix(prefix)
+                .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+        };
+        digits("loop") || digits("piece")
+    });
+    match phys.first() {
+        Some(&p) if !ours && p != 0 => Some(p),
+        _ => None,
+    }
+}
+
+/// 4.1 `$Entities`: the first physical tag of each curve, and its wall number ([`wall_of`]).
+fn parse_entities(
+    t: &mut Tokens,
+    names: &HashMap<(i64, i64), String>,
+) -> Result<HashMap<i64, (i64, Option<i64>)>, MeshError> {
     let counts = [
         t.usize("the number of point entities")?,
         t.usize("the number of curve entities")?,
@@ -558,11 +622,12 @@ fn parse_entities(t: &mut Tokens) -> Result<HashMap<i64, i64>, MeshError> {
                 t.f64("an entity coordinate")?;
             }
             let nphys = t.usize("the number of physical tags")?;
-            for k in 0..nphys {
-                let p = t.i64("a physical tag")?;
-                if dim == 1 && k == 0 {
-                    curve_phys.insert(tag, p);
-                }
+            let mut phys = Vec::with_capacity(nphys.min(8));
+            for _ in 0..nphys {
+                phys.push(t.i64("a physical tag")?);
+            }
+            if dim == 1 && !phys.is_empty() {
+                curve_phys.insert(tag, (phys[0], wall_of(names, &phys)));
             }
             if dim > 0 {
                 let nb = t.usize("the number of bounding entities")?;
@@ -627,7 +692,7 @@ fn add_element(
     raw: &mut Raw,
     line: usize,
     etype: i64,
-    phys: i64,
+    (phys, wall): (i64, Option<i64>),
 ) -> Result<(), MeshError> {
     let Some((nn, kind)) = element_type(etype) else {
         return Err(t.err_line(line, format!("element type {etype} is not supported")));
@@ -647,7 +712,12 @@ fn add_element(
         }
     }
     match kind {
-        Kind::Line => raw.lines.push((nodes[0], nodes[1], phys)),
+        Kind::Line => {
+            raw.lines.push((nodes[0], nodes[1], phys));
+            if let Some(w) = wall {
+                raw.walls.push((nodes[0], nodes[1], w));
+            }
+        }
         Kind::Triangle => {
             raw.triangles.push(nodes);
             raw.higher_order |= nn > 3;
@@ -660,7 +730,7 @@ fn add_element(
 fn parse_elements_v4(
     t: &mut Tokens,
     raw: &mut Raw,
-    curve_phys: &HashMap<i64, i64>,
+    curve_phys: &HashMap<i64, (i64, Option<i64>)>,
 ) -> Result<(), MeshError> {
     let nblocks = t.usize("the number of element blocks")?;
     t.usize("the number of elements")?;
@@ -672,9 +742,9 @@ fn parse_elements_v4(
         let etype = t.i64("an element type")?;
         let count = t.usize("the number of elements in the block")?;
         let phys = if dim == 1 {
-            curve_phys.get(&entity).copied().unwrap_or(0)
+            curve_phys.get(&entity).copied().unwrap_or((0, None))
         } else {
-            0
+            (0, None)
         };
         for _ in 0..count {
             let line = t.line_no();
@@ -699,12 +769,13 @@ fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
                 phys = v;
             }
         }
-        add_element(t, raw, line, etype, phys)?;
+        let wall = wall_of(&raw.names, &[phys]);
+        add_element(t, raw, line, etype, (phys, wall))?;
     }
     Ok(())
 }
 
-fn assemble(mut raw: Raw, path: &Path) -> Result<(Mesh, Option<Vec<f64>>), MeshError> {
+fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     raw.nodes.sort_by_key(|n| n.0);
     if let Some(w) = raw.nodes.windows(2).find(|w| w[0].0 == w[1].0) {
         return Err(file_err(path, format!("node tag {} appears twice", w[0].0)));
@@ -721,6 +792,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<(Mesh, Option<Vec<f64>>), MeshE
         let corner = |tag: &u64| corners.binary_search(tag).is_ok();
         raw.nodes.retain(|n| corner(&n.0));
         raw.lines.retain(|(a, b, _)| corner(a) && corner(b));
+        raw.walls.retain(|(a, b, _)| corner(a) && corner(b));
         if let Some(data) = raw.node_data.as_mut() {
             data.retain(|(tag, _)| corner(tag));
         }
@@ -818,7 +890,11 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<(Mesh, Option<Vec<f64>>), MeshE
             }
         }
     };
-    Ok((mesh, sizes))
+    let mut walls = Vec::with_capacity(raw.walls.len());
+    for &(a, b, w) in &raw.walls {
+        walls.push(([lookup(a)?, lookup(b)?], w));
+    }
+    Ok(Parsed { mesh, sizes, walls })
 }
 
 #[cfg(test)]
@@ -872,7 +948,7 @@ mod tests {
                     $Nodes\n5\n10 0 0 0\n20 1 0 0\n30 1 1 0\n40 0 1 0\n50 0.5 0.5 0\n$EndNodes\n\
                     $Elements\n3\n1 15 2 0 1 10\n2 1 2 7 1 10 20\n3 2 2 0 3 10 40 30\n$EndElements\n";
         let r = parse(text, Path::new("v2.msh"), false)
-            .map(|r| r.0)
+            .map(|r| r.mesh)
             .unwrap();
         assert_eq!(r.points.len(), 5);
         assert_eq!(r.points[1], DVec2::new(1.0, 0.0));
@@ -880,14 +956,14 @@ mod tests {
         let text4 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n2 1 1 3\n1\n2\n3\n\
                      0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n2 1 9 1\n1 1 2 3 1 2 3\n$EndElements\n";
         let r = parse(text4, Path::new("p.msh"), false)
-            .map(|r| r.0)
+            .map(|r| r.mesh)
             .unwrap();
         assert_eq!(r.triangles, [[0, 1, 2]]);
         // Sparse node tags (looked up through a hash map), listed out of order.
         let sparse = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n9000000000 0 1 0\n7 0 0 0\n\
                       123456789 1 0 0\n$EndNodes\n$Elements\n1\n1 2 0 7 123456789 9000000000\n$EndElements\n";
         let r = parse(sparse, Path::new("s.msh"), false)
-            .map(|r| r.0)
+            .map(|r| r.mesh)
             .unwrap();
         assert_eq!(r.points, [DVec2::ZERO, DVec2::X, DVec2::Y]);
         assert_eq!(r.triangles, [[0, 1, 2]]);
@@ -913,7 +989,7 @@ mod tests {
         ];
         for (text, want) in cases {
             let e = parse(text, Path::new("bad.msh"), false)
-                .map(|r| r.0)
+                .map(|r| r.mesh)
                 .unwrap_err()
                 .to_string();
             assert!(
@@ -926,14 +1002,14 @@ mod tests {
     proptest::proptest! {
         #[test]
         fn random_bytes_never_panic(bytes in proptest::collection::vec(proptest::num::u8::ANY, 0..300)) {
-            let _ = parse(&String::from_utf8_lossy(&bytes), Path::new("r.msh"), false).map(|r| r.0);
+            let _ = parse(&String::from_utf8_lossy(&bytes), Path::new("r.msh"), false).map(|r| r.mesh);
         }
 
         #[test]
         fn random_numbers_after_a_valid_header_never_panic(body in "[0-9 \n.$a-zA-Z-]{0,200}") {
-            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
-            let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
-            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"), false).map(|r| r.0);
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
+            let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
+            let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
             let _ = sizes_from(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$NodeData\n{body}"), Path::new("r.msh"));
         }
     }
@@ -961,7 +1037,10 @@ mod tests {
             assert_eq!(m.num_triangles(), 2, "{version}");
             assert_eq!(h, [0.1, 0.2, 0.3, 0.4], "{version}");
             // The mesh reader alone still skips the view.
-            assert_eq!(parse(&text, Path::new("bg.msh"), false).unwrap().1, None);
+            assert_eq!(
+                parse(&text, Path::new("bg.msh"), false).unwrap().sizes,
+                None
+            );
         }
     }
 

@@ -9,6 +9,9 @@ use std::ffi::OsString;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// How a `.poly` written here without numbered walls says its segment markers are loops.
+const LOOP_SEGMENTS: &str = "marker = loop index + 1";
+
 /// First line of the `.node` files written here; it marks the attributes as exact markers.
 const SIGNATURE: &str = "# Triangle .node written by cvtmesh";
 
@@ -165,11 +168,11 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
         let nseg: usize = segments.iter().map(Vec::len).sum();
         writeln!(
             w,
-            "# segments: the mesh boundary edges, marker = {}",
+            "# segments: the mesh boundary edges, {}",
             if walls.is_some() {
-                "the region's wall number"
+                "marker = the region's wall number"
             } else {
-                "loop index + 1"
+                LOOP_SEGMENTS
             }
         )?;
         writeln!(w, "{nseg} 1")?;
@@ -239,6 +242,94 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
         }
     }
     None
+}
+
+/// The boundary edges the `.poly` beside `node_path` numbers, by their end vertices as
+/// [`read_triangle`] numbers them: the segments and their markers, as Triangle writes them
+/// with `-p` (its input's segment markers passed on) and [`write_triangle_on`] with a
+/// region's numbered walls. Empty where there is no `.poly`, its segments have no markers, or
+/// it is one of ours whose markers are loop numbers ([`write_triangle`]). A segment may name
+/// the `.node`'s vertices or list its own (matched to the mesh's by their coordinates); one
+/// whose ends are not both mesh vertices is left out.
+///
+/// ```
+/// use cvtmesh_mesh::io;
+/// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-tri-walls-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// // Triangle's output for the unit square: its bottom segment marked 7, the rest 9.
+/// std::fs::write(dir.join("sq.node"), "4 2 0 1\n1 0 0 7\n2 1 0 7\n3 1 1 9\n4 0 1 9\n")?;
+/// std::fs::write(dir.join("sq.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n")?;
+/// std::fs::write(dir.join("sq.poly"), "0 2 0 1\n4 1\n1 1 2 7\n2 2 3 9\n3 3 4 9\n4 4 1 9\n0\n")?;
+/// let walls = io::read_triangle_walls(&dir.join("sq.node"))?;
+/// assert_eq!(walls, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_triangle_walls(node_path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    let poly_path = node_path.with_extension("poly");
+    if !poly_path.is_file() {
+        return Ok(Vec::new());
+    }
+    let poly = read_text(&poly_path)?;
+    if poly.contains(LOOP_SEGMENTS) {
+        return Ok(Vec::new());
+    }
+    let (node_points, base, _, _) = parse_node(&read_text(node_path)?, node_path)?;
+    let mut t = Tokens::new(&poly, Some('#'), &poly_path);
+    let n = t.usize("the number of vertices")?;
+    t.usize("the dimension")?;
+    let nattr = t.usize("the number of attributes")?;
+    let nmark = t.usize("the number of boundary markers (0 or 1)")?;
+    let mut own = Vec::with_capacity(n.min(1 << 20));
+    let mut own_base = 0;
+    for i in 0..n {
+        let idx = t.usize("a vertex number")?;
+        if i == 0 {
+            own_base = idx;
+        }
+        let p = DVec2::new(t.f64("x")?, t.f64("y")?);
+        for _ in 0..nattr + nmark.min(1) {
+            t.f64("an attribute or marker")?;
+        }
+        own.push(p);
+    }
+    let (vertices, first) = if n == 0 {
+        (&node_points, base)
+    } else {
+        (&own, own_base)
+    };
+    let nseg = t.usize("the number of segments")?;
+    if t.usize("the number of segment markers (0 or 1)")? == 0 {
+        return Ok(Vec::new());
+    }
+    let mesh = read_triangle(node_path)?;
+    let index: std::collections::HashMap<(u64, u64), u32> = mesh
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i as u32))
+        .collect();
+    let mut walls = Vec::with_capacity(nseg.min(1 << 20));
+    for _ in 0..nseg {
+        let line = t.line_no();
+        t.usize("a segment number")?;
+        let mut end = || -> Result<Option<u32>, MeshError> {
+            let v = t.usize("a segment end point")?;
+            let p = v
+                .checked_sub(first)
+                .and_then(|k| vertices.get(k))
+                .ok_or_else(|| {
+                    t.err_line(line, format!("segment end point {v} is not a vertex"))
+                })?;
+            Ok(index.get(&(p.x.to_bits(), p.y.to_bits())).copied())
+        };
+        let (a, b) = (end()?, end()?);
+        let marker = t.i64("a segment marker")?;
+        if let (Some(a), Some(b)) = (a, b) {
+            walls.push(([a, b], marker));
+        }
+    }
+    Ok(walls)
 }
 
 /// Read a Triangle mesh: `node_path` (the `.node` file) and the `.ele` file beside it.

@@ -22,7 +22,10 @@ class Region:
     def load(spec: str) -> Region: ...
     @staticmethod
     def from_triangles(
-        points: npt.ArrayLike, triangles: npt.ArrayLike, name: str = "mesh"
+        points: npt.ArrayLike,
+        triangles: npt.ArrayLike,
+        name: str = "mesh",
+        walls: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = None,
     ) -> Region: ...
     @staticmethod
     def from_loops(
