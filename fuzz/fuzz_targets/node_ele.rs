@@ -1,16 +1,25 @@
-//! Triangle's .node and .ele, split at the first NUL byte: a mesh (and the region its triangles cover) or an error,
-//! never a panic.
+//! Triangle's .node, .ele and .poly, split at NUL bytes: a mesh (and the region its triangles
+//! cover, with the walls the .poly's segment markers number) or an error, never a panic.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let cut = data.iter().position(|&b| b == 0).unwrap_or(data.len());
-    let (node, ele) = (&data[..cut], data.get(cut + 1..).unwrap_or(&[]));
-    if let (Ok(node), Ok(ele)) = (std::str::from_utf8(node), std::str::from_utf8(ele)) {
+    let mut parts = data.splitn(3, |&b| b == 0);
+    let (node, ele, poly) = (
+        parts.next().unwrap_or(&[]),
+        parts.next().unwrap_or(&[]),
+        parts.next().unwrap_or(&[]),
+    );
+    let text = std::str::from_utf8;
+    if let (Ok(node), Ok(ele), Ok(poly)) = (text(node), text(ele), text(poly)) {
         if let Ok(m) = mesh::io::triangle_from_str(node, ele) {
             let _ = m.boundary_edges();
-            // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
-            if let Ok(r) = geometry::Region::from_triangles("fuzz", &m.points, &m.triangles) {
+            // The region its triangles cover (what `cvtmesh mesh FILE` meshes again), with
+            // the walls of the .poly beside it.
+            let walls = mesh::io::triangle_walls_from_str(node, ele, poly).unwrap_or_default();
+            if let Ok(r) =
+                geometry::Region::from_triangles_marked("fuzz", &m.points, &m.triangles, &walls)
+            {
                 assert!(!r.loops().is_empty());
             }
         }

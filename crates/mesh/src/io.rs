@@ -36,7 +36,7 @@ pub use gmsh::{
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{
     read_triangle, read_triangle_sizes, read_triangle_walls, triangle_from_str,
-    triangle_sizes_from_str, write_triangle, write_triangle_on,
+    triangle_sizes_from_str, triangle_walls_from_str, write_triangle, write_triangle_on,
 };
 pub use vtu::{triangle_quality, write_vtu};
 

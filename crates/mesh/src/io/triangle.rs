@@ -274,8 +274,34 @@ pub fn read_triangle_walls(node_path: &Path) -> Result<Vec<([u32; 2], i64)>, Mes
     if poly.contains(LOOP_SEGMENTS) {
         return Ok(Vec::new());
     }
-    let (node_points, base, _, _) = parse_node(&read_text(node_path)?, node_path)?;
-    let mut t = Tokens::new(&poly, Some('#'), &poly_path);
+    let node = read_text(node_path)?;
+    let ele_path = node_path.with_extension("ele");
+    let ele = read_ele_of(&ele_path, node_path)?;
+    walls_of(&node, &ele, &poly, [node_path, &ele_path, &poly_path])
+}
+
+/// [`read_triangle_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
+/// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`.
+pub fn triangle_walls_from_str(
+    node: &str,
+    ele: &str,
+    poly: &str,
+) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    if poly.contains(LOOP_SEGMENTS) {
+        return Ok(Vec::new());
+    }
+    let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
+    walls_of(node, ele, poly, paths)
+}
+
+fn walls_of(
+    node: &str,
+    ele: &str,
+    poly: &str,
+    [node_path, ele_path, poly_path]: [&Path; 3],
+) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+    let (node_points, base, _, _) = parse_node(node, node_path)?;
+    let mut t = Tokens::new(poly, Some('#'), poly_path);
     let n = t.usize("the number of vertices")?;
     t.usize("the dimension")?;
     let nattr = t.usize("the number of attributes")?;
@@ -302,7 +328,7 @@ pub fn read_triangle_walls(node_path: &Path) -> Result<Vec<([u32; 2], i64)>, Mes
     if t.usize("the number of segment markers (0 or 1)")? == 0 {
         return Ok(Vec::new());
     }
-    let mesh = read_triangle(node_path)?;
+    let mesh = mesh_of(node, ele, node_path, ele_path)?;
     let index: std::collections::HashMap<(u64, u64), u32> = mesh
         .points
         .iter()
@@ -344,8 +370,13 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
     let node_text = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
     let ele_text = read_ele_of(&ele_path, node_path)?;
-    let (points, base, exact, _) = parse_node(&node_text, node_path)?;
-    let (mut triangles, second) = parse_ele(&ele_text, &ele_path, points.len(), base)?;
+    mesh_of(&node_text, &ele_text, node_path, &ele_path)
+}
+
+/// The mesh of a `.node` and an `.ele` text, errors naming the two paths.
+fn mesh_of(node: &str, ele: &str, node_path: &Path, ele_path: &Path) -> Result<Mesh, MeshError> {
+    let (points, base, exact, _) = parse_node(node, node_path)?;
+    let (mut triangles, second) = parse_ele(ele, ele_path, points.len(), base)?;
     let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
     Ok(read_mesh_parts(
         points,
@@ -381,14 +412,7 @@ fn read_ele_of(ele_path: &Path, node_path: &Path) -> Result<String, MeshError> {
 /// ```
 pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
     let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
-    let (points, base, exact, _) = parse_node(node_text, node_path)?;
-    let (mut triangles, second) = parse_ele(ele_text, ele_path, points.len(), base)?;
-    let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
-    Ok(read_mesh_parts(
-        points,
-        triangles,
-        (!exact.is_empty()).then_some(exact),
-    ))
+    mesh_of(node_text, ele_text, node_path, ele_path)
 }
 
 /// A Triangle mesh and a size at each vertex, its first attribute (a background mesh for a
@@ -810,6 +834,28 @@ mod tests {
             let _ = parse_node(&format!("3 2 0 0\n{ele}"), p);
             let _ = parse_ele(&ele, Path::new("r.ele"), 3, 1);
         }
+    }
+
+    #[test]
+    fn a_poly_beside_the_mesh_numbers_its_walls() {
+        // The unit square, 0-based, its bottom 7 and the rest 9.
+        let node = "4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n";
+        let ele = "2 3 0\n0 0 1 2\n1 0 2 3\n";
+        let by_node = "0 2 0 0\n4 1\n0 0 1 7\n1 1 2 9\n2 2 3 9\n3 3 0 9\n0\n";
+        let want = [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)];
+        assert_eq!(triangle_walls_from_str(node, ele, by_node).unwrap(), want);
+        // Its own vertices (1-based, in another order), matched by their coordinates.
+        let own = "4 2 0 0\n1 1 1\n2 0 1\n3 0 0\n4 1 0\n4 1\n1 3 4 7\n2 4 1 9\n3 1 2 9\n4 2 3 9\n0\n";
+        assert_eq!(triangle_walls_from_str(node, ele, own).unwrap(), want);
+        // No markers, or ours naming loops: no walls.
+        let unmarked = "0 2 0 1\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 0\n0\n";
+        assert!(triangle_walls_from_str(node, ele, unmarked).unwrap().is_empty());
+        let ours = format!("# segments: the mesh boundary edges, {LOOP_SEGMENTS}\n{by_node}");
+        assert!(triangle_walls_from_str(node, ele, &ours).unwrap().is_empty());
+        // A segment naming no vertex is an error with its line.
+        let bad = by_node.replace("3 3 0 9", "3 3 8 9");
+        let e = triangle_walls_from_str(node, ele, &bad).unwrap_err().to_string();
+        assert!(e.contains("mesh.poly") && e.contains("line 6") && e.contains("8"), "{e}");
     }
 
     #[test]
