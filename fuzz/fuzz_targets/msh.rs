@@ -9,12 +9,15 @@ fuzz_target!(|data: &[u8]| {
             let _ = m.boundary_edges();
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
             let walls = mesh::io::gmsh_walls_from_str(text).expect("the mesh was read");
-            if let Ok(r) =
-                geometry::Region::from_triangles_marked("fuzz", &m.points, &m.triangles, &walls)
-            {
+            if let Ok(r) = geometry::Region::from_triangles_marked(
+                "fuzz",
+                &m.points,
+                &m.triangles,
+                &walls.edges,
+            ) {
                 assert!(!r.loops().is_empty());
                 if let Some(markers) = r.with_default_corners().piece_markers() {
-                    assert!(!walls.is_empty() && !markers.is_empty());
+                    assert!(!walls.edges.is_empty() && !markers.is_empty());
                 }
             }
         }

@@ -17,9 +17,12 @@ fuzz_target!(|data: &[u8]| {
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again), with
             // the walls of the .poly beside it.
             let walls = mesh::io::triangle_walls_from_str(node, ele, poly).unwrap_or_default();
-            if let Ok(r) =
-                geometry::Region::from_triangles_marked("fuzz", &m.points, &m.triangles, &walls)
-            {
+            if let Ok(r) = geometry::Region::from_triangles_marked(
+                "fuzz",
+                &m.points,
+                &m.triangles,
+                &walls.edges,
+            ) {
                 assert!(!r.loops().is_empty());
             }
         }

@@ -648,9 +648,13 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
             let p = &region.pieces()[j];
             let kind = p.kind();
             let (s, e) = (p.start(), p.end());
-            let marker = region
-                .piece_markers()
-                .map_or(String::new(), |m| format!(", marker {}", m[j]));
+            let marker =
+                region
+                    .piece_markers()
+                    .map_or(String::new(), |m| match region.marker_name(m[j]) {
+                        Some(name) => format!(", marker {} ({name})", m[j]),
+                        None => format!(", marker {}", m[j]),
+                    });
             outln!(
                 "  piece {j:<4} {kind:<13} from ({}, {}) to ({}, {}), length {:.6}{marker}",
                 s.x,

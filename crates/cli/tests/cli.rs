@@ -1934,23 +1934,41 @@ fn a_gmsh_users_physical_curves_survive_meshing_again() {
     let old = dir.join("g.msh");
     std::fs::write(
         &old,
-        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 4 0 0\n3 4 1 0\n4 0 1 0\n\
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 11 \"inlet\"\n\
+         1 13 \"outlet\"\n$EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 4 0 0\n3 4 1 0\n4 0 1 0\n\
          $EndNodes\n$Elements\n6\n1 1 2 12 1 1 2\n2 1 2 13 2 2 3\n3 1 2 12 3 3 4\n\
          4 1 2 11 4 4 1\n5 2 2 1 1 1 2 3\n6 2 2 1 1 1 3 4\n$EndElements\n",
     )
     .unwrap();
     let listed = pieces_of(&old);
     assert!(
-        listed.contains("from (0, 1) to (0, 0), length 1.000000, marker 11"),
+        listed.contains("from (0, 1) to (0, 0), length 1.000000, marker 11 (inlet)"),
         "{listed}"
     );
     let new = dir.join("h.msh");
     let o = quiet_mesh(s(&old), "600", &[], &new);
     assert!(o.status.success(), "{}", text(&o));
+    // The same tags and names, each wall's group first in its curve's list (what readers that
+    // take one tag per curve report), the loop and pieces numbered past them.
     let t = std::fs::read_to_string(&new).unwrap();
-    for m in [11, 12, 13] {
-        assert!(t.contains(&format!("\"marker{m}\"")), "marker{m}");
+    for group in [
+        "1 11 \"inlet\"",
+        "1 12 \"marker12\"",
+        "1 13 \"outlet\"",
+        "1 14 \"loop0\"",
+    ] {
+        assert!(t.contains(group), "{group}");
     }
+    let first_tags: Vec<&str> = t
+        .split("$Entities\n")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .take(4)
+        .map(|l| l.split(' ').nth(8).unwrap())
+        .collect();
+    assert_eq!(first_tags, ["12", "13", "12", "11"]);
     // And as a size field's target: refine toward the inlet by its number.
     let graded = dir.join("i.msh");
     let o = quiet_mesh(

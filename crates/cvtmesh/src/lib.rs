@@ -112,16 +112,18 @@ pub fn region_of_mesh(mesh: &Mesh, path: &std::path::Path) -> Result<Region, Geo
             region: path.display().to_string(),
             message: format!("its walls: {e}"),
         })?,
-        false => Vec::new(),
+        false => io::Walls::default(),
     };
-    Region::from_triangles_marked(&name, &mesh.points, &mesh.triangles, &walls).map_err(|e| match e
-    {
-        GeometryError::Invalid { message, .. } => GeometryError::Invalid {
-            region: path.display().to_string(),
-            message: format!("the region its triangles cover: {message}"),
-        },
-        e => e,
-    })
+    let region = Region::from_triangles_marked(&name, &mesh.points, &mesh.triangles, &walls.edges);
+    region
+        .map(|r| r.with_marker_names(walls.names))
+        .map_err(|e| match e {
+            GeometryError::Invalid { message, .. } => GeometryError::Invalid {
+                region: path.display().to_string(),
+                message: format!("the region its triangles cover: {message}"),
+            },
+            e => e,
+        })
 }
 
 /// A region by what a user types: the path of a region file in any format

@@ -140,6 +140,7 @@ impl Region {
         let mut merged = assemble(self.name.clone(), lps, &flags, Some(degrees));
         merged.corners_computed = self.corners_computed;
         merged.markers = markers;
+        merged.marker_names = self.marker_names.clone();
         merged
     }
 
@@ -632,5 +633,6 @@ pub(crate) fn assemble(
         corner_at_end,
         piece_offset,
         markers: Vec::new(),
+        marker_names: Default::default(),
     }
 }

@@ -79,6 +79,8 @@ pub struct Region {
     pub(crate) piece_offset: Vec<f64>,
     /// Each piece's marker as the region file named it (empty when it named none).
     pub(crate) markers: Vec<i64>,
+    /// Names the region's file gave its markers (a Gmsh physical curve's name).
+    pub(crate) marker_names: std::collections::BTreeMap<i64, String>,
 }
 
 impl Region {
@@ -113,6 +115,30 @@ impl Region {
     /// ```
     pub fn piece_markers(&self) -> Option<&[i64]> {
         (!self.markers.is_empty()).then_some(&self.markers[..])
+    }
+
+    /// The name the region's file gave `marker` (a Gmsh physical curve's name, such as
+    /// `"inlet"`), if it gave one ([`Region::with_marker_names`]).
+    pub fn marker_name(&self, marker: i64) -> Option<&str> {
+        self.marker_names.get(&marker).map(String::as_str)
+    }
+
+    /// The same region with names for its markers, as a mesh file gives them (Gmsh's physical
+    /// curves have a tag and a name): the files written for its meshes name the walls so.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    /// let points = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+    /// let walls = [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)];
+    /// let r = Region::from_triangles_marked("sq", &points, &[[0, 1, 2], [0, 2, 3]], &walls)?
+    ///     .with_marker_names([(7, "heated".to_string())]);
+    /// assert_eq!((r.marker_name(7), r.marker_name(9)), (Some("heated"), None));
+    /// assert_eq!(r.with_default_corners().marker_name(7), Some("heated"));
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn with_marker_names(mut self, names: impl IntoIterator<Item = (i64, String)>) -> Region {
+        self.marker_names.extend(names);
+        self
     }
     /// The centre about which the region is rotationally symmetric: every piece a full circle
     /// about one centre (a disc, an annulus). `None` otherwise.

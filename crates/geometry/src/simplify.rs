@@ -183,6 +183,7 @@ impl Region {
             if let Ok(mut region) = Region::new(&self.name, loops, listed) {
                 if marked {
                     region.markers = markers;
+                    region.marker_names = self.marker_names.clone();
                 }
                 region.corners_computed = true;
                 if let Some(degrees) = self.corner_threshold {

@@ -17,7 +17,7 @@
 //! boundary markers, and [`restore_markers`] fills these in from the region.
 use crate::{Mesh, MeshError, Quadratic, VertexMarker};
 use geometry::{DVec2, PieceId, Region};
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
@@ -168,6 +168,8 @@ pub(crate) struct Nodes<'a> {
     /// ([`Region::piece_markers`]): Triangle's files then carry them as boundary markers, and
     /// Gmsh's a physical curve per marker.
     pub piece_markers: Option<Vec<i64>>,
+    /// The region's names for its markers ([`Region::marker_name`]).
+    pub marker_names: BTreeMap<i64, String>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -180,6 +182,7 @@ impl<'a> Nodes<'a> {
         Nodes {
             pieces,
             piece_markers: region.and_then(Region::piece_markers).map(<[i64]>::to_vec),
+            marker_names: names_of(region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -200,6 +203,7 @@ impl<'a> Nodes<'a> {
                 .region()
                 .and_then(Region::piece_markers)
                 .map(<[i64]>::to_vec),
+            marker_names: names_of(q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -257,6 +261,20 @@ impl<'a> Nodes<'a> {
     }
 }
 
+/// The names `region` gives its markers.
+fn names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
+    let Some(r) = region else {
+        return BTreeMap::new();
+    };
+    let mut markers = r.piece_markers().unwrap_or_default().to_vec();
+    markers.sort_unstable();
+    markers.dedup();
+    markers
+        .into_iter()
+        .filter_map(|m| Some((m, r.marker_name(m)?.to_string())))
+        .collect()
+}
+
 /// The files [`write_mesh`] writes for `path`: `.node`, `.ele` and `.poly` of its stem for
 /// Triangle's format, else `path` itself.
 ///
@@ -289,16 +307,27 @@ pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
     }
 }
 
-/// The boundary edges the mesh file `path` numbers as walls, by their end vertices as
-/// [`read_mesh`] numbers them: a Gmsh file's physical curves ([`read_gmsh_walls`]) or the
-/// segment markers of the `.poly` beside a Triangle `.node` ([`read_triangle_walls`]); empty
-/// for `.obj` and for files that number none. With the mesh they make the region to mesh again
-/// with the same boundary conditions ([`geometry::Region::from_triangles_marked`]).
-pub fn read_walls(path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+/// The walls a mesh file numbers: its boundary edges with their markers, and the names it
+/// gives those numbers.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Walls {
+    /// Boundary edges by their end vertices (as the file's mesh numbers them), each with the
+    /// marker of its wall.
+    pub edges: Vec<([u32; 2], i64)>,
+    /// The file's name for a marker, where it gives one (a Gmsh physical curve's name).
+    pub names: BTreeMap<i64, String>,
+}
+
+/// The walls the mesh file `path` numbers ([`Walls`]): a Gmsh file's physical curves
+/// ([`read_gmsh_walls`]) or the segment markers of the `.poly` beside a Triangle `.node`
+/// ([`read_triangle_walls`]); none for `.obj` and for files that number none. With the mesh
+/// they make the region to mesh again with the same boundary conditions
+/// ([`geometry::Region::from_triangles_marked`], [`geometry::Region::with_marker_names`]).
+pub fn read_walls(path: &Path) -> Result<Walls, MeshError> {
     match extension(path).as_deref() {
         Some("msh") => read_gmsh_walls(path),
         Some("node") | Some("ele") => read_triangle_walls(&path.with_extension("node")),
-        _ => Ok(Vec::new()),
+        _ => Ok(Walls::default()),
     }
 }
 

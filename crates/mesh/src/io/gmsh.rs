@@ -1,7 +1,7 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
     file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, Nodes,
-    Producer, Tokens, F,
+    Producer, Tokens, Walls, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -72,9 +72,18 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     } else {
         (1, 2)
     };
+    // Where the region numbers its walls, those numbers are the physical tags of its walls
+    // (a solver's boundary conditions name them), and everything else is numbered past them:
+    // loops from shift + 1, the surface from shift + 100, the pieces past the surface.
+    let shift = nodes
+        .piece_markers
+        .iter()
+        .flatten()
+        .fold(0, |top, &m| top.max(m))
+        .max(0) as usize;
     // Physical tags 1..=nloops are the loops; keep the surface tag clear of them, and the
     // pieces' tags past it.
-    let surface_phys = 100.max(nloops + 1);
+    let surface_phys = shift + 100.max(nloops + 1);
     let n = nodes.points.len();
     let by_piece = nodes
         .pieces
@@ -149,13 +158,27 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     let mut markers_named: Vec<i64> = pieces_named.iter().filter_map(|&j| marker_of(j)).collect();
     markers_named.sort_unstable();
     markers_named.dedup();
+    // A positive marker is its own tag; 0 or below, a tag past the pieces'.
     let first_marker_phys = piece_phys(pieces_named.last().map_or(0, |&j| j + 1));
     let marker_tags: HashMap<i64, usize> = markers_named
         .iter()
         .enumerate()
-        .map(|(k, &m)| (m, first_marker_phys + k))
+        .map(|(k, &m)| {
+            (
+                m,
+                if m > 0 {
+                    m as usize
+                } else {
+                    first_marker_phys + k
+                },
+            )
+        })
         .collect();
     let marker_phys = move |m: i64| marker_tags[&m];
+    let marker_name = |m: i64| match nodes.marker_names.get(&m) {
+        Some(name) => name.clone(),
+        None => format!("marker{m}"),
+    };
     let produce: Producer = Box::new(move |w: &mut dyn Write| {
         writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
         writeln!(
@@ -164,13 +187,13 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             nloops + 1 + pieces_named.len() + markers_named.len()
         )?;
         for l in 0..nloops {
-            writeln!(w, "1 {} \"loop{l}\"", l + 1)?;
+            writeln!(w, "1 {} \"loop{l}\"", shift + l + 1)?;
         }
         for &j in &pieces_named {
             writeln!(w, "1 {} \"piece{j}\"", piece_phys(j))?;
         }
         for &m in &markers_named {
-            writeln!(w, "1 {} \"marker{m}\"", marker_phys(m))?;
+            writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
         writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
         writeln!(w, "$Entities\n0 {} 1 0", curves.len())?;
@@ -193,13 +216,15 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 F(hi.x),
                 F(hi.y)
             )?;
+            // The wall's group first: readers that take one physical tag per curve (meshio's
+            // `gmsh:physical`) see the boundary-condition numbers.
             match (curve.piece, curve.piece.and_then(marker_of)) {
                 (Some(j), Some(m)) => writeln!(
                     w,
                     " 3 {} {} {} 0",
-                    curve.loop_index + 1,
-                    piece_phys(j),
-                    marker_phys(m)
+                    marker_phys(m),
+                    shift + curve.loop_index + 1,
+                    piece_phys(j)
                 )?,
                 (Some(j), None) => writeln!(w, " 2 {} {} 0", curve.loop_index + 1, piece_phys(j))?,
                 (None, _) => writeln!(w, " 1 {} 0", curve.loop_index + 1)?,
@@ -342,15 +367,20 @@ pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
 ///     4 0 1 0\n$EndNodes\n$Elements\n6\n1 1 2 7 1 1 2\n2 1 2 9 2 2 3\n3 1 2 9 2 3 4\n\
 ///     4 1 2 9 2 4 1\n5 2 2 0 1 1 2 3\n6 2 2 0 1 1 3 4\n$EndElements\n";
 /// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(text)?;
-/// assert_eq!(walls, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
+/// assert_eq!(walls.edges, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
+/// // Named groups give their names.
+/// let named = text.replace("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n",
+///     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 7 \"heated\"\n$EndPhysicalNames\n");
+/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(&named)?;
+/// assert_eq!(walls.names.get(&7).map(String::as_str), Some("heated"));
 /// # Ok::<(), cvtmesh_mesh::MeshError>(())
 /// ```
-pub fn gmsh_walls_from_str(text: &str) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
     Ok(parse(text, Path::new("mesh.msh"), false)?.walls)
 }
 
 /// [`gmsh_walls_from_str`] of a file.
-pub fn read_gmsh_walls(path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+pub fn read_gmsh_walls(path: &Path) -> Result<Walls, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.walls)
 }
@@ -406,8 +436,10 @@ struct Raw {
     triangles: Vec<[u64; 3]>,
     /// Line elements: end nodes and physical tag (0 if none).
     lines: Vec<(u64, u64, i64)>,
-    /// Line elements with a wall number ([`wall_of`]): end nodes and the number.
+    /// Line elements with a wall number ([`curve_groups`]): end nodes and the number.
     walls: Vec<(u64, u64, i64)>,
+    /// The file's names of wall numbers.
+    wall_names: std::collections::BTreeMap<i64, String>,
     names: HashMap<(i64, i64), String>,
     /// The first `$NodeData` view, when asked for: (node tag, value).
     node_data: Option<Vec<(u64, f64)>>,
@@ -421,7 +453,7 @@ struct Raw {
 struct Parsed {
     mesh: Mesh,
     sizes: Option<Vec<f64>>,
-    walls: Vec<([u32; 2], i64)>,
+    walls: Walls,
 }
 
 fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
@@ -449,7 +481,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     t.rest_of_line();
     expect_end(&mut t, "$EndMeshFormat")?;
     let mut raw = Raw::default();
-    let mut curve_phys: HashMap<i64, (i64, Option<i64>)> = HashMap::new();
+    let mut curve_phys: HashMap<i64, CurveGroups> = HashMap::new();
     while let Some(section) = t.peek() {
         let line = t.line_no();
         t.next("a section")?;
@@ -576,37 +608,50 @@ fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
     }
 }
 
-/// The wall number of a curve in the physical groups `phys` (`names` naming them): the `m` of
-/// a group named `marker<m>`, as this module writes them; none if one is named `loop<i>` or
-/// `piece<j>` (a file of ours whose region numbered no walls); else the first group's tag,
-/// which is how a Gmsh user numbers a boundary condition.
-fn wall_of(names: &HashMap<(i64, i64), String>, phys: &[i64]) -> Option<i64> {
+/// What the physical groups `phys` of a curve (`names` naming them) say of it: the group
+/// that names its loop (one named `loop<i>`, as this module writes them; else the first), and
+/// its wall, with the wall's name where the file gives one: the `m` of a group named
+/// `marker<m>`; else the first group that is not one of this module's loops or pieces (a
+/// group of ours naming a wall by name, or any group of a file not written here: how a Gmsh
+/// user numbers a boundary condition); none in a file of ours whose region numbered no walls.
+fn curve_groups(names: &HashMap<(i64, i64), String>, phys: &[i64]) -> CurveGroups {
     let named = |p: &i64| names.get(&(1, *p)).map(String::as_str);
-    if let Some(m) = phys
+    let ours = |n: &str, prefix: &str| {
+        n.strip_prefix(prefix)
+            .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let loop_tag = phys
         .iter()
-        .filter_map(|p| named(p)?.strip_prefix("marker")?.parse().ok())
-        .next()
-    {
-        return Some(m);
-    }
-    let ours = phys.iter().filter_map(named).any(|n| {
-        let digits = |prefix: &str| {
-            n.strip_prefix(prefix)
-                .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
-        };
-        digits("loop") || digits("piece")
-    });
-    match phys.first() {
-        Some(&p) if !ours && p != 0 => Some(p),
-        _ => None,
-    }
+        .copied()
+        .find(|p| named(p).is_some_and(|n| ours(n, "loop")))
+        .or(phys.first().copied())
+        .unwrap_or(0);
+    let generic = phys
+        .iter()
+        .find_map(|p| named(p)?.strip_prefix("marker")?.parse().ok());
+    let wall = match generic {
+        Some(m) => Some((m, None)),
+        None => phys
+            .iter()
+            .find(|p| !named(p).is_some_and(|n| ours(n, "loop") || ours(n, "piece")))
+            .filter(|&&p| p != 0)
+            .map(|p| (*p, named(p).map(str::to_string))),
+    };
+    CurveGroups { loop_tag, wall }
 }
 
-/// 4.1 `$Entities`: the first physical tag of each curve, and its wall number ([`wall_of`]).
+/// A curve's physical groups, as [`curve_groups`] reads them.
+#[derive(Clone, Default)]
+struct CurveGroups {
+    loop_tag: i64,
+    wall: Option<(i64, Option<String>)>,
+}
+
+/// 4.1 `$Entities`: each curve's groups ([`curve_groups`]).
 fn parse_entities(
     t: &mut Tokens,
     names: &HashMap<(i64, i64), String>,
-) -> Result<HashMap<i64, (i64, Option<i64>)>, MeshError> {
+) -> Result<HashMap<i64, CurveGroups>, MeshError> {
     let counts = [
         t.usize("the number of point entities")?,
         t.usize("the number of curve entities")?,
@@ -627,7 +672,7 @@ fn parse_entities(
                 phys.push(t.i64("a physical tag")?);
             }
             if dim == 1 && !phys.is_empty() {
-                curve_phys.insert(tag, (phys[0], wall_of(names, &phys)));
+                curve_phys.insert(tag, curve_groups(names, &phys));
             }
             if dim > 0 {
                 let nb = t.usize("the number of bounding entities")?;
@@ -692,7 +737,7 @@ fn add_element(
     raw: &mut Raw,
     line: usize,
     etype: i64,
-    (phys, wall): (i64, Option<i64>),
+    groups: &CurveGroups,
 ) -> Result<(), MeshError> {
     let Some((nn, kind)) = element_type(etype) else {
         return Err(t.err_line(line, format!("element type {etype} is not supported")));
@@ -713,9 +758,12 @@ fn add_element(
     }
     match kind {
         Kind::Line => {
-            raw.lines.push((nodes[0], nodes[1], phys));
-            if let Some(w) = wall {
-                raw.walls.push((nodes[0], nodes[1], w));
+            raw.lines.push((nodes[0], nodes[1], groups.loop_tag));
+            if let Some((w, name)) = &groups.wall {
+                raw.walls.push((nodes[0], nodes[1], *w));
+                if let Some(name) = name {
+                    raw.wall_names.insert(*w, name.clone());
+                }
             }
         }
         Kind::Triangle => {
@@ -730,7 +778,7 @@ fn add_element(
 fn parse_elements_v4(
     t: &mut Tokens,
     raw: &mut Raw,
-    curve_phys: &HashMap<i64, (i64, Option<i64>)>,
+    curve_phys: &HashMap<i64, CurveGroups>,
 ) -> Result<(), MeshError> {
     let nblocks = t.usize("the number of element blocks")?;
     t.usize("the number of elements")?;
@@ -741,15 +789,15 @@ fn parse_elements_v4(
         let entity = t.i64("an entity tag")?;
         let etype = t.i64("an element type")?;
         let count = t.usize("the number of elements in the block")?;
-        let phys = if dim == 1 {
-            curve_phys.get(&entity).copied().unwrap_or((0, None))
-        } else {
-            (0, None)
+        let none = CurveGroups::default();
+        let groups = match dim {
+            1 => curve_phys.get(&entity).unwrap_or(&none),
+            _ => &none,
         };
         for _ in 0..count {
             let line = t.line_no();
             t.usize("an element tag")?;
-            add_element(t, raw, line, etype, phys)?;
+            add_element(t, raw, line, etype, groups)?;
         }
     }
     Ok(())
@@ -769,8 +817,8 @@ fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
                 phys = v;
             }
         }
-        let wall = wall_of(&raw.names, &[phys]);
-        add_element(t, raw, line, etype, (phys, wall))?;
+        let groups = curve_groups(&raw.names, &[phys]);
+        add_element(t, raw, line, etype, &groups)?;
     }
     Ok(())
 }
@@ -890,10 +938,14 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
             }
         }
     };
-    let mut walls = Vec::with_capacity(raw.walls.len());
+    let mut edges = Vec::with_capacity(raw.walls.len());
     for &(a, b, w) in &raw.walls {
-        walls.push(([lookup(a)?, lookup(b)?], w));
+        edges.push(([lookup(a)?, lookup(b)?], w));
     }
+    let walls = Walls {
+        edges,
+        names: std::mem::take(&mut raw.wall_names),
+    };
     Ok(Parsed { mesh, sizes, walls })
 }
 

@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
     file_err, read_mesh_parts, read_text, validate_for_writing, write_files, Nodes, Producer,
-    Tokens, F, UNKNOWN_PIECE,
+    Tokens, Walls, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -261,18 +261,18 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// std::fs::write(dir.join("sq.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n")?;
 /// std::fs::write(dir.join("sq.poly"), "0 2 0 1\n4 1\n1 1 2 7\n2 2 3 9\n3 3 4 9\n4 4 1 9\n0\n")?;
 /// let walls = io::read_triangle_walls(&dir.join("sq.node"))?;
-/// assert_eq!(walls, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
+/// assert_eq!(walls.edges, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
 /// std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_triangle_walls(node_path: &Path) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+pub fn read_triangle_walls(node_path: &Path) -> Result<Walls, MeshError> {
     let poly_path = node_path.with_extension("poly");
     if !poly_path.is_file() {
-        return Ok(Vec::new());
+        return Ok(Walls::default());
     }
     let poly = read_text(&poly_path)?;
     if poly.contains(LOOP_SEGMENTS) {
-        return Ok(Vec::new());
+        return Ok(Walls::default());
     }
     let node = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
@@ -282,13 +282,9 @@ pub fn read_triangle_walls(node_path: &Path) -> Result<Vec<([u32; 2], i64)>, Mes
 
 /// [`read_triangle_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
 /// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`.
-pub fn triangle_walls_from_str(
-    node: &str,
-    ele: &str,
-    poly: &str,
-) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
     if poly.contains(LOOP_SEGMENTS) {
-        return Ok(Vec::new());
+        return Ok(Walls::default());
     }
     let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
     walls_of(node, ele, poly, paths)
@@ -299,7 +295,7 @@ fn walls_of(
     ele: &str,
     poly: &str,
     [node_path, ele_path, poly_path]: [&Path; 3],
-) -> Result<Vec<([u32; 2], i64)>, MeshError> {
+) -> Result<Walls, MeshError> {
     let (node_points, base, _, _) = parse_node(node, node_path)?;
     let mut t = Tokens::new(poly, Some('#'), poly_path);
     let n = t.usize("the number of vertices")?;
@@ -326,7 +322,7 @@ fn walls_of(
     };
     let nseg = t.usize("the number of segments")?;
     if t.usize("the number of segment markers (0 or 1)")? == 0 {
-        return Ok(Vec::new());
+        return Ok(Walls::default());
     }
     let mesh = mesh_of(node, ele, node_path, ele_path)?;
     let index: std::collections::HashMap<(u64, u64), u32> = mesh
@@ -355,7 +351,10 @@ fn walls_of(
             walls.push(([a, b], marker));
         }
     }
-    Ok(walls)
+    Ok(Walls {
+        edges: walls,
+        names: Default::default(),
+    })
 }
 
 /// Read a Triangle mesh: `node_path` (the `.node` file) and the `.ele` file beside it.
@@ -843,19 +842,34 @@ mod tests {
         let ele = "2 3 0\n0 0 1 2\n1 0 2 3\n";
         let by_node = "0 2 0 0\n4 1\n0 0 1 7\n1 1 2 9\n2 2 3 9\n3 3 0 9\n0\n";
         let want = [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)];
-        assert_eq!(triangle_walls_from_str(node, ele, by_node).unwrap(), want);
+        assert_eq!(
+            triangle_walls_from_str(node, ele, by_node).unwrap().edges,
+            want
+        );
         // Its own vertices (1-based, in another order), matched by their coordinates.
-        let own = "4 2 0 0\n1 1 1\n2 0 1\n3 0 0\n4 1 0\n4 1\n1 3 4 7\n2 4 1 9\n3 1 2 9\n4 2 3 9\n0\n";
-        assert_eq!(triangle_walls_from_str(node, ele, own).unwrap(), want);
+        let own =
+            "4 2 0 0\n1 1 1\n2 0 1\n3 0 0\n4 1 0\n4 1\n1 3 4 7\n2 4 1 9\n3 1 2 9\n4 2 3 9\n0\n";
+        assert_eq!(triangle_walls_from_str(node, ele, own).unwrap().edges, want);
         // No markers, or ours naming loops: no walls.
         let unmarked = "0 2 0 1\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 0\n0\n";
-        assert!(triangle_walls_from_str(node, ele, unmarked).unwrap().is_empty());
+        assert!(triangle_walls_from_str(node, ele, unmarked)
+            .unwrap()
+            .edges
+            .is_empty());
         let ours = format!("# segments: the mesh boundary edges, {LOOP_SEGMENTS}\n{by_node}");
-        assert!(triangle_walls_from_str(node, ele, &ours).unwrap().is_empty());
+        assert!(triangle_walls_from_str(node, ele, &ours)
+            .unwrap()
+            .edges
+            .is_empty());
         // A segment naming no vertex is an error with its line.
         let bad = by_node.replace("3 3 0 9", "3 3 8 9");
-        let e = triangle_walls_from_str(node, ele, &bad).unwrap_err().to_string();
-        assert!(e.contains("mesh.poly") && e.contains("line 6") && e.contains("8"), "{e}");
+        let e = triangle_walls_from_str(node, ele, &bad)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("mesh.poly") && e.contains("line 6") && e.contains("8"),
+            "{e}"
+        );
     }
 
     #[test]
