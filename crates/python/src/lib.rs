@@ -346,7 +346,8 @@ impl PyRegion {
     /// `corner_angle=`, use `with_corner_angle(...).pieces`): a list of dicts with `piece`,
     /// `loop` (0 the outer loop, then the holes), `kind` (`line`, `arc`, `circle`,
     /// `super-ellipse`, `chain`), `start`, `end` and `length`; and `marker` where the region
-    /// file numbers its walls (a Triangle `.poly`'s segment markers, see `piece_markers`).
+    /// file numbers its walls (a Triangle `.poly`'s segment markers, a Gmsh mesh's physical
+    /// curves, see `piece_markers`), with the wall's `name` where the file names it.
     #[getter]
     fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let region = self.inner.with_default_corners();
@@ -363,6 +364,9 @@ impl PyRegion {
                 d.set_item("length", p.length())?;
                 if let Some(m) = region.piece_markers() {
                     d.set_item("marker", m[j])?;
+                    if let Some(name) = region.marker_name(m[j]) {
+                        d.set_item("name", name)?;
+                    }
                 }
                 out.push(d);
             }

@@ -442,6 +442,12 @@ def test_a_solver_s_mesh_meshed_again_keeps_its_boundary_conditions(tmp_path):
     assert sorted(Region.load(str(tmp_path / "old.msh")).piece_markers) == [1, 1, 1, 2, 3, 4]
     back = meshio.read(tmp_path / "old.msh")
     assert "marker4" in back.cell_sets
+    # meshio's one tag per line is the wall's number, as a Gmsh user's file has it.
+    lines = back.cells_dict["line"]
+    tags = back.cell_data_dict["gmsh:physical"]["line"]
+    assert set(np.unique(tags)) == {1, 2, 3, 4}
+    strip = back.points[lines[tags == 4]][:, :, :2]
+    assert np.abs(strip[:, 1, 0] - strip[:, 0, 0]).sum() == pytest.approx(1.0, abs=1e-12)
     with pytest.raises(MeshError, match="walls"):
         Region.from_triangles(xy, tri, walls=(lines, tags[:-1]))
     with pytest.raises(MeshError, match="not one of the"):
