@@ -411,9 +411,14 @@ def test_a_poly_s_segment_markers_name_the_walls(tmp_path):
     assert (ends[markers == 2][:, :, 0] == 0.0).all()
     assert (ends[markers == 3][:, :, 0] == 4.0).all()
     meshio = pytest.importorskip("meshio")
-    sets = m.to_meshio().cell_sets
+    mm = m.to_meshio()
     for k in (1, 2, 3, 4):
-        assert (markers[sets[f"marker_{k}"][1]] == k).all()
+        assert (markers[mm.cell_sets[f"marker_{k}"][1]] == k).all()
+    # The same numbers as cell data, which files keep where they drop cell sets (VTU here).
+    assert (mm.cell_data["marker"][1] == markers).all() and not mm.cell_data["marker"][0].any()
+    mm.write(tmp_path / "m.vtu")
+    back = meshio.read(tmp_path / "m.vtu")
+    assert (back.cell_data["marker"][1] == markers).all()
     # A region that numbers no walls says so.
     with pytest.raises(MeshError, match="numbers no walls"):
         cvtmesh.mesh("circle", n=100).boundary_markers()

@@ -238,8 +238,10 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
     made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
-    the region file numbers its walls (a ``.poly``'s segment markers), one per number
-    (``marker_4``), which finite-element libraries reading meshio see as named boundaries. ``order=2`` gives
+    the region file numbers its walls (a ``.poly``'s segment markers, a Gmsh mesh's physical
+    curves), one per number (``marker_4``) and cell data ``marker`` (the wall's number on each
+    line, 0 on the triangles, which XDMF and VTU files keep), which finite-element libraries
+    reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
     the region's exact boundary)."""
     import meshio
@@ -279,7 +281,12 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
         points, cells = np.array(points), [("triangle6", np.array(tri6)), ("line3", line3)]
     else:
         raise MeshError(f"order must be 1 or 2, got {order}")
-    return meshio.Mesh(points, cells, cell_sets=cell_sets)
+    # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
+    # finite-element codes read facet tags from, keep cell data, not cell sets.
+    cell_data = {}
+    if len(markers):
+        cell_data["marker"] = [np.zeros(len(cells[0][1]), dtype=np.int64), markers]
+    return meshio.Mesh(points, cells, cell_sets=cell_sets, cell_data=cell_data)
 
 
 Mesh.to_meshio = _to_meshio  # type: ignore[attr-defined]
