@@ -360,8 +360,8 @@ pub fn polish(a: PolishArgs) -> Result<()> {
             a.below
         );
     }
-    let mut mesh = inputs::mesh(&a.mesh)?;
-    let region = inputs::region_of(a.region.as_deref(), &a.mesh, &mesh)?;
+    let (mut mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
+    let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
     let start = Instant::now();
     let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
         Ok(report) => report,
@@ -441,8 +441,8 @@ pub struct MeasureArgs {
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
 pub fn measure(a: MeasureArgs) -> Result<()> {
-    let mesh = inputs::mesh(&a.mesh)?;
-    let region = inputs::region_of(a.region.as_deref(), &a.mesh, &mesh)?;
+    let (mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
+    let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
     if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
         eprintln!(
             "warning: the mesh does not conform to region '{}': {e}",

@@ -2,6 +2,7 @@
 //! name the problem.
 use anyhow::{anyhow, bail, Result};
 use cvtmesh::geometry::{Density, Region, SizeField, Threshold, Toward};
+use cvtmesh::io::Walls;
 use cvtmesh::{Mesh, Mesher, Method};
 use std::path::{Path, PathBuf};
 
@@ -56,18 +57,27 @@ fn with_corner_angle(region: Region, deg: f64) -> Result<Region> {
 }
 
 /// The region `spec` names, or without one the region the triangles of `mesh` (read from
-/// `path`) cover, named after the file.
-pub fn region_of(spec: Option<&str>, path: &Path, mesh: &Mesh) -> Result<Region> {
+/// `path`, which numbers `walls`) cover, named after the file.
+pub fn region_of(
+    spec: Option<&str>,
+    path: &Path,
+    (mesh, walls): (&Mesh, &Walls),
+) -> Result<Region> {
     if let Some(spec) = spec {
         return region(spec, None);
     }
-    cvtmesh::region_of_mesh(mesh, path)
+    cvtmesh::region_of_mesh(mesh, walls, path)
         .map_err(|e| anyhow!("no --region given, and the mesh is no region: {e}"))
 }
 
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.
 pub fn mesh(path: &Path) -> Result<Mesh> {
     Ok(cvtmesh::io::read_mesh(path)?)
+}
+
+/// A mesh as [`mesh`] reads it, and the walls its file numbers.
+pub fn mesh_with_walls(path: &Path) -> Result<(Mesh, Walls)> {
+    Ok(cvtmesh::io::read_mesh_with_walls(path)?)
 }
 
 /// The mesher behind a `--method` word.

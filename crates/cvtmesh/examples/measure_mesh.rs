@@ -20,8 +20,8 @@ pub fn inputs(args: &[String]) -> Result<(Mesh, Region), Box<dyn std::error::Err
         )),
         [mesh] => {
             let path = Path::new(mesh);
-            let mesh = cvtmesh::io::read_mesh(path)?;
-            let region = cvtmesh::region_of_mesh(&mesh, path)?;
+            let (mesh, walls) = cvtmesh::io::read_mesh_with_walls(path)?;
+            let region = cvtmesh::region_of_mesh(&mesh, &walls, path)?;
             Ok((mesh, region))
         }
         [] => {

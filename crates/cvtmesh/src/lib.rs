@@ -89,34 +89,38 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 }
 
 /// The region the triangles of `mesh`, read from `path`, cover ([`Region::from_triangles`]),
-/// named after the file, with the walls the file numbers when `path` is a file
-/// ([`io::read_walls`]: Gmsh physical curves, a Triangle `.poly`'s segment markers), so that
-/// the mesh made of it carries the same boundary conditions
-/// ([`Region::from_triangles_marked`]); its errors name the file.
+/// named after the file, with the walls the file numbers (`walls`, from
+/// [`io::read_mesh_with_walls`]: Gmsh physical curves, a Triangle `.poly`'s segment markers),
+/// so that a mesh of it carries the same boundary conditions
+/// ([`Region::from_triangles_marked`], [`Region::with_marker_names`]); its errors name the
+/// file.
 ///
 /// ```
-/// use cvtmesh::{io::markers_from_topology, DVec2, Mesh};
+/// use cvtmesh::{io::{markers_from_topology, Walls}, DVec2, Mesh};
 /// let points = vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
 /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
 /// let mesh = Mesh { markers: markers_from_topology(&points, &triangles), points, triangles };
-/// let r = cvtmesh::region_of_mesh(&mesh, std::path::Path::new("runs/square.msh"))?;
+/// let path = std::path::Path::new("runs/square.msh");
+/// let r = cvtmesh::region_of_mesh(&mesh, &Walls::default(), path)?;
 /// assert_eq!((r.name(), r.area()), ("square", 1.0));
+/// // Its bottom edge numbered 3, named "heated".
+/// let walls = Walls { edges: vec![([0, 1], 3)], names: [(3, "heated".to_string())].into() };
+/// let r = cvtmesh::region_of_mesh(&mesh, &walls, path)?.with_default_corners();
+/// assert_eq!(r.piece_markers().map(|m| m.contains(&3)), Some(true));
+/// assert_eq!(r.marker_name(3), Some("heated"));
 /// # Ok::<(), cvtmesh::GeometryError>(())
 /// ```
-pub fn region_of_mesh(mesh: &Mesh, path: &std::path::Path) -> Result<Region, GeometryError> {
+pub fn region_of_mesh(
+    mesh: &Mesh,
+    walls: &io::Walls,
+    path: &std::path::Path,
+) -> Result<Region, GeometryError> {
     let name = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
-    let walls = match path.is_file() {
-        true => io::read_walls(path).map_err(|e| GeometryError::Invalid {
-            region: path.display().to_string(),
-            message: format!("its walls: {e}"),
-        })?,
-        false => io::Walls::default(),
-    };
     let region = Region::from_triangles_marked(&name, &mesh.points, &mesh.triangles, &walls.edges);
     region
-        .map(|r| r.with_marker_names(walls.names))
+        .map(|r| r.with_marker_names(walls.names.clone()))
         .map_err(|e| match e {
             GeometryError::Invalid { message, .. } => GeometryError::Invalid {
                 region: path.display().to_string(),
@@ -153,11 +157,11 @@ pub fn region_of_mesh(mesh: &Mesh, path: &std::path::Path) -> Result<Region, Geo
 pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
     let path = std::path::Path::new(spec);
     if io::names_mesh(path) {
-        let mesh = io::read_mesh(path).map_err(|e| GeometryError::Parse {
+        let (mesh, walls) = io::read_mesh_with_walls(path).map_err(|e| GeometryError::Parse {
             path: spec.to_string(),
             message: e.to_string(),
         })?;
-        return region_of_mesh(&mesh, path);
+        return region_of_mesh(&mesh, &walls, path);
     }
     if path.exists() || spec.contains('.') || spec.contains('/') {
         Region::from_file(path)

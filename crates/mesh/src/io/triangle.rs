@@ -266,37 +266,48 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_triangle_walls(node_path: &Path) -> Result<Walls, MeshError> {
-    let poly_path = node_path.with_extension("poly");
-    if !poly_path.is_file() {
-        return Ok(Walls::default());
-    }
-    let poly = read_text(&poly_path)?;
-    if poly.contains(LOOP_SEGMENTS) {
-        return Ok(Walls::default());
-    }
+    Ok(read_triangle_with_walls(node_path)?.1)
+}
+
+/// [`read_triangle`] and [`read_triangle_walls`], each file read once.
+pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshError> {
     let node = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
     let ele = read_ele_of(&ele_path, node_path)?;
-    walls_of(&node, &ele, &poly, [node_path, &ele_path, &poly_path])
+    let (mesh, given) = parse_mesh(&node, &ele, node_path, &ele_path)?;
+    let poly_path = node_path.with_extension("poly");
+    let walls = match poly_path.is_file() {
+        true => walls_of(&read_text(&poly_path)?, &poly_path, &given, &mesh)?,
+        false => Walls::default(),
+    };
+    Ok((mesh, walls))
 }
 
 /// [`read_triangle_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
 /// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`.
 pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
+    let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
+    let (mesh, given) = parse_mesh(node, ele, paths[0], paths[1])?;
+    walls_of(poly, paths[2], &given, &mesh)
+}
+
+/// The `.node`'s own vertices (where they are not the mesh's: a six-node mesh's) and its
+/// numbering base, which a `.poly` beside it refers to.
+struct GivenVertices {
+    points: Option<Vec<DVec2>>,
+    base: usize,
+}
+
+/// The walls the `.poly` text `poly` numbers on `mesh`, whose `.node` listed `given`.
+fn walls_of(
+    poly: &str,
+    poly_path: &Path,
+    given: &GivenVertices,
+    mesh: &Mesh,
+) -> Result<Walls, MeshError> {
     if poly.contains(LOOP_SEGMENTS) {
         return Ok(Walls::default());
     }
-    let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
-    walls_of(node, ele, poly, paths)
-}
-
-fn walls_of(
-    node: &str,
-    ele: &str,
-    poly: &str,
-    [node_path, ele_path, poly_path]: [&Path; 3],
-) -> Result<Walls, MeshError> {
-    let (node_points, base, _, _) = parse_node(node, node_path)?;
     let mut t = Tokens::new(poly, Some('#'), poly_path);
     let n = t.usize("the number of vertices")?;
     t.usize("the dimension")?;
@@ -316,7 +327,7 @@ fn walls_of(
         own.push(p);
     }
     let (vertices, first) = if n == 0 {
-        (&node_points, base)
+        (given.points.as_ref().unwrap_or(&mesh.points), given.base)
     } else {
         (&own, own_base)
     };
@@ -324,7 +335,6 @@ fn walls_of(
     if t.usize("the number of segment markers (0 or 1)")? == 0 {
         return Ok(Walls::default());
     }
-    let mesh = mesh_of(node, ele, node_path, ele_path)?;
     let index: std::collections::HashMap<(u64, u64), u32> = mesh
         .points
         .iter()
@@ -369,19 +379,26 @@ pub fn read_triangle(node_path: &Path) -> Result<Mesh, MeshError> {
     let node_text = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
     let ele_text = read_ele_of(&ele_path, node_path)?;
-    mesh_of(&node_text, &ele_text, node_path, &ele_path)
+    Ok(parse_mesh(&node_text, &ele_text, node_path, &ele_path)?.0)
 }
 
-/// The mesh of a `.node` and an `.ele` text, errors naming the two paths.
-fn mesh_of(node: &str, ele: &str, node_path: &Path, ele_path: &Path) -> Result<Mesh, MeshError> {
+/// The mesh of a `.node` and an `.ele` text, errors naming the two paths, and the vertices
+/// the `.node` listed.
+fn parse_mesh(
+    node: &str,
+    ele: &str,
+    node_path: &Path,
+    ele_path: &Path,
+) -> Result<(Mesh, GivenVertices), MeshError> {
     let (points, base, exact, _) = parse_node(node, node_path)?;
     let (mut triangles, second) = parse_ele(ele, ele_path, points.len(), base)?;
+    let given = GivenVertices {
+        points: second.then(|| points.clone()),
+        base,
+    };
     let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
-    Ok(read_mesh_parts(
-        points,
-        triangles,
-        (!exact.is_empty()).then_some(exact),
-    ))
+    let mesh = read_mesh_parts(points, triangles, (!exact.is_empty()).then_some(exact));
+    Ok((mesh, given))
 }
 
 /// The text of `ele_path`, its errors saying whose triangles it holds.
@@ -411,7 +428,7 @@ fn read_ele_of(ele_path: &Path, node_path: &Path) -> Result<String, MeshError> {
 /// ```
 pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
     let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
-    mesh_of(node_text, ele_text, node_path, ele_path)
+    Ok(parse_mesh(node_text, ele_text, node_path, ele_path)?.0)
 }
 
 /// A Triangle mesh and a size at each vertex, its first attribute (a background mesh for a
