@@ -148,11 +148,11 @@ impl Region {
                                 .collect();
                             let at = |p: DVec2| index[&(p.x.to_bits(), p.y.to_bits())];
                             markers.extend(kept.iter().map(|&p| m[at(p)]));
-                            let k = kept.len();
-                            corners.extend((0..k).map(|i| kept[i]).filter(|&p| {
-                                let i = at(p);
-                                changes[l].binary_search(&i).is_ok()
-                            }));
+                            corners.extend(
+                                kept.iter()
+                                    .copied()
+                                    .filter(|&p| changes[l].binary_search(&at(p)).is_ok()),
+                            );
                         }
                         (0..kept.len())
                             .map(|i| Piece::Line {
