@@ -31,13 +31,12 @@ mod vtu;
 
 pub use gmsh::{
     gmsh_from_str, gmsh_sizes_from_str, gmsh_walls_from_str, read_gmsh, read_gmsh_sizes,
-    read_gmsh_walls, read_gmsh_with_walls, write_gmsh, write_gmsh_on,
+    read_gmsh_with_walls, write_gmsh, write_gmsh_on,
 };
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{
-    read_triangle, read_triangle_sizes, read_triangle_walls, read_triangle_with_walls,
-    triangle_from_str, triangle_sizes_from_str, triangle_walls_from_str, write_triangle,
-    write_triangle_on,
+    read_triangle, read_triangle_sizes, read_triangle_with_walls, triangle_from_str,
+    triangle_sizes_from_str, triangle_walls_from_str, write_triangle, write_triangle_on,
 };
 pub use vtu::{triangle_quality, write_vtu};
 
@@ -319,16 +318,12 @@ pub struct Walls {
     pub names: BTreeMap<i64, String>,
 }
 
-/// The walls the mesh file `path` numbers ([`Walls`]): a Gmsh file's physical curves
-/// ([`read_gmsh_walls`]) or the segment markers of the `.poly` beside a Triangle `.node`
-/// ([`read_triangle_walls`]); none for `.obj` and for files that number none. With the mesh
-/// they make the region to mesh again with the same boundary conditions
-/// ([`geometry::Region::from_triangles_marked`], [`geometry::Region::with_marker_names`]).
-pub fn read_walls(path: &Path) -> Result<Walls, MeshError> {
-    Ok(read_mesh_with_walls(path)?.1)
-}
-
-/// [`read_mesh`] and [`read_walls`] of one mesh file, each file read once.
+/// [`read_mesh`] of one mesh file, and the walls it numbers ([`Walls`]), each file read
+/// once: a Gmsh file's physical curves ([`read_gmsh_with_walls`]) or the segment markers of
+/// the `.poly` beside a Triangle `.node` ([`read_triangle_with_walls`]); none for `.obj` and
+/// for files that number none. With the mesh they make the region to mesh again with the same
+/// boundary conditions ([`geometry::Region::from_triangles_marked`],
+/// [`geometry::Region::with_marker_names`]).
 pub fn read_mesh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
     match extension(path).as_deref() {
         Some("msh") => read_gmsh_with_walls(path),

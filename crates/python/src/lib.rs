@@ -469,6 +469,19 @@ struct PyMesh {
 type QuadraticArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 
 impl PyMesh {
+    /// `label(piece)` for each row of `boundary_edges`, as a read-only array.
+    fn by_boundary_edge<'py>(
+        &self,
+        py: Python<'py>,
+        region: &Region,
+        label: impl Fn(usize) -> i64,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let pieces = py.detach(|| self.mesh.boundary_pieces(region));
+        let a = PyArray1::from_vec(py, pieces.into_iter().map(label).collect());
+        read_only(&a)?;
+        Ok(a)
+    }
+
     /// The six-node mesh, its boundary nodes on `region` if given, else on the region the
     /// mesh was made for, else (a mesh read from a file) at its boundary edges' midpoints.
     fn quadratic_mesh(&self, py: Python<'_>, region: Option<&PyRegion>) -> cvtmesh::Quadratic {
@@ -611,10 +624,7 @@ impl PyMesh {
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let region = self.region_or(region, "boundary_pieces")?;
-        let pieces = py.detach(|| self.mesh.boundary_pieces(&region));
-        let a = PyArray1::from_vec(py, pieces.into_iter().map(|p| p as i64).collect());
-        read_only(&a)?;
-        Ok(a)
+        self.by_boundary_edge(py, &region, |p| p as i64)
     }
 
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file
@@ -627,17 +637,14 @@ impl PyMesh {
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let region = self.region_or(region, "boundary_markers")?;
-        let Some(markers) = region.piece_markers().map(<[i64]>::to_vec) else {
+        let Some(markers) = region.piece_markers() else {
             return Err(err(format!(
-                "region {} numbers no walls (only a .poly with segment markers does); \
-                 boundary_pieces() names the walls by piece",
+                "region {} numbers no walls (a .poly's segment markers or a Gmsh mesh's \
+                 physical curves do); boundary_pieces() names the walls by piece",
                 region.name()
             )));
         };
-        let pieces = py.detach(|| self.mesh.boundary_pieces(&region));
-        let a = PyArray1::from_vec(py, pieces.into_iter().map(|p| markers[p]).collect());
-        read_only(&a)?;
-        Ok(a)
+        self.by_boundary_edge(py, &region, |p| markers[p])
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the

@@ -379,12 +379,7 @@ pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
     Ok(parse(text, Path::new("mesh.msh"), false)?.walls)
 }
 
-/// [`gmsh_walls_from_str`] of a file.
-pub fn read_gmsh_walls(path: &Path) -> Result<Walls, MeshError> {
-    Ok(read_gmsh_with_walls(path)?.1)
-}
-
-/// [`read_gmsh`] and [`read_gmsh_walls`], the file read once.
+/// [`read_gmsh`] and [`gmsh_walls_from_str`] of a file, read once.
 pub fn read_gmsh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     let parsed = parse(&String::from_utf8_lossy(&bytes), path, false)?;

@@ -244,8 +244,8 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
     None
 }
 
-/// The boundary edges the `.poly` beside `node_path` numbers, by their end vertices as
-/// [`read_triangle`] numbers them: the segments and their markers, as Triangle writes them
+/// [`read_triangle`], and the boundary edges the `.poly` beside `node_path` numbers, by their
+/// end vertices as the mesh numbers them, each file read once: the segments and their markers, as Triangle writes them
 /// with `-p` (its input's segment markers passed on) and [`write_triangle_on`] with a
 /// region's numbered walls. Empty where there is no `.poly`, its segments have no markers, or
 /// it is one of ours whose markers are loop numbers ([`write_triangle`]). A segment may name
@@ -260,16 +260,12 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// std::fs::write(dir.join("sq.node"), "4 2 0 1\n1 0 0 7\n2 1 0 7\n3 1 1 9\n4 0 1 9\n")?;
 /// std::fs::write(dir.join("sq.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n")?;
 /// std::fs::write(dir.join("sq.poly"), "0 2 0 1\n4 1\n1 1 2 7\n2 2 3 9\n3 3 4 9\n4 4 1 9\n0\n")?;
-/// let walls = io::read_triangle_walls(&dir.join("sq.node"))?;
+/// let (mesh, walls) = io::read_triangle_with_walls(&dir.join("sq.node"))?;
+/// assert_eq!(mesh.num_triangles(), 2);
 /// assert_eq!(walls.edges, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
 /// std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn read_triangle_walls(node_path: &Path) -> Result<Walls, MeshError> {
-    Ok(read_triangle_with_walls(node_path)?.1)
-}
-
-/// [`read_triangle`] and [`read_triangle_walls`], each file read once.
 pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshError> {
     let node = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
@@ -283,7 +279,7 @@ pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshE
     Ok((mesh, walls))
 }
 
-/// [`read_triangle_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
+/// The walls of [`read_triangle_with_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
 /// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`.
 pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
     let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
