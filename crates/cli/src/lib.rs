@@ -63,8 +63,8 @@ enum Command {
     )]
     Show(commands::ShowArgs),
     /// List the built-in regions (the paper's ten), usable by name wherever a region is asked;
-    /// with a region, its loops and boundary pieces (what --size-toward loop:I and piece:J
-    /// name).
+    /// with a region, its loops and boundary pieces with their markers (what --size-toward
+    /// loop:I, piece:J and marker:M name).
     #[command(
         after_help = "Examples:\n  cvtmesh regions\n  cvtmesh regions square_hole\n  cvtmesh regions channel.poly --corner-angle 30"
     )]
