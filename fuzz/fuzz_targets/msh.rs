@@ -1,5 +1,5 @@
 //! Gmsh .msh (2.2 and 4.1 ASCII): a mesh (and the region its triangles cover, with the walls
-//! its physical curves number) or an error, never a panic.
+//! its physical curves number and the points its physical points mark) or an error, never a panic.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -9,13 +9,19 @@ fuzz_target!(|data: &[u8]| {
             let _ = m.boundary_edges();
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again).
             let walls = mesh::io::gmsh_walls_from_str(text).expect("the mesh was read");
-            if let Ok(r) = geometry::Region::from_triangles_marked(
+            if let Ok(r) = geometry::Region::from_triangles_pinned(
                 "fuzz",
                 &m.points,
                 &m.triangles,
                 &walls.edges,
+                &walls.points,
             ) {
                 assert!(!r.loops().is_empty());
+                // A point marked on its own is a vertex of the mesh, and a corner.
+                let c = r.with_default_corners();
+                for (p, _) in r.vertex_markers() {
+                    assert!(m.points.contains(p) && c.corners().iter().any(|k| k.pos == *p));
+                }
                 if let Some(markers) = r.with_default_corners().piece_markers() {
                     assert!(!walls.edges.is_empty() && !markers.is_empty());
                 }

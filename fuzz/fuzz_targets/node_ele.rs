@@ -17,13 +17,19 @@ fuzz_target!(|data: &[u8]| {
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again), with
             // the walls of the .poly beside it.
             let walls = mesh::io::triangle_walls_from_str(node, ele, poly).unwrap_or_default();
-            if let Ok(r) = geometry::Region::from_triangles_marked(
+            if let Ok(r) = geometry::Region::from_triangles_pinned(
                 "fuzz",
                 &m.points,
                 &m.triangles,
                 &walls.edges,
+                &walls.points,
             ) {
                 assert!(!r.loops().is_empty());
+                // A point marked on its own is a vertex of the mesh, and a corner.
+                let c = r.with_default_corners();
+                for (p, _) in r.vertex_markers() {
+                    assert!(m.points.contains(p) && c.corners().iter().any(|k| k.pos == *p));
+                }
             }
         }
         // The same files read as a size field on a mesh (first attribute = size).

@@ -1,5 +1,6 @@
 //! Triangle's .poly: any text is a region or an error, never a panic; a region's corners
-//! chosen, and its boundary simplified, keep a marker for every piece.
+//! chosen, and its boundary simplified, keep a marker for every piece and every vertex marked
+//! on its own as a corner.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -9,10 +10,19 @@ fuzz_target!(|data: &[u8]| {
             let marked = r.piece_markers().is_some();
             let c = r.with_default_corners();
             assert_eq!(c.piece_markers().is_some(), marked);
+            let corners_hold = |r: &geometry::Region| {
+                r.vertex_markers()
+                    .iter()
+                    .all(|(p, _)| r.corners().iter().any(|c| c.pos == *p))
+            };
+            assert!(corners_hold(&c));
+            assert!(r.vertex_markers().is_empty() || marked);
             if let Ok(s) = r.simplified(0.05 * r.diameter()) {
                 if let Some(m) = s.region.piece_markers() {
                     assert_eq!(m.len(), s.region.pieces().len());
                 }
+                assert_eq!(s.region.vertex_markers(), r.vertex_markers());
+                assert!(corners_hold(&s.region.with_default_corners()));
             }
         }
     }

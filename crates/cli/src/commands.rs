@@ -665,6 +665,16 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
             );
         }
     }
+    for &(p, m) in region.vertex_markers() {
+        let name = region
+            .marker_name(m)
+            .map_or(String::new(), |n| format!(" ({n})"));
+        outln!(
+            "vertex ({}, {}): marker {m}{name}, a corner of its own",
+            p.x,
+            p.y
+        );
+    }
     Ok(())
 }
 

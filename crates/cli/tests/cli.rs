@@ -1926,6 +1926,86 @@ fn a_mesh_meshed_again_keeps_its_walls() {
     }
 }
 
+/// The rows of a Triangle `.node` written by `cvtmesh mesh` for a marked region: (x, y,
+/// boundary marker).
+fn node_rows(node: &Path) -> Vec<(f64, f64, i64)> {
+    std::fs::read_to_string(node)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let num = |k: usize| f[k].parse::<f64>().unwrap();
+            (num(1), num(2), f[f.len() - 1].parse().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn a_vertex_marked_on_its_own_is_a_mesh_vertex_in_every_file_and_mesh_again() {
+    // The channel's walls all marked 1 but the outlet (3) and inlet (2); vertex 2 at (1.5, 0)
+    // marks itself 7, a point where a solver pins a value; vertex 3 is marked as its wall.
+    let dir = scratch("pinned");
+    let poly = dir.join("pinned.poly");
+    std::fs::write(
+        &poly,
+        "6 2 0 1\n1 0 0 1\n2 1.5 0 7\n3 2.5 0 1\n4 4 0 1\n5 4 1 1\n6 0 1 1\n\
+         6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n0\n",
+    )
+    .unwrap();
+    let listed = pieces_of(&poly);
+    assert!(listed.contains("vertex (1.5, 0): marker 7"), "{listed}");
+    let pinned = |rows: &[(f64, f64, i64)]| -> Vec<(f64, f64)> {
+        rows.iter()
+            .filter(|r| r.2 == 7)
+            .map(|r| (r.0, r.1))
+            .collect()
+    };
+    // Triangle's files: that vertex, and only it, carries 7.
+    let node = dir.join("a.node");
+    let o = quiet_mesh(s(&poly), "500", &[], &node);
+    assert!(o.status.success(), "{}", text(&o));
+    let rows = node_rows(&node);
+    assert_eq!(pinned(&rows), [(1.5, 0.0)]);
+    assert!(rows.iter().any(|r| r.1 == 0.0 && r.2 == 1));
+    // Gmsh's file: a physical point tagged 7 holding the node at (1.5, 0).
+    let msh = dir.join("a.msh");
+    let o = quiet_mesh(s(&poly), "500", &[], &msh);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&msh).unwrap();
+    assert!(
+        t.contains("0 7 \"marker7\"") && t.contains("$Entities\n1 "),
+        "{t:.400}"
+    );
+    let point_block = t.split("$Nodes\n").nth(1).unwrap();
+    assert!(point_block.lines().nth(1).unwrap().starts_with("0 1 0 1"));
+    assert!(
+        point_block.lines().nth(3) == Some("1.5 0 0"),
+        "{point_block:.200}"
+    );
+    // VTK's: point data `wall_marker` 7 once.
+    let vtu = dir.join("a.vtu");
+    let o = quiet_mesh(s(&poly), "500", &[], &vtu);
+    assert!(o.status.success(), "{}", text(&o));
+    let v = std::fs::read_to_string(&vtu).unwrap();
+    let walls = v.split("Name=\"wall_marker\"").nth(1).unwrap();
+    let values = walls.split('>').nth(1).unwrap().split('<').next().unwrap();
+    assert_eq!(values.split_whitespace().filter(|&m| m == "7").count(), 1);
+    // Meshed again from either file, at another size: the point is still a vertex marked 7.
+    for old in [&msh, &node] {
+        let again = dir.join(format!(
+            "again_{}.node",
+            old.extension().unwrap().to_string_lossy()
+        ));
+        let o = quiet_mesh(s(old), "300", &[], &again);
+        assert!(o.status.success(), "{}", text(&o));
+        let rows = node_rows(&again);
+        assert_eq!(rows.len(), 300);
+        assert_eq!(pinned(&rows), [(1.5, 0.0)], "{}", old.display());
+    }
+}
+
 #[test]
 fn a_gmsh_users_physical_curves_survive_meshing_again() {
     // A 4 × 1 rectangle of two triangles in Gmsh 2.2's format, its bottom and top in physical

@@ -103,11 +103,16 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 /// let path = std::path::Path::new("runs/square.msh");
 /// let r = cvtmesh::region_of_mesh(&mesh, &Walls::default(), path)?;
 /// assert_eq!((r.name(), r.area()), ("square", 1.0));
-/// // Its bottom edge numbered 3, named "heated".
-/// let walls = Walls { edges: vec![([0, 1], 3)], names: [(3, "heated".to_string())].into() };
+/// // Its bottom edge numbered 3, named "heated", and its corner (1, 1) a point marked 8.
+/// let walls = Walls {
+///     edges: vec![([0, 1], 3)],
+///     points: vec![(2, 8)],
+///     names: [(3, "heated".to_string())].into(),
+/// };
 /// let r = cvtmesh::region_of_mesh(&mesh, &walls, path)?.with_default_corners();
 /// assert_eq!(r.piece_markers().map(|m| m.contains(&3)), Some(true));
 /// assert_eq!(r.marker_name(3), Some("heated"));
+/// assert_eq!(r.vertex_markers(), &[(DVec2::ONE, 8)]);
 /// # Ok::<(), cvtmesh::GeometryError>(())
 /// ```
 pub fn region_of_mesh(
@@ -118,7 +123,13 @@ pub fn region_of_mesh(
     let name = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy());
-    let region = Region::from_triangles_marked(&name, &mesh.points, &mesh.triangles, &walls.edges);
+    let region = Region::from_triangles_pinned(
+        &name,
+        &mesh.points,
+        &mesh.triangles,
+        &walls.edges,
+        &walls.points,
+    );
     region
         .map(|r| r.with_marker_names(walls.names.clone()))
         .map_err(|e| match e {

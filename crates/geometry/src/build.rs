@@ -94,6 +94,7 @@ impl Region {
                         turning_angle(&self.pieces[c.piece_in], &self.pieces[c.piece_out])
                             > threshold
                             || self.markers.get(c.piece_in) != self.markers.get(c.piece_out)
+                            || self.is_marked_vertex(c.pos)
                     })
                 })
                 .collect();
@@ -141,6 +142,7 @@ impl Region {
         merged.corners_computed = self.corners_computed;
         merged.markers = markers;
         merged.marker_names = self.marker_names.clone();
+        merged.vertex_markers = self.vertex_markers.clone();
         merged
     }
 
@@ -634,5 +636,6 @@ pub(crate) fn assemble(
         piece_offset,
         markers: Vec::new(),
         marker_names: Default::default(),
+        vertex_markers: Vec::new(),
     }
 }

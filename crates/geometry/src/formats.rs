@@ -151,16 +151,16 @@ fn json_region(text: &str, path: &Path) -> Result<Region, GeometryError> {
 pub fn read_poly(path: &Path) -> Result<Region, GeometryError> {
     let text = read_text(path)?;
     let node_path = path.with_extension("node");
-    let (loops, holes, markers) = parse_poly(&text, &label(path), &mut || {
+    let poly = parse_poly(&text, &label(path), &mut || {
         Ok((read_text(&node_path)?, label(&node_path)))
     })?;
-    poly_region(&stem(path), &label(path), loops, &holes, markers)
+    poly_region(&stem(path), &label(path), poly)
 }
 
 /// Parse `.poly` text (`label` names it in errors, `name` is the region's name). The vertices
 /// must be in the text itself.
 pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, GeometryError> {
-    let (loops, holes, markers) = parse_poly(text, label, &mut || {
+    let poly = parse_poly(text, label, &mut || {
         Err(GeometryError::Parse {
             path: label.to_string(),
             message: "the vertex count is 0, so the vertices are in a separate .node file; \
@@ -168,18 +168,51 @@ pub fn poly_from_str(text: &str, label: &str, name: &str) -> Result<Region, Geom
                 .into(),
         })
     })?;
-    poly_region(name, label, loops, &holes, markers)
+    poly_region(name, label, poly)
 }
 
 /// [`polygon_region`] with each piece's marker from `markers` (0 where it has none), and a
 /// corner wherever the marker changes along a loop, so that no mesh edge lies on two walls.
+/// A vertex of `vertex_markers` whose marker differs from both its segments' (1 for both
+/// where the segments have none, the marker Triangle gives an unmarked boundary) is a corner
+/// with that marker ([`Region::vertex_markers`]); where the segments have no markers, such a
+/// vertex gives every piece the marker 1.
 pub(crate) fn marked_polygon_region(
     name: &str,
     label: &str,
     loops: Loops,
-    markers: Option<SegmentMarkers>,
+    mut markers: Option<SegmentMarkers>,
+    vertex_markers: &VertexMarkers,
 ) -> Result<Region, GeometryError> {
-    let changes: Vec<DVec2> = match &markers {
+    let segment = |m: &Option<SegmentMarkers>, a: DVec2, b: DVec2| match m {
+        Some(m) => m.get(&segment_key(a, b)).copied(),
+        None => Some(1),
+    };
+    let mut pinned: Vec<(DVec2, i64)> = Vec::new();
+    for (_, pts) in &loops {
+        let n = pts.len();
+        for i in 0..n {
+            let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
+            if let Some(&v) = vertex_markers.get(&key(p)) {
+                let own = Some(v);
+                if own != segment(&markers, prev, p) && own != segment(&markers, p, next) {
+                    pinned.push((p, v));
+                }
+            }
+        }
+    }
+    if markers.is_none() && !pinned.is_empty() {
+        markers = Some(
+            loops
+                .iter()
+                .flat_map(|(_, pts)| {
+                    let n = pts.len();
+                    (0..n).map(move |i| (segment_key(pts[i], pts[(i + 1) % n]), 1))
+                })
+                .collect(),
+        );
+    }
+    let mut changes: Vec<DVec2> = match &markers {
         Some(m) => loops
             .iter()
             .flat_map(|(_, pts)| {
@@ -192,7 +225,10 @@ pub(crate) fn marked_polygon_region(
             .collect(),
         None => Vec::new(),
     };
+    changes.extend(pinned.iter().map(|&(p, _)| p));
     let mut region = polygon_region_with(name, label, loops, &changes)?;
+    pinned.sort_by_key(|&(p, _)| key(p));
+    region.vertex_markers = pinned;
     if let Some(m) = markers {
         // A piece is one segment or a straight run of them, all with one marker (a change is
         // a corner): the marker of the segment that leaves its start along it. 0 (Triangle's
@@ -229,14 +265,15 @@ pub(crate) fn marked_polygon_region(
 /// lie in a part that is meshed (Triangle would eat that part). Segment markers become the
 /// pieces' markers, and every vertex where the marker changes a corner (a mesh vertex), so that
 /// no mesh edge straddles two walls.
-fn poly_region(
-    name: &str,
-    label: &str,
-    loops: Loops,
-    holes: &[(usize, DVec2)],
-    markers: Option<SegmentMarkers>,
-) -> Result<Region, GeometryError> {
-    let region = marked_polygon_region(name, label, loops, markers)?;
+fn poly_region(name: &str, label: &str, poly: Poly) -> Result<Region, GeometryError> {
+    let region = marked_polygon_region(
+        name,
+        label,
+        poly.loops,
+        poly.segment_markers,
+        &poly.vertex_markers,
+    )?;
+    let holes = &poly.holes;
     for &(line, h) in holes {
         if region.contains(h) {
             return Err(parse_err(
@@ -490,14 +527,16 @@ fn coord(label: &str, line: usize, tok: Option<&&str>, axis: &str) -> Result<f64
     }
 }
 
-/// Vertex list of a `.poly` or `.node` section: points and the index base (0 or 1).
+/// Vertex list of a `.poly` or `.node` section: points, the index base (0 or 1), and each
+/// vertex's marker (0 where the section has none) from the column `marker_column`.
 fn parse_vertices<'a>(
     recs: &mut impl Iterator<Item = (usize, Vec<&'a str>)>,
     label: &str,
-    n: usize,
+    (n, marker_column): (usize, Option<usize>),
     last_line: usize,
-) -> Result<(Vec<DVec2>, usize), GeometryError> {
+) -> Result<(Vec<DVec2>, usize, Vec<i64>), GeometryError> {
     let mut pts = Vec::with_capacity(n.min(1 << 16));
+    let mut markers = Vec::with_capacity(n.min(1 << 16));
     let mut base = 0;
     for i in 0..n {
         let (line, t) = recs.next().ok_or_else(|| {
@@ -528,12 +567,21 @@ fn parse_vertices<'a>(
             coord(label, line, t.get(1), "x")?,
             coord(label, line, t.get(2), "y")?,
         ));
+        markers.push(match marker_column {
+            Some(c) => num(label, line, t.get(c), "a vertex marker")?,
+            None => 0,
+        });
     }
-    Ok((pts, base))
+    Ok((pts, base, markers))
 }
 
-/// The header `n dim nattr nmarkers` of a vertex section.
-fn vertex_header(label: &str, line: usize, t: &[&str]) -> Result<usize, GeometryError> {
+/// The header `n dim nattr nmarkers` of a vertex section: the vertex count and the column of
+/// the vertices' markers, if they have one (after x, y and the attributes).
+fn vertex_header(
+    label: &str,
+    line: usize,
+    t: &[&str],
+) -> Result<(usize, Option<usize>), GeometryError> {
     let n: usize = num(label, line, t.first(), "the number of vertices")?;
     if let Some(d) = t.get(1) {
         if *d != "2" {
@@ -544,7 +592,27 @@ fn vertex_header(label: &str, line: usize, t: &[&str]) -> Result<usize, Geometry
             ));
         }
     }
-    Ok(n)
+    let nattr: usize = match t.get(2) {
+        Some(_) => num(label, line, t.get(2), "the number of vertex attributes")?,
+        None => 0,
+    };
+    let nmarkers: usize = match t.get(3) {
+        Some(_) => num(
+            label,
+            line,
+            t.get(3),
+            "the number of vertex markers (0 or 1)",
+        )?,
+        None => 0,
+    };
+    if nmarkers > 1 {
+        return Err(parse_err(
+            label,
+            line,
+            format!("{nmarkers} vertex-marker columns; Triangle allows 0 or 1"),
+        ));
+    }
+    Ok((n, (nmarkers == 1).then(|| nattr.saturating_add(3))))
 }
 
 type NodeSource<'a> = dyn FnMut() -> Result<(String, String), GeometryError> + 'a;
@@ -552,12 +620,25 @@ type NodeSource<'a> = dyn FnMut() -> Result<(String, String), GeometryError> + '
 /// Hole points of a `.poly`, with their line numbers.
 type HolePoints = Vec<(usize, DVec2)>;
 
+/// What a `.poly` says: its loops, hole points, segment markers (if it has a column for them)
+/// and nonzero vertex markers.
+#[derive(Debug)]
+struct Poly {
+    loops: Loops,
+    holes: HolePoints,
+    segment_markers: Option<SegmentMarkers>,
+    vertex_markers: VertexMarkers,
+}
+
+/// A `.poly`'s nonzero vertex markers, by the vertex's coordinates.
+pub(crate) type VertexMarkers = HashMap<Key, i64>;
+
 /// A `.poly`'s segment markers, by the segment's end points (either order): how Triangle users
 /// name walls for boundary conditions.
 pub(crate) type SegmentMarkers = HashMap<(Key, Key), i64>;
-type Key = (u64, u64);
+pub(crate) type Key = (u64, u64);
 
-fn key(p: DVec2) -> Key {
+pub(crate) fn key(p: DVec2) -> Key {
     (p.x.to_bits(), p.y.to_bits())
 }
 
@@ -570,28 +651,24 @@ pub(crate) fn segment_key(a: DVec2, b: DVec2) -> (Key, Key) {
     (a.min(b), a.max(b))
 }
 
-fn parse_poly(
-    text: &str,
-    label: &str,
-    node_file: &mut NodeSource,
-) -> Result<(Loops, HolePoints, Option<SegmentMarkers>), GeometryError> {
+fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Poly, GeometryError> {
     let last_line = text.lines().count().max(1);
     let mut recs = records(text);
     let (line, head) = recs
         .next()
         .ok_or_else(|| parse_err(label, 1, "empty file: expected the vertex header"))?;
-    let n = vertex_header(label, line, &head)?;
-    let (verts, base) = if n == 0 {
+    let header = vertex_header(label, line, &head)?;
+    let (verts, base, vertex_marks) = if header.0 == 0 {
         let (node_text, node_label) = node_file()?;
         let node_last = node_text.lines().count().max(1);
         let mut nrecs = records(&node_text);
         let (nline, nhead) = nrecs
             .next()
             .ok_or_else(|| parse_err(&node_label, 1, "empty file: expected the vertex header"))?;
-        let nn = vertex_header(&node_label, nline, &nhead)?;
-        parse_vertices(&mut nrecs, &node_label, nn, node_last)?
+        let nheader = vertex_header(&node_label, nline, &nhead)?;
+        parse_vertices(&mut nrecs, &node_label, nheader, node_last)?
     } else {
-        parse_vertices(&mut recs, label, n, last_line)?
+        parse_vertices(&mut recs, label, header, last_line)?
     };
 
     let (line, t) = recs
@@ -748,7 +825,19 @@ fn parse_poly(
     }
     // Regional attributes may follow; they do not change the region. Which loops are holes
     // is for nesting to decide and the hole points to confirm (`poly_region`).
-    Ok((by_nesting(rings), holes, marked.then_some(markers)))
+    // A vertex repeated with equal coordinates keeps the first nonzero marker it is given.
+    let mut vertex_markers = VertexMarkers::new();
+    for (p, &m) in verts.iter().zip(&vertex_marks) {
+        if m != 0 {
+            vertex_markers.entry(key(*p)).or_insert(m);
+        }
+    }
+    Ok(Poly {
+        loops: by_nesting(rings),
+        holes,
+        segment_markers: marked.then_some(markers),
+        vertex_markers,
+    })
 }
 
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
@@ -1052,6 +1141,61 @@ mod tests {
         assert!(e.contains("segment-marker columns"), "{e}");
     }
 
+    /// A 4 × 1 channel whose bottom wall is three collinear segments (marker 1), the other
+    /// walls 1, 2 (inlet) and 3 (outlet); vertex markers in the last column.
+    fn pinned_channel(v2: i64, v3: i64, segments: bool) -> String {
+        let seg = if segments {
+            "6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n"
+        } else {
+            "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 5\n5 5 6\n6 6 1\n"
+        };
+        format!("6 2 1 1\n1 0 0 0.5 1\n2 1.5 0 0.5 {v2}\n3 2.5 0 0.5 {v3}\n4 4 0 0.5 1\n5 4 1 0.5 1\n6 0 1 0.5 1\n{seg}0\n")
+    }
+
+    #[test]
+    fn poly_vertex_markers_of_their_own_pin_corners() {
+        let at = |x: f64, y: f64| DVec2::new(x, y);
+        let r = poly(&pinned_channel(7, 1, true)).unwrap();
+        // Vertex 2 marks itself 7 on a wall marked 1: a corner with marker 7; vertex 3 is
+        // marked as its wall is and pins nothing (Triangle writes such files).
+        assert_eq!(r.vertex_markers(), &[(at(1.5, 0.0), 7)]);
+        for deg in [0.0, 90.0, 179.0] {
+            let c = r.with_corner_angle(deg);
+            let k = c.corners().iter().position(|c| c.pos == at(1.5, 0.0));
+            assert_eq!(k.and_then(|k| c.corner_marker(k)), Some(7), "{deg}°");
+            assert!(!c.corners().iter().any(|c| c.pos == at(2.5, 0.0)), "{deg}°");
+        }
+        // Simplification drops a vertex 0.001 off the bottom wall's line but keeps the
+        // pinned vertex, a corner with its marker.
+        let bent =
+            poly(&pinned_channel(7, 1, true).replacen("3 2.5 0 ", "3 2.5 0.001 ", 1)).unwrap();
+        let s = bent.simplified(0.1).unwrap();
+        assert_eq!(s.vertices, (6, 5));
+        assert_eq!(s.region.vertex_markers(), r.vertex_markers());
+        let k = s
+            .region
+            .corners()
+            .iter()
+            .position(|c| c.pos == at(1.5, 0.0));
+        assert_eq!(k.and_then(|k| s.region.corner_marker(k)), Some(7));
+        // Without segment markers the walls are Triangle's 1: a vertex marked 1 pins nothing,
+        // one marked 5 pins itself and gives every piece the marker 1.
+        let plain = poly(&pinned_channel(1, 1, false)).unwrap();
+        assert!(plain.vertex_markers().is_empty() && plain.piece_markers().is_none());
+        let one = poly(&pinned_channel(5, 1, false)).unwrap();
+        assert_eq!(one.vertex_markers(), &[(at(1.5, 0.0), 5)]);
+        assert!(one.piece_markers().unwrap().iter().all(|&m| m == 1));
+        // Two vertex-marker columns are Triangle's error, a missing marker a parse error.
+        let e = poly(&pinned_channel(7, 1, true).replacen("6 2 1 1", "6 2 1 2", 1))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("vertex-marker columns"), "{e}");
+        let e = poly(&pinned_channel(7, 1, true).replacen("0.5 7", "0.5", 1))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("vertex marker"), "{e}");
+    }
+
     #[test]
     fn poly_with_vertices_in_a_node_file() {
         let text = "0 2 0 0\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n";
@@ -1061,7 +1205,7 @@ mod tests {
                 "t.node".to_string(),
             ))
         };
-        let (loops, _, _) = parse_poly(text, "t.poly", &mut node).unwrap();
+        let loops = parse_poly(text, "t.poly", &mut node).unwrap().loops;
         assert_eq!(areas(&loops), [(None, 2.0)]);
         let e = parse_poly(text, "t.poly", &mut no_node())
             .unwrap_err()

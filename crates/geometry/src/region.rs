@@ -81,6 +81,9 @@ pub struct Region {
     pub(crate) markers: Vec<i64>,
     /// Names the region's file gave its markers (a Gmsh physical curve's name).
     pub(crate) marker_names: std::collections::BTreeMap<i64, String>,
+    /// Boundary vertices with a marker of their own (a `.poly`'s vertex markers), each a
+    /// corner: where a solver pins a value at a point.
+    pub(crate) vertex_markers: Vec<(DVec2, i64)>,
 }
 
 impl Region {
@@ -115,6 +118,45 @@ impl Region {
     /// ```
     pub fn piece_markers(&self) -> Option<&[i64]> {
         (!self.markers.is_empty()).then_some(&self.markers[..])
+    }
+
+    /// The boundary vertices that carry a marker of their own, as (position, marker): a
+    /// Triangle `.poly` vertex whose nonzero marker differs from the markers of both segments
+    /// at it (a point where a solver pins a value). Each is a corner, kept whatever the corner
+    /// angle or simplification, so every mesh has a vertex there, and the mesh files give
+    /// that vertex this marker. Empty for regions whose files give no such vertex.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::formats::poly_from_str;
+    /// use cvtmesh_geometry::DVec2;
+    /// // A 4 × 1 channel, its walls marked 1; vertex 2 in the middle of the bottom wall marks
+    /// // itself 7. Vertices marked as their walls are (Triangle writes such files) pin nothing.
+    /// let poly = "5 2 0 1\n1 0 0 1\n2 2 0 7\n3 4 0 1\n4 4 1 1\n5 0 1 1\n\
+    ///             5 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 1\n5 5 1 1\n0\n";
+    /// let r = poly_from_str(poly, "channel.poly", "channel")?.with_default_corners();
+    /// assert_eq!(r.vertex_markers(), &[(DVec2::new(2.0, 0.0), 7)]);
+    /// let c = r.corners().iter().position(|c| c.pos == DVec2::new(2.0, 0.0)).unwrap();
+    /// assert_eq!(r.corner_marker(c), Some(7));
+    /// assert_eq!(r.corners().len(), 5);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn vertex_markers(&self) -> &[(DVec2, i64)] {
+        &self.vertex_markers
+    }
+
+    /// The marker of corner `c` ([`Region::corners`]) where it is one of the
+    /// [`Region::vertex_markers`].
+    pub fn corner_marker(&self, c: usize) -> Option<i64> {
+        let pos = self.corners.get(c)?.pos;
+        self.vertex_markers
+            .iter()
+            .find(|(p, _)| *p == pos)
+            .map(|&(_, m)| m)
+    }
+
+    /// Is `p` one of the [`Region::vertex_markers`]?
+    pub(crate) fn is_marked_vertex(&self, p: DVec2) -> bool {
+        self.vertex_markers.iter().any(|(q, _)| *q == p)
     }
 
     /// The name the region's file gave `marker` (a Gmsh physical curve's name, such as

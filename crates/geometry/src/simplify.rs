@@ -117,13 +117,17 @@ impl Region {
         let ring_markers: Vec<Option<Vec<i64>>> = (0..self.loops.len())
             .map(|l| rings[l].as_ref().and(self.ring_markers(l)))
             .collect();
+        // So do the vertices with markers of their own.
         let changes: Vec<Vec<usize>> = ring_markers
             .iter()
-            .map(|m| match m {
-                Some(m) => (0..m.len())
-                    .filter(|&i| m[(i + m.len() - 1) % m.len()] != m[i])
+            .zip(&rings)
+            .map(|(m, ring)| match (m, ring) {
+                (Some(m), Some(ring)) => (0..m.len())
+                    .filter(|&i| {
+                        m[(i + m.len() - 1) % m.len()] != m[i] || self.is_marked_vertex(ring[i])
+                    })
                     .collect(),
-                None => Vec::new(),
+                _ => Vec::new(),
             })
             .collect();
         let marked = self.piece_markers().is_some();
@@ -184,6 +188,7 @@ impl Region {
                 if marked {
                     region.markers = markers;
                     region.marker_names = self.marker_names.clone();
+                    region.vertex_markers = self.vertex_markers.clone();
                 }
                 region.corners_computed = true;
                 if let Some(degrees) = self.corner_threshold {

@@ -2,7 +2,7 @@
 //! exactly one triangle. This is how a user with only a mesh (a solver's last mesh, Gmsh's or
 //! Triangle's output) names the region to mesh again, polish or measure against.
 use crate::error::GeometryError;
-use crate::formats::{marked_polygon_region, segment_key};
+use crate::formats::{key, marked_polygon_region, segment_key};
 use crate::predicates::ring_signed_area;
 use crate::region::Region;
 use crate::types::LoopRole;
@@ -75,6 +75,37 @@ impl Region {
         points: &[DVec2],
         triangles: &[[u32; 3]],
         walls: &[([u32; 2], i64)],
+    ) -> Result<Region, GeometryError> {
+        Self::from_triangles_pinned(name, points, triangles, walls, &[])
+    }
+
+    /// [`Region::from_triangles_marked`] with the vertices a mesh file marks on their own:
+    /// each `(vertex, marker)` of `pinned` whose marker differs from the walls' on both sides
+    /// of that boundary vertex (1 where `walls` is empty, Triangle's unmarked boundary) is a
+    /// corner with that marker ([`Region::vertex_markers`]), as a Gmsh physical point or a
+    /// `.node`'s boundary marker names a point where a solver pins a value. Other pairs, and
+    /// vertices inside, are ignored.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    /// // A 2 × 1 rectangle of four triangles, all walls 1; vertex 1, the middle of the
+    /// // bottom, is marked 5.
+    /// let points = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (0.0, 1.0)]
+    ///     .map(DVec2::from)
+    ///     .to_vec();
+    /// let triangles = [[0, 1, 4], [0, 4, 5], [1, 2, 3], [1, 3, 4]];
+    /// let walls = [([0, 1], 1), ([1, 2], 1), ([2, 3], 1), ([3, 4], 1), ([4, 5], 1), ([5, 0], 1)];
+    /// let r = Region::from_triangles_pinned("r", &points, &triangles, &walls, &[(1, 5), (4, 1)])?;
+    /// assert_eq!(r.vertex_markers(), &[(DVec2::new(1.0, 0.0), 5)]);
+    /// assert_eq!(r.with_default_corners().corners().len(), 5);
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn from_triangles_pinned(
+        name: &str,
+        points: &[DVec2],
+        triangles: &[[u32; 3]],
+        walls: &[([u32; 2], i64)],
+        pinned: &[(u32, i64)],
     ) -> Result<Region, GeometryError> {
         let invalid = |message: String| GeometryError::Invalid {
             region: name.to_string(),
@@ -167,7 +198,11 @@ impl Region {
                 })
                 .collect()
         });
-        marked_polygon_region(name, name, loops, markers)
+        let pinned = pinned
+            .iter()
+            .filter_map(|&(v, m)| Some((key(*points.get(v as usize)?), m)))
+            .collect();
+        marked_polygon_region(name, name, loops, markers, &pinned)
     }
 }
 

@@ -170,6 +170,8 @@ pub(crate) struct Nodes<'a> {
     pub piece_markers: Option<Vec<i64>>,
     /// The region's names for its markers ([`Region::marker_name`]).
     pub marker_names: BTreeMap<i64, String>,
+    /// Each corner's own marker ([`Region::corner_marker`]), by corner index.
+    pub corner_markers: Vec<Option<i64>>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -183,6 +185,7 @@ impl<'a> Nodes<'a> {
             pieces,
             piece_markers: region.and_then(Region::piece_markers).map(<[i64]>::to_vec),
             marker_names: names_of(region),
+            corner_markers: corner_markers(region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -204,6 +207,7 @@ impl<'a> Nodes<'a> {
                 .and_then(Region::piece_markers)
                 .map(<[i64]>::to_vec),
             marker_names: names_of(q.region()),
+            corner_markers: corner_markers(q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -230,7 +234,8 @@ impl<'a> Nodes<'a> {
     /// Each boundary line's marker (per loop, in boundary order) and each node's (0 inside),
     /// where the region names its walls by number: a line takes its piece's, a node the marker
     /// of the line it starts or whose middle it is (so a corner takes the wall that leaves it,
-    /// counter-clockwise along an outer loop).
+    /// counter-clockwise along an outer loop), a corner with a marker of its own
+    /// ([`Region::vertex_markers`]) that one.
     pub fn wall_markers(&self) -> Option<(Vec<Vec<i64>>, Vec<i64>)> {
         let pm = self.piece_markers.as_ref()?;
         let by_line: Vec<Vec<i64>> = self
@@ -257,8 +262,22 @@ impl<'a> Nodes<'a> {
                 }
             }
         }
+        for (v, marker) in self.markers.iter().enumerate() {
+            if let VertexMarker::Corner { corner, .. } = *marker {
+                if let Some(&Some(m)) = self.corner_markers.get(corner) {
+                    by_node[v] = m;
+                }
+            }
+        }
         Some((by_line, by_node))
     }
+}
+
+/// The marker of each of `region`'s corners that has one of its own.
+fn corner_markers(region: Option<&Region>) -> Vec<Option<i64>> {
+    region.map_or_else(Vec::new, |r| {
+        (0..r.corners().len()).map(|c| r.corner_marker(c)).collect()
+    })
 }
 
 /// The names `region` gives its markers.
@@ -314,6 +333,11 @@ pub struct Walls {
     /// Boundary edges by their end vertices (as the file's mesh numbers them), each with the
     /// marker of its wall.
     pub edges: Vec<([u32; 2], i64)>,
+    /// Vertices the file marks, each with its marker: the node of a Gmsh physical point, a
+    /// Triangle `.node`'s nonzero boundary markers. Where such a marker differs from the
+    /// walls on both sides of its vertex, the vertex is a point of its own
+    /// ([`geometry::Region::vertex_markers`]).
+    pub points: Vec<(u32, i64)>,
     /// The file's name for a marker, where it gives one (a Gmsh physical curve's name).
     pub names: BTreeMap<i64, String>,
 }
@@ -371,6 +395,33 @@ pub fn read_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
         Some("msh") => read_gmsh_sizes(path),
         _ => Err(unknown_extension(path, "read sizes from", SIZE_EXTENSIONS)),
     }
+}
+
+/// Each vertex's marker as the mesh files carry it (the boundary-marker column of a Triangle
+/// `.node`, Triangle's own `pointmarkerlist`), where `region` numbers its walls
+/// ([`Region::piece_markers`]): a boundary vertex takes the marker of the wall leaving it
+/// (counter-clockwise along an outer loop), a corner with a marker of its own
+/// ([`Region::vertex_markers`]) that one, an interior vertex 0. `None` where the region
+/// numbers no walls. `mesh` is a mesh of `region` (its corner markers index its corners).
+///
+/// ```
+/// use cvtmesh_mesh::io;
+/// use geometry::formats::poly_from_str;
+/// use geometry::DVec2;
+/// // The unit square, bottom wall 2, the others 1, and its bottom-left vertex marked 9.
+/// let poly = "4 2 0 1\n1 0 0 9\n2 1 0 2\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 2\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n";
+/// let r = poly_from_str(poly, "sq.poly", "sq")?.with_default_corners();
+/// let points = vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y, DVec2::splat(0.5)];
+/// let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+/// let mut mesh = cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles };
+/// io::restore_markers(&mut mesh, &r);
+/// assert_eq!(io::vertex_markers(&mesh, &r), Some(vec![9, 1, 1, 1, 0]));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn vertex_markers(mesh: &Mesh, region: &Region) -> Option<Vec<i64>> {
+    Nodes::linear(mesh, Some(region))
+        .wall_markers()
+        .map(|(_, by_node)| by_node)
 }
 
 /// Fill in the boundary markers of a mesh read from a file: every vertex marked as on the

@@ -140,6 +140,43 @@ fn walls_of(
         .collect()
 }
 
+/// The `(vertices, markers)` of `Region.from_triangles(pinned=...)`: k vertex indices below
+/// `n` and k markers.
+fn pinned_of(
+    vertices: &Bound<'_, PyAny>,
+    markers: &Bound<'_, PyAny>,
+    n: usize,
+) -> PyResult<Vec<(u32, i64)>> {
+    let np = vertices.py().import("numpy")?;
+    let bad = || err("pinned must be (vertices, markers): k vertex indices and k integers");
+    let as_ints = |a: &Bound<'_, PyAny>| -> PyResult<Vec<i64>> {
+        let a: PyReadonlyArray1<'_, i64> = np
+            .call_method1("asarray", (a, "int64"))?
+            .call_method0("ravel")?
+            .extract()
+            .map_err(|_| bad())?;
+        Ok(a.as_array().to_vec())
+    };
+    let (v, m) = (as_ints(vertices)?, as_ints(markers)?);
+    if v.len() != m.len() {
+        return Err(err(format!(
+            "pinned: {} vertices and {} markers; need one marker per vertex",
+            v.len(),
+            m.len()
+        )));
+    }
+    v.iter()
+        .zip(&m)
+        .map(|(&k, &marker)| {
+            let k = u32::try_from(k)
+                .ok()
+                .filter(|&k| (k as usize) < n)
+                .ok_or_else(|| err(format!("pinned: vertex {k} is not one of the {n} points")))?;
+            Ok((k, marker))
+        })
+        .collect()
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -232,22 +269,30 @@ impl PyRegion {
     /// (meshio's `line` cells and their `gmsh:physical` data): each boundary edge (e, 2) gets
     /// its marker (e,), the region's pieces take them (`piece_markers`), and a vertex where the
     /// marker changes is a corner, so a mesh of the region keeps the boundary conditions.
+    /// `pinned=(vertices, markers)` marks boundary vertices on their own (meshio's `vertex`
+    /// cells of a Gmsh file's physical points): each whose marker differs from the walls' on
+    /// both sides becomes a corner with that marker (`vertex_markers`).
     #[staticmethod]
-    #[pyo3(signature = (points, triangles, name = "mesh", walls = None))]
+    #[pyo3(signature = (points, triangles, name = "mesh", walls = None, pinned = None))]
     fn from_triangles(
         py: Python<'_>,
         points: Bound<'_, PyAny>,
         triangles: Bound<'_, PyAny>,
         name: &str,
         walls: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+        pinned: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
     ) -> PyResult<PyRegion> {
         let (pts, tris) = mesh_arrays(&points, &triangles, "from_triangles")?;
         let walls = match walls {
             None => Vec::new(),
             Some((edges, markers)) => walls_of(&edges, &markers, pts.len())?,
         };
+        let pinned = match pinned {
+            None => Vec::new(),
+            Some((vertices, markers)) => pinned_of(&vertices, &markers, pts.len())?,
+        };
         let region = py
-            .detach(|| Region::from_triangles_marked(name, &pts, &tris, &walls))
+            .detach(|| Region::from_triangles_pinned(name, &pts, &tris, &walls, &pinned))
             .map_err(err)?;
         Ok(PyRegion {
             inner: Arc::new(region),
@@ -384,6 +429,19 @@ impl PyRegion {
             .with_default_corners()
             .piece_markers()
             .map(<[i64]>::to_vec)
+    }
+
+    /// The boundary vertices with a marker of their own, as `[((x, y), marker), ...]`: a
+    /// `.poly` vertex whose nonzero marker differs from both its segments' (a point where a
+    /// solver pins a value). Each is a corner, so every mesh has a vertex there, and
+    /// `Mesh.vertex_markers()` gives it that marker.
+    #[getter]
+    fn vertex_markers(&self) -> Vec<((f64, f64), i64)> {
+        self.inner
+            .vertex_markers()
+            .iter()
+            .map(|&(p, m)| ((p.x, p.y), m))
+            .collect()
     }
 
     /// ((xmin, ymin), (xmax, ymax)).
@@ -645,6 +703,35 @@ impl PyMesh {
             )));
         };
         self.by_boundary_edge(py, &region, |p| markers[p])
+    }
+
+    /// Each vertex's marker, as a Triangle `.node` (and Triangle's `vertex_markers`) gives
+    /// it, where the region numbers its walls: a boundary vertex the marker of the wall
+    /// leaving it (counter-clockwise along an outer loop), a vertex of the region's own
+    /// (`Region.vertex_markers`) that marker, an interior vertex 0. Against the region the
+    /// mesh was made for, or `region`; a `MeshError` where the region numbers no walls.
+    #[pyo3(signature = (region = None))]
+    fn vertex_markers<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let region = self.region_or(region, "vertex_markers")?;
+        let markers = py.detach(|| {
+            let mut mesh = self.mesh.clone();
+            cvtmesh::io::restore_markers(&mut mesh, &region);
+            cvtmesh::io::vertex_markers(&mesh, &region)
+        });
+        let Some(markers) = markers else {
+            return Err(err(format!(
+                "region {} numbers no walls (a .poly's segment markers or a Gmsh mesh's \
+                 physical curves do)",
+                region.name()
+            )));
+        };
+        let a = PyArray1::from_vec(py, markers);
+        read_only(&a)?;
+        Ok(a)
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the

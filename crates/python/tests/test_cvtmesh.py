@@ -459,6 +459,50 @@ def test_a_solver_s_mesh_meshed_again_keeps_its_boundary_conditions(tmp_path):
         Region.from_triangles(xy, tri, walls=(lines + len(xy), tags))
 
 
+PINNED_CHANNEL = (
+    "6 2 0 1\n1 0 0 1\n2 1.5 0 7\n3 2.5 0 1\n4 4 0 1\n5 4 1 1\n6 0 1 1\n"
+    "6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n0\n"
+)
+
+
+def test_a_vertex_marked_on_its_own_is_a_vertex_of_every_mesh(tmp_path):
+    # The channel's vertex (1.5, 0) marks itself 7 on a wall marked 1: a point where a solver
+    # pins a value. Vertex (2.5, 0) is marked as its wall and pins nothing.
+    meshio = pytest.importorskip("meshio")
+    path = tmp_path / "pinned.poly"
+    path.write_text(PINNED_CHANNEL)
+    region = Region.load(str(path))
+    assert region.vertex_markers == [((1.5, 0.0), 7)]
+    m = cvtmesh.mesh(region, n=400)
+    marks = m.vertex_markers()
+    assert marks.shape == (len(m.points),)
+    assert m.points[marks == 7].tolist() == [[1.5, 0.0]]
+    # Boundary vertices carry their wall's number, interior ones 0.
+    inside = region.signed_distance(m.points) < -1e-9
+    assert not marks[inside].any() and set(np.unique(marks[~inside])) == {1, 2, 3, 7}
+    assert (m.to_meshio().point_data["marker"] == marks).all()
+    # Through a Gmsh file read by meshio: the physical point is a vertex cell tagged 7, and
+    # handing it back as `pinned` keeps the point when the mesh is meshed again.
+    m.write(tmp_path / "m.msh")
+    back = meshio.read(tmp_path / "m.msh")
+    vertex = back.cells_dict["vertex"][:, 0]
+    tags = back.cell_data_dict["gmsh:physical"]
+    assert back.points[vertex, :2].tolist() == [[1.5, 0.0]] and tags["vertex"].tolist() == [7]
+    again = Region.from_triangles(
+        back.points[:, :2],
+        back.cells_dict["triangle"],
+        walls=(back.cells_dict["line"], tags["line"]),
+        pinned=(vertex, tags["vertex"]),
+    )
+    assert again.vertex_markers == [((1.5, 0.0), 7)]
+    new = cvtmesh.mesh(again, n=250)
+    assert new.points[new.vertex_markers() == 7].tolist() == [[1.5, 0.0]]
+    with pytest.raises(MeshError, match="pinned"):
+        Region.from_triangles(back.points[:, :2], back.cells_dict["triangle"], pinned=([0, 1], [7]))
+    with pytest.raises(MeshError, match="numbers no walls"):
+        cvtmesh.mesh("circle", n=100).vertex_markers()
+
+
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
     region = Region.builtin("annulus")
     m = cvtmesh.mesh(region, n=303)

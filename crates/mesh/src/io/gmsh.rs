@@ -133,10 +133,35 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             block_of[v] = m.loop_index().unwrap_or(surface).min(surface);
         }
     }
-    let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); surface + 1];
+    // A corner with a marker of its own is a point entity of its own (after the surface's
+    // block), in a physical point tagged with its marker: where a solver pins a value.
+    let pins: Vec<(usize, i64)> = match nodes.wall_markers() {
+        Some(_) if by_piece => nodes
+            .markers
+            .iter()
+            .enumerate()
+            .filter_map(|(v, m)| match *m {
+                VertexMarker::Corner { corner, .. } => nodes
+                    .corner_markers
+                    .get(corner)
+                    .copied()
+                    .flatten()
+                    .map(|m| (v, m)),
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    for (p, &(v, _)) in pins.iter().enumerate() {
+        block_of[v] = surface + 1 + p;
+    }
+    let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); surface + 1 + pins.len()];
     for (v, &b) in block_of.iter().enumerate() {
         blocks[b].push(v);
     }
+    let mut pins_named: Vec<i64> = pins.iter().map(|&(_, m)| m).collect();
+    pins_named.sort_unstable();
+    pins_named.dedup();
     let bbox = |vs: &mut dyn Iterator<Item = usize>| {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for v in vs {
@@ -175,6 +200,23 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         })
         .collect();
     let marker_phys = move |m: i64| marker_tags[&m];
+    // Physical points are numbered apart from curves: a positive marker is its own tag.
+    let first_pin_phys = pins_named.iter().fold(0, |top, &m| top.max(m)).max(0) as usize + 1;
+    let pin_tags: HashMap<i64, usize> = pins_named
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| {
+            (
+                m,
+                if m > 0 {
+                    m as usize
+                } else {
+                    first_pin_phys + k
+                },
+            )
+        })
+        .collect();
+    let pin_phys = move |m: i64| pin_tags[&m];
     let marker_name = |m: i64| match nodes.marker_names.get(&m) {
         Some(name) => name.clone(),
         None => format!("marker{m}"),
@@ -184,8 +226,11 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         writeln!(
             w,
             "$PhysicalNames\n{}",
-            nloops + 1 + pieces_named.len() + markers_named.len()
+            nloops + 1 + pieces_named.len() + markers_named.len() + pins_named.len()
         )?;
+        for &m in &pins_named {
+            writeln!(w, "0 {} \"{}\"", pin_phys(m), marker_name(m))?;
+        }
         for l in 0..nloops {
             writeln!(w, "1 {} \"loop{l}\"", shift + l + 1)?;
         }
@@ -196,7 +241,11 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
         writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
-        writeln!(w, "$Entities\n0 {} 1 0", curves.len())?;
+        writeln!(w, "$Entities\n{} {} 1 0", pins.len(), curves.len())?;
+        for (p, &(v, m)) in pins.iter().enumerate() {
+            let x = nodes.points[v];
+            writeln!(w, "{} {} {} 0 1 {}", p + 1, F(x.x), F(x.y), pin_phys(m))?;
+        }
         for (c, curve) in curves.iter().enumerate() {
             let lines = &nodes.lines[curve.loop_index];
             let (lo, hi) = bbox(
@@ -247,8 +296,17 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
 
         let nonempty = blocks.iter().filter(|b| !b.is_empty()).count();
         writeln!(w, "$Nodes\n{nonempty} {n} {} {n}", n.min(1))?;
-        for (b, vs) in blocks.iter().enumerate().filter(|(_, vs)| !vs.is_empty()) {
-            let (dim, tag) = if b < surface { (1, b + 1) } else { (2, 1) };
+        // Points first, as Gmsh orders entities: then curves, then the surface.
+        let order = (surface + 1..blocks.len()).chain(0..=surface);
+        for (b, vs) in order
+            .map(|b| (b, &blocks[b]))
+            .filter(|(_, vs)| !vs.is_empty())
+        {
+            let (dim, tag) = match b {
+                b if b < surface => (1, b + 1),
+                b if b == surface => (2, 1),
+                b => (0, b - surface),
+            };
             writeln!(w, "{dim} {tag} 0 {}", vs.len())?;
             for v in vs {
                 writeln!(w, "{}", v + 1)?;
@@ -260,9 +318,10 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         writeln!(w, "$EndNodes")?;
 
         let nlines: usize = nodes.lines.iter().map(Vec::len).sum();
-        let total = nlines + nodes.triangles.len();
+        let total = nlines + nodes.triangles.len() + pins.len();
         let nblocks = curves.iter().filter(|c| !c.lines.is_empty()).count()
-            + usize::from(!nodes.triangles.is_empty());
+            + usize::from(!nodes.triangles.is_empty())
+            + pins.len();
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
         let mut tag = 0;
         let mut element = |w: &mut dyn Write, vs: &[u32]| -> std::io::Result<()> {
@@ -273,6 +332,10 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             }
             writeln!(w)
         };
+        for (p, &(v, _)) in pins.iter().enumerate() {
+            writeln!(w, "0 {} 15 1", p + 1)?;
+            element(w, &[v as u32])?;
+        }
         for (c, curve) in curves
             .iter()
             .enumerate()
@@ -357,9 +420,10 @@ pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
 /// The boundary lines of a Gmsh mesh that carry a wall number, by their end vertices (as
 /// [`read_gmsh`] numbers them): the `m` of a physical curve named `"marker<m>"` (as
 /// [`write_gmsh_on`] writes a region's numbered walls), else, in a file not written here, the
-/// line's first physical tag, which is how a Gmsh user numbers a boundary condition. A mesh
-/// and its walls are the region to mesh again with the same boundary conditions
-/// ([`geometry::Region::from_triangles_marked`]).
+/// line's first physical tag, which is how a Gmsh user numbers a boundary condition; and the
+/// nodes of point elements in physical points, with their tags read the same way
+/// ([`Walls::points`]). A mesh and its walls are the region to mesh again with the same
+/// boundary conditions ([`geometry::Region::from_triangles_pinned`]).
 ///
 /// ```
 /// // A unit square of two triangles; its bottom line in physical curve 7, the rest in 9.
@@ -373,6 +437,12 @@ pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
 ///     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 7 \"heated\"\n$EndPhysicalNames\n");
 /// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(&named)?;
 /// assert_eq!(walls.names.get(&7).map(String::as_str), Some("heated"));
+/// // A point element (type 15) on node 3 in physical point 21 "pin": a point of its own.
+/// let pinned = named.replace("$Elements\n6\n", "$Elements\n7\n0 15 2 21 5 3\n")
+///     .replace("1\n1 7 \"heated\"", "2\n1 7 \"heated\"\n0 21 \"pin\"");
+/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(&pinned)?;
+/// assert_eq!(walls.points, [(2, 21)]);
+/// assert_eq!(walls.names.get(&21).map(String::as_str), Some("pin"));
 /// # Ok::<(), cvtmesh_mesh::MeshError>(())
 /// ```
 pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
@@ -439,6 +509,8 @@ struct Raw {
     lines: Vec<(u64, u64, i64)>,
     /// Line elements with a wall number ([`curve_groups`]): end nodes and the number.
     walls: Vec<(u64, u64, i64)>,
+    /// Point elements with a number ([`curve_groups`] of the point): node and number.
+    pins: Vec<(u64, i64)>,
     /// The file's names of wall numbers.
     wall_names: std::collections::BTreeMap<i64, String>,
     names: HashMap<(i64, i64), String>,
@@ -482,7 +554,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     t.rest_of_line();
     expect_end(&mut t, "$EndMeshFormat")?;
     let mut raw = Raw::default();
-    let mut curve_phys: HashMap<i64, CurveGroups> = HashMap::new();
+    let mut curve_phys: HashMap<(usize, i64), CurveGroups> = HashMap::new();
     while let Some(section) = t.peek() {
         let line = t.line_no();
         t.next("a section")?;
@@ -615,8 +687,9 @@ fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
 /// `marker<m>`; else the first group that is not one of this module's loops or pieces (a
 /// group of ours naming a wall by name, or any group of a file not written here: how a Gmsh
 /// user numbers a boundary condition); none in a file of ours whose region numbered no walls.
-fn curve_groups(names: &HashMap<(i64, i64), String>, phys: &[i64]) -> CurveGroups {
-    let named = |p: &i64| names.get(&(1, *p)).map(String::as_str);
+/// A point entity's groups give its marker the same way (`dim` 0; its loop tag is unused).
+fn curve_groups(names: &HashMap<(i64, i64), String>, dim: i64, phys: &[i64]) -> CurveGroups {
+    let named = |p: &i64| names.get(&(dim, *p)).map(String::as_str);
     let ours = |n: &str, prefix: &str| {
         n.strip_prefix(prefix)
             .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
@@ -648,11 +721,11 @@ struct CurveGroups {
     wall: Option<(i64, Option<String>)>,
 }
 
-/// 4.1 `$Entities`: each curve's groups ([`curve_groups`]).
+/// 4.1 `$Entities`: each point's and curve's groups ([`curve_groups`]), by (dimension, tag).
 fn parse_entities(
     t: &mut Tokens,
     names: &HashMap<(i64, i64), String>,
-) -> Result<HashMap<i64, CurveGroups>, MeshError> {
+) -> Result<HashMap<(usize, i64), CurveGroups>, MeshError> {
     let counts = [
         t.usize("the number of point entities")?,
         t.usize("the number of curve entities")?,
@@ -672,8 +745,8 @@ fn parse_entities(
             for _ in 0..nphys {
                 phys.push(t.i64("a physical tag")?);
             }
-            if dim == 1 && !phys.is_empty() {
-                curve_phys.insert(tag, curve_groups(names, &phys));
+            if dim <= 1 && !phys.is_empty() {
+                curve_phys.insert((dim, tag), curve_groups(names, dim as i64, &phys));
             }
             if dim > 0 {
                 let nb = t.usize("the number of bounding entities")?;
@@ -771,6 +844,14 @@ fn add_element(
             raw.triangles.push(nodes);
             raw.higher_order |= nn > 3;
         }
+        Kind::Point => {
+            if let Some((m, name)) = &groups.wall {
+                raw.pins.push((nodes[0], *m));
+                if let Some(name) = name {
+                    raw.wall_names.insert(*m, name.clone());
+                }
+            }
+        }
         _ => {}
     }
     Ok(())
@@ -779,7 +860,7 @@ fn add_element(
 fn parse_elements_v4(
     t: &mut Tokens,
     raw: &mut Raw,
-    curve_phys: &HashMap<i64, CurveGroups>,
+    curve_phys: &HashMap<(usize, i64), CurveGroups>,
 ) -> Result<(), MeshError> {
     let nblocks = t.usize("the number of element blocks")?;
     t.usize("the number of elements")?;
@@ -791,10 +872,7 @@ fn parse_elements_v4(
         let etype = t.i64("an element type")?;
         let count = t.usize("the number of elements in the block")?;
         let none = CurveGroups::default();
-        let groups = match dim {
-            1 => curve_phys.get(&entity).unwrap_or(&none),
-            _ => &none,
-        };
+        let groups = curve_phys.get(&(dim, entity)).unwrap_or(&none);
         for _ in 0..count {
             let line = t.line_no();
             t.usize("an element tag")?;
@@ -818,7 +896,8 @@ fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
                 phys = v;
             }
         }
-        let groups = curve_groups(&raw.names, &[phys]);
+        let dim = if etype == 15 { 0 } else { 1 };
+        let groups = curve_groups(&raw.names, dim, &[phys]);
         add_element(t, raw, line, etype, &groups)?;
     }
     Ok(())
@@ -842,6 +921,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         raw.nodes.retain(|n| corner(&n.0));
         raw.lines.retain(|(a, b, _)| corner(a) && corner(b));
         raw.walls.retain(|(a, b, _)| corner(a) && corner(b));
+        raw.pins.retain(|(a, _)| corner(a));
         if let Some(data) = raw.node_data.as_mut() {
             data.retain(|(tag, _)| corner(tag));
         }
@@ -943,8 +1023,13 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     for &(a, b, w) in &raw.walls {
         edges.push(([lookup(a)?, lookup(b)?], w));
     }
+    let mut points = Vec::with_capacity(raw.pins.len());
+    for &(a, m) in &raw.pins {
+        points.push((lookup(a)?, m));
+    }
     let walls = Walls {
         edges,
+        points,
         names: std::mem::take(&mut raw.wall_names),
     };
     Ok(Parsed { mesh, sizes, walls })

@@ -280,7 +280,19 @@ pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshE
 }
 
 /// The walls of [`read_triangle_with_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
-/// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`.
+/// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`. The `.node`'s nonzero boundary
+/// markers are its marked points ([`Walls::points`]), where the `.poly` numbers walls.
+///
+/// ```
+/// // The unit square of two triangles, walls 1 but the bottom (2); vertex 3 marked 5.
+/// let node = "4 2 0 1\n1 0 0 2\n2 1 0 1\n3 1 1 5\n4 0 1 1\n";
+/// let ele = "2 3 0\n1 1 2 3\n2 1 3 4\n";
+/// let poly = "0 2 0 1\n4 1\n1 1 2 2\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n";
+/// let walls = cvtmesh_mesh::io::triangle_walls_from_str(node, ele, poly)?;
+/// assert_eq!(walls.edges, [([0, 1], 2), ([1, 2], 1), ([2, 3], 1), ([3, 0], 1)]);
+/// assert_eq!(walls.points, [(0, 2), (1, 1), (2, 5), (3, 1)]);
+/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// ```
 pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
     let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
     let (mesh, given) = parse_mesh(node, ele, paths[0], paths[1])?;
@@ -292,6 +304,8 @@ pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Wall
 struct GivenVertices {
     points: Option<Vec<DVec2>>,
     base: usize,
+    /// The `.node`'s boundary markers (empty without a marker column).
+    markers: Vec<i64>,
 }
 
 /// The walls the `.poly` text `poly` numbers on `mesh`, whose `.node` listed `given`.
@@ -357,8 +371,18 @@ fn walls_of(
             walls.push(([a, b], marker));
         }
     }
+    // The `.node`'s nonzero boundary markers: those that differ from the walls at their
+    // vertex are points of their own.
+    let nodes = given.points.as_ref().unwrap_or(&mesh.points);
+    let points = nodes
+        .iter()
+        .zip(&given.markers)
+        .filter(|(_, &m)| m != 0)
+        .filter_map(|(p, &m)| Some((*index.get(&(p.x.to_bits(), p.y.to_bits()))?, m)))
+        .collect();
     Ok(Walls {
         edges: walls,
+        points,
         names: Default::default(),
     })
 }
@@ -386,11 +410,12 @@ fn parse_mesh(
     node_path: &Path,
     ele_path: &Path,
 ) -> Result<(Mesh, GivenVertices), MeshError> {
-    let (points, base, exact, _) = parse_node(node, node_path)?;
+    let (points, base, exact, _, column) = parse_node(node, node_path)?;
     let (mut triangles, second) = parse_ele(ele, ele_path, points.len(), base)?;
     let given = GivenVertices {
         points: second.then(|| points.clone()),
         base,
+        markers: column,
     };
     let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
     let mesh = read_mesh_parts(points, triangles, (!exact.is_empty()).then_some(exact));
@@ -468,7 +493,7 @@ fn sizes_from(
     node_path: &Path,
     ele_path: &Path,
 ) -> Result<(Mesh, Vec<f64>), MeshError> {
-    let (points, base, exact, sizes) = parse_node(node_text, node_path)?;
+    let (points, base, exact, sizes, _) = parse_node(node_text, node_path)?;
     if exact.is_some() {
         return Err(file_err(
             node_path,
@@ -503,7 +528,15 @@ fn sizes_from(
 
 /// Vertices, the index base, our exact markers, and the first attribute of every vertex
 /// (empty without attributes).
-type NodeFile = (Vec<DVec2>, usize, Option<Vec<VertexMarker>>, Vec<f64>);
+/// Vertices, the index base (0 or 1), the exact markers when the file is one of ours, the
+/// first attribute of each vertex (if any) and the boundary-marker column (empty without one).
+type NodeFile = (
+    Vec<DVec2>,
+    usize,
+    Option<Vec<VertexMarker>>,
+    Vec<f64>,
+    Vec<i64>,
+);
 
 /// Vertices, the index base (0 or 1), and the exact markers when the file is one of ours.
 fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
@@ -526,6 +559,7 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
     let mut points = Vec::with_capacity(n.min(1 << 20));
     let mut markers = Vec::with_capacity(if ours { n.min(1 << 20) } else { 0 });
     let mut first_attr = Vec::with_capacity(if nattr > 0 { n.min(1 << 20) } else { 0 });
+    let mut column = Vec::with_capacity(if nmark == 1 { n.min(1 << 20) } else { 0 });
     let mut base = 0;
     for i in 0..n {
         let line = t.line_no();
@@ -561,7 +595,9 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
             first_attr.push(attrs[0]);
         }
         let marker = if nmark == 1 {
-            t.i64("a boundary marker")?
+            let m = t.i64("a boundary marker")?;
+            column.push(m);
+            m
         } else {
             0
         };
@@ -581,7 +617,7 @@ fn parse_node(text: &str, path: &Path) -> Result<NodeFile, MeshError> {
             }
         }
     }
-    Ok((points, base, ours.then_some(markers), first_attr))
+    Ok((points, base, ours.then_some(markers), first_attr, column))
 }
 
 /// Inverse of the attribute encoding of [`write_triangle`].
@@ -839,7 +875,7 @@ mod tests {
                                     ele in "[0-9 \n#.-]{0,80}") {
             let p = Path::new("r.node");
             if let Ok(text) = std::str::from_utf8(&node) {
-                if let Ok((pts, base, _, _)) = parse_node(text, p) {
+                if let Ok((pts, base, _, _, _)) = parse_node(text, p) {
                     let _ = parse_ele(&ele, Path::new("r.ele"), pts.len(), base);
                 }
             }

@@ -239,8 +239,9 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
     made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
     the region file numbers its walls (a ``.poly``'s segment markers, a Gmsh mesh's physical
-    curves), one per number (``marker_4``) and cell data ``marker`` (the wall's number on each
-    line, 0 on the triangles, which XDMF and VTU files keep), which finite-element libraries
+    curves), one per number (``marker_4``), cell data ``marker`` (the wall's number on each
+    line, 0 on the triangles, which XDMF and VTU files keep) and point data ``marker``
+    (:meth:`Mesh.vertex_markers`), which finite-element libraries
     reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
     the region's exact boundary)."""
@@ -283,10 +284,18 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
         raise MeshError(f"order must be 1 or 2, got {order}")
     # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
     # finite-element codes read facet tags from, keep cell data, not cell sets.
-    cell_data = {}
+    cell_data, point_data = {}, {}
     if len(markers):
         cell_data["marker"] = [np.zeros(len(cells[0][1]), dtype=np.int64), markers]
-    return meshio.Mesh(points, cells, cell_sets=cell_sets, cell_data=cell_data)
+        # Each vertex's as a Triangle .node gives it (a point the region marks on its own
+        # keeps its marker); the edge nodes of order 2 take 0.
+        marks = np.zeros(len(points), dtype=np.int64)
+        own = np.asarray(self.vertex_markers())
+        marks[: len(own)] = own
+        point_data["marker"] = marks
+    return meshio.Mesh(
+        points, cells, cell_sets=cell_sets, cell_data=cell_data, point_data=point_data
+    )
 
 
 Mesh.to_meshio = _to_meshio  # type: ignore[attr-defined]
