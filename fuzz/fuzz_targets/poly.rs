@@ -1,6 +1,6 @@
 //! Triangle's .poly: any text is a region or an error, never a panic; a region's corners
 //! chosen, and its boundary simplified, keep a marker for every piece and every vertex marked
-//! on its own as a corner.
+//! on its own as a corner; its vertices on no segment that it keeps lie inside.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
@@ -16,6 +16,10 @@ fuzz_target!(|data: &[u8]| {
                     .all(|(p, _)| r.corners().iter().any(|c| c.pos == *p))
             };
             assert!(corners_hold(&c));
+            // Points kept inside lie inside.
+            for &(p, _) in r.embedded_points() {
+                assert!(r.signed_distance(p) < 0.0, "{p}");
+            }
             assert!(r.vertex_markers().is_empty() || marked);
             if let Ok(s) = r.simplified(0.05 * r.diameter()) {
                 if let Some(m) = s.region.piece_markers() {

@@ -8,7 +8,7 @@
 //!
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.
-use crate::map::{assign_corners, lap, map_cell, step, Phase, Profile, Role, Step, Work};
+use crate::map::{assign_fixed, lap, map_cell, step, Phase, Profile, Role, Step, Work};
 use geometry::DVec2;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -173,21 +173,21 @@ pub(crate) fn apply(
         .iter()
         .map(|&v| del.point_of_vertex(v as usize))
         .collect();
-    if phase.constrained && !phase.region.corners().is_empty() {
+    if (phase.constrained && !phase.region.corners().is_empty())
+        || !phase.region.embedded_points().is_empty()
+    {
         redo.extend(
             s.roles
                 .iter()
                 .enumerate()
-                .filter(|(_, r)| matches!(r, Role::Corner(_)))
+                .filter(|(_, r)| matches!(r, Role::Corner(_) | Role::Embedded(_)))
                 .map(|(i, _)| i),
         );
     }
     for i in redo {
         (s.roles[i], s.targets[i]) = map_cell(phase, &cells.cells[i]);
     }
-    if phase.constrained {
-        assign_corners(phase.region, z, del, &mut s.roles, &mut s.targets);
-    }
+    assign_fixed(phase, z, del, &mut s.roles, &mut s.targets);
     prof.projection += lap(&mut t);
     undo
 }

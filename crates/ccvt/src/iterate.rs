@@ -95,7 +95,7 @@ fn constrain(phase: &Phase, roles: &[Role], targets: &[DVec2], mixed: &mut [DVec
         .zip(roles.par_iter().zip(targets))
         .for_each(|(p, (role, target))| {
             *p = match *role {
-                Role::Corner(_) => *target,
+                Role::Corner(_) | Role::Embedded(_) => *target,
                 Role::Boundary(j) if p.is_finite() => phase.region.project_onto_piece(*p, j).point,
                 Role::Boundary(_) => *target,
                 Role::Interior => {

@@ -93,6 +93,8 @@ pub enum Role {
     Boundary(PieceId),
     /// Corner region: sits on this corner.
     Corner(usize),
+    /// Sits on this embedded point of the region ([`Region::embedded_points`]).
+    Embedded(usize),
 }
 
 /// The triangulation and cells of the current iterate, in memory kept from one iteration to
@@ -274,9 +276,7 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         } else {
             cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip()
         };
-    if phase.constrained {
-        assign_corners(phase.region, z, del, &mut roles, &mut targets);
-    }
+    assign_fixed(phase, z, del, &mut roles, &mut targets);
     let h = yardsticks(&phase.scale, z);
     prof.projection += lap(&mut t);
     Step {
@@ -364,21 +364,43 @@ fn off_corner(
 /// taken.
 const CORNER_RINGS: usize = 8;
 
-/// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
-/// corners share a nearest generator (corners closer together than the spacing, as on a
-/// digitized coastline), the nearest free generator of the first ring of Delaunay neighbours
-/// that has one takes it (up to `CORNER_RINGS` rings), and sits on the corner from then on.
-pub(crate) fn assign_corners(
-    region: &Region,
+/// The generators held at fixed points: in a constrained phase the corners' ([`assign_corners`]),
+/// in every phase the embedded points' (each the generator nearest it, as for a corner).
+pub(crate) fn assign_fixed(
+    phase: &Phase,
     z: &[DVec2],
     del: &Delaunay,
     roles: &mut [Role],
     targets: &mut [DVec2],
 ) {
-    let is_corner = |r: &Role| matches!(r, Role::Corner(_));
-    for (ci, c) in region.corners().iter().enumerate() {
-        let mut k = del.nearest(c.pos);
-        if is_corner(&roles[k]) {
+    let region = phase.region;
+    let corners = region.corners().iter().enumerate();
+    let corners = corners.map(|(c, k)| (k.pos, Role::Corner(c)));
+    let embedded = region.embedded_points().iter().enumerate();
+    let embedded = embedded.map(|(e, &(p, _))| (p, Role::Embedded(e)));
+    if phase.constrained {
+        assign_corners(corners.chain(embedded), z, del, roles, targets);
+    } else if !region.embedded_points().is_empty() {
+        assign_corners(embedded, z, del, roles, targets);
+    }
+}
+
+/// Corner regions: the cell whose closure holds the corner is its nearest generator's; if two
+/// corners share a nearest generator (corners closer together than the spacing, as on a
+/// digitized coastline), the nearest free generator of the first ring of Delaunay neighbours
+/// that has one takes it (up to `CORNER_RINGS` rings), and sits on the corner from then on.
+/// `fixed` lists each fixed point with the role of the generator that takes it.
+fn assign_corners(
+    fixed: impl Iterator<Item = (DVec2, Role)>,
+    z: &[DVec2],
+    del: &Delaunay,
+    roles: &mut [Role],
+    targets: &mut [DVec2],
+) {
+    let is_fixed = |r: &Role| matches!(r, Role::Corner(_) | Role::Embedded(_));
+    for (pos, role) in fixed {
+        let mut k = del.nearest(pos);
+        if is_fixed(&roles[k]) {
             let mut seen = vec![k];
             let mut ring = vec![k];
             let mut free = None;
@@ -395,11 +417,11 @@ pub(crate) fn assign_corners(
                 free = next
                     .iter()
                     .copied()
-                    .filter(|&j| !is_corner(&roles[j]))
+                    .filter(|&j| !is_fixed(&roles[j]))
                     .min_by(|&a, &b| {
-                        (z[a] - c.pos)
+                        (z[a] - pos)
                             .length()
-                            .total_cmp(&(z[b] - c.pos).length())
+                            .total_cmp(&(z[b] - pos).length())
                             .then(a.cmp(&b))
                     });
                 if free.is_some() || next.is_empty() {
@@ -412,8 +434,8 @@ pub(crate) fn assign_corners(
                 None => continue,
             }
         }
-        roles[k] = Role::Corner(ci);
-        targets[k] = c.pos;
+        roles[k] = role;
+        targets[k] = pos;
     }
 }
 

@@ -595,7 +595,7 @@ impl Ccvt {
             r.z.iter()
                 .zip(&r.roles)
                 .map(|(p, role)| match *role {
-                    Role::Interior => VertexMarker::Interior,
+                    Role::Interior | Role::Embedded(_) => VertexMarker::Interior,
                     Role::Corner(c) => VertexMarker::at_corner(region, c),
                     Role::Boundary(j) => VertexMarker::on_piece(region, *p, j),
                 })

@@ -463,7 +463,7 @@ fn newton_move(
                 return (Dof::Fixed, data);
             }
             let dof = match s.roles[i] {
-                Role::Corner(_) => Dof::Fixed,
+                Role::Corner(_) | Role::Embedded(_) => Dof::Fixed,
                 // At a bend of a sampled piece, or with one between it and its Lloyd target,
                 // the energy along the piece has a kink that a Newton step oversteps (the
                 // generator swings across the chain vertex and back): Lloyd's projection

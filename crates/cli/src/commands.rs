@@ -675,6 +675,18 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
             p.y
         );
     }
+    for &(p, m) in region.embedded_points() {
+        let marker = match (m, region.marker_name(m)) {
+            (0, _) => String::new(),
+            (m, Some(n)) => format!(", marker {m} ({n})"),
+            (m, None) => format!(", marker {m}"),
+        };
+        outln!(
+            "point ({}, {}) inside{marker}, a vertex of every mesh",
+            p.x,
+            p.y
+        );
+    }
     Ok(())
 }
 

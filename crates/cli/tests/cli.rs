@@ -2007,6 +2007,60 @@ fn a_vertex_marked_on_its_own_is_a_mesh_vertex_in_every_file_and_mesh_again() {
 }
 
 #[test]
+fn a_poly_vertex_on_no_segment_is_a_vertex_of_every_mesh() {
+    // The channel with vertex 7 at (1, 0.5) marked 9 (a probe) and vertex 8 at (3, 0.25)
+    // unmarked, on no segment: Triangle keeps such vertices, and so does every mesh here.
+    let dir = scratch("embedded");
+    let poly = dir.join("probe.poly");
+    std::fs::write(
+        &poly,
+        "8 2 0 1\n1 0 0 1\n2 1.5 0 1\n3 2.5 0 1\n4 4 0 1\n5 4 1 1\n6 0 1 1\n\
+         7 1 0.5 9\n8 3 0.25 0\n6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n\
+         6 6 1 2\n0\n",
+    )
+    .unwrap();
+    let listed = pieces_of(&poly);
+    assert!(
+        listed.contains("point (1, 0.5) inside, marker 9"),
+        "{listed}"
+    );
+    assert!(
+        listed.contains("point (3, 0.25) inside, a vertex"),
+        "{listed}"
+    );
+    for method in ["ccvt", "refine", "distmesh"] {
+        let node = dir.join(format!("{method}.node"));
+        let o = quiet_mesh(s(&poly), "400", &["-m", method], &node);
+        assert!(o.status.success(), "{method}: {}", text(&o));
+        let rows = node_rows(&node);
+        assert!(rows.contains(&(1.0, 0.5, 9)), "{method}");
+        assert!(rows.contains(&(3.0, 0.25, 0)), "{method}");
+    }
+    // A method that cannot keep them says so, and writes nothing.
+    let out = dir.join("meshgen.node");
+    let o = quiet_mesh(s(&poly), "400", &["-m", "meshgen"], &out);
+    assert!(
+        !o.status.success() && text(&o).contains("embeds 2 points"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists());
+    // Gmsh's file: the marked point a physical point 9; meshed again from it, still a vertex.
+    let msh = dir.join("probe.msh");
+    let o = quiet_mesh(s(&poly), "400", &[], &msh);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::read_to_string(&msh)
+        .unwrap()
+        .contains("0 9 \"marker9\""));
+    let again = dir.join("again.node");
+    let o = quiet_mesh(s(&msh), "250", &[], &again);
+    assert!(o.status.success(), "{}", text(&o));
+    let rows = node_rows(&again);
+    assert_eq!(rows.len(), 250);
+    assert!(rows.contains(&(1.0, 0.5, 9)));
+}
+
+#[test]
 fn a_gmsh_users_physical_curves_survive_meshing_again() {
     // A 4 × 1 rectangle of two triangles in Gmsh 2.2's format, its bottom and top in physical
     // curve 12, the outlet 13, the inlet 11: a solver's boundary-condition numbers.

@@ -6,7 +6,8 @@
 //!    a seeded shift of it with [`GridOrigin::Seeded`]), kept where d < geps (d =
 //!    `Region::signed_distance`, exact); for a non-uniform density each is kept with
 //!    probability r0/max r0, r0 = 1/h², h = ρ^(-1/4) (the CVT spacing law in 2D). The region's
-//!    corners are the fixed points pfix (listed first; they never move).
+//!    corners and its embedded points are the fixed points pfix (listed first; they never
+//!    move).
 //! 2. Loop: retriangulate (Delaunay; keep triangles whose centroid has d < −geps) whenever a
 //!    point moved more than ttol·h0 since the last triangulation; bar forces
 //!    F = max(L0 − L, 0) with L0 = h·Fscale·√(ΣL²/Σh²); p += Δt·Ftot; points with d > 0 go back
@@ -150,7 +151,8 @@ fn size_fn(density: &Density, p: DVec2) -> f64 {
     }
 }
 
-/// The initial DistMesh point set for spacing `h0`: the fixed points (the corners), then the
+/// The initial DistMesh point set for spacing `h0`: the fixed points (the corners, then the
+/// region's embedded points), then the
 /// equilateral-grid points with d < geps·h0 (rejection-sampled by the density, seeded). The
 /// grid starts at the bounding box's lower-left corner moved back by `shift` (fractions of one
 /// period: h0 in x, two rows in y; see [`GridOrigin::shift`]).
@@ -162,7 +164,12 @@ pub fn initial_points(
     seed: u64,
     shift: DVec2,
 ) -> Vec<DVec2> {
-    let pfix: Vec<DVec2> = region.corners().iter().map(|c| c.pos).collect();
+    let pfix: Vec<DVec2> = region
+        .corners()
+        .iter()
+        .map(|c| c.pos)
+        .chain(region.embedded_points().iter().map(|&(p, _)| p))
+        .collect();
     let (lo, hi) = region.bbox();
     let dy = h0 * 3f64.sqrt() / 2.0;
     // A shifted grid starts up to one period before the box, so it needs that much more.
@@ -344,7 +351,8 @@ impl Mesher for DistMesh {
     ) -> Result<MeshResult, MeshError> {
         self.validate()?;
         let k = request.validate(region)?;
-        let nfix = region.corners().len();
+        let ncorners = region.corners().len();
+        let nfix = ncorners + region.embedded_points().len();
         let density = &request.density;
         let fd = |q: DVec2| region.signed_distance(q);
         let shift = self.grid_origin.shift(request.seed);
@@ -484,7 +492,10 @@ impl Mesher for DistMesh {
         let mut relocated = 0;
         let others = p.clone();
         for (i, q) in p.iter_mut().enumerate() {
-            if i < nfix {
+            if (ncorners..nfix).contains(&i) {
+                *q = region.embedded_points()[i - ncorners].0;
+                markers.push(VertexMarker::Interior);
+            } else if i < nfix {
                 let c = &corners[i];
                 *q = c.pos;
                 markers.push(VertexMarker::Corner {

@@ -143,6 +143,7 @@ impl Region {
         merged.markers = markers;
         merged.marker_names = self.marker_names.clone();
         merged.vertex_markers = self.vertex_markers.clone();
+        merged.embedded = self.embedded.clone();
         merged
     }
 
@@ -637,5 +638,6 @@ pub(crate) fn assemble(
         markers: Vec::new(),
         marker_names: Default::default(),
         vertex_markers: Vec::new(),
+        embedded: Vec::new(),
     }
 }

@@ -184,6 +184,22 @@ pub(crate) fn marked_polygon_region(
     mut markers: Option<SegmentMarkers>,
     vertex_markers: &VertexMarkers,
 ) -> Result<Region, GeometryError> {
+    // Triangle's markers and Gmsh's physical tags are 32-bit integers: a wider number could
+    // not be written as one.
+    let wide = markers
+        .iter()
+        .flat_map(|m| m.values())
+        .chain(vertex_markers.values())
+        .find(|&&m| i32::try_from(m).is_err());
+    if let Some(m) = wide {
+        return Err(invalid(
+            label,
+            format!(
+                "marker {m} is outside the 32-bit range of Triangle's markers and Gmsh's \
+                 physical tags"
+            ),
+        ));
+    }
     let segment = |m: &Option<SegmentMarkers>, a: DVec2, b: DVec2| match m {
         Some(m) => m.get(&segment_key(a, b)).copied(),
         None => Some(1),
@@ -273,6 +289,16 @@ fn poly_region(name: &str, label: &str, poly: Poly) -> Result<Region, GeometryEr
         poly.segment_markers,
         &poly.vertex_markers,
     )?;
+    // One outside Ω or in a hole is in no triangle of Triangle's mesh either (the triangles
+    // there are eaten): not kept.
+    let off = 1e-9 * region.diameter();
+    let inside: Vec<(DVec2, i64)> = poly
+        .embedded
+        .iter()
+        .copied()
+        .filter(|&(p, _)| region.signed_distance(p) < -off)
+        .collect();
+    let region = region.with_embedded_points(inside)?;
     let holes = &poly.holes;
     for &(line, h) in holes {
         if region.contains(h) {
@@ -628,6 +654,8 @@ struct Poly {
     holes: HolePoints,
     segment_markers: Option<SegmentMarkers>,
     vertex_markers: VertexMarkers,
+    /// The `.poly`'s own vertices on no segment, with their markers: points to keep inside.
+    embedded: Vec<(DVec2, i64)>,
 }
 
 /// A `.poly`'s nonzero vertex markers, by the vertex's coordinates.
@@ -832,11 +860,23 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
             vertex_markers.entry(key(*p)).or_insert(m);
         }
     }
+    // Triangle keeps every input vertex: one on no segment is a point inside to keep. Not so
+    // for vertices from the `.node` beside the `.poly` (a mesh's `.poly` takes them from its
+    // `.node`): those are the old mesh's vertices, not points anyone placed.
+    let mut embedded = Vec::new();
+    if header.0 > 0 {
+        for (i, p) in verts.iter().enumerate() {
+            if ids[i] == i && !adj.contains_key(&i) {
+                embedded.push((*p, vertex_marks[i]));
+            }
+        }
+    }
     Ok(Poly {
         loops: by_nesting(rings),
         holes,
         segment_markers: marked.then_some(markers),
         vertex_markers,
+        embedded,
     })
 }
 
@@ -1185,6 +1225,18 @@ mod tests {
         let one = poly(&pinned_channel(5, 1, false)).unwrap();
         assert_eq!(one.vertex_markers(), &[(at(1.5, 0.0), 5)]);
         assert!(one.piece_markers().unwrap().iter().all(|&m| m == 1));
+        // A marker no 32-bit integer holds is refused, by name.
+        let e = poly(&pinned_channel(7, 1, true).replacen("0.5 7", "0.5 5000000000", 1))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("marker 5000000000") && e.contains("32-bit"),
+            "{e}"
+        );
+        let e = poly(&pinned_channel(7, 1, true).replacen("4 5 3", "4 5 -3000000000", 1))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("marker -3000000000"), "{e}");
         // Two vertex-marker columns are Triangle's error, a missing marker a parse error.
         let e = poly(&pinned_channel(7, 1, true).replacen("6 2 1 1", "6 2 1 2", 1))
             .unwrap_err()
@@ -1194,6 +1246,60 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("vertex marker"), "{e}");
+    }
+
+    #[test]
+    fn poly_vertices_on_no_segment_are_points_kept_inside() {
+        let at = |x: f64, y: f64| DVec2::new(x, y);
+        // The channel with two more vertices: 7 inside (marker 9), 8 inside unmarked.
+        let text = pinned_channel(1, 1, true)
+            .replacen("6 2 1 1", "8 2 1 1", 1)
+            .replacen(
+                "6 0 1 0.5 1\n",
+                "6 0 1 0.5 1\n7 1 0.5 0.5 9\n8 3 0.25 0.5 0\n",
+                1,
+            );
+        let r = poly(&text).unwrap();
+        assert_eq!(
+            r.embedded_points(),
+            &[(at(1.0, 0.5), 9), (at(3.0, 0.25), 0)]
+        );
+        assert_eq!(
+            r.with_corner_angle(90.0).embedded_points(),
+            r.embedded_points()
+        );
+        assert_eq!(r.parts()[0].region.embedded_points(), r.embedded_points());
+        // Outside the region or in a hole a vertex is in no triangle of Triangle's mesh
+        // either: not kept.
+        let out = text.replacen("7 1 0.5", "7 5 0.5", 1);
+        assert_eq!(poly(&out).unwrap().embedded_points(), &[(at(3.0, 0.25), 0)]);
+        let hole = poly(
+            &SQUARE_HOLE_POLY
+                .replacen("8 2 0 1\n", "9 2 0 1\n", 1)
+                .replacen("8 1 2 2\n", "8 1 2 2\n9 1.5 1.5 0\n", 1),
+        );
+        assert!(hole.unwrap().embedded_points().is_empty());
+        // A marked point numbers its node, so the walls take Triangle's 1.
+        let plain = text.replacen(
+            "6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n",
+            "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 5\n5 5 6\n6 6 1\n",
+            1,
+        );
+        let r = poly(&plain).unwrap();
+        assert!(r.piece_markers().unwrap().iter().all(|&m| m == 1));
+        // Vertices taken from the .node beside the .poly (a mesh's) are not kept.
+        let mut node = || {
+            Ok((
+                "4 2 0 0\n1 0 0\n2 2 0\n3 0 2\n4 0.5 0.5\n".to_string(),
+                "t.node".to_string(),
+            ))
+        };
+        let p = parse_poly(
+            "0 2 0 0\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n",
+            "t.poly",
+            &mut node,
+        );
+        assert!(p.unwrap().embedded.is_empty());
     }
 
     #[test]

@@ -84,6 +84,8 @@ pub struct Region {
     /// Boundary vertices with a marker of their own (a `.poly`'s vertex markers), each a
     /// corner: where a solver pins a value at a point.
     pub(crate) vertex_markers: Vec<(DVec2, i64)>,
+    /// Points inside Ω every mesh has as vertices, each with its marker (0 for none).
+    pub(crate) embedded: Vec<(DVec2, i64)>,
 }
 
 impl Region {
@@ -152,6 +154,67 @@ impl Region {
             .iter()
             .find(|(p, _)| *p == pos)
             .map(|&(_, m)| m)
+    }
+
+    /// Points inside the region that every mesh of it has as vertices, each with its marker
+    /// (0 where it has none): a Triangle `.poly`'s vertices that lie on no segment (Triangle
+    /// keeps every input vertex), Gmsh's `Point{..} In Surface{..}`, DistMesh's fixed points
+    /// inside, where a source sits or a solver reads a value. Empty for most regions.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::{DVec2, Region};
+    /// let r = Region::builtin("circle")?.with_embedded_points([(DVec2::new(0.3, 0.1), 5)])?;
+    /// assert_eq!(r.embedded_points(), &[(DVec2::new(0.3, 0.1), 5)]);
+    /// // A point outside the region, or on its boundary, is refused by name.
+    /// let e = Region::builtin("circle")?.with_embedded_points([(DVec2::new(2.0, 0.0), 0)]);
+    /// assert!(e.unwrap_err().to_string().contains("(2, 0)"));
+    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// ```
+    pub fn embedded_points(&self) -> &[(DVec2, i64)] {
+        &self.embedded
+    }
+
+    /// The same region with `points` embedded as well ([`Region::embedded_points`]), each
+    /// with its marker (0 for none). Each must be finite and inside the region, off its
+    /// boundary by more than 10⁻⁹ of its diameter; a point given twice counts once. A marked
+    /// point in a region that numbers no walls gives every piece Triangle's marker for a
+    /// boundary, 1, so that the mesh files carry markers at all.
+    pub fn with_embedded_points(
+        mut self,
+        points: impl IntoIterator<Item = (DVec2, i64)>,
+    ) -> Result<Region, crate::GeometryError> {
+        let off = 1e-9 * self.diameter();
+        for (p, m) in points {
+            let sd = self.signed_distance(p);
+            if !p.is_finite() || sd.is_nan() || sd > -off {
+                let place = if sd.is_nan() || sd > off {
+                    "outside the region"
+                } else {
+                    "on the region's boundary (a boundary vertex is one of its loops' vertices)"
+                };
+                return Err(crate::GeometryError::Invalid {
+                    region: self.name.clone(),
+                    message: format!("the point ({}, {}) to embed lies {place}", p.x, p.y),
+                });
+            }
+            if i32::try_from(m).is_err() {
+                return Err(crate::GeometryError::Invalid {
+                    region: self.name.clone(),
+                    message: format!(
+                        "marker {m} of the point ({}, {}) is outside the 32-bit range of \
+                         Triangle's markers and Gmsh's physical tags",
+                        p.x, p.y
+                    ),
+                });
+            }
+            if !self.embedded.iter().any(|(q, _)| *q == p) {
+                self.embedded.push((p, m));
+            }
+        }
+        if self.markers.is_empty() && self.embedded.iter().any(|&(_, m)| m != 0) {
+            self.markers = vec![1; self.pieces.len()];
+        }
+        Ok(self)
     }
 
     /// Is `p` one of the [`Region::vertex_markers`]?
@@ -336,6 +399,12 @@ impl Region {
                     self.corner_threshold,
                 );
                 region.corners_computed = self.corners_computed;
+                region.embedded = self
+                    .embedded
+                    .iter()
+                    .copied()
+                    .filter(|&(p, _)| region.contains(p))
+                    .collect();
                 // Pieces and corners are numbered loop by loop, so a part's are a run of ours.
                 let pieces = loops
                     .iter()

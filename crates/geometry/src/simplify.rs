@@ -191,6 +191,15 @@ impl Region {
                     region.vertex_markers = self.vertex_markers.clone();
                 }
                 region.corners_computed = true;
+                // Embedded points stay where they are; one the simplified boundary no longer
+                // holds well inside is a reason to simplify less.
+                let embedded = region
+                    .clone()
+                    .with_embedded_points(self.embedded.iter().copied());
+                let Ok(mut region) = embedded else {
+                    tol *= 0.5;
+                    continue;
+                };
                 if let Some(degrees) = self.corner_threshold {
                     region = region.with_corner_angle(degrees);
                 }

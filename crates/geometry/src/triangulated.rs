@@ -83,8 +83,9 @@ impl Region {
     /// each `(vertex, marker)` of `pinned` whose marker differs from the walls' on both sides
     /// of that boundary vertex (1 where `walls` is empty, Triangle's unmarked boundary) is a
     /// corner with that marker ([`Region::vertex_markers`]), as a Gmsh physical point or a
-    /// `.node`'s boundary marker names a point where a solver pins a value. Other pairs, and
-    /// vertices inside, are ignored.
+    /// `.node`'s boundary marker names a point where a solver pins a value; a vertex inside
+    /// with a nonzero marker is an embedded point ([`Region::embedded_points`]). Other pairs
+    /// are ignored.
     ///
     /// ```
     /// use cvtmesh_geometry::{DVec2, Region};
@@ -178,6 +179,8 @@ impl Region {
             }
             i = j;
         }
+        let on_boundary: std::collections::HashSet<u32> =
+            boundary.iter().flat_map(|&(a, b)| [a, b]).collect();
         let loops = boundary_loops(points, boundary)
             .into_iter()
             .map(|ring| {
@@ -198,11 +201,18 @@ impl Region {
                 })
                 .collect()
         });
-        let pinned = pinned
+        let on_loops = pinned
             .iter()
+            .filter(|(v, _)| on_boundary.contains(v))
             .filter_map(|&(v, m)| Some((key(*points.get(v as usize)?), m)))
             .collect();
-        marked_polygon_region(name, name, loops, markers, &pinned)
+        // A marked vertex inside (a physical point there) is a point the next mesh keeps.
+        let inside: Vec<(DVec2, i64)> = pinned
+            .iter()
+            .filter(|&&(v, m)| m != 0 && !on_boundary.contains(&v))
+            .filter_map(|&(v, m)| Some((*points.get(v as usize)?, m)))
+            .collect();
+        marked_polygon_region(name, name, loops, markers, &on_loops)?.with_embedded_points(inside)
     }
 }
 

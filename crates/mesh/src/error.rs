@@ -24,8 +24,9 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum MeshError {
     /// K is below what the region's boundary needs: a vertex on every corner and at least three
-    /// on every boundary loop ([`crate::boundary_points_needed`]).
-    #[error("{}", too_few_points(.region, *.requested, *.needed, *.corners, *.loops, *.edge_length))]
+    /// on every boundary loop ([`crate::boundary_points_needed`]), and one on every embedded
+    /// point.
+    #[error("{}", too_few_points(.region, *.requested, *.needed, (*.corners, *.embedded), *.loops, *.edge_length))]
     TooFewPoints {
         /// The region's name.
         region: String,
@@ -35,6 +36,8 @@ pub enum MeshError {
         needed: usize,
         /// Number of corners of the region.
         corners: usize,
+        /// Number of points embedded in the region ([`geometry::Region::embedded_points`]).
+        embedded: usize,
         /// Number of boundary loops (1 + holes).
         loops: usize,
         /// The edge length K was derived from, if the size was given as one.
@@ -262,7 +265,7 @@ fn too_few_points(
     region: &str,
     requested: usize,
     needed: usize,
-    corners: usize,
+    (corners, embedded): (usize, usize),
     loops: usize,
     edge_length: Option<f64>,
 ) -> String {
@@ -273,6 +276,12 @@ fn too_few_points(
         plural(corners, "corner"),
         plural(loops, "boundary loop"),
     );
+    if embedded > 0 {
+        s += &format!(
+            ", and one on each of its {}",
+            plural(embedded, "embedded point")
+        );
+    }
     match edge_length {
         Some(h) => s += &format!("; the edge length {h} (--size) is too large for the region"),
         None => s += "; ask for more points",

@@ -172,6 +172,8 @@ pub(crate) struct Nodes<'a> {
     pub marker_names: BTreeMap<i64, String>,
     /// Each corner's own marker ([`Region::corner_marker`]), by corner index.
     pub corner_markers: Vec<Option<i64>>,
+    /// The region's embedded points with nonzero markers ([`Region::embedded_points`]).
+    pub embedded: Vec<(DVec2, i64)>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -186,6 +188,7 @@ impl<'a> Nodes<'a> {
             piece_markers: region.and_then(Region::piece_markers).map(<[i64]>::to_vec),
             marker_names: names_of(region),
             corner_markers: corner_markers(region),
+            embedded: marked_embedded(region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -208,6 +211,7 @@ impl<'a> Nodes<'a> {
                 .map(<[i64]>::to_vec),
             marker_names: names_of(q.region()),
             corner_markers: corner_markers(q.region()),
+            embedded: marked_embedded(q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -262,15 +266,51 @@ impl<'a> Nodes<'a> {
                 }
             }
         }
-        for (v, marker) in self.markers.iter().enumerate() {
-            if let VertexMarker::Corner { corner, .. } = *marker {
-                if let Some(&Some(m)) = self.corner_markers.get(corner) {
-                    by_node[v] = m;
-                }
-            }
+        for (v, m) in self.own_markers() {
+            by_node[v] = m;
         }
         Some((by_line, by_node))
     }
+
+    /// The nodes with a marker of their own: corners the region marks
+    /// ([`Region::vertex_markers`]) and its marked embedded points.
+    pub fn own_markers(&self) -> Vec<(usize, i64)> {
+        let embedded: HashMap<(u64, u64), i64> = self
+            .embedded
+            .iter()
+            .map(|&(p, m)| ((p.x.to_bits(), p.y.to_bits()), m))
+            .collect();
+        self.markers
+            .iter()
+            .enumerate()
+            .filter_map(|(v, marker)| match *marker {
+                VertexMarker::Corner { corner, .. } => self
+                    .corner_markers
+                    .get(corner)
+                    .copied()
+                    .flatten()
+                    .map(|m| (v, m)),
+                VertexMarker::Interior if !embedded.is_empty() => {
+                    let p = self.points[v];
+                    embedded
+                        .get(&(p.x.to_bits(), p.y.to_bits()))
+                        .map(|&m| (v, m))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// `region`'s embedded points that carry a marker.
+fn marked_embedded(region: Option<&Region>) -> Vec<(DVec2, i64)> {
+    region.map_or_else(Vec::new, |r| {
+        r.embedded_points()
+            .iter()
+            .copied()
+            .filter(|&(_, m)| m != 0)
+            .collect()
+    })
 }
 
 /// The marker of each of `region`'s corners that has one of its own.
@@ -286,6 +326,8 @@ fn names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
         return BTreeMap::new();
     };
     let mut markers = r.piece_markers().unwrap_or_default().to_vec();
+    markers.extend(r.vertex_markers().iter().map(|&(_, m)| m));
+    markers.extend(r.embedded_points().iter().map(|&(_, m)| m));
     markers.sort_unstable();
     markers.dedup();
     markers
@@ -335,8 +377,9 @@ pub struct Walls {
     pub edges: Vec<([u32; 2], i64)>,
     /// Vertices the file marks, each with its marker: the node of a Gmsh physical point, a
     /// Triangle `.node`'s nonzero boundary markers. Where such a marker differs from the
-    /// walls on both sides of its vertex, the vertex is a point of its own
-    /// ([`geometry::Region::vertex_markers`]).
+    /// walls on both sides of its boundary vertex, the vertex is a point of its own
+    /// ([`geometry::Region::vertex_markers`]); a marked vertex inside is an embedded point
+    /// ([`geometry::Region::embedded_points`]).
     pub points: Vec<(u32, i64)>,
     /// The file's name for a marker, where it gives one (a Gmsh physical curve's name).
     pub names: BTreeMap<i64, String>,

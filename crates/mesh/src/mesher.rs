@@ -302,13 +302,15 @@ impl MeshRequest {
         };
         let k = self.size.points(region);
         let (corners, loops) = (region.corners().len(), region.loops().len());
-        let needed = boundary_points_needed(region);
+        let embedded = region.embedded_points().len();
+        let needed = boundary_points_needed(region) + embedded;
         if k < needed {
             return Err(MeshError::TooFewPoints {
                 region: region.name().to_string(),
                 requested: k,
                 needed,
                 corners,
+                embedded,
                 loops,
                 edge_length,
             });
@@ -436,6 +438,29 @@ pub fn boundary_points_needed(region: &Region) -> usize {
         per_loop[c.loop_index] += 1;
     }
     per_loop.into_iter().map(|c| c.max(3)).sum()
+}
+
+/// Refuse a region with embedded points ([`Region::embedded_points`]) for a method that cannot
+/// keep them as vertices (`method` names it in the error).
+///
+/// ```
+/// use geometry::{DVec2, Region};
+/// let r = Region::builtin("circle")?.with_embedded_points([(DVec2::new(0.2, 0.0), 0)])?;
+/// let e = cvtmesh_mesh::refuse_embedded(&r, "meshgen").unwrap_err().to_string();
+/// assert!(e.contains("meshgen") && e.contains("embeds 1 point"), "{e}");
+/// assert!(cvtmesh_mesh::refuse_embedded(&Region::builtin("circle")?, "meshgen").is_ok());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn refuse_embedded(region: &Region, method: &str) -> Result<(), MeshError> {
+    match region.embedded_points().len() {
+        0 => Ok(()),
+        n => Err(MeshError::BadRequest(format!(
+            "{method} cannot keep points inside a region as vertices, and region '{}' embeds \
+             {n} point{}; use ccvt (the default), refine or distmesh",
+            region.name(),
+            if n == 1 { "" } else { "s" }
+        ))),
+    }
 }
 
 /// Peak bytes per vertex assumed by [`memory_estimate`]: a CCVT run at 10⁶ vertices peaks at

@@ -167,12 +167,19 @@ fn sweep(
     };
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(sorted(a.1).cmp(&sorted(b.1))));
     let mut seen = vec![false; mesh.num_vertices()];
+    let fixed: std::collections::HashSet<(u64, u64)> = region
+        .embedded_points()
+        .iter()
+        .map(|(q, _)| (q.x.to_bits(), q.y.to_bits()))
+        .collect();
+    let embedded = |p: DVec2| fixed.contains(&(p.x.to_bits(), p.y.to_bits()));
     let mut any = false;
     for (_, t) in bad {
         for v in sorted(t) {
             let v = v as usize;
             let movable = match mesh.markers[v] {
-                VertexMarker::Interior => !boundary,
+                // A point the region embeds stays, as a corner does.
+                VertexMarker::Interior => !boundary && !embedded(mesh.points[v]),
                 VertexMarker::Boundary { .. } => boundary,
                 VertexMarker::Corner { .. } => false,
             };

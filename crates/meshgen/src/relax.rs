@@ -1011,6 +1011,7 @@ pub fn relax(
     progress: &mut dyn FnMut(Progress),
     targets: &TargetFn,
 ) -> Result<MeshResult, MeshError> {
+    mesh::refuse_embedded(region, method)?;
     let k = request.validate(region)?;
     let h = request.spacing(region);
     let fail = |e: MeshError, when: &str| match e {

@@ -271,9 +271,12 @@ impl PyRegion {
     /// marker changes is a corner, so a mesh of the region keeps the boundary conditions.
     /// `pinned=(vertices, markers)` marks boundary vertices on their own (meshio's `vertex`
     /// cells of a Gmsh file's physical points): each whose marker differs from the walls' on
-    /// both sides becomes a corner with that marker (`vertex_markers`).
+    /// both sides becomes a corner with that marker (`vertex_markers`). `names={11: "inlet"}`
+    /// names markers (meshio's `field_data`), as the physical groups of the `.msh` files
+    /// written for the region's meshes then are.
     #[staticmethod]
-    #[pyo3(signature = (points, triangles, name = "mesh", walls = None, pinned = None))]
+    #[pyo3(signature = (points, triangles, name = "mesh", walls = None, pinned = None, names = None))]
+    #[allow(clippy::too_many_arguments)]
     fn from_triangles(
         py: Python<'_>,
         points: Bound<'_, PyAny>,
@@ -281,6 +284,7 @@ impl PyRegion {
         name: &str,
         walls: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
         pinned: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+        names: Option<std::collections::BTreeMap<i64, String>>,
     ) -> PyResult<PyRegion> {
         let (pts, tris) = mesh_arrays(&points, &triangles, "from_triangles")?;
         let walls = match walls {
@@ -293,7 +297,8 @@ impl PyRegion {
         };
         let region = py
             .detach(|| Region::from_triangles_pinned(name, &pts, &tris, &walls, &pinned))
-            .map_err(err)?;
+            .map_err(err)?
+            .with_marker_names(names.unwrap_or_default());
         Ok(PyRegion {
             inner: Arc::new(region),
         })
@@ -429,6 +434,53 @@ impl PyRegion {
             .with_default_corners()
             .piece_markers()
             .map(<[i64]>::to_vec)
+    }
+
+    /// Points inside the region that every mesh of it has as vertices, as
+    /// `[((x, y), marker), ...]` (marker 0 for none): a `.poly`'s vertices on no segment, or
+    /// those given to `with_embedded_points`.
+    #[getter]
+    fn embedded_points(&self) -> Vec<((f64, f64), i64)> {
+        self.inner
+            .embedded_points()
+            .iter()
+            .map(|&(p, m)| ((p.x, p.y), m))
+            .collect()
+    }
+
+    /// The same region with `points` (k, 2) embedded: every mesh of it has a vertex at each
+    /// (a source, a probe), with `markers` (k integers, default 0) in `Mesh.vertex_markers()`
+    /// and the files. A point outside the region or on its boundary raises `MeshError`. The
+    /// methods ccvt, refine and distmesh keep them; meshgen and vtm refuse such a region.
+    #[pyo3(signature = (points, markers = None))]
+    fn with_embedded_points(
+        &self,
+        points: Bound<'_, PyAny>,
+        markers: Option<Vec<i64>>,
+    ) -> PyResult<PyRegion> {
+        let np = points.py().import("numpy")?;
+        let points: PyReadonlyArray2<'_, f64> = np
+            .call_method1("asarray", (points, "float64"))?
+            .call_method1("reshape", (-1, 2))?
+            .extract()
+            .map_err(|_| err("points must be an array of shape (k, 2)"))?;
+        let pts = points_of(&points, "points")?;
+        let markers = markers.unwrap_or_else(|| vec![0; pts.len()]);
+        if markers.len() != pts.len() {
+            return Err(err(format!(
+                "{} points and {} markers; give one marker per point",
+                pts.len(),
+                markers.len()
+            )));
+        }
+        let region = (*self.inner).clone();
+        Ok(PyRegion {
+            inner: Arc::new(
+                region
+                    .with_embedded_points(pts.into_iter().zip(markers))
+                    .map_err(err)?,
+            ),
+        })
     }
 
     /// The boundary vertices with a marker of their own, as `[((x, y), marker), ...]`: a

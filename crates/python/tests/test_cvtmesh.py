@@ -493,14 +493,43 @@ def test_a_vertex_marked_on_its_own_is_a_vertex_of_every_mesh(tmp_path):
         back.cells_dict["triangle"],
         walls=(back.cells_dict["line"], tags["line"]),
         pinned=(vertex, tags["vertex"]),
+        names={3: "outlet", 7: "probe"},
     )
     assert again.vertex_markers == [((1.5, 0.0), 7)]
+    assert {p["name"] for p in again.pieces if p["marker"] == 3} == {"outlet"}
     new = cvtmesh.mesh(again, n=250)
     assert new.points[new.vertex_markers() == 7].tolist() == [[1.5, 0.0]]
+    # The names reach the file: Gmsh's groups are named as the user named them.
+    new.write(tmp_path / "new.msh")
+    text = (tmp_path / "new.msh").read_text()
+    assert '0 7 "probe"' in text and '1 3 "outlet"' in text
     with pytest.raises(MeshError, match="pinned"):
         Region.from_triangles(back.points[:, :2], back.cells_dict["triangle"], pinned=([0, 1], [7]))
     with pytest.raises(MeshError, match="numbers no walls"):
         cvtmesh.mesh("circle", n=100).vertex_markers()
+
+
+def test_embedded_points_are_vertices_of_every_mesh(tmp_path):
+    # A probe at (0.3, 0.1) marked 5 and a source at (-0.2, 0.4) unmarked, inside the circle.
+    region = Region.builtin("circle").with_embedded_points([[0.3, 0.1], [-0.2, 0.4]], [5, 0])
+    assert region.embedded_points == [((0.3, 0.1), 5), ((-0.2, 0.4), 0)]
+    for method in ("ccvt", "refine", "distmesh"):
+        m = cvtmesh.mesh(region, n=300, method=method)
+        for (x, y), _ in region.embedded_points:
+            assert ((m.points[:, 0] == x) & (m.points[:, 1] == y)).sum() == 1, method
+        marks = m.vertex_markers()
+        assert m.points[marks == 5].tolist() == [[0.3, 0.1]], method
+    with pytest.raises(MeshError, match="embeds 2 points"):
+        cvtmesh.mesh(region, n=300, method="meshgen")
+    with pytest.raises(MeshError, match="outside the region"):
+        region.with_embedded_points([[1.5, 0.0]])
+    with pytest.raises(MeshError, match="one marker per point"):
+        region.with_embedded_points([[0.0, 0.0]], [1, 2])
+    # A .poly's vertices on no segment are embedded points.
+    path = tmp_path / "probe.poly"
+    path.write_text(PINNED_CHANNEL.replace("6 2 0 1", "7 2 0 1", 1).replace(
+        "6 0 1 1\n", "6 0 1 1\n7 1 0.5 9\n", 1))
+    assert Region.load(str(path)).embedded_points == [((1.0, 0.5), 9)]
 
 
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():

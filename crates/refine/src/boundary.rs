@@ -32,7 +32,8 @@ pub(crate) fn is_curved(piece: &Piece) -> bool {
 
 /// Build the PSLG: straight pieces enter as single segments (Triangle's input; the refinement
 /// splits them when encroached), curved pieces are pre-split into chords of length ≈ `spacing`
-/// (locally `spacing · ρ^(-1/4)`), every split point projected onto the exact curve.
+/// (locally `spacing · ρ^(-1/4)`), every split point projected onto the exact curve; the
+/// region's embedded points are vertices inside.
 /// `phases[i]` (a fraction of one chord, in [0, 1)) moves where the split of loop `i` starts
 /// when that loop is one closed curve (a circle, a super-ellipse), which has no corner to
 /// start from; missing entries are 0, a split from the piece's own start.
@@ -94,6 +95,12 @@ pub(crate) fn build(
         for (i, &pid) in piece_of.iter().enumerate() {
             pslg.segments.push((first + i, first + (i + 1) % n, pid));
         }
+    }
+    // Points embedded in the region are input vertices inside, as Triangle takes a `.poly`'s
+    // vertices on no segment.
+    for &(p, _) in region.embedded_points() {
+        pslg.points.push(p);
+        pslg.kinds.push(VKind::Interior);
     }
     Ok(pslg)
 }

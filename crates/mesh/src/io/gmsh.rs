@@ -133,23 +133,10 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             block_of[v] = m.loop_index().unwrap_or(surface).min(surface);
         }
     }
-    // A corner with a marker of its own is a point entity of its own (after the surface's
+    // A corner or embedded point with a marker of its own is a point entity of its own (after the surface's
     // block), in a physical point tagged with its marker: where a solver pins a value.
     let pins: Vec<(usize, i64)> = match nodes.wall_markers() {
-        Some(_) if by_piece => nodes
-            .markers
-            .iter()
-            .enumerate()
-            .filter_map(|(v, m)| match *m {
-                VertexMarker::Corner { corner, .. } => nodes
-                    .corner_markers
-                    .get(corner)
-                    .copied()
-                    .flatten()
-                    .map(|m| (v, m)),
-                _ => None,
-            })
-            .collect(),
+        Some(_) if by_piece => nodes.own_markers(),
         _ => Vec::new(),
     };
     for (p, &(v, _)) in pins.iter().enumerate() {
