@@ -177,6 +177,20 @@ fn pinned_of(
         .collect()
 }
 
+/// The error for a region that numbers no walls, asked for markers; `hint` ends it.
+fn no_walls(region: &Region, hint: &str) -> PyErr {
+    err(format!(
+        "region {} numbers no walls (a .poly's segment markers or a Gmsh mesh's physical \
+         curves do){hint}",
+        region.name()
+    ))
+}
+
+/// Marked points as Python sees them: `[((x, y), marker), ...]`.
+fn marked_points(points: &[(DVec2, i64)]) -> Vec<((f64, f64), i64)> {
+    points.iter().map(|&(p, m)| ((p.x, p.y), m)).collect()
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -441,11 +455,7 @@ impl PyRegion {
     /// those given to `with_embedded_points`.
     #[getter]
     fn embedded_points(&self) -> Vec<((f64, f64), i64)> {
-        self.inner
-            .embedded_points()
-            .iter()
-            .map(|&(p, m)| ((p.x, p.y), m))
-            .collect()
+        marked_points(self.inner.embedded_points())
     }
 
     /// The same region with `points` (k, 2) embedded: every mesh of it has a vertex at each
@@ -489,11 +499,7 @@ impl PyRegion {
     /// `Mesh.vertex_markers()` gives it that marker.
     #[getter]
     fn vertex_markers(&self) -> Vec<((f64, f64), i64)> {
-        self.inner
-            .vertex_markers()
-            .iter()
-            .map(|&(p, m)| ((p.x, p.y), m))
-            .collect()
+        marked_points(self.inner.vertex_markers())
     }
 
     /// ((xmin, ymin), (xmax, ymax)).
@@ -748,11 +754,10 @@ impl PyMesh {
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let region = self.region_or(region, "boundary_markers")?;
         let Some(markers) = region.piece_markers() else {
-            return Err(err(format!(
-                "region {} numbers no walls (a .poly's segment markers or a Gmsh mesh's \
-                 physical curves do); boundary_pieces() names the walls by piece",
-                region.name()
-            )));
+            return Err(no_walls(
+                &region,
+                "; boundary_pieces() names the walls by piece",
+            ));
         };
         self.by_boundary_edge(py, &region, |p| markers[p])
     }
@@ -775,11 +780,7 @@ impl PyMesh {
             cvtmesh::io::vertex_markers(&mesh, &region)
         });
         let Some(markers) = markers else {
-            return Err(err(format!(
-                "region {} numbers no walls (a .poly's segment markers or a Gmsh mesh's \
-                 physical curves do)",
-                region.name()
-            )));
+            return Err(no_walls(&region, ""));
         };
         let a = PyArray1::from_vec(py, markers);
         read_only(&a)?;

@@ -54,6 +54,17 @@ pub fn write_gmsh_on(mesh: &Mesh, region: &geometry::Region, path: &Path) -> Res
     write_nodes(&Nodes::linear(mesh, Some(region)), path)
 }
 
+/// The physical tag of each of `markers` (sorted, distinct): a positive marker is its own tag
+/// (a solver's boundary-condition number), one of 0 or below the `k`-th tag from `first_free`
+/// (`k` its rank among `markers`).
+fn physical_tags(markers: &[i64], first_free: usize) -> HashMap<i64, usize> {
+    markers
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| (m, if m > 0 { m as usize } else { first_free + k }))
+        .collect()
+}
+
 /// A curve entity of the file: its loop, its piece (when the file has a curve per piece), and
 /// its lines (indices into the loop's lines).
 struct Curve {
@@ -172,37 +183,11 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     markers_named.dedup();
     // A positive marker is its own tag; 0 or below, a tag past the pieces'.
     let first_marker_phys = piece_phys(pieces_named.last().map_or(0, |&j| j + 1));
-    let marker_tags: HashMap<i64, usize> = markers_named
-        .iter()
-        .enumerate()
-        .map(|(k, &m)| {
-            (
-                m,
-                if m > 0 {
-                    m as usize
-                } else {
-                    first_marker_phys + k
-                },
-            )
-        })
-        .collect();
+    let marker_tags = physical_tags(&markers_named, first_marker_phys);
     let marker_phys = move |m: i64| marker_tags[&m];
     // Physical points are numbered apart from curves: a positive marker is its own tag.
     let first_pin_phys = pins_named.iter().fold(0, |top, &m| top.max(m)).max(0) as usize + 1;
-    let pin_tags: HashMap<i64, usize> = pins_named
-        .iter()
-        .enumerate()
-        .map(|(k, &m)| {
-            (
-                m,
-                if m > 0 {
-                    m as usize
-                } else {
-                    first_pin_phys + k
-                },
-            )
-        })
-        .collect();
+    let pin_tags = physical_tags(&pins_named, first_pin_phys);
     let pin_phys = move |m: i64| pin_tags[&m];
     let marker_name = |m: i64| match nodes.marker_names.get(&m) {
         Some(name) => name.clone(),
