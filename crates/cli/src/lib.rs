@@ -30,7 +30,7 @@ use std::ffi::OsString;
 #[command(
     name = "cvtmesh",
     version,
-    about = "Uniform triangular meshes of planar regions by constrained centroidal Voronoi tessellation"
+    about = "Triangular meshes of planar regions, uniform or graded by a size field, by constrained centroidal Voronoi tessellation"
 )]
 struct Cli {
     #[command(subcommand)]
