@@ -72,3 +72,29 @@ fn too_few_points_for_the_embedded_ones_is_refused_by_name() {
         "{e}"
     );
 }
+
+#[test]
+fn a_point_by_a_curved_boundary_is_kept_or_refused_by_name() {
+    // 0.001 inside the unit circle: at 200 vertices the boundary's chords pass inside it, so a
+    // mesh either has a boundary vertex right by it or cannot keep it, and says so.
+    let region = Region::builtin("circle")
+        .unwrap()
+        .with_embedded_points([(DVec2::new(0.999, 0.0), 1)])
+        .unwrap();
+    for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+        match method.run(&region, &MeshRequest::points(200)) {
+            Ok(r) => {
+                check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
+                assert!(r.mesh.points.contains(&DVec2::new(0.999, 0.0)), "{method}");
+            }
+            Err(e) => {
+                let e = e.to_string();
+                assert!(
+                    e.contains("(0.999, 0)")
+                        && (e.contains("between a curved boundary") || e.contains("not a vertex")),
+                    "{method}: {e}"
+                );
+            }
+        }
+    }
+}

@@ -207,6 +207,12 @@ pub(crate) fn marked_polygon_region(
     let mut pinned: Vec<(DVec2, i64)> = Vec::new();
     for (_, pts) in &loops {
         let n = pts.len();
+        // One marker on every vertex of a loop flags the loop as boundary (meshpy's
+        // `point_markers` of 1, say), not each vertex as a point.
+        let first = vertex_markers.get(&key(pts[0]));
+        if first.is_some() && pts.iter().all(|p| vertex_markers.get(&key(*p)) == first) {
+            continue;
+        }
         for i in 0..n {
             let (prev, p, next) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
             if let Some(&v) = vertex_markers.get(&key(p)) {
@@ -593,7 +599,8 @@ fn parse_vertices<'a>(
             coord(label, line, t.get(1), "x")?,
             coord(label, line, t.get(2), "y")?,
         ));
-        markers.push(match marker_column {
+        // A missing marker is 0, as Triangle reads it.
+        markers.push(match marker_column.and_then(|c| t.get(c).map(|_| c)) {
             Some(c) => num(label, line, t.get(c), "a vertex marker")?,
             None => 0,
         });
@@ -1242,10 +1249,22 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("vertex-marker columns"), "{e}");
-        let e = poly(&pinned_channel(7, 1, true).replacen("0.5 7", "0.5", 1))
+        let e = poly(&pinned_channel(7, 1, true).replacen("0.5 7", "0.5 x", 1))
             .unwrap_err()
             .to_string();
         assert!(e.contains("vertex marker"), "{e}");
+        // A missing marker is 0, as Triangle reads it: nothing pinned.
+        let missing = poly(&pinned_channel(7, 1, true).replacen("0.5 7", "0.5", 1)).unwrap();
+        assert!(missing.vertex_markers().is_empty());
+        // One marker on every vertex of a loop (meshpy's point markers of 1 on walls marked 2
+        // and 3) flags the loop, and pins nothing.
+        let flagged = pinned_channel(1, 1, true).replacen(
+            "1 1 2 1\n2 2 3 1\n3 3 4 1\n",
+            "1 1 2 2\n2 2 3 2\n3 3 4 2\n",
+            1,
+        );
+        let r = poly(&flagged).unwrap();
+        assert!(r.vertex_markers().is_empty(), "{:?}", r.vertex_markers());
     }
 
     #[test]

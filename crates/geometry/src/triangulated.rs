@@ -83,9 +83,9 @@ impl Region {
     /// each `(vertex, marker)` of `pinned` whose marker differs from the walls' on both sides
     /// of that boundary vertex (1 where `walls` is empty, Triangle's unmarked boundary) is a
     /// corner with that marker ([`Region::vertex_markers`]), as a Gmsh physical point or a
-    /// `.node`'s boundary marker names a point where a solver pins a value; a vertex inside
-    /// with a nonzero marker is an embedded point ([`Region::embedded_points`]). Other pairs
-    /// are ignored.
+    /// `.node`'s boundary marker names a point where a solver pins a value; a vertex of a
+    /// triangle inside with a nonzero marker is an embedded point
+    /// ([`Region::embedded_points`]). Other pairs are ignored.
     ///
     /// ```
     /// use cvtmesh_geometry::{DVec2, Region};
@@ -181,6 +181,7 @@ impl Region {
         }
         let on_boundary: std::collections::HashSet<u32> =
             boundary.iter().flat_map(|&(a, b)| [a, b]).collect();
+        let used: std::collections::HashSet<u32> = triangles.iter().flatten().copied().collect();
         let loops = boundary_loops(points, boundary)
             .into_iter()
             .map(|ring| {
@@ -206,13 +207,20 @@ impl Region {
             .filter(|(v, _)| on_boundary.contains(v))
             .filter_map(|&(v, m)| Some((key(*points.get(v as usize)?), m)))
             .collect();
-        // A marked vertex inside (a physical point there) is a point the next mesh keeps.
+        // A marked vertex of a triangle inside (a physical point there) is a point the next
+        // mesh keeps; one in no triangle (a file's stray node) is not.
         let inside: Vec<(DVec2, i64)> = pinned
             .iter()
-            .filter(|&&(v, m)| m != 0 && !on_boundary.contains(&v))
+            .filter(|&&(v, m)| m != 0 && used.contains(&v) && !on_boundary.contains(&v))
             .filter_map(|&(v, m)| Some((*points.get(v as usize)?, m)))
             .collect();
-        marked_polygon_region(name, name, loops, markers, &on_loops)?.with_embedded_points(inside)
+        let region = marked_polygon_region(name, name, loops, markers, &on_loops)?;
+        let off = 1e-9 * region.diameter();
+        let inside: Vec<(DVec2, i64)> = inside
+            .into_iter()
+            .filter(|&(p, _)| region.signed_distance(p) < -off)
+            .collect();
+        region.with_embedded_points(inside)
     }
 }
 

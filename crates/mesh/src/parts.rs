@@ -89,6 +89,31 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             });
         }
     }
+    // Every point the region embeds is a vertex, or the caller hears which is not: one closer
+    // to a curved boundary than its chords at this spacing cannot be a vertex of the mesh.
+    if !region.embedded_points().is_empty() {
+        let vertices: std::collections::HashSet<(u64, u64)> = result
+            .mesh
+            .points
+            .iter()
+            .map(|p| (p.x.to_bits(), p.y.to_bits()))
+            .collect();
+        if let Some(&(p, _)) = region
+            .embedded_points()
+            .iter()
+            .find(|(p, _)| !vertices.contains(&(p.x.to_bits(), p.y.to_bits())))
+        {
+            return Err(MeshError::Failed {
+                method: mesher.name().to_string(),
+                message: format!(
+                    "the embedded point ({}, {}) is not a vertex of the mesh: it lies closer to \
+                     the boundary than the mesh's boundary edges follow it; move it inward or \
+                     ask for more points",
+                    p.x, p.y
+                ),
+            });
+        }
+    }
     Ok(result)
 }
 
@@ -177,9 +202,10 @@ fn mesh_each_part<M: Mesher + ?Sized>(
 ) -> Result<MeshResult, MeshError> {
     let k = request.validate_whole(region)?;
     let parts = region.parts();
+    // Each part's boundary, and a vertex for each point it embeds.
     let needs: Vec<usize> = parts
         .iter()
-        .map(|p| mesher.min_boundary_points(&p.region))
+        .map(|p| mesher.min_boundary_points(&p.region) + p.region.embedded_points().len())
         .collect();
     let needed: usize = needs.iter().sum();
     if needed > k {

@@ -97,8 +97,30 @@ pub(crate) fn build(
         }
     }
     // Points embedded in the region are input vertices inside, as Triangle takes a `.poly`'s
-    // vertices on no segment.
+    // vertices on no segment. One between a curved piece and its chords would be outside the
+    // polygon that is meshed.
     for &(p, _) in region.embedded_points() {
+        let mut crossings = 0;
+        for &(a, b, _) in &pslg.segments {
+            let (a, b) = (pslg.points[a], pslg.points[b]);
+            if geometry::predicates::orient(a, b, p) == 0.0 && (p - a).dot(p - b) <= 0.0 {
+                crossings = 0;
+                break;
+            }
+            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+                crossings += 1;
+            }
+        }
+        if crossings % 2 == 0 {
+            return Err(MeshError::Failed {
+                method: "refine".into(),
+                message: format!(
+                    "the embedded point ({}, {}) lies between a curved boundary and its chords \
+                     at this spacing; move it inward, or use ccvt or distmesh",
+                    p.x, p.y
+                ),
+            });
+        }
         pslg.points.push(p);
         pslg.kinds.push(VKind::Interior);
     }

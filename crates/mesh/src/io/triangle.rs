@@ -280,8 +280,9 @@ pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshE
 }
 
 /// The walls of [`read_triangle_with_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside
-/// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`. The `.node`'s nonzero boundary
-/// markers are its marked points ([`Walls::points`]), where the `.poly` numbers walls.
+/// them; errors name `mesh.node`, `mesh.ele` and `mesh.poly`. The nonzero markers of the
+/// `.node`'s boundary vertices are its marked points ([`Walls::points`]), where the `.poly`
+/// numbers walls.
 ///
 /// ```
 /// // The unit square of two triangles, walls 1 but the bottom (2); vertex 3 marked 5.
@@ -371,14 +372,16 @@ fn walls_of(
             walls.push(([a, b], marker));
         }
     }
-    // The `.node`'s nonzero boundary markers: those that differ from the walls at their
-    // vertex are points of their own.
+    // The `.node`'s nonzero markers of boundary vertices: those that differ from the walls at
+    // their vertex are points of their own. Inside, Triangle marks the vertices of internal
+    // segments too, which are no points anyone placed: those are not read.
     let nodes = given.points.as_ref().unwrap_or(&mesh.points);
     let points = nodes
         .iter()
         .zip(&given.markers)
         .filter(|(_, &m)| m != 0)
         .filter_map(|(p, &m)| Some((*index.get(&(p.x.to_bits(), p.y.to_bits()))?, m)))
+        .filter(|&(v, _)| mesh.markers[v as usize].on_boundary())
         .collect();
     Ok(Walls {
         edges: walls,
