@@ -59,6 +59,11 @@ pub struct MeshArgs {
     /// DMAX on, linear between [default: none].
     #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
     size_threshold: Option<String>,
+    /// A point inside the region that the mesh keeps as a vertex (a source, a probe), with an
+    /// optional marker for the files (`X,Y:M`); repeat for several. A `.poly`'s vertices on no
+    /// segment are such points too [default: none].
+    #[arg(long, value_name = "X,Y[:M]")]
+    embed: Vec<String>,
     /// Smallest edge length --size-field may ask for [default: none].
     #[arg(long, requires = "graded")]
     size_min: Option<f64>,
@@ -208,7 +213,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     let read: Vec<&Path> = read.iter().map(|p| p.as_path()).collect();
     inputs::check_not_input(&a.output, &read)?;
     let method = inputs::method(&a.method)?;
-    let raw = inputs::region(&a.region, None)?;
+    let raw = inputs::with_points(inputs::region(&a.region, None)?, &a.embed)?;
     let (mut region, mut corners) = inputs::with_corners(raw.clone(), a.corner_angle)?;
     let named = region.clone();
     if let Some(spec) = &a.simplify {

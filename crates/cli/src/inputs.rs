@@ -31,6 +31,37 @@ pub fn with_corners(raw: Region, corner_angle: Option<f64>) -> Result<(Region, S
     Ok((region, line))
 }
 
+/// `raw` with the points of `--embed X,Y[:M]` embedded ([`Region::with_embedded_points`]).
+pub fn with_points(raw: Region, specs: &[String]) -> Result<Region> {
+    if specs.is_empty() {
+        return Ok(raw);
+    }
+    let mut points = Vec::with_capacity(specs.len());
+    for s in specs {
+        let (xy, marker) = match s.split_once(':') {
+            Some((xy, m)) => (
+                xy,
+                m.trim()
+                    .parse::<i64>()
+                    .map_err(|_| anyhow!("--embed {s}: the marker after ':' must be an integer"))?,
+            ),
+            None => (s.as_str(), 0),
+        };
+        let (x, y) = xy
+            .split_once(',')
+            .ok_or_else(|| anyhow!("--embed {s}: expected X,Y or X,Y:MARKER"))?;
+        let number = |t: &str| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| anyhow!("--embed {s}: '{t}' is not a finite number"))
+        };
+        points.push((cvtmesh::DVec2::new(number(x)?, number(y)?), marker));
+    }
+    Ok(raw.with_embedded_points(points)?)
+}
+
 /// A positive, finite number given to `flag`.
 pub fn positive(flag: &str, word: &str) -> Result<f64> {
     match word.parse::<f64>() {

@@ -2061,6 +2061,38 @@ fn a_poly_vertex_on_no_segment_is_a_vertex_of_every_mesh() {
 }
 
 #[test]
+fn embed_puts_a_vertex_on_each_point_and_refuses_bad_ones_by_name() {
+    let dir = scratch("embed");
+    let node = dir.join("c.node");
+    let o = quiet_mesh(
+        "circle",
+        "500",
+        &["--embed", "0.3,0.1:5", "--embed=-0.2,0.4"],
+        &node,
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let rows = node_rows(&node);
+    // The circle numbers no walls: the marked point gives them Triangle's 1.
+    assert!(rows.contains(&(0.3, 0.1, 5)) && rows.contains(&(-0.2, 0.4, 0)));
+    for (bad, says) in [
+        ("3,0", "lies outside the region"),
+        ("1,0", "on the region's boundary"),
+        ("0.3", "expected X,Y"),
+        ("0.3,nan", "not a finite number"),
+        ("0.3,0.1:x", "must be an integer"),
+    ] {
+        let out = dir.join("bad.node");
+        let o = quiet_mesh("circle", "500", &["--embed", bad], &out);
+        assert!(
+            !o.status.success() && text(&o).contains(says),
+            "{bad}: {}",
+            text(&o)
+        );
+        assert!(!out.exists(), "{bad}");
+    }
+}
+
+#[test]
 fn a_gmsh_users_physical_curves_survive_meshing_again() {
     // A 4 × 1 rectangle of two triangles in Gmsh 2.2's format, its bottom and top in physical
     // curve 12, the outlet 13, the inlet 11: a solver's boundary-condition numbers.
