@@ -250,6 +250,7 @@ pub(crate) fn marked_polygon_region(
     changes.extend(pinned.iter().map(|&(p, _)| p));
     let mut region = polygon_region_with(name, label, loops, &changes)?;
     pinned.sort_by_key(|&(p, _)| key(p));
+    pinned.dedup_by_key(|(p, _)| key(*p));
     region.vertex_markers = pinned;
     if let Some(m) = markers {
         // A piece is one segment or a straight run of them, all with one marker (a change is

@@ -82,7 +82,8 @@ pub struct Region {
     /// Names the region's file gave its markers (a Gmsh physical curve's name).
     pub(crate) marker_names: std::collections::BTreeMap<i64, String>,
     /// Boundary vertices with a marker of their own (a `.poly`'s vertex markers), each a
-    /// corner: where a solver pins a value at a point.
+    /// corner: where a solver pins a value at a point. Sorted by the bits of their
+    /// coordinates.
     pub(crate) vertex_markers: Vec<(DVec2, i64)>,
     /// Points inside Ω every mesh has as vertices, each with its marker (0 for none).
     pub(crate) embedded: Vec<(DVec2, i64)>,
@@ -150,10 +151,7 @@ impl Region {
     /// [`Region::vertex_markers`].
     pub fn corner_marker(&self, c: usize) -> Option<i64> {
         let pos = self.corners.get(c)?.pos;
-        self.vertex_markers
-            .iter()
-            .find(|(p, _)| *p == pos)
-            .map(|&(_, m)| m)
+        self.marked_vertex(pos).map(|k| self.vertex_markers[k].1)
     }
 
     /// Points inside the region that every mesh of it has as vertices, each with its marker
@@ -219,7 +217,17 @@ impl Region {
 
     /// Is `p` one of the [`Region::vertex_markers`]?
     pub(crate) fn is_marked_vertex(&self, p: DVec2) -> bool {
-        self.vertex_markers.iter().any(|(q, _)| *q == p)
+        self.marked_vertex(p).is_some()
+    }
+
+    /// Where `p` is in [`Region::vertex_markers`], which are sorted by their coordinates' bits
+    /// (a digitized outline may mark thousands, and corners and simplification ask at every
+    /// vertex).
+    fn marked_vertex(&self, p: DVec2) -> Option<usize> {
+        let bits = |q: DVec2| (q.x.to_bits(), q.y.to_bits());
+        self.vertex_markers
+            .binary_search_by_key(&bits(p), |&(q, _)| bits(q))
+            .ok()
     }
 
     /// The name the region's file gave `marker` (a Gmsh physical curve's name, such as
