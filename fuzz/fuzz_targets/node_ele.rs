@@ -3,6 +3,9 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
+#[path = "common/region_of_mesh.rs"]
+mod region_of_mesh;
+
 fuzz_target!(|data: &[u8]| {
     let mut parts = data.splitn(3, |&b| b == 0);
     let (node, ele, poly) = (
@@ -17,20 +20,7 @@ fuzz_target!(|data: &[u8]| {
             // The region its triangles cover (what `cvtmesh mesh FILE` meshes again), with
             // the walls of the .poly beside it.
             let walls = mesh::io::triangle_walls_from_str(node, ele, poly).unwrap_or_default();
-            if let Ok(r) = geometry::Region::from_triangles_pinned(
-                "fuzz",
-                &m.points,
-                &m.triangles,
-                &walls.edges,
-                &walls.points,
-            ) {
-                assert!(!r.loops().is_empty());
-                // A point marked on its own is a vertex of the mesh, and a corner.
-                let c = r.with_default_corners();
-                for (p, _) in r.vertex_markers() {
-                    assert!(m.points.contains(p) && c.corners().iter().any(|k| k.pos == *p));
-                }
-            }
+            region_of_mesh::checked(&m, &walls);
         }
         // The same files read as a size field on a mesh (first attribute = size).
         if let Ok((m, sizes)) = mesh::io::triangle_sizes_from_str(node, ele) {

@@ -98,20 +98,31 @@ pub(crate) fn build(
     }
     // Points embedded in the region are input vertices inside, as Triangle takes a `.poly`'s
     // vertices on no segment. One between a curved piece and its chords would be outside the
-    // polygon that is meshed.
-    for &(p, _) in region.embedded_points() {
+    // polygon that is meshed; a chord strays from its curve by at most half its length, so
+    // only points that near a curved piece need the test against every segment (straight
+    // pieces are their own segments).
+    let reach = pslg
+        .segments
+        .iter()
+        .filter(|&&(_, _, piece)| is_curved(&region.pieces()[piece]))
+        .map(|&(a, b, _)| (pslg.points[b] - pslg.points[a]).length())
+        .fold(0.0, f64::max);
+    let outside_chords = |p: DVec2| {
         let mut crossings = 0;
         for &(a, b, _) in &pslg.segments {
             let (a, b) = (pslg.points[a], pslg.points[b]);
             if geometry::predicates::orient(a, b, p) == 0.0 && (p - a).dot(p - b) <= 0.0 {
-                crossings = 0;
-                break;
+                return true;
             }
             if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
                 crossings += 1;
             }
         }
-        if crossings % 2 == 0 {
+        crossings % 2 == 0
+    };
+    let mut inside = Vec::with_capacity(region.embedded_points().len());
+    for &(p, _) in region.embedded_points() {
+        if region.signed_distance(p) >= -reach && outside_chords(p) {
             return Err(MeshError::Failed {
                 method: "refine".into(),
                 message: format!(
@@ -121,6 +132,9 @@ pub(crate) fn build(
                 ),
             });
         }
+        inside.push(p);
+    }
+    for p in inside {
         pslg.points.push(p);
         pslg.kinds.push(VKind::Interior);
     }
