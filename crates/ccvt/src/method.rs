@@ -602,9 +602,9 @@ impl Ccvt {
                 .collect();
         if tally.stalled {
             notes.push(format!(
-                "stopped unconverged: the largest move made no new low in {} evaluations \
-                 (the iterate cycles); more points, or --corner-angle keeping fewer corners, \
-                 give the generators room",
+                "stopped unconverged: the largest move made no new low in the work of {} \
+                 evaluations (the iterate cycles); more points, or --corner-angle keeping \
+                 fewer corners, give the generators room",
                 crate::newton::STALL_EVALUATIONS
             ));
         }
