@@ -227,8 +227,35 @@ mod tests {
     use crate::init::{initial_points, Init};
     use crate::params::Solver;
     use crate::sublevel::Sublevel;
-    use geometry::{Density, Region, Rng};
+    use geometry::{Density, Polygon, Region, Rng};
     use mesh::MeshRequest;
+
+    /// A Newton phase over `domain` with active-set steps from any size, tolerance 1e-4.
+    fn test_phase<'a>(
+        region: &'a Region,
+        domain: &'a Polygon,
+        inside: &'a Sublevel<'a>,
+        density: &'a Density,
+        constrained: bool,
+        spacing: f64,
+    ) -> Phase<'a> {
+        Phase {
+            region,
+            domain,
+            inside,
+            density,
+            constrained,
+            update: crate::params::Update::Centroid,
+            solver: Solver::Newton,
+            tol: 1e-4,
+            max_iter: 100,
+            spacing,
+            scale: crate::scale::LocalScale::new(region, density, spacing),
+            active_from: 0,
+            cancel: None,
+            deadline: None,
+        }
+    }
 
     /// Moves applied by `apply` (the triangulation repaired around them, only the changed
     /// cells recomputed) leave exactly the map a fresh evaluation computes: cells, labels,
@@ -244,22 +271,7 @@ mod tests {
         let spacing = MeshRequest::points(k).spacing(&region);
         let domain = region.polygonize(1e-4 * spacing);
         let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
-        let phase = Phase {
-            region: &region,
-            domain: &domain,
-            inside: &inside,
-            density: &density,
-            constrained,
-            update: crate::params::Update::Centroid,
-            solver: Solver::Newton,
-            tol: 1e-4,
-            max_iter: 100,
-            spacing,
-            scale: crate::scale::LocalScale::new(&region, &density, spacing),
-            active_from: 0,
-            cancel: None,
-            deadline: None,
-        };
+        let phase = test_phase(&region, &domain, &inside, &density, constrained, spacing);
         let mut z = initial_points(&region, k, Init::Lattice, 1);
         let mut prof = Profile::default();
         let mut work = Work::new(&domain);
@@ -339,22 +351,7 @@ mod tests {
         let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
         let graded = Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + 4.0 * p.x * p.x));
         for (density, expect_step) in [(Density::Uniform, false), (graded, true)] {
-            let phase = Phase {
-                region: &region,
-                domain: &domain,
-                inside: &inside,
-                density: &density,
-                constrained: true,
-                update: crate::params::Update::Centroid,
-                solver: Solver::Newton,
-                tol: 1e-4,
-                max_iter: 100,
-                spacing,
-                scale: crate::scale::LocalScale::new(&region, &density, spacing),
-                active_from: 0,
-                cancel: None,
-                deadline: None,
-            };
+            let phase = test_phase(&region, &domain, &inside, &density, true, spacing);
             let z = initial_points(&region, k, Init::Lattice, 1);
             let mut work = Work::new(&domain);
             let mut s = step(&phase, &z, &mut work, &mut Profile::default());

@@ -245,6 +245,27 @@ fn graded_runs_take_levels_from_their_own_threshold() {
     assert!(!levels(&r.notes), "{:?}", r.notes);
 }
 
+/// A region from a loop list, its corners by the default angle, and a request for K vertices
+/// refined toward its outline as the robustness sweep asks: Threshold sizes `[h_min, h_max,
+/// d_min, d_max]`, gradation 0.3.
+fn toward_the_outline(text: &str, sizes: [f64; 4], k: usize) -> (Region, MeshRequest) {
+    let raw = geometry::formats::loops_from_str(text, "outline", "outline").unwrap();
+    let region = raw.with_default_corners();
+    let [size_min, size_max, dist_min, dist_max] = sizes;
+    let t = Threshold {
+        size_min,
+        size_max,
+        dist_min,
+        dist_max,
+    };
+    let field = SizeField::threshold(&region, &[Toward::Loop(0)], t)
+        .unwrap()
+        .bounded(&region, None, None, Some(0.3))
+        .unwrap();
+    let request = MeshRequest::size_field(&field, &region, Some(k)).unwrap();
+    (region, request)
+}
+
 /// A fractal coastline of 5000 vertices (1597 corners kept, 1235 added along its gaps) meshed
 /// toward its shore at K = 3000: 168 free generators among 2832 corners. From evaluation 136
 /// the iterate cycles with a period of about 66 evaluations and the largest move never again
@@ -253,22 +274,9 @@ fn graded_runs_take_levels_from_their_own_threshold() {
 #[test]
 #[ignore]
 fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
-    let text = include_str!("data/coast5000.txt");
-    let raw = geometry::formats::loops_from_str(text, "coast5000", "coast5000").unwrap();
-    let region = raw.with_default_corners();
-    let t = Threshold {
-        size_min: 0.00586405,
-        size_max: 0.117281,
-        dist_min: 0.0234562,
-        dist_max: 0.469124,
-    };
-    let field = SizeField::threshold(&region, &[Toward::Loop(0)], t)
-        .unwrap()
-        .bounded(&region, None, None, Some(0.3))
-        .unwrap();
-    let request = MeshRequest::size_field(&field, &region, Some(3000))
-        .unwrap()
-        .max_iter(10_000);
+    let sizes = [0.00586405, 0.117281, 0.0234562, 0.469124];
+    let (region, request) = toward_the_outline(include_str!("data/coast5000.txt"), sizes, 3000);
+    let request = request.max_iter(10_000);
     let r = Ccvt::default()
         .mesh_parts(&region, &request, &mut |_| {})
         .unwrap();
@@ -352,22 +360,9 @@ fn a_graded_run_whose_levels_cycle_still_converges() {
 #[test]
 #[ignore]
 fn a_graded_run_of_many_active_set_steps_is_not_taken_for_a_cycle() {
-    let text = include_str!("data/comb20.txt");
-    let raw = geometry::formats::loops_from_str(text, "comb20", "comb20").unwrap();
-    let region = raw.with_default_corners();
-    let t = Threshold {
-        size_min: 0.00353553,
-        size_max: 0.0707107,
-        dist_min: 0.0141421,
-        dist_max: 0.282843,
-    };
-    let field = SizeField::threshold(&region, &[Toward::Loop(0)], t)
-        .unwrap()
-        .bounded(&region, None, None, Some(0.3))
-        .unwrap();
-    let request = MeshRequest::size_field(&field, &region, Some(20_000))
-        .unwrap()
-        .seed(2);
+    let sizes = [0.00353553, 0.0707107, 0.0141421, 0.282843];
+    let (region, request) = toward_the_outline(include_str!("data/comb20.txt"), sizes, 20_000);
+    let request = request.seed(2);
     let r = Ccvt::default()
         .mesh_parts(&region, &request, &mut |_| {})
         .unwrap();
