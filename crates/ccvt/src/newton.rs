@@ -26,11 +26,10 @@ use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CH
 /// evaluations; a coastline of 5000 vertices meshed toward its shore at K = 3000 cycled with a
 /// period of about 66 evaluations from evaluation 136 on, and would otherwise run to the cap
 /// of 10 000 evaluations, over ten minutes. Counted in evaluations of the whole map: an
-/// active-set step counts the share of the generators it moves, since a graded run converges
-/// through hundreds of them, each a few milliseconds (comb20 refined toward its outline at
-/// K = 20 000–25 000: three runs ended here after 512–768 evaluations when every evaluation
-/// counted one, and converged in 547–980 evaluations, faster than before the gate on the defects
-/// (`active::GRADED_GATE`), when they did not).
+/// active-set step counts the share of the generators it moves, because a graded run converges
+/// through hundreds of such steps of a few milliseconds each, which are progress, not a cycle.
+// comb20 refined toward its outline at K = 20 000–25 000 converges in 547–980 evaluations;
+// with every active-set step counted as one evaluation, three such runs stopped after 512–768.
 pub(crate) const STALL_EVALUATIONS: usize = 300;
 
 /// First shift σ (relative to 2m, Lloyd's own scale), its floor and its cap.
