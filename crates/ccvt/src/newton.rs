@@ -28,9 +28,14 @@ use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CH
 /// of 10 000 evaluations, over ten minutes. Counted in evaluations of the whole map: an
 /// active-set step counts the share of the generators it moves, because a graded run converges
 /// through hundreds of such steps of a few milliseconds each, which are progress, not a cycle.
+/// An active-set step counts at least `ACTIVE_WORK_FLOOR` of an evaluation, so that a cycle
+/// of small active sets still ends: the same coastline takes active-set steps (a size field,
+/// K ≥ `Ccvt::graded_active_from`), and cycled through them to the cap when each counted only
+/// the few generators it moved.
 // comb20 refined toward its outline at K = 20 000–25 000 converges in 547–980 evaluations;
 // with every active-set step counted as one evaluation, three such runs stopped after 512–768.
 pub(crate) const STALL_EVALUATIONS: usize = 300;
+const ACTIVE_WORK_FLOOR: f64 = 0.1;
 
 /// First shift σ (relative to 2m, Lloyd's own scale), its floor and its cap.
 const SIGMA_START: f64 = 0.1;
@@ -247,7 +252,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
                 &mut trace.prof,
             );
             iterations += taken;
-            spent += (taken * a.set.len()) as f64 / z.len() as f64;
+            spent += taken as f64 * (a.set.len() as f64 / z.len() as f64).max(ACTIVE_WORK_FLOOR);
             continue;
         }
         cleanup = None;
