@@ -10,8 +10,9 @@
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
 //!
-//! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
-//! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
+//! From `Ccvt::active_from` generators on (`Ccvt::graded_active_from` with a size field),
+//! once few still move more than the tolerance, the same Newton step is taken on an active
+//! set only (module `active`), everyone else held fixed.
 use crate::active;
 use crate::map::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
@@ -28,7 +29,7 @@ use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CH
 /// of 10 000 evaluations, over ten minutes. Counted in evaluations of the whole map: an
 /// active-set step counts the share of the generators it moves, because a graded run converges
 /// through hundreds of such steps of a few milliseconds each, which are progress, not a cycle.
-/// An active-set step counts at least `ACTIVE_WORK_FLOOR` of an evaluation, so that a cycle
+/// Each evaluation of an active-set step counts at least `ACTIVE_WORK_FLOOR`, so that a cycle
 /// of small active sets still ends: the same coastline takes active-set steps (a size field,
 /// K ≥ `Ccvt::graded_active_from`), and cycled through them to the cap when each counted only
 /// the few generators it moved.
