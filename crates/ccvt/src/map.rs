@@ -194,8 +194,7 @@ pub struct Phase<'a> {
     pub spacing: f64,
     /// The local spacing, the yardstick of every per-generator move (`spacing` where ρ ≡ 1).
     pub scale: LocalScale<'a>,
-    /// Newton's active-set steps from this many generators on (`Ccvt::active_from`, or
-    /// `Ccvt::graded_active_from` for a non-uniform density).
+    /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
     pub active_from: usize,
     /// The request's cancel flag: a phase stops at its next evaluation once it is set.
     pub cancel: Option<&'a AtomicBool>,

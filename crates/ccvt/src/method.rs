@@ -17,11 +17,10 @@ use tessellation::Delaunay;
 /// `cvtmesh::Method::Ccvt` run: Algorithm 2 with Newton's method, from the centred equilateral
 /// lattice ([`Init::Lattice`], one of step 0's options), polygonization tolerance 1e-4 of the
 /// mean spacing, ε tolerance 1e-2 of the spacing with at most 30 ε-updates, intermediate CVTs of
-/// Ω_ε stopped at moves below 1e-3 of the spacing, active-set Newton steps from 10 000
-/// generators on (3000 with a size field) and ε starting at 0. [`Ccvt::algorithm1`] and
-/// [`Ccvt::algorithm2`] are the paper's algorithms with Lloyd iteration, [`Ccvt::anderson`]
-/// Algorithm 2 with Anderson acceleration; they differ from the default only in `algorithm`
-/// and `solver`.
+/// Ω_ε stopped at moves below 1e-3 of the spacing, active-set Newton steps from 3000
+/// generators on and ε starting at 0. [`Ccvt::algorithm1`] and [`Ccvt::algorithm2`] are the
+/// paper's algorithms with Lloyd iteration, [`Ccvt::anderson`] Algorithm 2 with Anderson
+/// acceleration; they differ from the default only in `algorithm` and `solver`.
 ///
 /// ```
 /// use cvtmesh_ccvt::Ccvt;
@@ -64,15 +63,14 @@ pub struct Ccvt {
     /// Newton only: from this many generators on, once at most 1 % of them move more than the
     /// tolerance, steps move only the defects (the largest moves) and two rings of their
     /// neighbours, updating the triangulation and cells around them (active-set steps, module
-    /// `active`: O(active) instead of O(K) per step; the stopping rule is the same).
+    /// `active`: O(active) instead of O(K) per step; the stopping rule is the same). 3000 by
+    /// default: against 10⁴, the ten built-in regions at K = 3000 and 5000 (seeds 1–2, whole
+    /// command) took 0.84 and 0.77 of the time with the geometric means of λ, γ, β, q and p
+    /// within 3 % (q 6 % lower at 5000), and four graded cases 0.84 / 0.69 / 0.66 of the time
+    /// at 3000 / 5000 / 7000 with the same size conformity; below 3000 there was no clear
+    /// gain, and the study's K stay below it (`docs/design-notes.md`, "Active-set steps below
+    /// 10⁴ generators").
     pub active_from: usize,
-    /// [`Ccvt::active_from`] for a non-uniform density (a size field): 3000 by default. A
-    /// graded mesh relaxes through dislocations scattered over the region, which active-set
-    /// steps move at a fraction of a global step's cost well below 10⁴ generators: on four
-    /// graded cases (seeds 1–3, `graded` probe) 0.84 of the time at K = 3000, 0.69 at 5000 and
-    /// 0.66 at 7000, with the same size conformity and angles; at the study's K = 1500 no
-    /// clear gain (`docs/design-notes.md`, "Active-set steps below 10⁴ generators").
-    pub graded_active_from: usize,
     /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
     /// near the settled ε (about 0.7 of the spacing) skips the CVT of Ω itself, which saves
     /// time at large K, but the meshes' worst cells come out worse, so it is not the default.
@@ -142,8 +140,7 @@ impl Default for Ccvt {
             eps_tol: 1e-2,
             max_eps_updates: 30,
             eps_phase_tol: 1e-3,
-            active_from: 10_000,
-            graded_active_from: 3_000,
+            active_from: 3_000,
             eps_start: 0.0,
             multilevel_from: usize::MAX,
             graded_multilevel_from: 75_000,
@@ -486,12 +483,7 @@ impl Ccvt {
         // A point of Ω_ε's polygon (chord error ≤ tol_poly) if closer than ε − 2·tol_poly.
         let in_domain = |eps: f64| Sublevel::new(region, eps - 2.0 * tol_poly, 3.0 * spacing);
         let scale = LocalScale::new(region, &request.density, spacing);
-        let active_from = if request.density.is_uniform() {
-            self.active_from
-        } else {
-            self.graded_active_from
-        };
-        let common = (region, request, solver, scale, active_from);
+        let common = (region, request, solver, scale, self.active_from);
         fn phase<'a>(
             (region, request, solver, scale, active_from): (
                 &'a Region,

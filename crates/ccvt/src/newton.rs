@@ -10,9 +10,8 @@
 //! (which always lowers it) is taken. Generators whose label changed this iteration (an interior
 //! cell that reached the boundary, a corner) take their Lloyd target.
 //!
-//! From `Ccvt::active_from` generators on (`Ccvt::graded_active_from` with a size field),
-//! once few still move more than the tolerance, the same Newton step is taken on an active
-//! set only (module `active`), everyone else held fixed.
+//! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
+//! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
 use crate::map::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
 use geometry::{DVec2, PieceId, Region};
@@ -30,9 +29,9 @@ use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CH
 /// active-set step counts the share of the generators it moves, because a graded run converges
 /// through hundreds of such steps of a few milliseconds each, which are progress, not a cycle.
 /// Each evaluation of an active-set step counts at least `ACTIVE_WORK_FLOOR`, so that a cycle
-/// of small active sets still ends: the same coastline takes active-set steps (a size field,
-/// K ≥ `Ccvt::graded_active_from`), and cycled through them to the cap when each counted only
-/// the few generators it moved.
+/// of small active sets still ends: the same coastline takes active-set steps (K ≥
+/// `Ccvt::active_from`), and cycled through them to the cap when each counted only the few
+/// generators it moved.
 // comb20 refined toward its outline at K = 20 000–25 000 converges in 547–980 evaluations;
 // with every active-set step counted as one evaluation, three such runs stopped after 512–768.
 pub(crate) const STALL_EVALUATIONS: usize = 300;
