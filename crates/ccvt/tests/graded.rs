@@ -296,6 +296,14 @@ fn toward_the_outline(text: &str, sizes: [f64; 4], k: usize) -> (Region, MeshReq
     (region, request)
 }
 
+/// The robustness sweep's comb of twenty teeth 0.02 wide refined toward its outline at
+/// K = 20 000, seed 2, the sizes the sweep gives it.
+fn comb_at_20000() -> (Region, MeshRequest) {
+    let sizes = [0.00353553, 0.0707107, 0.0141421, 0.282843];
+    let (region, request) = toward_the_outline(include_str!("data/comb20.txt"), sizes, 20_000);
+    (region, request.seed(2))
+}
+
 /// A fractal coastline of 5000 vertices (1597 corners kept, 1235 added along its gaps) meshed
 /// toward its shore at K = 3000: 168 free generators among 2832 corners. From evaluation 136
 /// the iterate cycles and the largest move never again reaches its low; the phase stops
@@ -332,9 +340,7 @@ fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
 #[test]
 #[ignore]
 fn a_graded_run_whose_levels_cycle_still_converges() {
-    let sizes = [0.00353553, 0.0707107, 0.0141421, 0.282843];
-    let (region, request) = toward_the_outline(include_str!("data/comb20.txt"), sizes, 20_000);
-    let request = request.seed(2);
+    let (region, request) = comb_at_20000();
     let forced = Ccvt {
         levels_max_boundary_share: f64::MAX,
         graded_multilevel_from: 5000,
@@ -377,9 +383,7 @@ fn a_graded_run_whose_levels_cycle_still_converges() {
 #[test]
 #[ignore]
 fn a_graded_run_of_many_active_set_steps_is_not_taken_for_a_cycle() {
-    let sizes = [0.00353553, 0.0707107, 0.0141421, 0.282843];
-    let (region, request) = toward_the_outline(include_str!("data/comb20.txt"), sizes, 20_000);
-    let request = request.seed(2);
+    let (region, request) = comb_at_20000();
     let r = Ccvt::default()
         .mesh_parts(&region, &request, &mut |_| {})
         .unwrap();
