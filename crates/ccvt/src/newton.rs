@@ -202,7 +202,8 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     // steps since that count last fell (None after any other step).
     let mut cleanup: Option<(usize, usize)> = None;
     // Work done, in evaluations of the whole map (an active-set step counts the share of the
-    // generators it moves); the smallest largest move so far and the work done when it came.
+    // generators it moves, at least `ACTIVE_WORK_FLOOR`); the smallest largest move so far and
+    // the work done when it came.
     let mut spent = 1.0;
     let (mut best_move, mut best_spent) = (f64::INFINITY, 0.0);
     loop {
