@@ -412,7 +412,7 @@ impl Ctx<'_> {
             let (lo, hi) = bbox(&s.k);
             if self.bnd.box_inside(z + lo, z + hi) {
                 return self.finish(
-                    self.fan(z).polygon(&s.k),
+                    self.fan(z).convex(&s.k),
                     DVec2::ZERO,
                     z,
                     max_norm(&s.k),
