@@ -486,7 +486,12 @@ impl Ctx<'_> {
         if s.k.len() < 3 {
             return Cell::empty(z);
         }
-        let kmom = self.fan(z).polygon(&s.k);
+        // The density's moments are wanted only if the cell meets no boundary (below).
+        let kmom = Fan {
+            density: None,
+            ..self.fan(z)
+        }
+        .polygon(&s.k);
         if kmom.a.is_nan() || kmom.a <= 1e-14 * diam * diam {
             return Cell {
                 h: max_norm(&s.k),
@@ -531,7 +536,15 @@ impl Ctx<'_> {
         if !meets {
             // The cell lies on one side of the boundary: z (not on it) tells which.
             return if bnd.inside(z) {
-                self.finish(kmom, DVec2::ZERO, z, max_norm(&s.k), pieces)
+                // The same rule as a cell far inside, so that a cell moving between the two
+                // cases sees no jump in its moments.
+                self.finish(
+                    self.fan(z).convex(&s.k),
+                    DVec2::ZERO,
+                    z,
+                    max_norm(&s.k),
+                    pieces,
+                )
             } else {
                 Cell {
                     pieces,
