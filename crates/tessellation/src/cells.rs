@@ -276,7 +276,9 @@ struct Scratch {
     epoch: u32,
     near: Vec<u32>,
     runs: Vec<(usize, usize)>,
-    fcum: Vec<Mom>,
+    /// How many times each edge of the convex cell enters the clipped cell's moments, as a
+    /// difference array (entry i adds to edges i.., a run's end takes it off again).
+    uses: Vec<i32>,
     phi: Vec<f64>,
     pieces: Vec<PieceId>,
 }
@@ -293,7 +295,7 @@ impl Scratch {
             epoch: 0,
             near: Vec::new(),
             runs: Vec::new(),
-            fcum: Vec::new(),
+            uses: Vec::new(),
             phi: Vec::new(),
             pieces: Vec::new(),
         }
@@ -570,17 +572,19 @@ impl Ctx<'_> {
             fine: true,
             ..self.fan(z + c)
         };
+        // The fan moments of the convex cell's edges are summed at the end, each as many
+        // times as the clipped cell's boundary runs along it: an edge outside Ω (about half of
+        // them) costs no quadrature at all.
         let m = s.k.len();
-        s.fcum.clear();
         s.phi.clear();
-        s.fcum.push(Mom::default());
         s.phi.push(0.0);
         for i in 0..m {
             let (p, q) = (s.k[i] - c, s.k[(i + 1) % m] - c);
-            let (f, a) = (s.fcum[i] + fan.tri(p, q), s.phi[i] + angle(p, q));
-            s.fcum.push(f);
+            let a = s.phi[i] + angle(p, q);
             s.phi.push(a);
         }
+        s.uses.clear();
+        s.uses.resize(m + 1, 0);
 
         // Runs of consecutive nearby edges of one ring.
         s.runs.clear();
@@ -654,8 +658,12 @@ impl Ctx<'_> {
                             mom += fan.tri(p, q);
                             sweep += angle(p, q);
                         }
-                        let (fs, ps) = self.on_cell_boundary(s, fan, c, start);
-                        let (fe, pe) = self.on_cell_boundary(s, fan, c, end);
+                        let (is, fs, ps) = self.on_cell_boundary(s, fan, c, start);
+                        let (ie, fe, pe) = self.on_cell_boundary(s, fan, c, end);
+                        // The whole edges before `is`, less those before `ie`: once each
+                        // from `ie` up to `is`, or taken off from `is` up to `ie`.
+                        s.uses[is] -= 1;
+                        s.uses[ie] += 1;
                         mom += fs - fe;
                         sweep += ps - pe;
                     }
@@ -667,7 +675,14 @@ impl Ctx<'_> {
         let turns = (TAU * wc as f64 - sweep) / TAU;
         let whole = turns.round();
         if !self.whole_rings && (turns - whole).abs() < 0.1 {
-            mom += s.fcum[m] * whole;
+            let mut uses = whole as i32;
+            for i in 0..m {
+                uses += s.uses[i];
+                if uses != 0 {
+                    let (p, q) = (s.k[i] - c, s.k[(i + 1) % m] - c);
+                    mom += fan.tri(p, q) * uses as f64;
+                }
+            }
         } else {
             // Inconsistent angles (a degenerate configuration): clip whole rings instead.
             mom = self.clip_whole_rings(s, z, c, fan);
@@ -747,9 +762,11 @@ impl Ctx<'_> {
         }
     }
 
-    /// For a point p on the cell boundary: the fan moments and the angle swept (about c) along
-    /// the boundary from the cell's first vertex to p, counter-clockwise.
-    fn on_cell_boundary(&self, s: &Scratch, fan: Fan<'_>, c: DVec2, p: DVec2) -> (Mom, f64) {
+    /// For a point p on the cell boundary: the edge of the convex cell it lies on, the fan
+    /// moments from that edge's first vertex to p, and the angle swept (about c) along the
+    /// boundary from the cell's first vertex to p, counter-clockwise. The fan moments of the
+    /// whole edges before it are the caller's to add.
+    fn on_cell_boundary(&self, s: &Scratch, fan: Fan<'_>, c: DVec2, p: DVec2) -> (usize, Mom, f64) {
         let m = s.k.len();
         let mut best = (f64::INFINITY, 0);
         for i in 0..m {
@@ -760,7 +777,7 @@ impl Ctx<'_> {
         }
         let i = best.1;
         let (u, q) = (s.k[i] - c, p - c);
-        (s.fcum[i] + fan.tri(u, q), s.phi[i] + angle(u, q))
+        (i, fan.tri(u, q), s.phi[i] + angle(u, q))
     }
 
     /// A point inside the convex cell well away from every nearby boundary edge.
