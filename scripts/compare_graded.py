@@ -138,7 +138,7 @@ def write_tables(out, rows):
         f.write("|---|---|---|---|---|---|---|---|---|---|---|\n")
         gmsh = {(r["case"], r["K"]): r["mesher_seconds"] for r in rows if r["tool"] == "gmsh-frontal"}
         for r in rows:
-            ratio = "" if r["tool"] == "gmsh-frontal" else f"{r['mesher_seconds'] / gmsh[r['case'], r['K']]:.0f}"
+            ratio = "" if r["tool"] == "gmsh-frontal" else f"{r['mesher_seconds'] / gmsh[r['case'], r['K']]:.1f}"
             tool = r["tool"] + (" (not converged)" if r.get("note") == "not converged" else "")
             f.write(f"| {r['case']} | {r['K']} | {tool} | {r['seconds']:.2f} ({r['mesher_seconds']:.2f}) | {ratio} | "
                     f"{r.get('iterations', '')} | {r['vertices']:.0f} | "
