@@ -414,7 +414,7 @@ impl Ctx<'_> {
             let (lo, hi) = bbox(&s.k);
             if self.bnd.box_inside(z + lo, z + hi) {
                 return self.finish(
-                    self.fan(z).convex(&s.k),
+                    self.fan(z).polygon(&s.k),
                     DVec2::ZERO,
                     z,
                     max_norm(&s.k),
@@ -538,10 +538,8 @@ impl Ctx<'_> {
         if !meets {
             // The cell lies on one side of the boundary: z (not on it) tells which.
             return if bnd.inside(z) {
-                // The same rule as a cell far inside, so that a cell moving between the two
-                // cases sees no jump in its moments.
                 self.finish(
-                    self.fan(z).convex(&s.k),
+                    self.fan(z).polygon(&s.k),
                     DVec2::ZERO,
                     z,
                     max_norm(&s.k),

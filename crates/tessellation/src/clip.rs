@@ -154,29 +154,6 @@ impl Fan<'_> {
         }
     }
 
-    /// Moments of a convex polygon (counter-clockwise) about the origin. The geometric moments
-    /// are the exact sums over the fan from the origin; the density's rule runs on the fan
-    /// from the polygon's first vertex: n − 2 triangles instead of n, so 4 rules instead of 6
-    /// on a hexagonal cell, where the rule is most of a graded run's cells.
-    pub fn convex(&self, pts: &[DVec2]) -> Mom {
-        let geometric = Fan {
-            density: None,
-            ..*self
-        };
-        let mut m = geometric.polygon(pts);
-        if let Some(rho) = self.density {
-            let a = pts[0];
-            for w in pts[1..].windows(2) {
-                let (u, v) = (w[0] - a, w[1] - a);
-                let area = 0.5 * u.perp_dot(v);
-                if area != 0.0 {
-                    self.rule(rho, a, u, v, area, &mut m);
-                }
-            }
-        }
-        m
-    }
-
     /// Moments of a closed polygon (signed by orientation).
     pub fn polygon(&self, pts: &[DVec2]) -> Mom {
         let mut m = Mom::default();
@@ -347,40 +324,6 @@ mod tests {
         .tri(p, q)
         .m;
         assert!((got - exact_monomial(p, q, 6, 0)).abs() > 1e-6);
-    }
-
-    #[test]
-    fn a_convex_polygon_fanned_from_a_vertex_has_the_moments_of_the_fan_from_the_origin() {
-        // A hexagon about an origin inside it, absolute origin off zero. With ρ cubic, ρ·|x|²
-        // is of degree 5, which the rule integrates exactly on either fan.
-        let hex: Vec<DVec2> = (0..6)
-            .map(|k| {
-                let t = 0.3 + k as f64 * std::f64::consts::FRAC_PI_3;
-                DVec2::new(t.cos(), t.sin()) * (1.0 + 0.1 * k as f64) - DVec2::new(0.1, 0.05)
-            })
-            .collect();
-        let rho = Density::Function(Arc::new(|x: DVec2| {
-            2.0 + x.x - 0.5 * x.y + 0.3 * x.x * x.y * x.y + 0.2 * x.x.powi(3)
-        }));
-        let fan = Fan {
-            origin: DVec2::new(0.7, -0.4),
-            density: Some(&rho),
-            fine: false,
-        };
-        let (a, b) = (fan.convex(&hex), fan.polygon(&hex));
-        for (x, y) in [(a.a, b.a), (a.sx, b.sx), (a.sxx, b.sxx), (a.sxy, b.sxy)] {
-            assert_eq!(x, y, "the geometric moments are the same sums");
-        }
-        for (x, y) in [(a.m, b.m), (a.mx, b.mx), (a.my, b.my), (a.mr2, b.mr2)] {
-            assert!((x - y).abs() < 1e-13 * y.abs().max(1.0), "{x} vs {y}");
-        }
-        // Not exact for a density of higher degree: the two fans are different rules.
-        let rough = Density::Function(Arc::new(|x: DVec2| 1.0 + x.x.powi(6)));
-        let fan = Fan {
-            density: Some(&rough),
-            ..fan
-        };
-        assert!((fan.convex(&hex).m - fan.polygon(&hex).m).abs() > 1e-6);
     }
 
     #[test]
