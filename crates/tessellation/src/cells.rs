@@ -538,13 +538,11 @@ impl Ctx<'_> {
         if !meets {
             // The cell lies on one side of the boundary: z (not on it) tells which.
             return if bnd.inside(z) {
-                self.finish(
-                    self.fan(z).polygon(&s.k),
-                    DVec2::ZERO,
-                    z,
-                    max_norm(&s.k),
-                    pieces,
-                )
+                let mom = match self.density {
+                    Some(_) => self.fan(z).polygon(&s.k),
+                    None => kmom,
+                };
+                self.finish(mom, DVec2::ZERO, z, max_norm(&s.k), pieces)
             } else {
                 Cell {
                     pieces,
@@ -582,7 +580,7 @@ impl Ctx<'_> {
             s.phi.push(a);
         }
         s.uses.clear();
-        s.uses.resize(m + 1, 0);
+        s.uses.resize(m, 0);
 
         // Runs of consecutive nearby edges of one ring.
         s.runs.clear();
