@@ -3,8 +3,10 @@
 count, scored by `cvtmesh measure --size-toward ...` (unit share, efficiency, angles).
 
 Gmsh is timed around `gmsh.model.mesh.generate` only, after calibration runs that scale the
-sizes to hit K (its count goes as size^-2); cvtmesh is timed as the whole command and as the
-mesher's own seconds that it prints. Run through scripts/compare_graded.sh.
+sizes to hit K (its count goes as size^-2), so its time includes evaluating its fields;
+cvtmesh is timed as the whole command and as the seconds it prints (building the size field
+and meshing, without reading the region or writing the file). Run through
+scripts/compare_graded.sh.
 """
 import argparse, csv, json, math, os, re, shlex, subprocess, sys, time
 import numpy as np

@@ -232,6 +232,9 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             region.num_parts()
         );
     }
+    // Timed from here: building the size field (distance queries onto its background grid) is
+    // part of meshing, as it is inside Gmsh's `generate`.
+    let start = Instant::now();
     let (request, field_line) = request(&a, &region, &named)?;
     if let Some(line) = field_line {
         eprintln!("{line}");
@@ -265,7 +268,6 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     bar.set_prefix(format!("{} K={k}", method.name()));
-    let start = Instant::now();
     let result = method.mesh_parts(&region, &request, &mut |p| {
         bar.set_position(p.iteration as u64);
         bar.set_message(format!("energy {:.6e}  move {:.2e}", p.energy, p.max_move));
