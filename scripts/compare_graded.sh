@@ -3,7 +3,7 @@
 # field at the same vertex count (scripts/compare_graded.py). Needs the network once (PyPI) for
 # its own virtual environment; not part of CI.
 #   scripts/compare_graded.sh [--sizes 10000,100000] [--cases circle-point,l-corner,square_hole-hole,lake-shores]
-#     [--cvtmesh-args "--tol 1e-3"] [--out DIR]
+#     [--seeds N] [--cvtmesh-args "--tol 1e-3"] [--out DIR]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 top="$(dirname "$here")"
