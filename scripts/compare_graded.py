@@ -148,7 +148,7 @@ def write_tables(out, rows):
         # One CCVT run's length moves with its seed (by 2× and more at 10⁴): the median over
         # the seeds is the ratio to quote.
         f.write("\n| case | K | seeds | median seconds (mesher) | median × Gmsh | iterations |\n|---|---|---|---|---|---|\n")
-        keys = sorted({(r["case"], r["K"]) for r in rows if r["tool"] == "cvtmesh"}, key=lambda x: (x[0], x[1]))
+        keys = dict.fromkeys((r["case"], r["K"]) for r in rows if r["tool"] == "cvtmesh")
         for key in keys:
             runs = [r for r in rows if r["tool"] == "cvtmesh" and (r["case"], r["K"]) == key]
             med = statistics.median(r["mesher_seconds"] for r in runs)

@@ -64,12 +64,9 @@ pub struct Ccvt {
     /// tolerance, steps move only the defects (the largest moves) and two rings of their
     /// neighbours, updating the triangulation and cells around them (active-set steps, module
     /// `active`: O(active) instead of O(K) per step; the stopping rule is the same). 3000 by
-    /// default: against 10⁴, the ten built-in regions at K = 3000 and 5000 (seeds 1–2, whole
-    /// command) took 0.84 and 0.77 of the time with the geometric means of λ, γ, β, q and p
-    /// within 3 % (q 6 % lower at 5000), and four graded cases 0.84 / 0.69 / 0.66 of the time
-    /// at 3000 / 5000 / 7000 with the same size conformity; below 3000 there was no clear
-    /// gain, and the study's K stay below it (`docs/design-notes.md`, "Active-set steps below
-    /// 10⁴ generators").
+    /// default: from there on the steps save time with the same measures and size conformity,
+    /// below it they did not, and the study's K stay below it (measured in
+    /// `docs/design-notes.md`, "Active-set steps below 10⁴ generators").
     pub active_from: usize,
     /// Algorithm 2's first ε, relative to the spacing (0, as in the paper, by default). A start
     /// near the settled ε (about 0.7 of the spacing) skips the CVT of Ω itself, which saves
