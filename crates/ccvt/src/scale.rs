@@ -1,6 +1,7 @@
 //! The local spacing a density asks for, the yardstick of every per-generator length in a
 //! phase: the convergence test, Newton's step cap, the active set's thresholds.
 use geometry::{DVec2, Density, Region};
+use rayon::prelude::*;
 
 /// h(x) = s̄ · √(mean of ρ^½ over Ω) · ρ(x)^(−¼): spacing ∝ ρ^(−¼) (the CVT's density–spacing
 /// law in 2D), normalised so that K hexagons of side h(x) tile Ω. For ρ ≡ 1 it is the mean
@@ -31,15 +32,18 @@ impl<'a> LocalScale<'a> {
         const N: usize = 256;
         let (lo, hi) = region.bbox();
         let step = (hi - lo) / N as f64;
+        // The inside tests (signed-distance queries) in parallel, the sum in row order.
+        let roots: Vec<Option<f64>> = (0..N * N)
+            .into_par_iter()
+            .map(|k| {
+                let p = lo + step * DVec2::new((k % N) as f64 + 0.5, (k / N) as f64 + 0.5);
+                region.contains(p).then(|| density.at(p).max(0.0).sqrt())
+            })
+            .collect();
         let (mut sum, mut count) = (0.0, 0usize);
-        for j in 0..N {
-            for i in 0..N {
-                let p = lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                if region.contains(p) {
-                    sum += density.at(p).max(0.0).sqrt();
-                    count += 1;
-                }
-            }
+        for r in roots.into_iter().flatten() {
+            sum += r;
+            count += 1;
         }
         let mean = if count > 0 && sum > 0.0 {
             sum / count as f64

@@ -260,14 +260,6 @@ impl Grid {
         .sealed()
     }
 
-    fn nodes(lo: DVec2, hi: DVec2, nx: usize, ny: usize) -> (DVec2, Vec<DVec2>) {
-        let step = (hi - lo) / DVec2::new((nx - 1) as f64, (ny - 1) as f64);
-        let nodes = (0..ny)
-            .flat_map(|j| (0..nx).map(move |i| lo + step * DVec2::new(i as f64, j as f64)))
-            .collect();
-        (step, nodes)
-    }
-
     /// Which nodes lie inside `region`, row by row: the crossings of each row's line with the
     /// boundary polygon, sorted, bound the inside stretches (even–odd rule). O(nodes + edges ×
     /// rows they span).
@@ -315,9 +307,9 @@ impl Grid {
     /// boundary generator reach outside Ω and their moments are sums of signed triangles that
     /// cover the outside part too; their quadrature errors cancel only where ρ is as smooth
     /// out there as inside, and a distance field has a kink on the loop it measures to.
-    fn extend_outside(&mut self, region: &Region) {
+    fn extend_outside(&mut self, inside: Vec<bool>) {
         let (nx, ny) = (self.nx, self.ny);
-        let mut set = self.inside(region);
+        let mut set = inside;
         if !set.iter().any(|&s| s) {
             return;
         }
@@ -337,27 +329,31 @@ impl Grid {
         let mut front: Vec<usize> = (0..nx * ny)
             .filter(|&k| !set[k] && neighbours(k).any(|u| set[u]))
             .collect();
+        // A layer's values come from the layers before it only, so the order within a layer
+        // does not matter: the next one is collected unsorted, each node once (`queued`).
+        let mut queued = vec![false; nx * ny];
+        let mut values = Vec::new();
         while !front.is_empty() {
-            let values: Vec<f64> = front
-                .iter()
-                .map(|&k| {
-                    let (sum, n) = neighbours(k)
-                        .filter(|&u| set[u])
-                        .fold((0.0, 0usize), |(s, n), u| (s + self.values[u], n + 1));
-                    sum / n as f64
-                })
-                .collect();
-            for (&k, v) in front.iter().zip(values) {
+            values.clear();
+            values.extend(front.iter().map(|&k| {
+                let (sum, n) = neighbours(k)
+                    .filter(|&u| set[u])
+                    .fold((0.0, 0usize), |(s, n), u| (s + self.values[u], n + 1));
+                sum / n as f64
+            }));
+            for (&k, &v) in front.iter().zip(&values) {
                 self.values[k] = v;
                 set[k] = true;
             }
-            let mut next: Vec<usize> = front
-                .iter()
-                .flat_map(|&k| neighbours(k))
-                .filter(|&u| !set[u])
-                .collect();
-            next.sort_unstable();
-            next.dedup();
+            let mut next = Vec::with_capacity(front.len() + 8);
+            for &k in &front {
+                for u in neighbours(k) {
+                    if !set[u] && !queued[u] {
+                        queued[u] = true;
+                        next.push(u);
+                    }
+                }
+            }
             front = next;
         }
     }
@@ -740,8 +736,8 @@ impl SizeField {
                 to_points
             }
         };
-        // Up to a million nodes, each a nearest-piece query: in parallel.
-        let field = SizeField::from_samples(region, n, |nodes| {
+        // Up to a million nodes, each a nearest-piece query: in parallel, inside Ω only.
+        let field = SizeField::from_inside_samples(region, n, |nodes| {
             Ok::<_, std::convert::Infallible>(
                 nodes
                     .par_iter()
@@ -757,9 +753,12 @@ impl SizeField {
     pub fn min(&self, other: &SizeField, region: &Region) -> Result<SizeField, SizeFieldError> {
         let smallest = self.check(region)?.min.min(other.check(region)?.min);
         let n = grid_side(region, smallest, 2048);
-        let field = SizeField::from_samples(region, n, |nodes| {
+        let field = SizeField::from_inside_samples(region, n, |nodes| {
             Ok::<_, std::convert::Infallible>(
-                nodes.iter().map(|&p| self.at(p).min(other.at(p))).collect(),
+                nodes
+                    .par_iter()
+                    .map(|&p| self.at(p).min(other.at(p)))
+                    .collect(),
             )
         })?;
         Ok(field.unwrap_or_else(|never| match never {}))
@@ -801,13 +800,51 @@ impl SizeField {
         n: usize,
         sample: impl FnOnce(&[DVec2]) -> Result<Vec<f64>, E>,
     ) -> Result<Result<SizeField, E>, SizeFieldError> {
+        SizeField::sampled(region, n, false, sample)
+    }
+
+    /// [`SizeField::from_samples`] with `sample` called on the nodes inside `region` only (in
+    /// row order; on every node if none is inside): the others take the values of the nearest
+    /// nodes inside whatever they were sampled as, so the grid is the same, and a distance
+    /// field's nodes in the bounding box's empty corners and a lake's land cost nothing.
+    pub(crate) fn from_inside_samples<E>(
+        region: &Region,
+        n: usize,
+        sample: impl FnOnce(&[DVec2]) -> Result<Vec<f64>, E>,
+    ) -> Result<Result<SizeField, E>, SizeFieldError> {
+        SizeField::sampled(region, n, true, sample)
+    }
+
+    fn sampled<E>(
+        region: &Region,
+        n: usize,
+        inside_only: bool,
+        sample: impl FnOnce(&[DVec2]) -> Result<Vec<f64>, E>,
+    ) -> Result<Result<SizeField, E>, SizeFieldError> {
         if n < 2 {
             return Err(SizeFieldError::GridTooSmall(n));
         }
         let (lo, hi) = region.bbox();
         let pad = (hi - lo) / (n - 1) as f64;
         let (lo, hi) = (lo - pad, hi + pad);
-        let (step, nodes) = Grid::nodes(lo, hi, n, n);
+        let step = (hi - lo) / DVec2::new((n - 1) as f64, (n - 1) as f64);
+        let mut grid = Grid {
+            lo,
+            step,
+            inv_step: 1.0 / step,
+            nx: n,
+            ny: n,
+            values: Vec::new(),
+            padded: Vec::new(),
+        };
+        let inside = grid.inside(region);
+        let node = |k: usize| lo + step * DVec2::new((k % n) as f64, (k / n) as f64);
+        let chosen: Vec<usize> = if inside_only && inside.contains(&true) {
+            (0..n * n).filter(|&k| inside[k]).collect()
+        } else {
+            (0..n * n).collect()
+        };
+        let nodes: Vec<DVec2> = chosen.iter().map(|&k| node(k)).collect();
         let values = match sample(&nodes) {
             Ok(v) => v,
             Err(e) => return Ok(Err(e)),
@@ -818,18 +855,19 @@ impl SizeField {
                 expected: nodes.len(),
             });
         }
+        drop(nodes);
+        grid.values = if chosen.len() == n * n {
+            values
+        } else {
+            let mut all = vec![f64::NAN; n * n];
+            for (&k, v) in chosen.iter().zip(values) {
+                all[k] = v;
+            }
+            all
+        };
         // Nodes outside the region may hold anything (a distance field may be undefined
         // there, or have a kink on ∂Ω): they take the values of the nearest nodes inside.
-        let mut grid = Grid {
-            lo,
-            step,
-            inv_step: 1.0 / step,
-            nx: n,
-            ny: n,
-            values,
-            padded: Vec::new(),
-        };
-        grid.extend_outside(region);
+        grid.extend_outside(inside);
         let grid = grid.sealed();
         Ok(Ok(SizeField {
             kind: Kind::Grid(Arc::new(grid)),
@@ -857,7 +895,7 @@ impl SizeField {
             Kind::Constant(_) | Kind::Grid(_) => self.clone(),
             Kind::Expr(e) => {
                 let n = grid_side(region, h_min, 2048);
-                SizeField::from_samples(region, n, |nodes| {
+                SizeField::from_inside_samples(region, n, |nodes| {
                     Ok::<_, std::convert::Infallible>(
                         nodes.par_iter().map(|&p| e.eval(p)).collect(),
                     )
@@ -1064,8 +1102,10 @@ fn sweep(
 fn grid_centres(region: &Region, n: usize) -> (Vec<DVec2>, f64) {
     let (lo, hi) = region.bbox();
     let step = (hi - lo) / n as f64;
-    let inside = (0..n)
-        .flat_map(|j| (0..n).map(move |i| lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5)))
+    // Each a signed-distance query: in parallel (the order is kept).
+    let inside = (0..n * n)
+        .into_par_iter()
+        .map(|k| lo + step * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5))
         .filter(|&p| region.contains(p))
         .collect();
     (inside, step.x * step.y)
@@ -1117,6 +1157,131 @@ mod tests {
         // Inside the region the field is the threshold of the distance.
         let v = h.at(DVec2::new(0.7, 0.0));
         assert!((v - t.at(0.3)).abs() < 1e-3, "{v}");
+    }
+
+    /// A field positive everywhere that varies from node to node in both directions.
+    fn wavy(p: DVec2) -> f64 {
+        2.0 + (3.1 * p.x).sin() * (1.7 * p.y).cos() + 1e-3 * p.x
+    }
+
+    fn grid_of(field: &SizeField) -> &Grid {
+        match &field.kind {
+            Kind::Grid(g) => g,
+            _ => panic!("a sampled field"),
+        }
+    }
+
+    #[test]
+    fn sampling_only_the_nodes_inside_gives_the_same_grid() {
+        // The nodes outside Ω take their values from the nodes inside, so sampling them is
+        // wasted work: the grid is the same bit for bit. The lake's bounding box is half land.
+        for name in ["square_hole", "lake", "annulus"] {
+            let r = Region::builtin(name).unwrap();
+            let n = 97;
+            let every = SizeField::from_samples(&r, n, |nodes| {
+                Ok::<_, ()>(nodes.iter().map(|&p| wavy(p)).collect())
+            })
+            .unwrap()
+            .unwrap();
+            let mut sampled = 0;
+            let inside = SizeField::from_inside_samples(&r, n, |nodes| {
+                sampled = nodes.len();
+                assert!(nodes
+                    .iter()
+                    .all(|&p| r.signed_distance(p) < 0.05 * r.diameter()));
+                Ok::<_, ()>(nodes.iter().map(|&p| wavy(p)).collect())
+            })
+            .unwrap()
+            .unwrap();
+            assert!(sampled > n * n / 10 && sampled < n * n, "{name}: {sampled}");
+            let (a, b) = (grid_of(&every), grid_of(&inside));
+            assert_eq!(a.values.len(), b.values.len());
+            for (k, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
+                assert_eq!(
+                    x.to_bits(),
+                    y.to_bits(),
+                    "{name}: node {k}: {x} against {y}"
+                );
+            }
+            assert!(a
+                .padded
+                .iter()
+                .zip(&b.padded)
+                .all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+    }
+
+    #[test]
+    fn the_outside_takes_the_layer_by_layer_mean_of_the_nodes_inside() {
+        // Each node outside Ω, one layer after another outward from the nodes inside, takes
+        // the mean of its four-neighbours already set: against that rule written out plainly,
+        // bit for bit.
+        let r = Region::builtin("square_hole").unwrap();
+        let n = 41;
+        let field = SizeField::from_inside_samples(&r, n, |nodes| {
+            Ok::<_, ()>(nodes.iter().map(|&p| wavy(p)).collect())
+        })
+        .unwrap()
+        .unwrap();
+        let g = grid_of(&field);
+        let inside = g.inside(&r);
+        let mut values: Vec<f64> = (0..n * n)
+            .map(|k| {
+                let p = g.lo + g.step * DVec2::new((k % n) as f64, (k / n) as f64);
+                if inside[k] {
+                    wavy(p)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
+        let mut set = inside.clone();
+        let neighbours = |k: usize| {
+            let (i, j) = (k % n, k / n);
+            let mut v = Vec::new();
+            if i > 0 {
+                v.push(k - 1);
+            }
+            if i + 1 < n {
+                v.push(k + 1);
+            }
+            if j > 0 {
+                v.push(k - n);
+            }
+            if j + 1 < n {
+                v.push(k + n);
+            }
+            v
+        };
+        let mut layers = 0;
+        loop {
+            let front: Vec<usize> = (0..n * n)
+                .filter(|&k| !set[k] && neighbours(k).iter().any(|&u| set[u]))
+                .collect();
+            if front.is_empty() {
+                break;
+            }
+            layers += 1;
+            let means: Vec<f64> = front
+                .iter()
+                .map(|&k| {
+                    let from: Vec<f64> = neighbours(k)
+                        .into_iter()
+                        .filter(|&u| set[u])
+                        .map(|u| values[u])
+                        .collect();
+                    from.iter().fold(0.0, |s, v| s + v) / from.len() as f64
+                })
+                .collect();
+            for (&k, m) in front.iter().zip(means) {
+                values[k] = m;
+                set[k] = true;
+            }
+        }
+        assert!(layers > 2, "{layers} layers");
+        for (k, (x, y)) in g.values.iter().zip(&values).enumerate() {
+            assert_eq!(x.to_bits(), y.to_bits(), "node {k}: {x} against {y}");
+        }
     }
 
     #[test]

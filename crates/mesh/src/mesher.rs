@@ -1,5 +1,6 @@
 use crate::{Mesh, MeshError};
 use geometry::{DVec2, Density, Region, SizeField};
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -497,23 +498,28 @@ fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
     }
     const N: usize = 200;
     let (lo, hi) = region.bbox();
+    // The inside tests (signed-distance queries) in parallel; the first bad value in the
+    // order of the loops below is the one named.
+    let at = |k: usize| {
+        let (i, j) = (k / (N + 1), k % (N + 1));
+        lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64)
+    };
+    let values: Vec<Option<f64>> = (0..(N + 1) * (N + 1))
+        .into_par_iter()
+        .map(|k| region.contains(at(k)).then(|| density.at(at(k))))
+        .collect();
     let mut positive = false;
-    for i in 0..=N {
-        for j in 0..=N {
-            let p = lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64);
-            if !region.contains(p) {
-                continue;
-            }
-            let value = density.at(p);
-            if !value.is_finite() || value < 0.0 {
-                return Err(MeshError::InvalidDensity {
-                    x: p.x,
-                    y: p.y,
-                    value,
-                });
-            }
-            positive |= value > 0.0;
+    for (k, value) in values.into_iter().enumerate() {
+        let Some(value) = value else { continue };
+        if !value.is_finite() || value < 0.0 {
+            let p = at(k);
+            return Err(MeshError::InvalidDensity {
+                x: p.x,
+                y: p.y,
+                value,
+            });
         }
+        positive |= value > 0.0;
     }
     if positive {
         Ok(())
