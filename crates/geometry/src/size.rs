@@ -951,7 +951,12 @@ impl SizeField {
         let Kind::Grid(grid) = self.on_grid(region, smallest).kind else {
             unreachable!("on_grid makes a grid of every non-constant field")
         };
-        let mut grid = (*grid).clone();
+        // The values only: `sealed` below makes the padded copy afresh.
+        let mut grid = Grid {
+            values: grid.values.clone(),
+            padded: Vec::new(),
+            ..*grid
+        };
         for v in grid.values.iter_mut() {
             if v.is_finite() && *v > 0.0 {
                 *v = v.clamp(lo, hi);
