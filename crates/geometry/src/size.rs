@@ -839,12 +839,9 @@ impl SizeField {
         };
         let inside = grid.inside(region);
         let node = |k: usize| lo + step * DVec2::new((k % n) as f64, (k / n) as f64);
-        let chosen: Vec<usize> = if inside_only && inside.contains(&true) {
-            (0..n * n).filter(|&k| inside[k]).collect()
-        } else {
-            (0..n * n).collect()
-        };
-        let nodes: Vec<DVec2> = chosen.iter().map(|&k| node(k)).collect();
+        let masked = inside_only && inside.contains(&true);
+        let chosen = || (0..n * n).filter(|&k| !masked || inside[k]);
+        let nodes: Vec<DVec2> = chosen().map(node).collect();
         let values = match sample(&nodes) {
             Ok(v) => v,
             Err(e) => return Ok(Err(e)),
@@ -856,14 +853,14 @@ impl SizeField {
             });
         }
         drop(nodes);
-        grid.values = if chosen.len() == n * n {
-            values
-        } else {
+        grid.values = if masked {
             let mut all = vec![f64::NAN; n * n];
-            for (&k, v) in chosen.iter().zip(values) {
+            for (k, v) in chosen().zip(values) {
                 all[k] = v;
             }
             all
+        } else {
+            values
         };
         // Nodes outside the region may hold anything (a distance field may be undefined
         // there, or have a kink on ∂Ω): they take the values of the nearest nodes inside.

@@ -506,7 +506,10 @@ fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
     };
     let values: Vec<Option<f64>> = (0..(N + 1) * (N + 1))
         .into_par_iter()
-        .map(|k| region.contains(at(k)).then(|| density.at(at(k))))
+        .map(|k| {
+            let p = at(k);
+            region.contains(p).then(|| density.at(p))
+        })
         .collect();
     let mut positive = false;
     for (k, value) in values.into_iter().enumerate() {
