@@ -694,6 +694,39 @@ impl fmt::Display for F {
 /// A file's contents, produced into a writer.
 pub(crate) type Producer<'a> = Box<dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a>;
 
+/// Write lines `0..n`, line `i` appended to a buffer by `line(i, buffer)`: formatted in
+/// parallel chunks and written in order, so the bytes are those of writing the lines one by
+/// one, in a fraction of the time for the 10⁵–10⁶ lines of a large mesh. A batch at a time is
+/// held in memory, not the file.
+pub(crate) fn write_lines(
+    w: &mut dyn Write,
+    n: usize,
+    line: impl Fn(usize, &mut String) + Sync,
+) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 4096;
+    const BATCH: usize = 16 * CHUNK;
+    for start in (0..n).step_by(BATCH) {
+        let end = (start + BATCH).min(n);
+        let parts: Vec<String> = (start..end)
+            .step_by(CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|from| {
+                let mut s = String::with_capacity(64 * CHUNK);
+                for i in from..(from + CHUNK).min(end) {
+                    line(i, &mut s);
+                }
+                s
+            })
+            .collect();
+        for part in parts {
+            w.write_all(part.as_bytes())?;
+        }
+    }
+    Ok(())
+}
+
 /// A fresh temporary path beside `target` (hidden, unique per process and call), or None if
 /// `target` has no file name.
 fn temp_beside(target: &Path) -> Option<PathBuf> {
@@ -1115,6 +1148,24 @@ pub(crate) mod test_util {
 mod tests {
     use super::test_util::*;
     use super::*;
+
+    #[test]
+    fn lines_formatted_in_parallel_are_written_in_order() {
+        // Across several batches and a ragged last chunk: the bytes of writing one by one.
+        use std::fmt::Write as _;
+        let line = |i: usize, s: &mut String| {
+            let _ = writeln!(s, "{} {} {}", i + 1, F(i as f64 * 0.1), i % 7);
+        };
+        for n in [0, 1, 4095, 150_001] {
+            let mut one_by_one = String::new();
+            for i in 0..n {
+                line(i, &mut one_by_one);
+            }
+            let mut out: Vec<u8> = Vec::new();
+            write_lines(&mut out, n, line).unwrap();
+            assert!(out == one_by_one.as_bytes(), "{n} lines");
+        }
+    }
 
     #[test]
     fn float_format_round_trips_exactly() {

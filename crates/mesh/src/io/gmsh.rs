@@ -1,11 +1,12 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
-    file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, Nodes,
-    Producer, Tokens, Walls, F,
+    file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, write_lines,
+    Nodes, Producer, Tokens, Walls, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
 use std::collections::HashMap;
+use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
@@ -280,12 +281,13 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 b => (0, b - surface),
             };
             writeln!(w, "{dim} {tag} 0 {}", vs.len())?;
-            for v in vs {
-                writeln!(w, "{}", v + 1)?;
-            }
-            for &v in vs {
-                writeln!(w, "{} {} 0", F(nodes.points[v].x), F(nodes.points[v].y))?;
-            }
+            write_lines(w, vs.len(), |i, s| {
+                let _ = writeln!(s, "{}", vs[i] + 1);
+            })?;
+            write_lines(w, vs.len(), |i, s| {
+                let p = nodes.points[vs[i]];
+                let _ = writeln!(s, "{} {} 0", F(p.x), F(p.y));
+            })?;
         }
         writeln!(w, "$EndNodes")?;
 
@@ -320,9 +322,14 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         }
         if !nodes.triangles.is_empty() {
             writeln!(w, "2 1 {triangle_type} {}", nodes.triangles.len())?;
-            for t in &nodes.triangles {
-                element(w, t)?;
-            }
+            let first = tag + 1;
+            write_lines(w, nodes.triangles.len(), |i, s| {
+                let _ = write!(s, "{}", first + i);
+                for v in nodes.triangles[i] {
+                    let _ = write!(s, " {}", v + 1);
+                }
+                let _ = writeln!(s);
+            })?;
         }
         writeln!(w, "$EndElements")
     });

@@ -1,11 +1,12 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, Nodes, Producer,
-    Tokens, Walls, F, UNKNOWN_PIECE,
+    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines, Nodes,
+    Producer, Tokens, Walls, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
 use std::ffi::OsString;
+use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -114,7 +115,8 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
              loop arc-length parameter (-1 unknown){last}"
         )?;
         writeln!(w, "{} 2 {nattr} 1", nodes.points.len())?;
-        for (i, (p, m)) in nodes.points.iter().zip(nodes.markers).enumerate() {
+        write_lines(w, nodes.points.len(), |i, s| {
+            let (p, m) = (nodes.points[i], &nodes.markers[i]);
             let (kind, id, param, marker) = match *m {
                 VertexMarker::Interior => (0, 0i64, 0.0, 0),
                 VertexMarker::Boundary {
@@ -128,20 +130,19 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
                     loop_param,
                 } => (2, known_id(corner), known_param(loop_param), loop_index + 1),
             };
-            let fourth = match &walls {
-                Some((_, by_node)) => format!("{marker} {}", by_node[i]),
-                None => format!("{marker}"),
-            };
-            writeln!(
-                w,
-                "{} {} {} {kind} {id} {} {fourth}",
+            let _ = write!(
+                s,
+                "{} {} {} {kind} {id} {} {marker}",
                 i + 1,
                 F(p.x),
                 F(p.y),
                 F(param)
-            )?;
-        }
-        Ok(())
+            );
+            let _ = match &walls {
+                Some((_, by_node)) => writeln!(s, " {}", by_node[i]),
+                None => writeln!(s),
+            };
+        })
     });
     let write_ele: Producer = Box::new(|w: &mut dyn Write| {
         writeln!(
@@ -150,14 +151,14 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
             nodes.triangles.len()
         )?;
         writeln!(w, "{} {} 0", nodes.triangles.len(), order.len())?;
-        for (t, tri) in nodes.triangles.iter().enumerate() {
-            write!(w, "{}", t + 1)?;
+        write_lines(w, nodes.triangles.len(), |t, s| {
+            let tri = &nodes.triangles[t];
+            let _ = write!(s, "{}", t + 1);
             for &k in order {
-                write!(w, " {}", tri[k] + 1)?;
+                let _ = write!(s, " {}", tri[k] + 1);
             }
-            writeln!(w)?;
-        }
-        Ok(())
+            let _ = writeln!(s);
+        })
     });
     let write_poly: Producer = Box::new(|w: &mut dyn Write| {
         writeln!(
