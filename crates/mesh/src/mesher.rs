@@ -498,8 +498,8 @@ fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
     }
     const N: usize = 200;
     let (lo, hi) = region.bbox();
-    // The inside tests (signed-distance queries) in parallel; the first bad value in the
-    // order of the loops below is the one named.
+    // The inside tests (signed-distance queries) in parallel; the bad value named is the
+    // first by x, then y, as a scan of the grid column by column would meet it.
     let at = |k: usize| {
         let (i, j) = (k / (N + 1), k % (N + 1));
         lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64)
