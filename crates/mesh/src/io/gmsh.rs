@@ -298,13 +298,12 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             + pins.len();
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
         let mut tag = 0;
+        let mut line = String::new();
         let mut element = |w: &mut dyn Write, vs: &[u32]| -> std::io::Result<()> {
             tag += 1;
-            write!(w, "{tag}")?;
-            for v in vs {
-                write!(w, " {}", v + 1)?;
-            }
-            writeln!(w)
+            line.clear();
+            element_line(&mut line, tag, vs);
+            w.write_all(line.as_bytes())
         };
         for (p, &(v, _)) in pins.iter().enumerate() {
             writeln!(w, "0 {} 15 1", p + 1)?;
@@ -324,16 +323,21 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             writeln!(w, "2 1 {triangle_type} {}", nodes.triangles.len())?;
             let first = tag + 1;
             write_lines(w, nodes.triangles.len(), |i, s| {
-                let _ = write!(s, "{}", first + i);
-                for v in nodes.triangles[i] {
-                    let _ = write!(s, " {}", v + 1);
-                }
-                let _ = writeln!(s);
+                element_line(s, first + i, nodes.triangles[i])
             })?;
         }
         writeln!(w, "$EndElements")
     });
     write_files(vec![(path.to_path_buf(), produce)])
+}
+
+/// One line of `$Elements`: the element's tag, then its nodes (1-based).
+fn element_line(s: &mut String, tag: usize, vs: &[u32]) {
+    let _ = write!(s, "{tag}");
+    for v in vs {
+        let _ = write!(s, " {}", v + 1);
+    }
+    let _ = writeln!(s);
 }
 
 /// Read a Gmsh ASCII mesh (format 4.1 or 2.2). Triangles (including higher-order ones, by their
