@@ -13,7 +13,7 @@
 //! stays one: its dual is still the Voronoi diagram finite-volume schemes use.
 //!
 //! Cost: one pass over the triangles per sweep, O(K̃), plus a bounded search per vertex moved.
-use crate::types::{triangle_min_angle_deg, Mesh, VertexMarker};
+use crate::types::{smallest_angle_cos, triangle_min_angle_deg, Mesh, VertexMarker};
 use geometry::{DVec2, Region};
 use rayon::prelude::*;
 
@@ -206,20 +206,6 @@ fn sweep(
         }
     }
     any
-}
-
-/// The cosine of the smallest angle of triangle `q` (opposite its shortest side), by the law
-/// of cosines: 0.5 for an equilateral triangle, 1 for a flat one (and for a side of length 0).
-fn smallest_angle_cos(q: [DVec2; 3]) -> f64 {
-    let l = [0, 1, 2].map(|i| (q[(i + 2) % 3] - q[(i + 1) % 3]).length_squared());
-    let k = (0..3).min_by(|&a, &b| l[a].total_cmp(&l[b])).unwrap_or(0);
-    let (b, c) = (l[(k + 1) % 3], l[(k + 2) % 3]);
-    let cos = (b + c - l[k]) / (2.0 * (b * c).sqrt());
-    if cos.is_finite() {
-        cos.min(1.0)
-    } else {
-        1.0
-    }
 }
 
 /// What [`polish_within`] did; its `Display` is the note a run reports.

@@ -1,6 +1,7 @@
 //! The conformity check catches the ways a mesh can fail its region.
 use cvtmesh_mesh::{
-    check_conforming, slivers, ConformityError, Mesh, VertexMarker, SLIVER_ANGLE_DEG,
+    check_conforming, slivers, triangle_min_angle_deg, ConformityError, Mesh, VertexMarker,
+    SLIVER_ANGLE_DEG,
 };
 use geometry::{DVec2, LoopRole, Piece, Region};
 
@@ -284,8 +285,101 @@ fn slivers_are_counted_and_located_at_the_short_side_of_the_flattest() {
     assert_eq!(slivers(&lone), None);
 }
 
+#[test]
+fn the_first_open_edge_in_vertex_order_is_reported_from_a_large_mesh() {
+    // 10 000 vertices: the edges are checked in runs of tails in parallel. Two triangles
+    // removed, one among the last vertices and one among the first: the edge reported is the
+    // first by its tail, the same every time.
+    let (square, mut mesh) = unit_square_mesh(100);
+    let by_least_vertex = |mesh: &Mesh, low: bool| {
+        let keys = (0..mesh.triangles.len()).filter(|&t| {
+            mesh.triangles[t]
+                .iter()
+                .all(|&v| mesh.markers[v as usize] == VertexMarker::Interior)
+        });
+        let key = |t: &usize| *mesh.triangles[*t].iter().min().expect("three");
+        if low {
+            keys.min_by_key(key)
+        } else {
+            keys.max_by_key(key)
+        }
+        .expect("an interior triangle")
+    };
+    let late = by_least_vertex(&mesh, false);
+    mesh.triangles.remove(late);
+    let early = by_least_vertex(&mesh, true);
+    let first = *mesh.triangles[early].iter().min().expect("three");
+    mesh.triangles.remove(early);
+    for _ in 0..5 {
+        match check_conforming(&mesh, &square) {
+            Err(ConformityError::OpenBoundary(a, _)) => assert_eq!(a, first),
+            other => panic!("{other:?}"),
+        }
+    }
+}
+
+/// Every triangle's angles, as the sliver test took them before it skipped the trigonometry
+/// of triangles whose cosine clears the bound.
+fn slivers_by_every_angle(mesh: &Mesh) -> Option<(usize, f64)> {
+    let boundary: std::collections::HashSet<(u32, u32)> = mesh
+        .boundary_edges()
+        .iter()
+        .map(|e| (e.a.min(e.b), e.a.max(e.b)))
+        .collect();
+    let on = |a: u32, b: u32| boundary.contains(&(a.min(b), a.max(b)));
+    let mut found: Vec<f64> = Vec::new();
+    for (t, v) in mesh.triangles.iter().enumerate() {
+        let p = mesh.triangle(t);
+        let (i, a) = (0..3)
+            .map(|i| {
+                let a = (p[(i + 1) % 3] - p[i])
+                    .angle_to(p[(i + 2) % 3] - p[i])
+                    .abs()
+                    .to_degrees();
+                (i, if a.is_nan() { 0.0 } else { a })
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .expect("three");
+        let forced = on(v[i], v[(i + 1) % 3]) && on(v[i], v[(i + 2) % 3]);
+        if a < SLIVER_ANGLE_DEG && !forced {
+            found.push(a);
+        }
+    }
+    let least = found.iter().copied().min_by(f64::total_cmp)?;
+    Some((found.len(), least))
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+
+    /// The smallest angle and the slivers, found by the cosines first, are those of every
+    /// triangle's angles, bit for bit: on meshes whose vertices are pushed toward a line (flat
+    /// and zero-area triangles), merged (sides of length zero) or sent to infinity.
+    #[test]
+    fn angles_found_by_their_cosines_are_those_of_every_triangle(
+        m in 3usize..9,
+        seed in 0u64..u64::MAX,
+        flatten in 0.0f64..1.0,
+    ) {
+        let (_, mut mesh) = unit_square_mesh(m);
+        let mut rng = geometry::Rng::new(seed);
+        let n = mesh.points.len();
+        for k in 0..n {
+            match rng.below(8) {
+                0 => mesh.points[k].y *= 1.0 - flatten,
+                1 => mesh.points[k].y = mesh.points[k].x * 1e-7,
+                2 => mesh.points[k] = mesh.points[rng.below(n)],
+                3 if rng.below(4) == 0 => mesh.points[k].x = f64::INFINITY,
+                _ => {}
+            }
+        }
+        let every = (0..mesh.triangles.len())
+            .map(|t| triangle_min_angle_deg(mesh.triangle(t)))
+            .fold(f64::INFINITY, f64::min);
+        proptest::prop_assert_eq!(mesh.min_angle_deg().to_bits(), every.to_bits());
+        let found = slivers(&mesh).map(|s| (s.count, s.smallest_deg));
+        proptest::prop_assert_eq!(found, slivers_by_every_angle(&mesh));
+    }
 
     /// A conforming mesh passes in any triangle order and from any corner of each triangle; one
     /// triangle removed, repeated or turned over, or a vertex in no triangle, never passes.
