@@ -335,7 +335,7 @@ impl Ccvt {
             let coarse = self.generators(region, &coarse_request, progress)?;
             let mesh = tessellation::conforming_mesh(&coarse.points, &coarse.markers, region)?;
             let seeds = start::prolongate_resampled(region, &scale, &mesh);
-            let z = start::fit_count(region, &scale, seeds, k, request.seed);
+            let z = start::along_hilbert(start::fit_count(region, &scale, seeds, k, request.seed));
             let (fine, del) = self.solve_on_pool(region, request, z, Run::Relax, progress)?;
             let levels = coarse.then(fine, coarse_k);
             if !levels.stalled || request.cancelled() || request.out_of_time() {
@@ -352,7 +352,7 @@ impl Ccvt {
             return Ok((levels.then_again(again), del));
         }
         if self.graded_start && !request.density.is_uniform() {
-            let z = start::graded(region, request, &scale, k)?;
+            let z = start::along_hilbert(start::graded(region, request, &scale, k)?);
             return self.solve_on_pool(region, request, z, Run::Relax, progress);
         }
         if k >= self.row_from
@@ -377,13 +377,13 @@ impl Ccvt {
                 return from_row.solve_on_pool(
                     region,
                     request,
-                    z,
+                    start::along_hilbert(z),
                     Run::Paper(self.algorithm),
                     progress,
                 );
             }
         }
-        let z = initial_points(region, k, self.init, request.seed);
+        let z = start::along_hilbert(initial_points(region, k, self.init, request.seed));
         self.solve_on_pool(region, request, z, Run::Paper(self.algorithm), progress)
     }
 

@@ -632,3 +632,45 @@ fn the_row_start_reaches_the_lattice_paths_energy_in_fewer_evaluations() {
         );
     }
 }
+
+#[test]
+fn large_runs_list_neighbours_next_to_each_other() {
+    // From 10⁴ generators on, a start is listed along a Hilbert curve, so vertices next to
+    // each other in the mesh's list are mostly joined by an edge. As built, the row start lists
+    // its lattice by depth and the graded start in the refinement's insertion order, where the
+    // next vertex usually lies far across the region.
+    let region = Region::builtin("square_hole").unwrap();
+    let toward = geometry::SizeField::threshold(
+        &region,
+        &[geometry::Toward::Loop(1)],
+        geometry::Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.02,
+            dist_max: 0.6,
+        },
+    )
+    .unwrap();
+    let uniform = MeshRequest::points(10_000);
+    let graded = MeshRequest::size_field(&toward, &region, Some(10_000)).unwrap();
+    for (label, request) in [("uniform", uniform), ("graded", graded)] {
+        let request = request.seed(1).max_iter(1);
+        let m = Ccvt::fast()
+            .mesh(&region, &request, &mut |_| {})
+            .unwrap()
+            .mesh;
+        let edges: std::collections::HashSet<(u32, u32)> = m
+            .triangles
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        let n = m.num_vertices() as u32;
+        let joined = (1..n).filter(|&v| edges.contains(&(v - 1, v))).count();
+        let share = joined as f64 / (n - 1) as f64;
+        assert!(
+            share > 0.6,
+            "{label}: {share} of consecutive vertices joined"
+        );
+    }
+}

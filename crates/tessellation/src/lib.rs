@@ -31,7 +31,7 @@ pub use cells::{
     clipped_cells, clipped_cells_into, update_cells, Cell, Cells, CellsBuffer, DomainGrid,
 };
 pub use conforming::{conforming_mesh, conforming_mesh_from, mark_vertices};
-pub use delaunay::Delaunay;
+pub use delaunay::{hilbert_order, Delaunay};
 pub use hessian::{energy_hessian, energy_hessian_rows};
 pub use odt::{odt_boundary_triangles, odt_energy, odt_targets};
 pub use sparse::{dot, BlockMatrix, DOT_CHUNK};
