@@ -27,24 +27,15 @@ impl<'a> LocalScale<'a> {
                 mean_sqrt: 1.0,
             };
         }
-        // The mean of ρ^½ over Ω on a 256 × 256 grid of the bounding box: a normalisation
-        // only, so a percent of error scales every yardstick by half a percent.
-        const N: usize = 256;
-        let (lo, hi) = region.bbox();
-        let step = (hi - lo) / N as f64;
-        // The inside tests (signed-distance queries) in parallel, the sum in row order.
-        let roots: Vec<Option<f64>> = (0..N * N)
-            .into_par_iter()
-            .map(|k| {
-                let p = lo + step * DVec2::new((k % N) as f64 + 0.5, (k / N) as f64 + 0.5);
-                region.contains(p).then(|| density.at(p).max(0.0).sqrt())
-            })
+        // The mean of ρ^½ over Ω on the region's inside grid: a normalisation only, so a
+        // percent of error scales every yardstick by half a percent.
+        let inside = region.inside_grid().0;
+        let roots: Vec<f64> = inside
+            .par_iter()
+            .map(|&p| density.at(p).max(0.0).sqrt())
             .collect();
-        let (mut sum, mut count) = (0.0, 0usize);
-        for r in roots.into_iter().flatten() {
-            sum += r;
-            count += 1;
-        }
+        // Summed in row order.
+        let (sum, count) = (roots.iter().sum::<f64>(), roots.len());
         let mean = if count > 0 && sum > 0.0 {
             sum / count as f64
         } else {

@@ -639,5 +639,6 @@ pub(crate) fn assemble(
         marker_names: Default::default(),
         vertex_markers: Vec::new(),
         embedded: Vec::new(),
+        inside_grid: Default::default(),
     }
 }

@@ -17,9 +17,6 @@ use rayon::prelude::*;
 use std::sync::Arc;
 use thiserror::Error;
 
-/// Nodes per side of the grid on which a field is checked and integrated.
-const CHECK_GRID: usize = 256;
-
 /// Why a size field cannot be used on a region.
 #[derive(Debug, Error)]
 pub enum SizeFieldError {
@@ -991,7 +988,7 @@ impl SizeField {
         };
         let polygon = region.polygonize(1e-3 * region.diameter());
         let boundary = polygon.rings.iter().flat_map(|r| r.points.iter().copied());
-        let inside = grid_centres(region, CHECK_GRID).0;
+        let inside = region.inside_grid().0.iter().copied();
         for p in boundary.chain(inside) {
             let h = self.at(p);
             if !(h.is_finite() && h > 0.0) {
@@ -1011,7 +1008,7 @@ impl SizeField {
     /// lattice of regular hexagons, each of area (√3/2)h²), by the midpoint rule on a 256×256
     /// grid whose cell areas are scaled to the region's exact area. Assumes a checked field.
     pub fn predicted_points(&self, region: &Region) -> f64 {
-        let (inside, _) = grid_centres(region, CHECK_GRID);
+        let inside = region.inside_grid().0;
         if inside.is_empty() {
             return 0.0;
         }
@@ -1097,20 +1094,6 @@ fn sweep(
         }
     }
     changed
-}
-
-/// Centres of an `n`×`n` grid of cells over `region`'s bounding box that lie inside it, and
-/// the cell area.
-fn grid_centres(region: &Region, n: usize) -> (Vec<DVec2>, f64) {
-    let (lo, hi) = region.bbox();
-    let step = (hi - lo) / n as f64;
-    // Each a signed-distance query: in parallel (the order is kept).
-    let inside = (0..n * n)
-        .into_par_iter()
-        .map(|k| lo + step * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5))
-        .filter(|&p| region.contains(p))
-        .collect();
-    (inside, step.x * step.y)
 }
 
 #[cfg(test)]
