@@ -37,7 +37,7 @@ pub use glam::DVec2;
 pub use numeric::ln_gamma;
 pub use piece::Piece;
 pub use polygon::{Polygon, Ring};
-pub use region::{Part, Region};
+pub use region::{Part, Region, INSIDE_GRID};
 pub use rng::Rng;
 pub use simplify::Simplified;
 pub use size::{SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward};
