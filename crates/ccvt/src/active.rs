@@ -8,7 +8,7 @@
 //!
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.
-use crate::map::{assign_fixed, lap, map_cell, step, Phase, Profile, Role, Step, Work};
+use crate::map::{assign_fixed, lap, map_cell, step, Phase, Profile, Step, Work};
 use geometry::DVec2;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -186,26 +186,15 @@ pub(crate) fn apply(
     s.energy += energy_of(cells) - before;
     prof.cells += lap(&mut t);
     // Labels and targets of the changed cells; corners are re-assigned from scratch (their
-    // previous holders, found by a scan of all labels, first get their own cell's label back).
-    let mut redo: Vec<usize> = changed
+    // previous holders first get their own cell's label back).
+    let redo = changed
         .iter()
         .map(|&v| del.point_of_vertex(v as usize))
-        .collect();
-    if (phase.constrained && !phase.region.corners().is_empty())
-        || !phase.region.embedded_points().is_empty()
-    {
-        redo.extend(
-            s.roles
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| matches!(r, Role::Corner(_) | Role::Embedded(_)))
-                .map(|(i, _)| i),
-        );
-    }
+        .chain(s.fixed.iter().copied());
     for i in redo {
         (s.roles[i], s.targets[i]) = map_cell(phase, &cells.cells[i]);
     }
-    assign_fixed(phase, z, del, &mut s.roles, &mut s.targets);
+    s.fixed = assign_fixed(phase, z, del, &mut s.roles, &mut s.targets);
     prof.projection += lap(&mut t);
     undo
 }

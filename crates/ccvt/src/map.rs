@@ -152,6 +152,9 @@ pub struct Step {
     /// spacing): every per-generator yardstick of the iteration reads it here, so that an
     /// active-set step evaluates the density only where generators moved, not at all K.
     pub h: Vec<f64>,
+    /// The generators whose role is `Corner` or `Embedded` ([`assign_fixed`] chose them), so
+    /// that an active-set step finds them without reading all K roles.
+    pub fixed: Vec<usize>,
 }
 
 impl Step {
@@ -276,7 +279,7 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         } else {
             cells.cells.par_iter().map(|c| map_cell(phase, c)).unzip()
         };
-    assign_fixed(phase, z, del, &mut roles, &mut targets);
+    let fixed = assign_fixed(phase, z, del, &mut roles, &mut targets);
     let h = yardsticks(&phase.scale, z);
     prof.projection += lap(&mut t);
     Step {
@@ -284,6 +287,7 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         roles,
         targets,
         h,
+        fixed,
     }
 }
 
@@ -366,22 +370,26 @@ const CORNER_RINGS: usize = 8;
 
 /// The generators held at fixed points: in a constrained phase the corners' ([`assign_corners`]),
 /// in every phase the embedded points' (each the generator nearest it, as for a corner).
+/// `roles` must hold no `Corner` or `Embedded` role but those of its returned holders' (a
+/// fresh map, or one whose previous holders were mapped again). Returns the holders.
 pub(crate) fn assign_fixed(
     phase: &Phase,
     z: &[DVec2],
     del: &Delaunay,
     roles: &mut [Role],
     targets: &mut [DVec2],
-) {
+) -> Vec<usize> {
     let region = phase.region;
     let corners = region.corners().iter().enumerate();
     let corners = corners.map(|(c, k)| (k.pos, Role::Corner(c)));
     let embedded = region.embedded_points().iter().enumerate();
     let embedded = embedded.map(|(e, &(p, _))| (p, Role::Embedded(e)));
     if phase.constrained {
-        assign_corners(corners.chain(embedded), z, del, roles, targets);
+        assign_corners(corners.chain(embedded), z, del, roles, targets)
     } else if !region.embedded_points().is_empty() {
-        assign_corners(embedded, z, del, roles, targets);
+        assign_corners(embedded, z, del, roles, targets)
+    } else {
+        Vec::new()
     }
 }
 
@@ -396,7 +404,8 @@ fn assign_corners(
     del: &Delaunay,
     roles: &mut [Role],
     targets: &mut [DVec2],
-) {
+) -> Vec<usize> {
+    let mut holders = Vec::new();
     let is_fixed = |r: &Role| matches!(r, Role::Corner(_) | Role::Embedded(_));
     for (pos, role) in fixed {
         let mut k = del.nearest(pos);
@@ -436,7 +445,9 @@ fn assign_corners(
         }
         roles[k] = role;
         targets[k] = pos;
+        holders.push(k);
     }
+    holders
 }
 
 /// Largest |a_k − b_k| / h_k, h_k the local spacing at b_k (`h`, empty for a uniform density;
