@@ -9,8 +9,8 @@
 //! The stopping rule stays exact: a cell none of whose Voronoi neighbours (before or after)
 //! moved is the same cell, so its generator's move is the one already known.
 use crate::map::{assign_fixed, lap, map_cell, step, Phase, Profile, Step, Work};
+use crate::moves::Moves;
 use geometry::DVec2;
-use rayon::prelude::*;
 use std::time::Instant;
 use tessellation::update_cells;
 
@@ -66,6 +66,7 @@ pub(crate) fn active_set(
     z: &[DVec2],
     s: &Step,
     work: &Work,
+    moves: &Moves,
     max_move: f64,
 ) -> Option<Active> {
     let k = z.len();
@@ -83,31 +84,22 @@ pub(crate) fn active_set(
     };
     let thr2 = (DEFECT_SHARE * max_move).max(0.5 * phase.tol).powi(2);
     let scale = &phase.scale;
-    // One pass: how many move more than the tolerance, and the defects.
-    const CHUNK: usize = 8192;
-    let parts: Vec<(usize, Vec<u32>)> = s
-        .targets
-        .par_chunks(CHUNK)
-        .zip(z.par_chunks(CHUNK))
-        .enumerate()
-        .map(|(c, (t, z))| {
-            let mut seeds = Vec::new();
-            let mut n = 0;
-            for (k, (t, z)) in t.iter().zip(z).enumerate() {
-                let d2 = (*t - *z).length_squared() / s.h(c * CHUNK + k, scale).powi(2);
-                n += usize::from(d2 > gate2);
-                if d2 > thr2 {
-                    if let Some(v) = del.vertex_index(c * CHUNK + k) {
-                        seeds.push(v as u32);
-                    }
-                }
+    // How many move more than the tolerance, and the defects: only the generators of the
+    // blocks that can hold either.
+    let (mut above, mut seeds) = (0usize, Vec::new());
+    for k in moves.candidates(scale, gate2.min(thr2)) {
+        let d2 = (s.targets[k] - z[k]).length_squared() / s.h(k, scale).powi(2);
+        above += usize::from(d2 > gate2);
+        if d2 > thr2 {
+            if let Some(v) = del.vertex_index(k) {
+                seeds.push(v as u32);
             }
-            (n, seeds)
-        })
-        .collect();
-    let above: usize = parts.iter().map(|p| p.0).sum();
-    let seeds: Vec<u32> = parts.into_iter().flat_map(|p| p.1).collect();
-    if above > cap || seeds.is_empty() || seeds.len() > cap {
+        }
+        if above > cap || seeds.len() > cap {
+            return None;
+        }
+    }
+    if seeds.is_empty() {
         return None;
     }
     // Breadth-first over the rings, with marks (a zeroed allocation costs only the pages
@@ -187,14 +179,19 @@ pub(crate) fn apply(
     prof.cells += lap(&mut t);
     // Labels and targets of the changed cells; corners are re-assigned from scratch (their
     // previous holders first get their own cell's label back).
-    let redo = changed
+    let redo: Vec<usize> = changed
         .iter()
         .map(|&v| del.point_of_vertex(v as usize))
-        .chain(s.fixed.iter().copied());
-    for i in redo {
+        .chain(s.fixed.iter().copied())
+        .collect();
+    for &i in &redo {
         (s.roles[i], s.targets[i]) = map_cell(phase, &cells.cells[i]);
     }
     s.fixed = assign_fixed(phase, z, del, &mut s.roles, &mut s.targets);
+    if let Some(touched) = s.touched.as_mut() {
+        touched.extend(moves.iter().map(|m| m.0 as usize));
+        touched.extend(redo.iter().chain(&s.fixed));
+    }
     prof.projection += lap(&mut t);
     undo
 }
@@ -357,7 +354,9 @@ mod tests {
                 };
                 s.targets[i] = *p + DVec2::X * (r * phase.tol * s.h(i, &phase.scale));
             }
-            let a = active_set(&phase, &z, &s, &work, 100.0 * phase.tol);
+            let mut moves = Moves::empty();
+            moves.sync(&z, &mut s, &phase.scale);
+            let a = active_set(&phase, &z, &s, &work, &moves, 100.0 * phase.tol);
             assert_eq!(
                 a.is_some(),
                 expect_step,

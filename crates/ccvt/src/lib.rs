@@ -53,6 +53,7 @@ mod init;
 mod iterate;
 mod map;
 mod method;
+mod moves;
 mod newton;
 mod params;
 mod scale;

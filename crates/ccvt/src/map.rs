@@ -155,6 +155,9 @@ pub struct Step {
     /// The generators whose role is `Corner` or `Embedded` ([`assign_fixed`] chose them), so
     /// that an active-set step finds them without reading all K roles.
     pub fixed: Vec<usize>,
+    /// The generators whose position, target or local spacing changed since the moves were
+    /// last brought up to date ([`crate::moves::Moves::sync`]); None for a whole evaluation.
+    pub touched: Option<Vec<usize>>,
 }
 
 impl Step {
@@ -288,6 +291,7 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
         targets,
         h,
         fixed,
+        touched: None,
     }
 }
 
@@ -453,7 +457,7 @@ fn assign_corners(
 /// Largest |a_k − b_k| / h_k, h_k the local spacing at b_k (`h`, empty for a uniform density;
 /// a parallel max: exact and independent of the thread count); infinite if any move is NaN,
 /// so that a non-finite centroid never passes the convergence test.
-fn max_move(a: &[DVec2], b: &[DVec2], h: &[f64], scale: &LocalScale) -> f64 {
+pub(crate) fn max_move(a: &[DVec2], b: &[DVec2], h: &[f64], scale: &LocalScale) -> f64 {
     let relative = |(k, (p, q)): (usize, (&DVec2, &DVec2))| {
         let d = (*p - *q).length_squared();
         if d.is_nan() {
@@ -499,8 +503,14 @@ pub(crate) fn record(
     iterations: usize,
     trace: &mut Trace,
 ) -> f64 {
-    let mut t = Instant::now();
-    let mv = match phase.update {
+    let t = Instant::now();
+    let mv = largest_move(phase, s, z);
+    record_move(phase, s, mv, iterations, trace, t)
+}
+
+/// The largest move of the map at `z`, relative to the local spacing.
+fn largest_move(phase: &Phase, s: &Step, z: &[DVec2]) -> f64 {
+    match phase.update {
         // VTM's update with projected boundary vertices can turn the whole set on a disc, as
         // the sliding VTM does: only the change of shape counts.
         Update::Odt if phase.region.rotation_centre().is_some() => {
@@ -512,7 +522,18 @@ pub(crate) fn record(
             max_move(&shape, z, &s.h, &phase.scale)
         }
         _ => max_move(&s.targets, z, &s.h, &phase.scale),
-    };
+    }
+}
+
+/// [`record`] of the largest move `mv`, found since `t`.
+pub(crate) fn record_move(
+    phase: &Phase,
+    s: &Step,
+    mv: f64,
+    iterations: usize,
+    trace: &mut Trace,
+    mut t: Instant,
+) -> f64 {
     trace.energies.push(s.energy);
     trace.moves.push(mv);
     trace.prof.convergence += lap(&mut t);

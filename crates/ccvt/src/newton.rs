@@ -13,7 +13,8 @@
 //! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
 //! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
-use crate::map::{lap, record, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
+use crate::map::{lap, record_move, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
+use crate::moves::Moves;
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
@@ -206,8 +207,14 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     // the work done when it came.
     let mut spent = 1.0;
     let (mut best_move, mut best_spent) = (f64::INFINITY, 0.0);
+    // The moves, kept up to date by blocks for the convergence test and the active sets (the
+    // same largest move as `map::record`'s; Newton never runs VTM's update, whose measure of a
+    // disc's moves differs).
+    let mut moves = Moves::empty();
     loop {
-        let mv = record(phase, &s, &z, iterations, trace);
+        let t = Instant::now();
+        moves.sync(&z, &mut s, &phase.scale);
+        let mv = record_move(phase, &s, moves.largest(&phase.scale), iterations, trace, t);
         if mv < best_move {
             (best_move, best_spent) = (mv, spent);
         }
@@ -230,7 +237,7 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
         // active-set steps continue while the count above the tolerance falls (with patience).
         let room = iterations + 3 <= phase.max_iter;
         if let Some(a) = room
-            .then(|| active::active_set(phase, &z, &s, work, mv))
+            .then(|| active::active_set(phase, &z, &s, work, &moves, mv))
             .flatten()
             .filter(|a| {
                 !a.cleanup
