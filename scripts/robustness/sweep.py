@@ -131,6 +131,24 @@ def read_node_ele(node):
     return xy, marker, tri
 
 
+
+def area_tolerance(tol, k):
+    """The relative area tolerance of a region's manifest entry at K (make_regions.py's docstring)."""
+    if "rel" in tol and "c_over_K2" not in tol:
+        return tol["rel"]
+    floor = tol.get("rel", make_regions.DEFAULT_TOL)
+    if "c_over_K2" in tol:
+        return max(floor, tol["c_over_K2"] / k ** 2)
+    return max(floor, tol["c_over_K"] / k)
+
+
+def area_tolerance_text(tol):
+    if "c_over_K2" in tol:
+        return f"max({tol.get('rel', make_regions.DEFAULT_TOL):g}, {tol['c_over_K2']:g}/K²)"
+    if "rel" in tol:
+        return f"{tol['rel']:g}"
+    return f"max({make_regions.DEFAULT_TOL:g}, {tol['c_over_K']:g}/K)"
+
 def analyse(node, reg, k):
     """Area, inverted triangles, parts covered and centroids outside, relative to the region."""
     xy, marker, tri = read_node_ele(node)
@@ -174,8 +192,7 @@ def analyse(node, reg, k):
                 if d <= CHORD_ALLOWANCE * longest[i]:
                     continue
         bad.append(i)
-    tol = reg["area_tol"]
-    rel_tol = tol["rel"] if "rel" in tol else max(make_regions.DEFAULT_TOL, tol["c_over_K"] / k)
+    rel_tol = area_tolerance(reg["area_tol"], k)
     out.update(region_area=region_area, rel_area_diff=(out["mesh_area"] - region_area) / region_area,
                area_tol=rel_tol, n_outside=len(bad), n_outside_allowed=len(outside) - len(bad),
                outside_area=math.fsum(abs(sa[i]) for i in bad), parts=per)
@@ -344,8 +361,7 @@ def summary_md(recs, manifest, args, wall):
     out += ["", "## Regions", "", "| region | file | expect | area tolerance | note |", "|---|---|---|---|---|"]
     for name, m in manifest.items():
         if any(r["region"] == name for r in recs):
-            tol = m["area_tol"]
-            t = f"{tol['rel']:g}" if "rel" in tol else f"max(1e-3, {tol['c_over_K']:g}/K)"
+            t = area_tolerance_text(m["area_tol"])
             out.append(f"| {name} | {m['file']} | {m['expect']} | {t}{' +chord' if m['chord'] else ''} | {m['note']} |")
     return "\n".join(out) + "\n"
 
