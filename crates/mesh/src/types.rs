@@ -302,7 +302,7 @@ pub(crate) fn single_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
 /// of cosines: 0.5 for an equilateral triangle, 1 for a flat one (and for a side of length 0,
 /// or a corner that is not a number). Larger is worse; no inverse trigonometric function.
 pub(crate) fn smallest_angle_cos(q: [DVec2; 3]) -> f64 {
-    let cos = law_of_cosines(q);
+    let (cos, _) = smallest_corner(q);
     if cos.is_finite() {
         cos.min(1.0)
     } else {
@@ -310,16 +310,23 @@ pub(crate) fn smallest_angle_cos(q: [DVec2; 3]) -> f64 {
     }
 }
 
-/// [`smallest_angle_cos`] unclamped, and NaN where it may not order the triangle among others
-/// as its angles do: a corner not a number, a side of length 0, or squared sides outside the
-/// normal numbers (coordinates beyond ~10¹⁵⁰, or sides below ~10⁻¹⁴⁶).
-fn law_of_cosines(q: [DVec2; 3]) -> f64 {
+/// The law of cosines at the corner opposite the shortest side of `q`, unclamped, and the
+/// squared sides.
+fn smallest_corner(q: [DVec2; 3]) -> (f64, [f64; 3]) {
     let l = [0, 1, 2].map(|i| (q[(i + 2) % 3] - q[(i + 1) % 3]).length_squared());
     let k = (0..3).min_by(|&a, &b| l[a].total_cmp(&l[b])).unwrap_or(0);
     let (b, c) = (l[(k + 1) % 3], l[(k + 2) % 3]);
+    ((b + c - l[k]) / (2.0 * (b * c).sqrt()), l)
+}
+
+/// [`smallest_corner`]'s cosine, and NaN where it may not order the triangle among others as
+/// its angles do: a corner not a number, a side of length 0, or squared sides outside the
+/// normal numbers (coordinates beyond ~10¹⁵⁰, or sides below ~10⁻¹⁴⁶).
+fn law_of_cosines(q: [DVec2; 3]) -> f64 {
+    let (cos, l) = smallest_corner(q);
     let normal = |x: f64| x.is_normal() && x > 1e-292 && x < 1e300;
     if l.iter().all(|&x| normal(x)) {
-        (b + c - l[k]) / (2.0 * (b * c).sqrt())
+        cos
     } else {
         f64::NAN
     }
