@@ -46,6 +46,9 @@ pub enum ConformityError {
     LoopUncovered(usize, usize),
 }
 
+/// Vertices per run of the conformity check's parallel passes over edge rows.
+const ROWS: usize = 4096;
+
 /// Check that `mesh` conforms to `region`: one marker per vertex, finite vertices inside Ω̄,
 /// boundary markers on the boundary, every boundary loop carrying at least 3 vertices, CCW
 /// non-degenerate triangles whose interiors stay in Ω (sampled at the centroid and along edges
@@ -214,7 +217,6 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     }
     // Rows sorted in parallel, over runs of whole rows.
     {
-        const ROWS: usize = 4096;
         let mut runs = Vec::with_capacity(nv / ROWS + 1);
         let mut rest = out.as_mut_slice();
         for first in (0..nv).step_by(ROWS) {
@@ -251,11 +253,11 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     }
     // The undirected edges counted, and the first problem in (tail, head) order found, over
     // runs of tails in parallel, so that the problem reported is always the same.
-    let runs: Vec<Result<i64, ConformityError>> = (0..nv.div_ceil(4096))
+    let runs: Vec<Result<i64, ConformityError>> = (0..nv.div_ceil(ROWS))
         .into_par_iter()
         .map(|r| {
             let mut undirected = 0i64;
-            for a in (r * 4096..((r + 1) * 4096).min(nv)).map(|a| a as u32) {
+            for a in (r * ROWS..((r + 1) * ROWS).min(nv)).map(|a| a as u32) {
                 for &(b, _) in row(a as usize) {
                     if row(b as usize).binary_search_by_key(&a, |e| e.0).is_err() {
                         undirected += 1;
