@@ -11,6 +11,7 @@
 use crate::map::{assign_fixed, lap, map_cell, step, Phase, Profile, Step, Work};
 use crate::moves::Moves;
 use geometry::DVec2;
+use rayon::prelude::*;
 use std::time::Instant;
 use tessellation::update_cells;
 
@@ -147,10 +148,20 @@ pub(crate) fn apply(
 ) -> Vec<(u32, DVec2)> {
     let mut t = Instant::now();
     let undo: Vec<(u32, DVec2)> = moves.iter().map(|&(i, _)| (i, z[i as usize])).collect();
-    for &(i, p) in moves {
+    // The local spacing at the new positions (where ρ varies, a B-spline and a power each).
+    let h: Vec<f64> = if s.h.is_empty() {
+        Vec::new()
+    } else {
+        moves
+            .par_iter()
+            .with_min_len(256)
+            .map(|&(_, p)| phase.scale.at(p))
+            .collect()
+    };
+    for (k, &(i, p)) in moves.iter().enumerate() {
         z[i as usize] = p;
-        if !s.h.is_empty() {
-            s.h[i as usize] = phase.scale.at(p);
+        if let Some(&h) = h.get(k) {
+            s.h[i as usize] = h;
         }
     }
     let moved: Vec<u32> = moves.iter().map(|m| m.0).collect();

@@ -9,6 +9,9 @@ use spade::{DelaunayTriangulation, Point2, Triangulation};
 
 /// A rebuild by flips gives up (and triangulates afresh) beyond this many flips per triangle.
 const MAX_FLIP_FRACTION: usize = 8;
+/// From this many moved points on, `move_points` moves them together and tests the triangles
+/// at them in parallel, rather than one by one.
+const MOVE_TOGETHER_FROM: usize = 512;
 /// Vertices of the frame around a framed triangulation.
 const FRAME: usize = 8;
 
@@ -34,6 +37,9 @@ pub struct Delaunay {
     hints: HintGrid,
     /// Hilbert keys of a fresh build (freed after it: most rebuilds repair).
     keys: Vec<u64>,
+    /// A bit per vertex, set while `move_points` moves it with many others (all clear
+    /// between calls).
+    moving: Vec<u64>,
     /// A box to keep inside the frame (`Delaunay::framed`), or None for no frame.
     frame_box: Option<(DVec2, DVec2)>,
     /// Frame vertices of the current triangulation (numbered after the points' vertices).
@@ -77,6 +83,7 @@ impl Delaunay {
             pos: Vec::new(),
             hints: HintGrid::new(&[]),
             keys: Vec::new(),
+            moving: Vec::new(),
             frame_box: None,
             framed: 0,
             frame_safe: (DVec2::ZERO, 0.0),
@@ -139,15 +146,23 @@ impl Delaunay {
     /// Move only the points `moved` (input indices) to their positions in `points`; every other
     /// point must be where it was. Each moved vertex is repaired by Lawson flips around it when
     /// its triangles stay upright, else removed and inserted again: O(its degree) instead of a
-    /// pass over every edge, for active-set iterations where a few hundred
-    /// of 10⁵–10⁶ generators move. Returns the vertices whose Voronoi cells may have changed
+    /// pass over every edge, for active-set iterations where a few hundred to a few tens of
+    /// thousands of 10⁵–10⁶ generators move. From `MOVE_TOGETHER_FROM` points on they are
+    /// moved together, the triangles at them tested in parallel, which gives the same
+    /// triangulation (up to the diagonals of cocircular quadrilaterals) with its triangles
+    /// possibly stored in another order. Returns the vertices whose Voronoi cells may have changed
     /// (the moved ones and their neighbours before and after, sorted), or None when the
     /// triangulation is not framed or a move cannot be done locally (a duplicate, a point
     /// outside the frame): it is then rebuilt from `points` by [`Delaunay::rebuild`].
     pub fn move_points(&mut self, points: &[DVec2], moved: &[u32]) -> Option<Vec<u32>> {
         let mut affected = Vec::new();
         if self.framed > 0 && points.len() == self.num_points() && self.flippable {
-            if self.move_each(points, moved, &mut affected) {
+            let done = if moved.len() >= MOVE_TOGETHER_FROM {
+                self.move_together(points, moved, &mut affected)
+            } else {
+                self.move_each(points, moved, &mut affected)
+            };
+            if done {
                 self.flipped = true;
                 return Some(affected);
             }
@@ -155,6 +170,93 @@ impl Delaunay {
         }
         self.rebuild(points);
         None
+    }
+
+    /// `move_points` for many points at once: all are moved, those whose triangles stay upright
+    /// are repaired together (their stars tested in parallel by [`Topology::moved_stars`],
+    /// the edges found illegal flipped), and the rest (a triangle turned over, e.g. a thin one
+    /// to the frame) go back and are then moved one by one ([`Delaunay::move_each`]). False
+    /// when the topology is unusable.
+    fn move_together(&mut self, points: &[DVec2], moved: &[u32], affected: &mut Vec<u32>) -> bool {
+        let nv = self.point_of_vertex.len();
+        let (c, r) = self.frame_safe;
+        let mut verts = Vec::with_capacity(moved.len());
+        for &i in moved {
+            let v = self.vertex_of_point[i as usize];
+            let p = points[i as usize];
+            if v == NONE || self.point_of_vertex[v as usize] != i || !p.is_finite() {
+                return false;
+            }
+            if p.distance(c) > r {
+                return false;
+            }
+            if p != self.pos[v as usize] {
+                verts.push(v);
+            }
+        }
+        verts.par_sort_unstable();
+        verts.dedup();
+        let old: Vec<DVec2> = verts.iter().map(|&v| self.pos[v as usize]).collect();
+        for &v in &verts {
+            self.pos[v as usize] = points[self.point_of_vertex[v as usize] as usize];
+        }
+        // Which vertices move together: a bit each (left all clear after).
+        let mut bits = std::mem::take(&mut self.moving);
+        bits.resize(self.pos.len().div_ceil(64), 0);
+        let flip_bit = |bits: &mut [u64], v: u32| bits[v as usize / 64] ^= 1 << (v % 64);
+        for &v in &verts {
+            flip_bit(&mut bits, v);
+        }
+        // Send back the vertices of turned-over triangles until every triangle is upright (at
+        // worst all of them: the triangulation before the move).
+        let mut together = verts.clone();
+        let mut one_by_one: Vec<u32> = Vec::new();
+        let stars = loop {
+            // `blocked` comes in the order of `together`: sorted.
+            let stars = self.topo.moved_stars(&self.pos, &together, |u| {
+                bits.get(u as usize / 64)
+                    .is_some_and(|b| b >> (u % 64) & 1 == 1)
+            });
+            if stars.blocked.is_empty() {
+                break stars;
+            }
+            together.retain(|v| stars.blocked.binary_search(v).is_err());
+            for &v in &stars.blocked {
+                flip_bit(&mut bits, v);
+                let k = verts.binary_search(&v).expect("a moved vertex");
+                self.pos[v as usize] = old[k];
+                one_by_one.push(self.point_of_vertex[v as usize]);
+            }
+        };
+        for &v in &together {
+            flip_bit(&mut bits, v);
+        }
+        self.moving = bits;
+        self.topo.touched.clear();
+        let mut budget = self.topo.tri.len() / MAX_FLIP_FRACTION + 64 * moved.len();
+        let mut stack = stars.illegal;
+        if self
+            .topo
+            .lawson(&self.pos, &mut stack, &mut budget)
+            .is_none()
+        {
+            return false;
+        }
+        // Cells that can have changed: the moved vertices', their neighbours' before the flips
+        // (`halo`), and those of every vertex a flip gave or took a neighbour (`touched`).
+        affected.extend_from_slice(&together);
+        affected.extend(stars.halo);
+        self.topo.touched.sort_unstable();
+        self.topo.touched.dedup();
+        affected.extend_from_slice(&self.topo.touched);
+        self.update_rings();
+        if !one_by_one.is_empty() {
+            return self.move_each(points, &one_by_one, affected);
+        }
+        affected.retain(|&u| (u as usize) < nv);
+        affected.par_sort_unstable();
+        affected.dedup();
+        true
     }
 
     /// `move_points` by removal and insertion; false (the topology is then unusable) when a
@@ -1239,6 +1341,72 @@ mod tests {
             proptest::prop_assert!(triangle_set(&d) == triangle_set(&fresh));
             proptest::prop_assert!((0..n).all(|i| d.neighbors(i) == fresh.neighbors(i)));
             proptest::prop_assert!(d.topo.free.is_empty());
+        }
+    }
+
+    /// Many points moved at once ([`Delaunay::move_together`]) give the triangulation of a fresh
+    /// framed build and report every vertex whose cell can have changed (moved, a moved
+    /// neighbour before or after, or other neighbours): interior points alone (all repaired
+    /// together), every point (the thin triangles to the frame turn over: those points go one
+    /// by one), and every point with one sent across its neighbours.
+    #[test]
+    fn many_points_moved_together_give_the_fresh_triangulation() {
+        let mut rng = Rng::new(23);
+        for (pts, step) in point_sets(&mut rng).into_iter().zip([0.01, 0.002]) {
+            let n = pts.len();
+            let (lo, hi) = (DVec2::splat(-1.5), DVec2::splat(1.5));
+            let mut d = Delaunay::framed(lo, hi);
+            d.rebuild(&pts);
+            let nv = d.num_vertices() as u32;
+            let beside_frame = |i: u32| {
+                let v = d.vertex_index(i as usize).unwrap();
+                d.ring(v).iter().any(|&u| u >= nv)
+            };
+            let interior: Vec<u32> = (0..n as u32)
+                .filter(|&i| i % 5 != 0 && !beside_frame(i))
+                .collect();
+            let all: Vec<u32> = (0..n as u32).filter(|i| i % 5 != 0).collect();
+            let mut to = pts.clone();
+            for (stage, moved) in [&interior, &all, &all].into_iter().enumerate() {
+                assert!(moved.len() >= MOVE_TOGETHER_FROM, "{n} points");
+                let from = to.clone();
+                for &i in moved {
+                    to[i as usize] += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * step;
+                }
+                if stage == 2 {
+                    to[all[0] as usize] += DVec2::new(0.5, 0.0);
+                }
+                let before: Vec<Vec<usize>> = (0..n).map(|i| d.neighbors(i)).collect();
+                let mut affected = Vec::new();
+                assert!(d.move_together(&to, moved, &mut affected), "{n} points");
+                if stage == 0 {
+                    assert!(
+                        !d.topo.touched.is_empty(),
+                        "{n} points: edges flipped together"
+                    );
+                }
+                let mut fresh = Delaunay::framed(lo, hi);
+                fresh.rebuild(&to);
+                assert!(
+                    (0..n).all(|i| d.neighbors(i) == fresh.neighbors(i)),
+                    "{n} points, stage {stage}"
+                );
+                assert!(affected.windows(2).all(|w| w[0] < w[1]), "sorted, unique");
+                for i in 0..n {
+                    let mut was = before[i].clone();
+                    let mut is = d.neighbors(i);
+                    was.sort_unstable();
+                    is.sort_unstable();
+                    let must = to[i] != from[i]
+                        || was != is
+                        || was.iter().chain(&is).any(|&j| to[j] != from[j]);
+                    let v = d.vertex_index(i).unwrap() as u32;
+                    assert!(
+                        !must || affected.binary_search(&v).is_ok(),
+                        "{n} points, stage {stage}: {i}"
+                    );
+                }
+            }
         }
     }
 }

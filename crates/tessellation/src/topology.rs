@@ -125,6 +125,19 @@ fn canonical(nb: &mut [u32], outer: &mut [bool], key: &impl Fn(u32) -> u32) {
     outer.rotate_left(start);
 }
 
+/// What [`Topology::moved_stars`] finds around vertices moved together.
+#[derive(Default)]
+pub(crate) struct MovedStars {
+    /// The vertices with a triangle that turned over, on the hull or in no triangle: Lawson
+    /// flips cannot repair their moves (nothing below is listed for them).
+    pub blocked: Vec<u32>,
+    /// Edges (triangle, slot of the opposite vertex) at the others that stopped being locally
+    /// Delaunay; only edges of triangles at a moved vertex can have.
+    pub illegal: Vec<(u32, u8)>,
+    /// Their neighbours that did not move, with repeats.
+    pub halo: Vec<u32>,
+}
+
 /// Triangles with their neighbours, for Lawson flips.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Topology {
@@ -346,7 +359,7 @@ impl Topology {
 
     /// Flip the stacked edges (triangle, slot of the opposite vertex) and the edges their flips
     /// expose until all are locally Delaunay; None after `budget` flips.
-    fn lawson(
+    pub(crate) fn lawson(
         &mut self,
         pos: &[DVec2],
         stack: &mut Vec<(u32, u8)>,
@@ -538,6 +551,80 @@ impl Topology {
         let done = self.lawson(pos, &mut stack, budget);
         self.stack = stack;
         done.map(|_| true)
+    }
+
+    /// Calls `f(t, slot of v in t)` for every triangle t at `v` until it returns false; false
+    /// when it did, or when `v` has no triangle or lies on the hull.
+    fn around(&self, v: u32, f: &mut dyn FnMut(u32, usize) -> bool) -> bool {
+        let t0 = self.v2t[v as usize];
+        if t0 == NONE {
+            return false;
+        }
+        let mut t = t0;
+        loop {
+            let i = slot(&self.tri[t as usize], v);
+            if !f(t, i) {
+                return false;
+            }
+            t = self.adj[t as usize][(i + 1) % 3];
+            if t == NONE {
+                return false;
+            }
+            if t == t0 {
+                return true;
+            }
+        }
+    }
+
+    /// One pass over the triangles at each vertex of `moved` (moved to their `pos` together,
+    /// every other vertex staying), in parallel: see [`MovedStars`].
+    pub fn moved_stars(
+        &self,
+        pos: &[DVec2],
+        moved: &[u32],
+        in_moved: impl Fn(u32) -> bool + Sync,
+    ) -> MovedStars {
+        let p = |x: u32| coord(pos[x as usize]);
+        let parts: Vec<MovedStars> = moved
+            .par_chunks(256)
+            .map(|chunk| {
+                let mut out = MovedStars::default();
+                for &v in chunk {
+                    let (illegal, halo) = (out.illegal.len(), out.halo.len());
+                    let upright = self.around(v, &mut |t, i| {
+                        let tri = self.tri[t as usize];
+                        if orient2d(p(tri[0]), p(tri[1]), p(tri[2])) <= 0.0 {
+                            return false;
+                        }
+                        // The far edge and one of the two edges at v (the other is the next
+                        // triangle's), as `move_in_place` stacks them.
+                        for k in [i, (i + 1) % 3] {
+                            if self.adj[t as usize][k] != NONE && self.illegal(pos, t, k as u8) {
+                                out.illegal.push((t, k as u8));
+                            }
+                        }
+                        let u = tri[(i + 1) % 3];
+                        if !in_moved(u) {
+                            out.halo.push(u);
+                        }
+                        true
+                    });
+                    if !upright {
+                        out.blocked.push(v);
+                        out.illegal.truncate(illegal);
+                        out.halo.truncate(halo);
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut all = MovedStars::default();
+        for part in parts {
+            all.blocked.extend(part.blocked);
+            all.illegal.extend(part.illegal);
+            all.halo.extend(part.halo);
+        }
+        all
     }
 
     /// Remove interior vertex `v`: the hole (star-shaped around `pos[v]`) is cut into ears and

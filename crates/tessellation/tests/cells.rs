@@ -936,6 +936,18 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// Enough points moved at once that `move_points` moves them together (the stars tested in
+    /// parallel, the vertices of turned-over triangles one by one after).
+    #[test]
+    fn moving_many_points_at_once_matches_fresh_triangulations(seed in 0u64..1_000_000, n in 700usize..1500, size in 1e-4f64..0.1) {
+        let (dom, pts, after) = random_moves(seed, n, size);
+        let moved: Vec<u32> = (0..n as u32).collect();
+        assert_moved_points_match_fresh(&dom, &pts, &after, &moved);
+    }
+}
+
 /// A moved vertex whose ring outgrows the room left for it (16 neighbours after the move, a
 /// handful before) gets its ring rewritten elsewhere, not a refill of every ring.
 #[test]
