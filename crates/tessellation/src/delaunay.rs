@@ -179,18 +179,12 @@ impl Delaunay {
     /// when the topology is unusable.
     fn move_together(&mut self, points: &[DVec2], moved: &[u32], affected: &mut Vec<u32>) -> bool {
         let nv = self.point_of_vertex.len();
-        let (c, r) = self.frame_safe;
         let mut verts = Vec::with_capacity(moved.len());
         for &i in moved {
-            let v = self.vertex_of_point[i as usize];
-            let p = points[i as usize];
-            if v == NONE || self.point_of_vertex[v as usize] != i || !p.is_finite() {
+            let Some(v) = self.movable(points, i) else {
                 return false;
-            }
-            if p.distance(c) > r {
-                return false;
-            }
-            if p != self.pos[v as usize] {
+            };
+            if points[i as usize] != self.pos[v as usize] {
                 verts.push(v);
             }
         }
@@ -259,23 +253,28 @@ impl Delaunay {
         true
     }
 
+    /// The vertex of point `i` if it can move to `points[i]` locally: a vertex of its own (not
+    /// a duplicate), a finite position within the frame's safe disc.
+    fn movable(&self, points: &[DVec2], i: u32) -> Option<u32> {
+        let v = self.vertex_of_point[i as usize];
+        let p = points[i as usize];
+        let (c, r) = self.frame_safe;
+        (v != NONE && self.point_of_vertex[v as usize] == i && p.is_finite() && p.distance(c) <= r)
+            .then_some(v)
+    }
+
     /// `move_points` by removal and insertion; false (the topology is then unusable) when a
     /// vertex cannot be moved so.
     fn move_each(&mut self, points: &[DVec2], moved: &[u32], affected: &mut Vec<u32>) -> bool {
         let nv = self.point_of_vertex.len();
-        let (c, r) = self.frame_safe;
         // A removal and an insertion take about twice the vertex's degree in flips.
         let mut budget = self.topo.tri.len() / MAX_FLIP_FRACTION + 64 * moved.len();
         self.topo.touched.clear();
         for &i in moved {
-            let v = self.vertex_of_point[i as usize];
+            let Some(v) = self.movable(points, i) else {
+                return false;
+            };
             let p = points[i as usize];
-            if v == NONE || self.point_of_vertex[v as usize] != i || !p.is_finite() {
-                return false;
-            }
-            if p.distance(c) > r {
-                return false;
-            }
             if p == self.pos[v as usize] {
                 continue;
             }
