@@ -521,32 +521,21 @@ impl Topology {
     /// Some(true); Some(false) when a triangle turned over (nothing changed: remove and insert
     /// instead); None when the flips exceed `budget` (the triangulation is then unusable).
     pub fn move_in_place(&mut self, pos: &[DVec2], v: u32, budget: &mut usize) -> Option<bool> {
-        let t0 = self.v2t[v as usize];
-        if t0 == NONE {
-            return Some(false);
-        }
         let p = |x: u32| coord(pos[x as usize]);
         let mut stack = std::mem::take(&mut self.stack);
         stack.clear();
-        let mut t = t0;
-        loop {
-            let ti = t as usize;
-            let [a, b, c] = self.tri[ti];
+        // False also for v on the hull: left to removal and insertion.
+        let upright = self.around(v, &mut |t, i| {
+            let [a, b, c] = self.tri[t as usize];
             if orient2d(p(a), p(b), p(c)) <= 0.0 {
-                self.stack = stack;
-                return Some(false);
+                return false;
             }
-            let i = slot(&self.tri[ti], v);
             stack.extend([(t, i as u8), (t, ((i + 1) % 3) as u8)]);
-            t = self.adj[ti][(i + 1) % 3];
-            if t == NONE {
-                // v on the hull: leave it to removal and insertion.
-                self.stack = stack;
-                return Some(false);
-            }
-            if t == t0 {
-                break;
-            }
+            true
+        });
+        if !upright {
+            self.stack = stack;
+            return Some(false);
         }
         let done = self.lawson(pos, &mut stack, budget);
         self.stack = stack;
