@@ -185,12 +185,27 @@ struct Buffers {
     /// Per Delaunay vertex.
     dofs: Vec<Dof>,
     tangents: Vec<Tangent>,
-    /// Each generator's own shift (relative to 2m), by input index.
+    /// Each generator's own shift (relative to 2m), by input index, as set after `local_at`
+    /// steps: it has halved once per step since (`Buffers::shift_of`). Halving them all after
+    /// every step was a pass over all K generators in every active-set step.
     local: Vec<f64>,
+    local_at: Vec<u32>,
+    /// Newton steps (global and active-set) taken so far.
+    steps: u32,
     rhs: Vec<DVec2>,
     x: Vec<DVec2>,
     cg: Vec<Vec<DVec2>>,
     rows: Vec<RowData>,
+}
+
+/// Generator i's own shift after `steps` Newton steps, set to `local[i]` after `local_at[i]`
+/// of them and halved once per step since. Halving is exact until a value falls below the
+/// smallest normal number, so this is the value repeated halving gives; beyond that (a shift
+/// below 10⁻³⁰⁷, which neither σ nor the next raise can tell from 0) it may differ in its last
+/// bits.
+fn shift_of(local: &[f64], local_at: &[u32], steps: u32, i: usize) -> f64 {
+    let k = steps - local_at[i];
+    local[i] * LOCAL_DECAY.powi(k.min(2000) as i32)
 }
 
 /// Newton iteration of one phase; the same stopping rule and result as `iterate::run`.
@@ -470,7 +485,8 @@ fn newton_move(
     let pt = |r: usize| del.point_of_vertex(rows.vertex(r));
     let region = phase.region;
     buf.local.resize(z.len(), 0.0);
-    let (local, sig) = (&buf.local, *sigma);
+    buf.local_at.resize(z.len(), 0);
+    let (local, local_at, steps, sig) = (&buf.local, &buf.local_at, buf.steps, *sigma);
     // Boundary generators on their piece (and not at a corner) move along it; `Tangent(0)`
     // marks them until their tangents are numbered.
     (0..n)
@@ -481,7 +497,7 @@ fn newton_move(
             let data = RowData {
                 mass: c.mass,
                 grad: 2.0 * c.mass * (p - c.mass_centroid),
-                sigma: sig + local[i],
+                sigma: sig + shift_of(local, local_at, steps, i),
             };
             if c.mass <= 0.0 {
                 return (Dof::Fixed, data);
@@ -558,20 +574,20 @@ fn newton_move(
         // Negative curvature along the CG direction p (`cg[2]`): raise the shift of the
         // generators that carry it, and solve again.
         let carriers = curvature_carriers(&buf.cg[2], &buf.cg[3], phase.density.is_uniform());
-        let h = &mut buf.hess;
         for r in carriers {
             let i = pt(r);
-            let old = buf.local[i];
+            let old = shift_of(&buf.local, &buf.local_at, buf.steps, i);
             buf.local[i] = (old * 4.0).max(LOCAL_START);
+            buf.local_at[i] = buf.steps;
             let add = (buf.local[i] - old) * 2.0 * cells[i].mass;
-            h.diag[r] += buf.dofs[r].matrix(&buf.tangents) * add;
+            buf.hess.diag[r] += buf.dofs[r].matrix(&buf.tangents) * add;
         }
     }
     // The solver's work vectors are not kept for the next step: at 10⁶ generators they are
     // 64 MB more at the memory peak (a fresh triangulation of the candidate), and allocating
     // them again costs ~1 % of a step.
     buf.cg = Vec::new();
-    buf.local.par_iter_mut().for_each(|l| *l *= LOCAL_DECAY);
+    buf.steps += 1;
     prof.linear_solve += lap(&mut t);
 }
 
@@ -780,6 +796,24 @@ mod tests {
         a.mul_vec(&x, &mut ax);
         let r: Vec<DVec2> = ax.iter().zip(&b).map(|(p, q)| *p - *q).collect();
         assert!(dot(&r, &r).sqrt() <= CG_TOL * dot(&b, &b).sqrt() * (1.0 + 1e-9));
+    }
+
+    #[test]
+    fn shifts_halved_when_read_are_the_shifts_halved_every_step() {
+        for x in [0.1, 0.4, 1638.4, 3.7e5, 1e-300] {
+            let mut eager = x;
+            for k in 0..2100u32 {
+                let lazy = shift_of(&[x], &[7], 7 + k, 0);
+                if eager >= f64::MIN_POSITIVE {
+                    assert_eq!(lazy.to_bits(), eager.to_bits(), "{x} after {k} steps");
+                } else {
+                    assert!(lazy < 1e-300 && eager < 1e-300, "{x} after {k} steps");
+                }
+                eager *= LOCAL_DECAY;
+            }
+            assert_eq!(eager, 0.0);
+            assert_eq!(shift_of(&[x], &[0], 3000, 0), 0.0);
+        }
     }
 
     #[test]
