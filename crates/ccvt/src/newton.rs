@@ -186,8 +186,8 @@ struct Buffers {
     dofs: Vec<Dof>,
     tangents: Vec<Tangent>,
     /// Each generator's own shift (relative to 2m), by input index, as set after `local_at`
-    /// steps: it has halved once per step since (`Buffers::shift_of`). Halving them all after
-    /// every step was a pass over all K generators in every active-set step.
+    /// steps; it has halved once per step since ([`shift_of`]), so that no step needs a pass
+    /// over all K generators to halve them (an active-set step touches a few hundred).
     local: Vec<f64>,
     local_at: Vec<u32>,
     /// Newton steps (global and active-set) taken so far.
