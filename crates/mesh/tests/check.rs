@@ -318,8 +318,8 @@ fn the_first_open_edge_in_vertex_order_is_reported_from_a_large_mesh() {
     }
 }
 
-/// Every triangle's angles, as the sliver test took them before it skipped the trigonometry
-/// of triangles whose cosine clears the bound.
+/// The sliver rule restated on every triangle's exact angles, independently of the library's
+/// boundary-edge and cosine shortcuts: the reference the library's `slivers` must agree with.
 fn slivers_by_every_angle(mesh: &Mesh) -> Option<(usize, f64)> {
     let boundary: std::collections::HashSet<(u32, u32)> = mesh
         .boundary_edges()
