@@ -27,34 +27,34 @@ const DEFECT_ABOVE: f64 = 4.0;
 /// Rings of Delaunay neighbours around the active generators that move with them (room for the
 /// Newton step to spread a rearrangement).
 const MARGIN_RINGS: usize = 2;
-/// Active-set steps only while the generators above the tolerance are at most this share of
-/// all: before that, a global relaxation is still under way and active-set steps stall. A gate
-/// on the defects alone (leaving a smooth residual to the next global step) is faster but
-/// leaves worse worst triangles.
-// At 1.6 % active, active-set steps stalled at circle 10⁵. Gating on the defects alone took
-// circle 10⁵ 2.4–2.8 s against 2.6–3.4 s and circle 10⁶ 21–23 s against 26.8–32.5 s, but on the
-// lake at 10⁵ (12 seeds) gave q 0.32 against 0.27, β 0.56 against 0.53, γ 0.44 against 0.41; a
-// 3 % or 10 % share, or defects alone in the ε-phases only, gave q 0.30–0.33.
-const ACTIVE_FRACTION: f64 = 0.01;
-/// With a non-uniform density, a move counts toward `ACTIVE_FRACTION` only above this many
-/// tolerances. A graded mesh relaxes through dislocations that glide a few hundredths of a
-/// spacing per step, scattered over the region, each with a halo of generators just above the
-/// tolerance; counting the halos kept such runs in global steps for dozens of evaluations.
-/// Counted this way, the defects take active-set steps and the halos are left to the cleanup
-/// and the global steps; the stopping rule is the same.
+/// Active-set steps only while the generators that move more than `DEFECT_GATE` tolerances
+/// are at most this share of all: before that, a global relaxation is still under way and
+/// active-set steps stall.
+// At 1.6 % active, active-set steps stalled at circle 10⁵.
+pub(crate) const ACTIVE_SHARE: f64 = 0.01;
+/// The share in the ε-phase from the boundary row start. That start is the lattice's CVT
+/// inside a row: what moves at first is the seam between the two, a few rows wide, which
+/// active-set steps relax for a fraction of a global step's cost. The lattice path's
+/// ε-phases dilate the whole lattice first, a global relaxation, and keep `ACTIVE_SHARE`.
+// Circle 10⁵, seed 1: the ε-phase 0.62 → 0.27 s (62 → 27 evaluations); at 10⁶ 3.5 → 1.7 s.
+pub(crate) const ACTIVE_SHARE_FROM_ROW: f64 = 0.05;
+/// A move counts toward the active share only above this many tolerances. A relaxation ends
+/// with dislocations that glide a few hundredths of a spacing per step, each with a halo of
+/// generators just above the tolerance; counting the halos kept runs in global steps for
+/// dozens of evaluations. Counted this way, the defects take active-set steps and the halos
+/// are left to the cleanup and the global steps; the stopping rule is the same.
 // Four graded cases at K = 10⁴, seeds 1–3 / 4–6: 18.9 → 15.8 s / 22.3 → 16.9 s with 30 (10:
 // 15.9 / 19.9 s, 100: 16.2 / 18.4 s); at 10⁵, seeds 1 and 2, 41.0 → 34.2 s and 48.3 → 39.9 s
 // (10: 51.3 s for seed 1; 100: 36.4 s for seed 2, with a lower efficiency on two cases).
-// Uniform runs keep the count above the tolerance: a gate on the defects alone gave worse
-// worst triangles there (the polish lifts a graded mesh's smallest angle anyway).
-const GRADED_GATE: f64 = 30.0;
+// Uniform circle and lake 10⁵, 12 seeds each: 1.81 → 1.61 s and 2.37 → 2.13 s with λ, γ, β,
+// q and p within 1.5 % of the means counted at the tolerance (10 tolerances: 8 % and 7 %).
+const DEFECT_GATE: f64 = 30.0;
 
 /// An active-set step on offer.
 pub(crate) struct Active {
     /// The Delaunay vertices it moves (sorted).
     pub set: Vec<u32>,
-    /// Generators moving more than the tolerance (more than `GRADED_GATE` tolerances where the
-    /// density is not uniform).
+    /// Generators moving more than `DEFECT_GATE` tolerances.
     pub above: usize,
     /// The largest move is below `DEFECT_ABOVE` tolerances (a cleanup after a global step).
     pub cleanup: bool,
@@ -75,14 +75,10 @@ pub(crate) fn active_set(
         return None;
     }
     let del = &work.del;
-    let cap = (ACTIVE_FRACTION * k as f64) as usize;
+    let cap = (phase.active_share * k as f64) as usize;
     // Relative to the local spacing, as the convergence test measures moves.
     let tol2 = phase.tol.powi(2);
-    let gate2 = if phase.density.is_uniform() {
-        tol2
-    } else {
-        GRADED_GATE.powi(2) * tol2
-    };
+    let gate2 = DEFECT_GATE.powi(2) * tol2;
     let thr2 = (DEFECT_SHARE * max_move).max(0.5 * phase.tol).powi(2);
     let scale = &phase.scale;
     // How many move more than the tolerance, and the defects: only the generators of the
@@ -249,6 +245,7 @@ mod tests {
             spacing,
             scale: crate::scale::LocalScale::new(region, density, spacing),
             active_from: 0,
+            active_share: ACTIVE_SHARE,
             cancel: None,
             deadline: None,
         }
@@ -335,31 +332,37 @@ mod tests {
         );
     }
 
-    /// Where ρ varies, the share that gates active-set steps counts only the generators that
-    /// move more than `GRADED_GATE` tolerances: a few defects among many generators just above
-    /// the tolerance get an active-set step (the defects and their rings, not the halo); where
-    /// ρ ≡ 1 the same residuals ask for a global step.
+    /// The share that gates active-set steps counts only the generators that move more than
+    /// `DEFECT_GATE` tolerances: a few defects among many generators just above the tolerance
+    /// get an active-set step (the defects and their rings, not the halo), with ρ uniform or
+    /// not; the same halo moving above the gate asks for a global step.
     #[test]
-    fn graded_runs_gate_active_set_steps_on_the_defects() {
+    fn active_set_steps_are_gated_on_the_defects() {
         let region = Region::builtin("circle").unwrap();
         let k = 4000;
         let spacing = MeshRequest::points(k).spacing(&region);
         let domain = region.polygonize(1e-4 * spacing);
         let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
         let graded = Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + 4.0 * p.x * p.x));
-        for (density, expect_step) in [(Density::Uniform, false), (graded, true)] {
+        let cases = [
+            (Density::Uniform, 2.0, true),
+            (graded.clone(), 2.0, true),
+            (Density::Uniform, 2.0 * DEFECT_GATE, false),
+            (graded, 2.0 * DEFECT_GATE, false),
+        ];
+        for (density, halo, expect_step) in cases {
             let phase = test_phase(&region, &domain, &inside, &density, true, spacing);
             let z = initial_points(&region, k, Init::Lattice, 1);
             let mut work = Work::new(&domain);
             let mut s = step(&phase, &z, &mut work, &mut Profile::default());
-            // Residuals of our own: 5 % of the generators at 2 tolerances (a halo), 10 at 100
+            // Residuals of our own: 5 % of the generators at `halo` tolerances, 10 at 100
             // tolerances (defects), every other one at its target.
             let defects: Vec<usize> = (0..10).map(|j| 7 + 397 * j).collect();
             for (i, p) in z.iter().enumerate() {
                 let r = if defects.contains(&i) {
-                    100.0
+                    100.0 * DEFECT_GATE
                 } else if i % 20 == 3 {
-                    2.0
+                    halo
                 } else {
                     0.0
                 };
@@ -367,15 +370,16 @@ mod tests {
             }
             let mut moves = Moves::empty();
             moves.sync(&z, &mut s, &phase.scale);
-            let a = active_set(&phase, &z, &s, &work, &moves, 100.0 * phase.tol);
-            assert_eq!(
-                a.is_some(),
-                expect_step,
-                "uniform: {}",
-                density.is_uniform()
-            );
+            let largest = 100.0 * DEFECT_GATE * phase.tol;
+            let a = active_set(&phase, &z, &s, &work, &moves, largest);
+            let case = format!("uniform: {}, halo {halo}", density.is_uniform());
+            assert_eq!(a.is_some(), expect_step, "{case}");
             if let Some(a) = a {
-                assert_eq!(a.above, defects.len(), "only the defects are counted");
+                assert_eq!(
+                    a.above,
+                    defects.len(),
+                    "{case}: only the defects are counted"
+                );
                 let set: Vec<usize> = a
                     .set
                     .iter()
@@ -383,11 +387,44 @@ mod tests {
                     .collect();
                 assert!(
                     defects.iter().all(|d| set.contains(d)),
-                    "every defect moves"
+                    "{case}: every defect moves"
                 );
                 // The defects and two rings of neighbours: far fewer than the halo.
                 assert!(set.len() < k / 20, "{} generators in the set", set.len());
             }
+        }
+    }
+
+    /// The share is the phase's: 3 % of the generators moving far asks for a global step at
+    /// `ACTIVE_SHARE` and gets an active-set step at the row start's `ACTIVE_SHARE_FROM_ROW`.
+    #[test]
+    fn the_row_starts_share_takes_active_set_steps_where_the_default_does_not() {
+        let region = Region::builtin("circle").unwrap();
+        let k = 4000;
+        let spacing = MeshRequest::points(k).spacing(&region);
+        let domain = region.polygonize(1e-4 * spacing);
+        let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
+        let density = Density::Uniform;
+        let moving = 0.03;
+        assert!(ACTIVE_SHARE < moving && moving < ACTIVE_SHARE_FROM_ROW);
+        for (share, expect_step) in [(ACTIVE_SHARE, false), (ACTIVE_SHARE_FROM_ROW, true)] {
+            let phase = Phase {
+                active_share: share,
+                ..test_phase(&region, &domain, &inside, &density, false, spacing)
+            };
+            let z = initial_points(&region, k, Init::Lattice, 1);
+            let mut work = Work::new(&domain);
+            let mut s = step(&phase, &z, &mut work, &mut Profile::default());
+            let r = 100.0 * DEFECT_GATE;
+            let every = (1.0 / moving) as usize;
+            for (i, p) in z.iter().enumerate() {
+                let d = if i % every == 0 { r } else { 0.0 };
+                s.targets[i] = *p + DVec2::X * (d * phase.tol * s.h(i, &phase.scale));
+            }
+            let mut moves = Moves::empty();
+            moves.sync(&z, &mut s, &phase.scale);
+            let a = active_set(&phase, &z, &s, &work, &moves, r * phase.tol);
+            assert_eq!(a.is_some(), expect_step, "share {share}");
         }
     }
 

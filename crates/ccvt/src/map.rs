@@ -202,6 +202,9 @@ pub struct Phase<'a> {
     pub scale: LocalScale<'a>,
     /// Newton's active-set steps from this many generators on (`Ccvt::active_from`).
     pub active_from: usize,
+    /// Newton's active-set steps only while at most this share of the generators move more
+    /// than the defect gate (`active::ACTIVE_SHARE`, or more where the start allows it).
+    pub active_share: f64,
     /// The request's cancel flag: a phase stops at its next evaluation once it is set.
     pub cancel: Option<&'a AtomicBool>,
     /// The request's deadline: a phase stops at its next evaluation once it has passed, as

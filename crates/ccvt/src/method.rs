@@ -1,5 +1,6 @@
 //! The `Mesher` for CCVT: Algorithm 1 or 2, with Lloyd, Anderson-accelerated or Newton
 //! iteration.
+use crate::active;
 use crate::init::{initial_points, Init};
 use crate::iterate::run;
 use crate::map::{Phase, PhaseResult, Profile, Role, Trace, Work};
@@ -378,7 +379,7 @@ impl Ccvt {
                     region,
                     request,
                     start::along_hilbert(z),
-                    Run::Paper(self.algorithm),
+                    Run::FromRow,
                     progress,
                 );
             }
@@ -481,6 +482,11 @@ impl Ccvt {
         let in_domain = |eps: f64| Sublevel::new(region, eps - 2.0 * tol_poly, 3.0 * spacing);
         let scale = LocalScale::new(region, &request.density, spacing);
         let common = (region, request, solver, scale, self.active_from);
+        let eps_share = if matches!(run, Run::FromRow) {
+            active::ACTIVE_SHARE_FROM_ROW
+        } else {
+            active::ACTIVE_SHARE
+        };
         fn phase<'a>(
             (region, request, solver, scale, active_from): (
                 &'a Region,
@@ -507,6 +513,7 @@ impl Ccvt {
                 spacing: scale.mean(),
                 scale,
                 active_from,
+                active_share: active::ACTIVE_SHARE,
                 cancel: request.cancel.as_deref(),
                 deadline: request.deadline,
             }
@@ -525,7 +532,7 @@ impl Ccvt {
                 }
                 omega
             }
-            Run::Paper(Algorithm::Two) => {
+            Run::Paper(Algorithm::Two) | Run::FromRow => {
                 // Steps 1–3: ordinary CVTs of Ω_ε with ε updated until it settles.
                 let (mut eps, mut domain) = (self.eps_start * spacing, omega);
                 // Each ε that closed a hole, for one note.
@@ -537,13 +544,16 @@ impl Ccvt {
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
                     let r = tally.run(
-                        &phase(
-                            common,
-                            &domain,
-                            &in_domain(eps),
-                            false,
-                            request.tol.max(self.eps_phase_tol),
-                        ),
+                        &Phase {
+                            active_share: eps_share,
+                            ..phase(
+                                common,
+                                &domain,
+                                &in_domain(eps),
+                                false,
+                                request.tol.max(self.eps_phase_tol),
+                            )
+                        },
                         z,
                         &mut work,
                         &mut trace,
@@ -682,6 +692,10 @@ enum Run {
     /// Algorithm 1's constrained iteration alone, from a start that already has the target
     /// spacing (a graded start, a prolongated coarse level).
     Relax,
+    /// Algorithm 2 from the boundary row start (`start::boundary_row`): its ε-phase starts
+    /// from the lattice's CVT inside a row, where only the seam between the two has far to
+    /// move, and takes active-set steps with a larger share of its generators moving.
+    FromRow,
 }
 
 /// Iterations and convergence summed over the phases of one solve.
