@@ -215,7 +215,7 @@ pub(crate) fn lloyd_moves(z: &[DVec2], s: &Step, work: &Work, active: &[u32]) ->
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::init::{initial_points, Init};
     use crate::params::Solver;
@@ -224,7 +224,7 @@ mod tests {
     use mesh::MeshRequest;
 
     /// A Newton phase over `domain` with active-set steps from any size, tolerance 1e-4.
-    fn test_phase<'a>(
+    pub(crate) fn test_phase<'a>(
         region: &'a Region,
         domain: &'a Polygon,
         inside: &'a Sublevel<'a>,
@@ -246,6 +246,7 @@ mod tests {
             scale: crate::scale::LocalScale::new(region, density, spacing),
             active_from: 0,
             active_share: ACTIVE_SHARE,
+            project_first: false,
             cancel: None,
             deadline: None,
         }

@@ -205,6 +205,10 @@ pub struct Phase<'a> {
     /// Newton's active-set steps only while at most this share of the generators move more
     /// than the defect gate (`active::ACTIVE_SHARE`, or more where the start allows it).
     pub active_share: f64,
+    /// The start lies off the constraints (boundary generators off ∂Ω, as Algorithm 2's CVT
+    /// of Ω_ε leaves them): Newton takes the projection, a Lloyd step, before its first Newton
+    /// step, which would otherwise be compared with an energy no feasible point can reach.
+    pub project_first: bool,
     /// The request's cancel flag: a phase stops at its next evaluation once it is set.
     pub cancel: Option<&'a AtomicBool>,
     /// The request's deadline: a phase stops at its next evaluation once it has passed, as

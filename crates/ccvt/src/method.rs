@@ -514,6 +514,7 @@ impl Ccvt {
                 scale,
                 active_from,
                 active_share: active::ACTIVE_SHARE,
+                project_first: false,
                 cancel: request.cancel.as_deref(),
                 deadline: request.deadline,
             }
@@ -598,6 +599,7 @@ impl Ccvt {
         let r = tally.run(
             &Phase {
                 update: self.update,
+                project_first: matches!(run, Run::FromRow),
                 ..phase(common, &final_domain, &in_region, true, request.tol)
             },
             z,

@@ -13,7 +13,9 @@
 //! From `Ccvt::active_from` generators on, once few still move more than the tolerance, the
 //! same Newton step is taken on an active set only (module `active`), everyone else held fixed.
 use crate::active;
-use crate::map::{lap, record_move, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work};
+use crate::map::{
+    lap, record, record_move, step, Phase, PhaseResult, Profile, Role, Step, Trace, Work,
+};
 use crate::moves::Moves;
 use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
@@ -214,6 +216,13 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     let mut sigma = SIGMA_START;
     let mut s = step(phase, &z, work, &mut trace.prof);
     let mut iterations = 1;
+    if phase.project_first && phase.max_iter > 1 {
+        // σ stays where it starts: after a rejected first candidate it would have quadrupled,
+        // and a large σ confines the next steps to the boundary layer.
+        record(phase, &s, &z, iterations, trace);
+        (z, s) = lloyd(phase, s, work, &mut trace.prof);
+        iterations += 1;
+    }
     // In a cleanup by active-set steps: the fewest generators above the tolerance seen, and the
     // steps since that count last fell (None after any other step).
     let mut cleanup: Option<(usize, usize)> = None;
@@ -750,6 +759,70 @@ fn pcg(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::active::tests::test_phase;
+    use crate::sublevel::Sublevel;
+    use geometry::{Density, Region};
+    use mesh::MeshRequest;
+
+    /// Algorithm 2's constrained phase starts from the CVT of Ω_ε, whose boundary generators lie
+    /// outside Ω. Without `project_first` its second evaluation is a Newton candidate (a linear
+    /// solve first); with it, the projection: no linear solve before the phase's last
+    /// evaluation (a Lloyd step, for want of room), and every boundary generator on ∂Ω.
+    #[test]
+    fn a_start_off_the_boundary_is_projected_before_any_newton_step() {
+        let region = Region::builtin("circle").unwrap();
+        let k = 4000;
+        let h = MeshRequest::points(k).spacing(&region);
+        let (eps, tol_poly) = (crate::start::ROW_EPS * h, 1e-4 * h);
+        let density = Density::Uniform;
+        let trace_of = |phase: &Phase, z: Vec<DVec2>| {
+            let mut progress = |_| {};
+            let mut trace = Trace {
+                energies: Vec::new(),
+                moves: Vec::new(),
+                progress: &mut progress,
+                prof: Profile::default(),
+            };
+            let mut work = Work::new(phase.domain);
+            let r = run(phase, z, &mut work, &mut trace);
+            (r, trace.prof)
+        };
+        // The row start's CVT of Ω_ε.
+        let start = crate::start::boundary_row(&region, k, h, crate::start::ROW_EPS, 1).unwrap();
+        let omega_eps = region.expand(eps, tol_poly);
+        let inside_eps = Sublevel::new(&region, eps - 2.0 * tol_poly, 3.0 * h);
+        let eps_phase = Phase {
+            tol: 1e-3,
+            max_iter: 500,
+            ..test_phase(&region, &omega_eps, &inside_eps, &density, false, h)
+        };
+        let (cvt, _) = trace_of(&eps_phase, start);
+        let omega = region.polygonize(tol_poly);
+        let inside = Sublevel::new(&region, 0.0, 3.0 * h);
+        for project_first in [false, true] {
+            let phase = Phase {
+                project_first,
+                max_iter: 3,
+                ..test_phase(&region, &omega, &inside, &density, true, h)
+            };
+            let (r, prof) = trace_of(&phase, cvt.z.clone());
+            assert_eq!(prof.evaluations, 3, "project first: {project_first}");
+            assert_eq!(
+                prof.linear_iterations == 0,
+                project_first,
+                "project first: {project_first}, {} CG iterations",
+                prof.linear_iterations
+            );
+            let off = r
+                .roles
+                .iter()
+                .zip(&r.z)
+                .filter(|(role, _)| matches!(role, Role::Boundary(_)))
+                .map(|(_, p)| region.signed_distance(*p).abs())
+                .fold(0.0, f64::max);
+            assert!(off < 1e-9 * h, "a boundary generator {off:e} off ∂Ω");
+        }
+    }
 
     /// A chain of n points with springs of stiffness `k` between neighbours and `mass` added to
     /// the diagonal, as a block matrix: positive definite for mass > 0, indefinite for mass < 0.
