@@ -333,17 +333,47 @@ pub(crate) mod tests {
         );
     }
 
+    /// `active_set` on the circle's lattice of `k` generators whose targets lie `residual(i)`
+    /// tolerances (of the local spacing) from them, the largest move `largest` tolerances, in a
+    /// phase with this density and active share: the set on offer as input indices, and the
+    /// count above the gate.
+    fn offered(
+        density: &Density,
+        share: f64,
+        k: usize,
+        residual: impl Fn(usize) -> f64,
+        largest: f64,
+    ) -> Option<(Vec<usize>, usize)> {
+        let region = Region::builtin("circle").unwrap();
+        let spacing = MeshRequest::points(k).spacing(&region);
+        let domain = region.polygonize(1e-4 * spacing);
+        let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
+        let phase = Phase {
+            active_share: share,
+            ..test_phase(&region, &domain, &inside, density, true, spacing)
+        };
+        let z = initial_points(&region, k, Init::Lattice, 1);
+        let mut work = Work::new(&domain);
+        let mut s = step(&phase, &z, &mut work, &mut Profile::default());
+        for (i, p) in z.iter().enumerate() {
+            s.targets[i] = *p + DVec2::X * (residual(i) * phase.tol * s.h(i, &phase.scale));
+        }
+        let mut moves = Moves::empty();
+        moves.sync(&z, &mut s, &phase.scale);
+        active_set(&phase, &z, &s, &work, &moves, largest * phase.tol).map(|a| {
+            let set = a.set.iter();
+            let set = set.map(|&v| work.del.point_of_vertex(v as usize));
+            (set.collect(), a.above)
+        })
+    }
+
     /// The share that gates active-set steps counts only the generators that move more than
     /// `DEFECT_GATE` tolerances: a few defects among many generators just above the tolerance
     /// get an active-set step (the defects and their rings, not the halo), with ρ uniform or
     /// not; the same halo moving above the gate asks for a global step.
     #[test]
     fn active_set_steps_are_gated_on_the_defects() {
-        let region = Region::builtin("circle").unwrap();
         let k = 4000;
-        let spacing = MeshRequest::points(k).spacing(&region);
-        let domain = region.polygonize(1e-4 * spacing);
-        let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
         let graded = Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + 4.0 * p.x * p.x));
         let cases = [
             (Density::Uniform, 2.0, true),
@@ -351,41 +381,20 @@ pub(crate) mod tests {
             (Density::Uniform, 2.0 * DEFECT_GATE, false),
             (graded, 2.0 * DEFECT_GATE, false),
         ];
+        // 10 defects far above the gate, 5 % of the generators at `halo` tolerances.
+        let defects: Vec<usize> = (0..10).map(|j| 7 + 397 * j).collect();
+        let far = 100.0 * DEFECT_GATE;
         for (density, halo, expect_step) in cases {
-            let phase = test_phase(&region, &domain, &inside, &density, true, spacing);
-            let z = initial_points(&region, k, Init::Lattice, 1);
-            let mut work = Work::new(&domain);
-            let mut s = step(&phase, &z, &mut work, &mut Profile::default());
-            // Residuals of our own: 5 % of the generators at `halo` tolerances, 10 at 100
-            // tolerances (defects), every other one at its target.
-            let defects: Vec<usize> = (0..10).map(|j| 7 + 397 * j).collect();
-            for (i, p) in z.iter().enumerate() {
-                let r = if defects.contains(&i) {
-                    100.0 * DEFECT_GATE
-                } else if i % 20 == 3 {
-                    halo
-                } else {
-                    0.0
-                };
-                s.targets[i] = *p + DVec2::X * (r * phase.tol * s.h(i, &phase.scale));
-            }
-            let mut moves = Moves::empty();
-            moves.sync(&z, &mut s, &phase.scale);
-            let largest = 100.0 * DEFECT_GATE * phase.tol;
-            let a = active_set(&phase, &z, &s, &work, &moves, largest);
+            let residual = |i: usize| match i {
+                _ if defects.contains(&i) => far,
+                _ if i % 20 == 3 => halo,
+                _ => 0.0,
+            };
+            let a = offered(&density, ACTIVE_SHARE, k, residual, far);
             let case = format!("uniform: {}, halo {halo}", density.is_uniform());
             assert_eq!(a.is_some(), expect_step, "{case}");
-            if let Some(a) = a {
-                assert_eq!(
-                    a.above,
-                    defects.len(),
-                    "{case}: only the defects are counted"
-                );
-                let set: Vec<usize> = a
-                    .set
-                    .iter()
-                    .map(|&v| work.del.point_of_vertex(v as usize))
-                    .collect();
+            if let Some((set, above)) = a {
+                assert_eq!(above, defects.len(), "{case}: only the defects are counted");
                 assert!(
                     defects.iter().all(|d| set.contains(d)),
                     "{case}: every defect moves"
@@ -400,31 +409,13 @@ pub(crate) mod tests {
     /// `ACTIVE_SHARE` and gets an active-set step at the row start's `ACTIVE_SHARE_FROM_ROW`.
     #[test]
     fn the_row_starts_share_takes_active_set_steps_where_the_default_does_not() {
-        let region = Region::builtin("circle").unwrap();
-        let k = 4000;
-        let spacing = MeshRequest::points(k).spacing(&region);
-        let domain = region.polygonize(1e-4 * spacing);
-        let inside = Sublevel::new(&region, 0.0, 3.0 * spacing);
-        let density = Density::Uniform;
         let moving = 0.03;
         assert!(ACTIVE_SHARE < moving && moving < ACTIVE_SHARE_FROM_ROW);
+        let every = (1.0 / moving) as usize;
+        let far = 100.0 * DEFECT_GATE;
         for (share, expect_step) in [(ACTIVE_SHARE, false), (ACTIVE_SHARE_FROM_ROW, true)] {
-            let phase = Phase {
-                active_share: share,
-                ..test_phase(&region, &domain, &inside, &density, false, spacing)
-            };
-            let z = initial_points(&region, k, Init::Lattice, 1);
-            let mut work = Work::new(&domain);
-            let mut s = step(&phase, &z, &mut work, &mut Profile::default());
-            let r = 100.0 * DEFECT_GATE;
-            let every = (1.0 / moving) as usize;
-            for (i, p) in z.iter().enumerate() {
-                let d = if i % every == 0 { r } else { 0.0 };
-                s.targets[i] = *p + DVec2::X * (d * phase.tol * s.h(i, &phase.scale));
-            }
-            let mut moves = Moves::empty();
-            moves.sync(&z, &mut s, &phase.scale);
-            let a = active_set(&phase, &z, &s, &work, &moves, r * phase.tol);
+            let residual = |i: usize| if i % every == 0 { far } else { 0.0 };
+            let a = offered(&Density::Uniform, share, 4000, residual, far);
             assert_eq!(a.is_some(), expect_step, "share {share}");
         }
     }
