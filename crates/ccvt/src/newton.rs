@@ -216,13 +216,6 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     let mut sigma = SIGMA_START;
     let mut s = step(phase, &z, work, &mut trace.prof);
     let mut iterations = 1;
-    if phase.project_first && phase.max_iter > 1 {
-        // σ stays where it starts: after a rejected first candidate it would have quadrupled,
-        // and a large σ confines the next steps to the boundary layer.
-        record(phase, &s, &z, iterations, trace);
-        (z, s) = lloyd(phase, s, work, &mut trace.prof);
-        iterations += 1;
-    }
     // In a cleanup by active-set steps: the fewest generators above the tolerance seen, and the
     // steps since that count last fell (None after any other step).
     let mut cleanup: Option<(usize, usize)> = None;
@@ -231,6 +224,14 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     // the work done when it came.
     let mut spent = 1.0;
     let (mut best_move, mut best_spent) = (f64::INFINITY, 0.0);
+    if phase.project_first && phase.max_iter > 1 {
+        // σ stays where it starts: after a rejected first candidate it would have quadrupled,
+        // and a large σ confines the next steps to the boundary layer.
+        record(phase, &s, &z, iterations, trace);
+        (z, s) = lloyd(phase, s, work, &mut trace.prof);
+        iterations += 1;
+        spent += 1.0;
+    }
     // The moves, kept up to date by blocks for the convergence test and the active sets (the
     // same largest move as `map::record`'s; Newton never runs VTM's update, whose measure of a
     // disc's moves differs).
