@@ -696,7 +696,9 @@ enum Run {
     Relax,
     /// Algorithm 2 from the boundary row start (`start::boundary_row`): its ε-phase starts
     /// from the lattice's CVT inside a row, where only the seam between the two has far to
-    /// move, and takes active-set steps with a larger share of its generators moving.
+    /// move, and takes active-set steps with a larger share of its generators moving; its
+    /// constrained phase takes the projection onto ∂Ω before any Newton step
+    /// (`Phase::project_first`).
     FromRow,
 }
 
