@@ -206,6 +206,10 @@ struct Buffers {
 /// below 10⁻³⁰⁷, which neither σ nor the next raise can tell from 0) it may differ in its last
 /// bits.
 fn shift_of(local: &[f64], local_at: &[u32], steps: u32, i: usize) -> f64 {
+    // Most generators never had a shift of their own: no power to take.
+    if local[i] == 0.0 {
+        return 0.0;
+    }
     let k = steps - local_at[i];
     local[i] * LOCAL_DECAY.powi(k.min(2000) as i32)
 }
