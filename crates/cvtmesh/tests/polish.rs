@@ -1,6 +1,7 @@
 //! The polish raises the smallest angle of a CCVT mesh without making its worst triangles or
 //! cells worse by any of the measures it bounds.
-use cvtmesh::{measures, polish_within, MeshRequest, Method, Region};
+use cvtmesh::geometry::{Threshold, Toward};
+use cvtmesh::{measures, polish_within, MeshRequest, Method, Region, SizeField};
 
 #[test]
 fn the_polish_raises_the_smallest_angle_and_keeps_the_worst_triangles_and_cells() {
@@ -33,4 +34,32 @@ fn the_polish_raises_the_smallest_angle_and_keeps_the_worst_triangles_and_cells(
             assert!(a <= b * (1.0 + 1e-9), "{name}: {what} {b} -> {a}");
         }
     }
+}
+
+#[test]
+fn a_graded_mesh_is_polished_with_its_extremes_free() {
+    // Toward the hole of square_hole, h from 0.02 to 0.1: the largest triangles sit at the
+    // outer corners and the smallest cells at the hole, where the size field puts them; held,
+    // those extremes would keep the worst angles where they are.
+    let region = Region::builtin("square_hole").unwrap();
+    let t = Threshold {
+        size_min: 0.02,
+        size_max: 0.1,
+        dist_min: 0.02,
+        dist_max: 0.6,
+    };
+    let h = SizeField::threshold(&region, &[Toward::Loop(1)], t).unwrap();
+    let request = MeshRequest::size_field(&h, &region, None).unwrap();
+    let meshed = Method::Ccvt.run(&region, &request).unwrap().mesh;
+    let mut held = Method::Ccvt
+        .run(&region, &request.clone().polish(0.0))
+        .unwrap()
+        .mesh;
+    let before = held.min_angle_deg();
+    polish_within(&mut held, &region, 40.0);
+    let (free, bounded) = (meshed.min_angle_deg(), held.min_angle_deg());
+    assert!(
+        free >= 40.0 && free > bounded + 1.0,
+        "{before}° -> {free}° (free), {bounded}° (held)"
+    );
 }

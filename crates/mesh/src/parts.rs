@@ -56,7 +56,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // narrow gap), which the check below would refuse.
     if request.polish_below_deg > 0.0 {
         // Undone, the method's own mesh meets the check below as it would have.
-        let report = crate::polish_within(&mut result.mesh, work, request.polish_below_deg);
+        // A graded mesh's extremes are its size field's: held for a uniform density only.
+        let uniform = request.density.is_uniform();
+        let report =
+            crate::polish::within(&mut result.mesh, work, request.polish_below_deg, uniform);
         checked = report.checked && bent.is_none();
         if report.polished.moved > 0 {
             result.notes.push(report.to_string());

@@ -106,6 +106,20 @@ impl Polished {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
+    polish_with(mesh, region, below_deg, true)
+}
+
+/// [`polish`], with the mesh's extremes held ([`Bounds`]) or not (`bounded`). A graded mesh's
+/// extremes are its size field's, its coarsest and finest places, not defects: held, they
+/// keep its worst angles where the field puts its largest triangles (a graded L-shape at 10⁵
+/// stayed at 32.8° against Gmsh's 34.6°), so the meshing calls hold them for a uniform
+/// density only.
+pub(crate) fn polish_with(
+    mesh: &mut Mesh,
+    region: &Region,
+    below_deg: f64,
+    bounded: bool,
+) -> Polished {
     // Triangles are compared by the cosine of their smallest angle (larger is worse): no
     // inverse trigonometric function in the passes over all triangles or in the search.
     let mut cosine: Vec<f64> = (0..mesh.num_triangles())
@@ -124,7 +138,11 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
     };
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
-        let mut bounds = Bounds::of(mesh, &stars);
+        let mut bounds = if bounded {
+            Bounds::of(mesh, &stars)
+        } else {
+            Bounds::free()
+        };
         // Each round moves interior vertices first, then boundary vertices only for the
         // triangles still below the threshold (a boundary vertex off its place costs the cells
         // around it more: see design-notes, "Polish").
@@ -289,7 +307,17 @@ impl std::fmt::Display for PolishReport {
 /// [`check_conforming`]: crate::check_conforming
 /// [`CONFORMITY_CHECK_LIMIT`]: crate::CONFORMITY_CHECK_LIMIT
 pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> PolishReport {
-    let polished = polish(mesh, region, below_deg);
+    within(mesh, region, below_deg, true)
+}
+
+/// [`polish_within`] with [`polish_with`]'s choice of bounds.
+pub(crate) fn within(
+    mesh: &mut Mesh,
+    region: &Region,
+    below_deg: f64,
+    bounded: bool,
+) -> PolishReport {
+    let polished = polish_with(mesh, region, below_deg, bounded);
     let checks = polished.moved > 0 && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT;
     let leaves = checks && crate::check_conforming(mesh, region).is_err();
     if leaves {
@@ -410,6 +438,8 @@ const AROUND: usize = 24;
 // bounds alone, the boundary sweep slid boundary vertices instead and shrank boundary cells
 // (the horn's ν up 53 %). Measured in `docs/design-notes.md`, "Polish".
 struct Bounds {
+    /// Nothing held ([`polish_with`] unbounded).
+    free: bool,
     twice_area: f64,
     circumradius2: f64,
     ratio: f64,
@@ -444,6 +474,7 @@ impl Bounds {
             .filter(|x| !x.is_nan())
             .fold(0.0, f64::max);
         Bounds {
+            free: false,
             twice_area,
             circumradius2,
             ratio,
@@ -454,14 +485,32 @@ impl Bounds {
         }
     }
 
+    /// No bounds at all.
+    fn free() -> Bounds {
+        let none = || Spread::new(Vec::new());
+        Bounds {
+            free: true,
+            twice_area: f64::INFINITY,
+            circumradius2: f64::INFINITY,
+            ratio: f64::INFINITY,
+            reach_per_edge2: f64::INFINITY,
+            cell: none(),
+            reach2: none(),
+            nearest2: none(),
+        }
+    }
+
     /// Whether a triangle of this [`triangle_size`] stays within the triangle bounds.
     fn admits(&self, (_, a, r2, ratio): (f64, f64, f64, f64)) -> bool {
-        a <= self.twice_area && r2 <= self.circumradius2 && ratio <= self.ratio
+        self.free || (a <= self.twice_area && r2 <= self.circumradius2 && ratio <= self.ratio)
     }
 
     /// Whether the cells around a star, as `around` has them after a move, stay within the
     /// cells' bounds.
     fn cells_admit(&self, around: &Around) -> bool {
+        if self.free {
+            return true;
+        }
         let (n, verts) = (around.len, &around.verts[..around.len]);
         (0..n).all(|s| around.reach2[s] <= self.reach_per_edge2 * around.nearest2[s])
             && self.cell.admits(verts, &around.cell[..n])
@@ -471,6 +520,9 @@ impl Bounds {
 
     /// Vertex `v` moved: its cell's and its neighbours' values again.
     fn moved(&mut self, mesh: &Mesh, stars: &Stars, v: usize) {
+        if self.free {
+            return;
+        }
         let mut around: Vec<u32> = stars
             .of(v)
             .iter()
