@@ -284,7 +284,8 @@ impl std::fmt::Display for PolishReport {
 
 /// [`polish`], then the conformity check ([`check_conforming`], up to
 /// [`CONFORMITY_CHECK_LIMIT`] vertices): a polished mesh that leaves the region (a boundary
-/// edge moved across a narrow gap) gets the method's vertices back. What every front end runs.
+/// edge moved across a narrow gap) gets the method's vertices back. What every front end runs
+/// (the meshing calls with the extremes held for a uniform density only, see `polish_with`).
 ///
 /// ```
 /// use cvtmesh_mesh::{polish_within, Mesh, VertexMarker};
