@@ -1092,12 +1092,17 @@ mod tests {
             .sum()
     }
 
+    /// A jitter of up to `amplitude` cell widths, one per `salt`.
+    fn salted(amplitude: f64, salt: usize) -> impl Fn(usize, usize) -> DVec2 {
+        move |i, j| {
+            let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
+            DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
+        }
+    }
+
     /// A deterministic jitter of up to `a` cell widths.
     fn wobble(a: f64) -> impl Fn(usize, usize) -> DVec2 {
-        move |i, j| {
-            let s = ((i * 7919 + j * 104_729) % 1000) as f64 / 1000.0;
-            DVec2::from_angle(std::f64::consts::TAU * s) * a * (0.3 + 0.7 * s)
-        }
+        salted(a, 0)
     }
 
     /// Every interior edge locally Delaunay (within the polish's own tolerance).
@@ -1311,11 +1316,7 @@ mod tests {
             salt in 0usize..1000,
             below in 30.0f64..60.0,
         ) {
-            let jitter = move |i: usize, j: usize| {
-                let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
-                DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
-            };
-            let (mut mesh, square) = grid(n, jitter);
+            let (mut mesh, square) = grid(n, salted(amplitude, salt));
             let delaunay = is_delaunay(&mesh);
             let p = polish(&mut mesh, &square, below);
             proptest::prop_assert!(p.after_deg >= p.before_deg - 1e-9, "{:?}", p);
@@ -1338,11 +1339,7 @@ mod tests {
             salt in 0usize..1000,
             below in 35.0f64..60.0,
         ) {
-            let jitter = move |i: usize, j: usize| {
-                let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
-                DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
-            };
-            let (mut mesh, square) = grid(n, jitter);
+            let (mut mesh, square) = grid(n, salted(amplitude, salt));
             for i in 1..n {
                 let s = ((i * 31 + salt) % 100) as f64 / 100.0;
                 let b = DVec2::new((i as f64 + amplitude * (s - 0.5)) / n as f64, 0.0);
@@ -1376,11 +1373,7 @@ mod tests {
             salt in 0usize..1000,
             seed in 0u64..u64::MAX,
         ) {
-            let jitter = move |i: usize, j: usize| {
-                let s = ((i * 7919 + j * 104_729 + salt * 31) % 1000) as f64 / 1000.0;
-                DVec2::from_angle(std::f64::consts::TAU * s) * amplitude * (0.3 + 0.7 * s)
-            };
-            let (mut mesh, square) = grid(n, jitter);
+            let (mut mesh, square) = grid(n, salted(amplitude, salt));
             let mut listed = mesh.clone();
             let mut rng = geometry::Rng::new(seed);
             for t in (1..listed.triangles.len()).rev() {
