@@ -457,7 +457,6 @@ impl Bounds {
         let (twice_area, circumradius2, ratio) = (0..mesh.num_triangles())
             .into_par_iter()
             .map(|t| triangle_size(mesh.triangle(t)))
-            .map(|(_, a, r2, ratio)| (a, r2, ratio))
             .reduce(
                 || (0.0, 0.0, 0.0),
                 |a, b| (a.0.max(b.0), a.1.max(b.1), a.2.max(b.2)),
@@ -502,7 +501,7 @@ impl Bounds {
     }
 
     /// Whether a triangle of this [`triangle_size`] stays within the triangle bounds.
-    fn admits(&self, (_, a, r2, ratio): (f64, f64, f64, f64)) -> bool {
+    fn admits(&self, (a, r2, ratio): (f64, f64, f64)) -> bool {
         self.free || (a <= self.twice_area && r2 <= self.circumradius2 && ratio <= self.ratio)
     }
 
@@ -568,10 +567,20 @@ fn corner_cell(q: [DVec2; 3], k: usize) -> (f64, f64, f64) {
     let c = circumcenter(r[0], r[1], r[2]);
     let sign = (r[1] - r[0]).perp_dot(r[2] - r[0]).signum();
     let (v, a, b) = (q[k], q[(k + 1) % 3], q[(k + 2) % 3]);
-    let (ma, mb, cv) = (0.5 * (a - v), 0.5 * (b - v), c - v);
-    let part = 0.5 * sign * (ma.perp_dot(cv) + cv.perp_dot(mb));
     let side2 = (a - v).length_squared().min((b - v).length_squared());
-    (part, cv.length_squared(), side2)
+    (
+        corner_part(v, a, b, c, sign),
+        (c - v).length_squared(),
+        side2,
+    )
+}
+
+/// The part of a triangle nearer its corner `v` (the next corners `a`, `b` counter-clockwise
+/// when `sign` is 1, its circumcentre `c`): the quadrilateral v, mid(v, a), c, mid(v, b).
+#[inline]
+fn corner_part(v: DVec2, a: DVec2, b: DVec2, c: DVec2, sign: f64) -> f64 {
+    let (ma, mb, cv) = (0.5 * (a - v), 0.5 * (b - v), c - v);
+    0.5 * sign * (ma.perp_dot(cv) + cv.perp_dot(mb))
 }
 
 /// A value per vertex (NaN for a vertex without triangles), and how widely the values may
@@ -699,10 +708,10 @@ fn from_order_key(k: i64) -> f64 {
     f64::from_bits((k ^ (((k >> 63) as u64) >> 1) as i64) as u64)
 }
 
-/// A triangle's shortest side squared, |twice-area|, squared circumradius and radius ratio
-/// R/(2r) (1 when equilateral; not finite for a flat one).
+/// A triangle's |twice-area|, squared circumradius and radius ratio R/(2r) (1 when
+/// equilateral; not finite for a flat one).
 #[inline]
-fn triangle_size(q: [DVec2; 3]) -> (f64, f64, f64, f64) {
+fn triangle_size(q: [DVec2; 3]) -> (f64, f64, f64) {
     let q = rotated(q, first_corner(q));
     let mut e2 = [
         (q[1] - q[0]).length_squared(),
@@ -718,12 +727,7 @@ fn triangle_size(q: [DVec2; 3]) -> (f64, f64, f64, f64) {
     let circumradius2 = e2[0] * e2[1] * e2[2] / (4.0 * twice_area * twice_area);
     let (a, b, c) = (e2[0].sqrt(), e2[1].sqrt(), e2[2].sqrt());
     let ratio = a * b * c * (a + b + c) / (4.0 * twice_area * twice_area);
-    (
-        e2[0].min(e2[1]).min(e2[2]),
-        twice_area,
-        circumradius2,
-        ratio,
-    )
+    (twice_area, circumradius2, ratio)
 }
 
 /// The shorter of the two sides at each corner of `q`, squared.
@@ -747,10 +751,7 @@ fn cell_parts(q: [DVec2; 3]) -> [f64; 3] {
     let q = rotated(q, k);
     let c = circumcenter(q[0], q[1], q[2]);
     let sign = (q[1] - q[0]).perp_dot(q[2] - q[0]).signum();
-    let part = |v: DVec2, a: DVec2, b: DVec2| {
-        let (ma, mb, cv) = (0.5 * (a - v), 0.5 * (b - v), c - v);
-        0.5 * sign * (ma.perp_dot(cv) + cv.perp_dot(mb))
-    };
+    let part = |v, a, b| corner_part(v, a, b, c, sign);
     let parts = [
         part(q[0], q[1], q[2]),
         part(q[1], q[2], q[0]),
@@ -856,7 +857,7 @@ fn star_cos(
         for k in 0..3 {
             let s = t.slot[k] as usize;
             cells.cell[s] += parts[k];
-            cells.reach2[s] = cells.reach2[s].max(size.2);
+            cells.reach2[s] = cells.reach2[s].max(size.1);
             cells.nearest2[s] = cells.nearest2[s].min(sides2[k]);
         }
     }
