@@ -924,9 +924,13 @@ fn best_place(
             reach2: [0.0; AROUND],
             nearest2: [f64::INFINITY; AROUND],
         };
-        for (s, &u) in verts.iter().enumerate() {
-            around.verts[s] = u;
-            (around.cell[s], around.reach2[s], around.nearest2[s]) = cell_of(mesh, outside(u), u);
+        // Unbounded, nothing reads them.
+        if !bounds.free {
+            for (s, &u) in verts.iter().enumerate() {
+                around.verts[s] = u;
+                let cell = cell_of(mesh, outside(u), u);
+                (around.cell[s], around.reach2[s], around.nearest2[s]) = cell;
+            }
         }
         around
     };
