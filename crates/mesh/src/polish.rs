@@ -421,8 +421,13 @@ struct Around {
 }
 
 /// Most vertices a star may have (the moving vertex and its neighbours); a vertex with more
-/// neighbours stays where it is.
+/// neighbours stays where it is when the extremes are held.
 const AROUND: usize = 24;
+
+/// The cells' bounds allow this factor: a cell's values as checked (the parts outside the star
+/// summed apart) and as kept (all summed at once) may differ in the last bits, and a value
+/// admitted at an end must not then refuse every later move.
+const SLACK: f64 = 1.0 + 1e-12;
 
 /// What a move may not take beyond the mesh as the polish found it: no triangle larger, with a
 /// larger circumcircle or a worse radius ratio R/(2r) than the largest there was; no cell
@@ -457,6 +462,8 @@ impl Bounds {
         let (twice_area, circumradius2, ratio) = (0..mesh.num_triangles())
             .into_par_iter()
             .map(|t| triangle_size(mesh.triangle(t)))
+            // A flat triangle of the input has no size to hold the others to.
+            .filter(|(a, r2, ratio)| a.is_finite() && r2.is_finite() && ratio.is_finite())
             .reduce(
                 || (0.0, 0.0, 0.0),
                 |a, b| (a.0.max(b.0), a.1.max(b.1), a.2.max(b.2)),
@@ -471,7 +478,7 @@ impl Bounds {
         let reach_per_edge2 = cells
             .iter()
             .map(|c| c.1 / c.2)
-            .filter(|x| !x.is_nan())
+            .filter(|x| x.is_finite())
             .fold(0.0, f64::max);
         Bounds {
             free: false,
@@ -512,7 +519,7 @@ impl Bounds {
             return true;
         }
         let (n, verts) = (around.len, &around.verts[..around.len]);
-        (0..n).all(|s| around.reach2[s] <= self.reach_per_edge2 * around.nearest2[s])
+        (0..n).all(|s| around.reach2[s] <= self.reach_per_edge2 * around.nearest2[s] * SLACK)
             && self.cell.admits(verts, &around.cell[..n])
             && self.reach2.admits(verts, &around.reach2[..n])
             && self.nearest2.admits(verts, &around.nearest2[..n])
@@ -583,7 +590,7 @@ fn corner_part(v: DVec2, a: DVec2, b: DVec2, c: DVec2, sign: f64) -> f64 {
     0.5 * sign * (ma.perp_dot(cv) + cv.perp_dot(mb))
 }
 
-/// A value per vertex (NaN for a vertex without triangles), and how widely the values may
+/// A value per vertex (NaN for a vertex without triangles, not finite for none), and how widely the values may
 /// spread: the largest over the smallest may not exceed what it was when the polish began.
 struct Spread {
     value: Vec<f64>,
@@ -601,7 +608,7 @@ impl Spread {
     fn new(value: Vec<f64>) -> Spread {
         let now = value
             .par_iter()
-            .filter(|x| !x.is_nan())
+            .filter(|x| x.is_finite())
             .fold(
                 || (f64::INFINITY, f64::NEG_INFINITY),
                 |(lo, hi), &x| (lo.min(x), hi.max(x)),
@@ -624,7 +631,7 @@ impl Spread {
             let mut keys: Vec<i64> = self
                 .value
                 .par_iter()
-                .filter(|x| !x.is_nan())
+                .filter(|x| x.is_finite())
                 .map(|&x| order_key(x))
                 .collect();
             keys.par_sort_unstable();
@@ -669,29 +676,37 @@ impl Spread {
             return true;
         }
         let (lo, hi) = self.ends(verts, new);
-        hi * lo0 <= hi0 * lo
+        hi * lo0 <= hi0 * lo * SLACK
     }
 
+    /// Vertex `v`'s value is now `x` (not finite for none: a cell beside a flat triangle of
+    /// the input is neither counted nor an end).
     fn set(&mut self, v: usize, x: f64) {
-        let old = order_key(self.value[v]);
-        let at_end = old == order_key(self.now.0) || old == order_key(self.now.1);
+        let old = self.value[v];
+        let at_end = old.is_finite()
+            && (order_key(old) == order_key(self.now.0) || order_key(old) == order_key(self.now.1));
         if at_end {
             self.count();
         }
         if let Some(count) = self.count.get_mut() {
-            if let Some(c) = count.get_mut(&old) {
-                *c -= 1;
-                if *c == 0 {
-                    count.remove(&old);
+            if old.is_finite() {
+                let k = order_key(old);
+                if let Some(c) = count.get_mut(&k) {
+                    *c -= 1;
+                    if *c == 0 {
+                        count.remove(&k);
+                    }
                 }
             }
-            *count.entry(order_key(x)).or_insert(0) += 1;
+            if x.is_finite() {
+                *count.entry(order_key(x)).or_insert(0) += 1;
+            }
             let end = |e: Option<(&i64, &u32)>, none| e.map_or(none, |(&k, _)| from_order_key(k));
             self.now = (
                 end(count.first_key_value(), f64::INFINITY),
                 end(count.last_key_value(), f64::NEG_INFINITY),
             );
-        } else {
+        } else if x.is_finite() {
             self.now = (self.now.0.min(x), self.now.1.max(x));
         }
         self.value[v] = x;
@@ -853,6 +868,9 @@ fn star_cos(
         {
             return None;
         }
+        if bounds.free {
+            continue;
+        }
         let (parts, sides2) = (cell_parts(q), corner_sides2(q));
         for k in 0..3 {
             let s = t.slot[k] as usize;
@@ -911,7 +929,7 @@ fn best_place(
             }
         })
         .collect();
-    if verts.len() > AROUND {
+    if verts.len() > AROUND && !bounds.free {
         return None;
     }
     let around = {
@@ -1392,6 +1410,49 @@ mod tests {
             proptest::prop_assert_eq!(&mesh.points, &listed.points);
             proptest::prop_assert_eq!(&mesh.markers, &listed.markers);
         }
+    }
+
+    #[test]
+    fn a_flat_triangle_of_the_input_holds_nothing_else() {
+        // A jittered grid with one interior vertex put on the line through two of its
+        // neighbours: its triangle is flat, its cells and sizes have no value, and the polish
+        // still raises the smallest angle elsewhere, within the other triangles' extremes.
+        let (mut mesh, square) = grid(8, wobble(0.2));
+        let t = (0..mesh.num_triangles())
+            .find(|&t| {
+                mesh.triangles[t]
+                    .iter()
+                    .any(|&v| mesh.markers[v as usize] == VertexMarker::Interior)
+            })
+            .unwrap();
+        let c = mesh.triangles[t];
+        let k = c
+            .iter()
+            .position(|&v| mesh.markers[v as usize] == VertexMarker::Interior)
+            .unwrap();
+        let (a, b) = (
+            mesh.points[c[(k + 1) % 3] as usize],
+            mesh.points[c[(k + 2) % 3] as usize],
+        );
+        mesh.points[c[k] as usize] = 0.5 * (a + b);
+        let flat = mesh.points[c[k] as usize];
+        let sizes = |m: &Mesh| {
+            (0..m.num_triangles())
+                .map(|t| triangle_size(m.triangle(t)))
+                .filter(|s| s.0 > 1e-12)
+                .fold([0.0f64; 3], |hi, s| {
+                    [hi[0].max(s.0), hi[1].max(s.1), hi[2].max(s.2)]
+                })
+        };
+        let largest = sizes(&mesh);
+        let p = polish(&mut mesh, &square, 40.0);
+        assert!(p.moved > 0, "{p:?}");
+        assert_eq!(mesh.points[c[k] as usize], flat);
+        let now = sizes(&mesh);
+        assert!(
+            (0..3).all(|i| now[i] <= largest[i]),
+            "{now:?} > {largest:?}"
+        );
     }
 
     #[test]
