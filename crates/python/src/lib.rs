@@ -804,8 +804,9 @@ impl PyMesh {
 
     /// A polished copy: the vertices of triangles with an angle below `below` degrees move to
     /// raise the smallest angle around them (boundary vertices along the region's boundary,
-    /// corners fixed, the triangles kept), against the region the mesh was made for or
-    /// `region` (needed for a mesh read from a file). Its notes say how many moved.
+    /// corners fixed, the triangles kept, no triangle or cell taken past the mesh's extremes),
+    /// against the region the mesh was made for or `region` (needed for a mesh read from a
+    /// file). Its notes say how many moved.
     #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG))]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
         let region = self.region_or(region, "polished")?;
