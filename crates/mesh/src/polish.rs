@@ -424,7 +424,7 @@ struct Around {
 /// neighbours stays where it is when the extremes are held.
 const AROUND: usize = 24;
 
-/// The cells' bounds allow this factor: a cell's values as checked (the parts outside the star
+/// The cells' bounds allow this factor: a cell's area as checked (the parts outside the star
 /// summed apart) and as kept (all summed at once) may differ in the last bits, and a value
 /// admitted at an end must not then refuse every later move.
 const SLACK: f64 = 1.0 + 1e-12;
@@ -546,7 +546,7 @@ impl Bounds {
     }
 }
 
-/// Vertex `v`'s cell area (see [`cell_parts`]), squared reach (the largest circumradius of its
+/// Vertex `v`'s cell area (see [`corners`]), squared reach (the largest circumradius of its
 /// triangles) and squared shortest edge.
 fn vertex_cell(mesh: &Mesh, stars: &Stars, v: usize) -> (f64, f64, f64) {
     cell_of(mesh, stars.of(v).iter(), v as u32)
@@ -558,28 +558,12 @@ fn cell_of<'a>(mesh: &Mesh, tris: impl Iterator<Item = &'a u32>, u: u32) -> (f64
     let cell = sorted_sum(tris.map(|&t| {
         let c = mesh.triangles[t as usize];
         let k = c.iter().position(|&w| w == u).unwrap_or(0);
-        let (part, r2, side2) = corner_cell(mesh.triangle(t as usize), k);
+        let (part, r2, side2) = corners(mesh.triangle(t as usize))[k];
         reach2 = reach2.max(r2);
         nearest2 = nearest2.min(side2);
         part
     }));
     (cell, reach2, nearest2)
-}
-
-/// Corner `k` of triangle `q`: its part of the triangle (as [`cell_parts`] gives it), its
-/// squared distance to the circumcentre and the shorter of its two sides, squared.
-#[inline]
-fn corner_cell(q: [DVec2; 3], k: usize) -> (f64, f64, f64) {
-    let r = rotated(q, first_corner(q));
-    let c = circumcenter(r[0], r[1], r[2]);
-    let sign = (r[1] - r[0]).perp_dot(r[2] - r[0]).signum();
-    let (v, a, b) = (q[k], q[(k + 1) % 3], q[(k + 2) % 3]);
-    let side2 = (a - v).length_squared().min((b - v).length_squared());
-    (
-        corner_part(v, a, b, c, sign),
-        (c - v).length_squared(),
-        side2,
-    )
 }
 
 /// The part of a triangle nearer its corner `v` (the next corners `a`, `b` counter-clockwise
@@ -745,34 +729,28 @@ fn triangle_size(q: [DVec2; 3]) -> (f64, f64, f64) {
     (twice_area, circumradius2, ratio)
 }
 
-/// The shorter of the two sides at each corner of `q`, squared.
+/// What each corner of triangle `q` gives its vertex's cell: its part of the triangle, nearer
+/// to it than to the other two corners (the quadrilateral corner, midpoint of one side,
+/// circumcentre, midpoint of the other, signed: a corner beyond an obtuse angle's circumcentre
+/// gets a negative part; the parts sum to the triangle's area and their sums over a vertex's
+/// triangles are its cell), its squared distance to the circumcentre (the circumradius, for
+/// the cell's reach) and the shorter of its two sides, squared. Computed from one corner
+/// whatever corner the triangle is listed from.
 #[inline]
-fn corner_sides2(q: [DVec2; 3]) -> [f64; 3] {
-    let (a, b, c) = (
-        (q[1] - q[0]).length_squared(),
-        (q[2] - q[1]).length_squared(),
-        (q[0] - q[2]).length_squared(),
-    );
-    [a.min(c), a.min(b), b.min(c)]
-}
-
-/// Each corner's part of triangle `q`'s area nearer to it than to the other two corners: the
-/// quadrilateral corner, midpoint of one side, circumcentre, midpoint of the other, signed (a
-/// corner beyond an obtuse angle's circumcentre gets a negative part). The parts sum to the
-/// triangle's area; their sums over a vertex's triangles are its cell.
-#[inline]
-fn cell_parts(q: [DVec2; 3]) -> [f64; 3] {
+fn corners(q: [DVec2; 3]) -> [(f64, f64, f64); 3] {
     let k = first_corner(q);
-    let q = rotated(q, k);
-    let c = circumcenter(q[0], q[1], q[2]);
-    let sign = (q[1] - q[0]).perp_dot(q[2] - q[0]).signum();
-    let part = |v, a, b| corner_part(v, a, b, c, sign);
-    let parts = [
-        part(q[0], q[1], q[2]),
-        part(q[1], q[2], q[0]),
-        part(q[2], q[0], q[1]),
-    ];
-    rotated(parts, (3 - k) % 3)
+    let r = rotated(q, k);
+    let c = circumcenter(r[0], r[1], r[2]);
+    let sign = (r[1] - r[0]).perp_dot(r[2] - r[0]).signum();
+    [0, 1, 2].map(|i| {
+        let (v, a, b) = (q[i], q[(i + 1) % 3], q[(i + 2) % 3]);
+        let side2 = (a - v).length_squared().min((b - v).length_squared());
+        (
+            corner_part(v, a, b, c, sign),
+            (c - v).length_squared(),
+            side2,
+        )
+    })
 }
 
 /// The corner of `q` a computation starts from, whatever corner it is listed from: the least
@@ -871,12 +849,11 @@ fn star_cos(
         if bounds.free {
             continue;
         }
-        let (parts, sides2) = (cell_parts(q), corner_sides2(q));
-        for k in 0..3 {
+        for (k, (part, r2, side2)) in corners(q).into_iter().enumerate() {
             let s = t.slot[k] as usize;
-            cells.cell[s] += parts[k];
-            cells.reach2[s] = cells.reach2[s].max(size.1);
-            cells.nearest2[s] = cells.nearest2[s].min(sides2[k]);
+            cells.cell[s] += part;
+            cells.reach2[s] = cells.reach2[s].max(r2);
+            cells.nearest2[s] = cells.nearest2[s].min(side2);
         }
     }
     bounds.cells_admit(&cells).then_some(worst)
@@ -1242,7 +1219,7 @@ mod tests {
     }
 
     /// A mesh's extremes, computed from scratch: its triangles' largest area, circumradius and
-    /// radius ratio; the smallest and largest cell area (sums of [`cell_parts`]), reach
+    /// radius ratio; the smallest and largest cell area (sums of [`corners`]), reach
     /// (largest circumradius around a vertex) and shortest edge at a vertex; the largest reach
     /// per shortest edge.
     #[derive(Debug)]
@@ -1279,10 +1256,10 @@ mod tests {
             e.area = e.area.max(area);
             e.circumradius = e.circumradius.max(r);
             e.ratio = e.ratio.max(r / (2.0 * inradius));
-            let parts = cell_parts(q);
+            let parts = corners(q);
             for k in 0..3 {
                 let v = c[k] as usize;
-                cell[v] += parts[k];
+                cell[v] += parts[k].0;
                 reach[v] = reach[v].max(r);
                 nearest[v] = nearest[v].min(sides[k].min(sides[(k + 2) % 3]));
             }
