@@ -37,10 +37,11 @@ fn the_polish_raises_the_smallest_angle_and_keeps_the_worst_triangles_and_cells(
 }
 
 #[test]
-fn a_graded_mesh_is_polished_with_its_extremes_free() {
+fn a_graded_mesh_is_polished_with_its_sizes_free_and_its_shapes_held() {
     // Toward the hole of square_hole, h from 0.02 to 0.1: the largest triangles sit at the
     // outer corners and the smallest cells at the hole, where the size field puts them; held,
-    // those extremes would keep the worst angles where they are.
+    // those sizes would keep the worst angles where they are. The worst shapes (radius ratio,
+    // cell reach per nearest neighbour) do not depend on the size and stay held.
     let region = Region::builtin("square_hole").unwrap();
     let t = Threshold {
         size_min: 0.02,
@@ -51,15 +52,26 @@ fn a_graded_mesh_is_polished_with_its_extremes_free() {
     let h = SizeField::threshold(&region, &[Toward::Loop(1)], t).unwrap();
     let request = MeshRequest::size_field(&h, &region, None).unwrap();
     let meshed = Method::Ccvt.run(&region, &request).unwrap().mesh;
-    let mut held = Method::Ccvt
+    let unpolished = Method::Ccvt
         .run(&region, &request.clone().polish(0.0))
         .unwrap()
         .mesh;
-    let before = held.min_angle_deg();
+    let (before, after) = (
+        measures(&unpolished, &region).unwrap(),
+        measures(&meshed, &region).unwrap(),
+    );
+    let mut held = unpolished.clone();
     polish_within(&mut held, &region, 40.0);
     let (free, bounded) = (meshed.min_angle_deg(), held.min_angle_deg());
     assert!(
         free >= 40.0 && free > bounded + 1.0,
-        "{before}° -> {free}° (free), {bounded}° (held)"
+        "{}° -> {free}° (sizes free), {bounded}° (held)",
+        unpolished.min_angle_deg()
     );
+    for (what, a, b) in [
+        ("q (worst radius ratio)", after.q, before.q),
+        ("χ (cell per nearest neighbour)", after.chi, before.chi),
+    ] {
+        assert!(a <= b * (1.0 + 1e-9), "{what} {b} -> {a}");
+    }
 }

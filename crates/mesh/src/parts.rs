@@ -56,7 +56,8 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // narrow gap), which the check below would refuse.
     if request.polish_below_deg > 0.0 {
         // Undone, the method's own mesh meets the check below as it would have.
-        // A graded mesh's extremes are its size field's: held for a uniform density only.
+        // A graded mesh's largest and smallest elements are its size field's: sizes are held for
+        // a uniform density only, shapes always.
         let uniform = request.density.is_uniform();
         let report =
             crate::polish::within(&mut result.mesh, work, request.polish_below_deg, uniform);

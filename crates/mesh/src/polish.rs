@@ -109,16 +109,17 @@ pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
     polish_with(mesh, region, below_deg, true)
 }
 
-/// [`polish`], with the mesh's extremes held ([`Bounds`]) or not (`bounded`). A graded mesh's
-/// extremes are its size field's, its coarsest and finest places, not defects: held, they
-/// keep its worst angles where the field puts its largest triangles (a graded L-shape at 10⁵
-/// stayed at 32.8° against Gmsh's 34.6°), so the meshing calls hold them for a uniform
-/// density only.
+/// [`polish`], with the mesh's extremes of shape held ([`Bounds`]: the worst radius ratio and
+/// χ, which do not depend on the spacing) and those of size too if `sized`. A graded mesh's
+/// largest and smallest triangles and cells are its size field's coarsest and finest places,
+/// not defects: held, they keep its worst angles where the field puts them (a graded L-shape
+/// at 10⁵ stayed at 32.8° against Gmsh's 34.6°), so the meshing calls hold sizes for a uniform
+/// density only. Left free as well, the shapes worsened (graded lake at 10⁴: χ 0.67 → 1.09).
 pub(crate) fn polish_with(
     mesh: &mut Mesh,
     region: &Region,
     below_deg: f64,
-    bounded: bool,
+    sized: bool,
 ) -> Polished {
     // Triangles are compared by the cosine of their smallest angle (larger is worse): no
     // inverse trigonometric function in the passes over all triangles or in the search.
@@ -138,11 +139,7 @@ pub(crate) fn polish_with(
     };
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
-        let mut bounds = if bounded {
-            Bounds::of(mesh, &stars)
-        } else {
-            Bounds::free()
-        };
+        let mut bounds = Bounds::of(mesh, &stars, sized);
         // Each round moves interior vertices first, then boundary vertices only for the
         // triangles still below the threshold (a boundary vertex off its place costs the cells
         // around it more: see design-notes, "Polish").
@@ -285,7 +282,8 @@ impl std::fmt::Display for PolishReport {
 /// [`polish`], then the conformity check ([`check_conforming`], up to
 /// [`CONFORMITY_CHECK_LIMIT`] vertices): a polished mesh that leaves the region (a boundary
 /// edge moved across a narrow gap) gets the method's vertices back. What every front end runs
-/// (the meshing calls with the extremes held for a uniform density only, see `polish_with`).
+/// (the meshing calls with the extremes of size held for a uniform density only, see
+/// `polish_with`).
 ///
 /// ```
 /// use cvtmesh_mesh::{polish_within, Mesh, VertexMarker};
@@ -316,9 +314,9 @@ pub(crate) fn within(
     mesh: &mut Mesh,
     region: &Region,
     below_deg: f64,
-    bounded: bool,
+    sized: bool,
 ) -> PolishReport {
-    let polished = polish_with(mesh, region, below_deg, bounded);
+    let polished = polish_with(mesh, region, below_deg, sized);
     let checks = polished.moved > 0 && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT;
     let leaves = checks && crate::check_conforming(mesh, region).is_err();
     if leaves {
@@ -421,7 +419,7 @@ struct Around {
 }
 
 /// Most vertices a star may have (the moving vertex and its neighbours); a vertex with more
-/// neighbours stays where it is when the extremes are held.
+/// neighbours stays where it is.
 const AROUND: usize = 24;
 
 /// The cells' bounds allow this factor: a cell's area as checked (the parts outside the star
@@ -444,8 +442,9 @@ const SLACK: f64 = 1.0 + 1e-12;
 // bounds alone, the boundary sweep slid boundary vertices instead and shrank boundary cells
 // (the horn's ν up 53 %). Measured in `docs/design-notes.md`, "Polish".
 struct Bounds {
-    /// Nothing held ([`polish_with`] unbounded).
-    free: bool,
+    /// The sizes held too (triangle areas and circumcircles, the spreads of the cells); else
+    /// only the shapes, which do not depend on the spacing (radius ratio, χ).
+    sized: bool,
     twice_area: f64,
     circumradius2: f64,
     ratio: f64,
@@ -458,7 +457,7 @@ struct Bounds {
 }
 
 impl Bounds {
-    fn of(mesh: &Mesh, stars: &Stars) -> Bounds {
+    fn of(mesh: &Mesh, stars: &Stars, sized: bool) -> Bounds {
         let (twice_area, circumradius2, ratio) = (0..mesh.num_triangles())
             .into_par_iter()
             .map(|t| triangle_size(mesh.triangle(t)))
@@ -480,10 +479,11 @@ impl Bounds {
             .map(|c| c.1 / c.2)
             .filter(|x| x.is_finite())
             .fold(0.0, f64::max);
+        let unless_sized = |x: f64| if sized { x } else { f64::INFINITY };
         Bounds {
-            free: false,
-            twice_area,
-            circumradius2,
+            sized,
+            twice_area: unless_sized(twice_area),
+            circumradius2: unless_sized(circumradius2),
             ratio,
             reach_per_edge2,
             cell: Spread::new(cells.iter().map(|c| c.0).collect()),
@@ -492,42 +492,30 @@ impl Bounds {
         }
     }
 
-    /// No bounds at all.
-    fn free() -> Bounds {
-        let none = || Spread::new(Vec::new());
-        Bounds {
-            free: true,
-            twice_area: f64::INFINITY,
-            circumradius2: f64::INFINITY,
-            ratio: f64::INFINITY,
-            reach_per_edge2: f64::INFINITY,
-            cell: none(),
-            reach2: none(),
-            nearest2: none(),
-        }
-    }
-
     /// Whether a triangle of this [`triangle_size`] stays within the triangle bounds.
     fn admits(&self, (a, r2, ratio): (f64, f64, f64)) -> bool {
-        self.free || (a <= self.twice_area && r2 <= self.circumradius2 && ratio <= self.ratio)
+        a <= self.twice_area && r2 <= self.circumradius2 && ratio <= self.ratio
     }
 
     /// Whether the cells around a star, as `around` has them after a move, stay within the
     /// cells' bounds.
     fn cells_admit(&self, around: &Around) -> bool {
-        if self.free {
-            return true;
-        }
         let (n, verts) = (around.len, &around.verts[..around.len]);
         (0..n).all(|s| around.reach2[s] <= self.reach_per_edge2 * around.nearest2[s] * SLACK)
-            && self.cell.admits(verts, &around.cell[..n])
+            && (!self.sized || self.spreads_admit(verts, around, n))
+    }
+
+    /// Whether the spreads of the cells' areas, reaches and shortest edges stay within theirs.
+    fn spreads_admit(&self, verts: &[u32], around: &Around, n: usize) -> bool {
+        self.cell.admits(verts, &around.cell[..n])
             && self.reach2.admits(verts, &around.reach2[..n])
             && self.nearest2.admits(verts, &around.nearest2[..n])
     }
 
-    /// Vertex `v` moved: its cell's and its neighbours' values again.
+    /// Vertex `v` moved: its cell's and its neighbours' values again (for the spreads: χ is
+    /// checked from the mesh itself).
     fn moved(&mut self, mesh: &Mesh, stars: &Stars, v: usize) {
-        if self.free {
+        if !self.sized {
             return;
         }
         let mut around: Vec<u32> = stars
@@ -846,9 +834,6 @@ fn star_cos(
         {
             return None;
         }
-        if bounds.free {
-            continue;
-        }
         for (k, (part, r2, side2)) in corners(q).into_iter().enumerate() {
             let s = t.slot[k] as usize;
             cells.cell[s] += part;
@@ -906,7 +891,7 @@ fn best_place(
             }
         })
         .collect();
-    if verts.len() > AROUND && !bounds.free {
+    if verts.len() > AROUND {
         return None;
     }
     let around = {
@@ -919,13 +904,10 @@ fn best_place(
             reach2: [0.0; AROUND],
             nearest2: [f64::INFINITY; AROUND],
         };
-        // Unbounded, nothing reads them.
-        if !bounds.free {
-            for (s, &u) in verts.iter().enumerate() {
-                around.verts[s] = u;
-                let cell = cell_of(mesh, outside(u), u);
-                (around.cell[s], around.reach2[s], around.nearest2[s]) = cell;
-            }
+        for (s, &u) in verts.iter().enumerate() {
+            around.verts[s] = u;
+            let cell = cell_of(mesh, outside(u), u);
+            (around.cell[s], around.reach2[s], around.nearest2[s]) = cell;
         }
         around
     };
