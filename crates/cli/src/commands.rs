@@ -18,20 +18,22 @@ const MAX_SAMPLES: usize = 100_000_000;
 /// `cvtmesh mesh`.
 #[derive(Args)]
 #[command(group(ArgGroup::new("graded").multiple(true).args(["size_field", "size_toward"])))]
+#[command(group(
+    ArgGroup::new("how_many")
+        .required(true)
+        .multiple(true)
+        .args(["points", "size", "size_field", "size_toward"])
+))]
 pub struct MeshArgs {
     /// Region file (.json, .geojson, .poly, .txt loop list), built-in name (see `cvtmesh regions`), or a mesh (.node/.ele, .msh, .obj): the region its triangles cover, to mesh again.
     region: String,
-    /// Number of vertices K (this, --size or --size-field is required; with --size-field the
-    /// field's shape is kept and scaled to K vertices).
-    #[arg(
-        long,
-        short = 'n',
-        conflicts_with = "size",
-        required_unless_present_any = ["size", "size_field", "size_toward"]
-    )]
+    /// Number of vertices K (one of --points, --size, --size-field and --size-toward is
+    /// required; with a size field, the field's shape is kept and scaled to K vertices).
+    #[arg(long, short = 'n', conflicts_with = "size")]
     points: Option<usize>,
-    /// Target edge length h; K follows from the region's area (this or --points is required).
-    #[arg(long, conflicts_with = "graded")]
+    /// Target edge length h of a uniform mesh; K follows from the region's area (instead of
+    /// --points; a graded mesh takes --size-field or --size-toward).
+    #[arg(long, conflicts_with_all = ["graded", "density"], allow_negative_numbers = true)]
     size: Option<f64>,
     /// Target edge length for graded meshes: a function of x and y, e.g.
     /// '0.01 + 0.1*sqrt(x^2+y^2)', or a mesh with a size at each vertex (Triangle FILE.node
@@ -65,14 +67,14 @@ pub struct MeshArgs {
     #[arg(long, value_name = "X,Y[:M]")]
     embed: Vec<String>,
     /// Smallest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "graded")]
+    #[arg(long, requires = "graded", allow_negative_numbers = true)]
     size_min: Option<f64>,
     /// Largest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "graded")]
+    #[arg(long, requires = "graded", allow_negative_numbers = true)]
     size_max: Option<f64>,
     /// Largest gradient of --size-field's edge length: sizes grow by at most this much per
     /// unit of distance, h(x) = min_y h(y) + g|x − y| (`inf` leaves the field as given).
-    #[arg(long, default_value_t = GRADATION, requires = "graded")]
+    #[arg(long, default_value_t = GRADATION, requires = "graded", allow_negative_numbers = true)]
     gradation: f64,
     // The names come from `Method::ALL`, so the help cannot fall behind the list of methods.
     #[arg(long, short = 'm', help = method_help(), default_value_t = Method::default().to_string())]
@@ -86,7 +88,7 @@ pub struct MeshArgs {
     seed: u64,
     /// Convergence tolerance: largest generator move relative to the mean spacing (CVT methods;
     /// DistMesh keeps its original dptol, refinement is not iterative).
-    #[arg(long, default_value = "1e-4")]
+    #[arg(long, default_value = "1e-4", allow_negative_numbers = true)]
     tol: f64,
     /// Iteration cap.
     #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
@@ -99,7 +101,7 @@ pub struct MeshArgs {
     /// the boundary turns. The default applies where the corners are computed (polygon files);
     /// built-in regions and JSON with "corners" keep theirs [default: 30, or the corners the
     /// region lists].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     corner_angle: Option<f64>,
     /// Simplify a digitized boundary first (Douglas–Peucker): drop the vertices that lie within
     /// TOL of the simplified boundary, so that a coastline with more corners than the mesh has
@@ -198,6 +200,7 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
     let kind = inputs::output_kind(&a.output)?;
+    inputs::check_directory(&a.output)?;
     if a.order == 2 && !matches!(kind, "triangle" | "msh" | "vtu") {
         bail!(
             "--order 2 writes six-node triangles, which '{}' cannot hold; use .msh, .vtu or .node",
@@ -360,6 +363,7 @@ pub struct PolishArgs {
 /// `cvtmesh polish`: a mesh from any tool, polished as `mesh` polishes its own.
 pub fn polish(a: PolishArgs) -> Result<()> {
     inputs::output_kind(&a.output)?;
+    inputs::check_directory(&a.output)?;
     inputs::check_not_input(&a.output, &[a.mesh.as_path()])?;
     if !(0.0..=60.0).contains(&a.below) {
         bail!(
@@ -563,6 +567,7 @@ pub fn show(a: ShowArgs) -> Result<()> {
             a.output.display()
         );
     }
+    inputs::check_directory(&a.output)?;
     let input = PathBuf::from(&a.input);
     let is_mesh = input.extension().and_then(|e| e.to_str()).is_some_and(|e| {
         cvtmesh::io::READ_EXTENSIONS
@@ -708,11 +713,12 @@ fn builtin_regions() -> Result<()> {
     for name in Region::builtin_names() {
         let r = Region::builtin(name)?;
         outln!(
-            "{:<16} {:>14.6} {:>6} {:>8}",
+            "{:<16} {:>14.6} {:>6} {:>8}  {}",
             name,
             r.area(),
             r.loops().len() - 1,
-            r.corners().len()
+            r.corners().len(),
+            Region::builtin_title(name).unwrap_or_default()
         );
     }
     Ok(())

@@ -130,12 +130,33 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
 /// with the request.
 pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
     if cvtmesh::io::names_sizes(Path::new(text)) {
-        let (mesh, sizes) = cvtmesh::io::read_sizes(Path::new(text))
-            .map_err(|e| anyhow!("--size-field {text}: {e}"))?;
+        // The reader's errors name the file.
+        let (mesh, sizes) =
+            cvtmesh::io::read_sizes(Path::new(text)).map_err(|e| anyhow!("--size-field: {e}"))?;
         return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
             .map_err(|e| anyhow!("--size-field {text}: {e}"));
     }
-    SizeField::from_expr(text).map_err(|e| anyhow!("--size-field: {e}"))
+    SizeField::from_expr(text).map_err(|e| {
+        // `sizes.txt` or `h.csv` fails as an expression at its dot: say what was meant.
+        let file_like = Path::new(text)
+            .extension()
+            .and_then(|x| x.to_str())
+            .is_some_and(|x| !x.is_empty() && x.chars().all(|c| c.is_ascii_alphabetic()))
+            && !text.contains(|c: char| c.is_whitespace() || "+*/^()".contains(c));
+        if file_like {
+            let what = if Path::new(text).exists() {
+                "a file of another format"
+            } else {
+                "no such file"
+            };
+            anyhow!(
+                "--size-field '{text}': {what}; a size field is an expression in x and y or a \
+                 mesh with a size at each vertex (.node with .ele, or .msh)"
+            )
+        } else {
+            anyhow!("--size-field: {e}")
+        }
+    })
 }
 
 /// The mesh files an argument reads where a mesh may be named (a region, a `--size-field`): a
@@ -222,6 +243,22 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
             path.display()
         ),
     })
+}
+
+/// Refuse an output whose directory does not exist before any work, rather than after it.
+pub fn check_directory(output: &Path) -> Result<()> {
+    let dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "cannot write '{}': no directory '{}'; nothing written",
+            output.display(),
+            dir.display()
+        );
+    }
+    Ok(())
 }
 
 /// Refuse an output that would replace an input file: `-o coast.node` writes `coast.poly`

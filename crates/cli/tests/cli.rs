@@ -60,7 +60,15 @@ fn regions_lists_the_ten_builtins() {
     let names = cvtmesh::geometry::Region::builtin_names();
     assert_eq!(names.len(), 10);
     for name in names {
-        assert!(t.contains(name), "missing {name} in\n{t}");
+        let title = cvtmesh::geometry::Region::builtin_title(name).unwrap();
+        assert!(!title.is_empty(), "{name} has no title");
+        let row = t
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name));
+        assert!(
+            row.is_some_and(|l| l.ends_with(title)),
+            "no row for {name} ending with its title in\n{t}"
+        );
     }
 }
 
@@ -560,6 +568,45 @@ fn bad_input_is_refused_with_a_clear_message() {
         &out,
         "unknown region",
     );
+    // An output directory that does not exist, named before any work.
+    let (mesh_to, picture_to) = (
+        d.join("no_such_dir").join("out.msh"),
+        d.join("no_such_dir").join("out.png"),
+    );
+    assert_refused(
+        &["mesh", "circle", "--points", "50", "-o", s(&mesh_to)],
+        &mesh_to,
+        "no directory",
+    );
+    assert_refused(
+        &["show", "circle", "-o", s(&picture_to)],
+        &picture_to,
+        "no directory",
+    );
+    // How many vertices: any of the four ways is named when none is given.
+    for way in ["--points", "--size", "--size-field", "--size-toward"] {
+        assert_refused(&["mesh", "circle", "-o", o], &out, way);
+    }
+    // A negative size is a size, refused as one (not an unknown option "-0").
+    let negative = cvtmesh(&["mesh", "circle", "--size", "-0.1", "-o", o]);
+    assert_eq!(negative.status.code(), Some(1), "{}", text(&negative));
+    assert!(text(&negative).contains("size"), "{}", text(&negative));
+    assert!(!out.exists());
+    // A uniform size and a density contradict each other, as in Python.
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size",
+            "0.1",
+            "--density",
+            "x + 2",
+            "-o",
+            o,
+        ],
+        &out,
+        "--density",
+    );
 
     // Region files that cannot be meshed, and what the refusal must say.
     for (name, body, want) in [
@@ -1009,6 +1056,9 @@ fn bad_size_fields_are_refused_before_any_work() {
         ("1e-9", "more than cvtmesh meshes"),
         (s(&missing), "cannot read"),
         (s(&region_as_sizes), "vertex markers, not sizes"),
+        // A file name in a format that holds no sizes is not taken for an expression.
+        ("sizes.txt", "no such file"),
+        ("x.y", "no such file"),
     ] {
         assert_refused(
             &["mesh", "circle", "--size-field", field, "-o", s(&out)],

@@ -116,6 +116,31 @@ impl Region {
         }
     }
 
+    /// The title of the built-in region `name` (the `title` field of its file, what it is and
+    /// where it comes from); None for any other name.
+    ///
+    /// ```
+    /// use cvtmesh_geometry::Region;
+    /// assert_eq!(Region::builtin_title("circle"), Some("Unit circle"));
+    /// assert_eq!(Region::builtin_title("nowhere"), None);
+    /// ```
+    pub fn builtin_title(name: &str) -> Option<&'static str> {
+        static TITLES: OnceLock<Vec<String>> = OnceLock::new();
+        let all = TITLES.get_or_init(|| {
+            BUILTIN_FILES
+                .iter()
+                .map(|(_, text)| {
+                    serde_json::from_str::<Value>(text)
+                        .ok()
+                        .and_then(|v| v.get("title")?.as_str().map(str::to_string))
+                        .unwrap_or_default()
+                })
+                .collect()
+        });
+        let i = BUILTIN_FILES.iter().position(|(n, _)| *n == name)?;
+        Some(all[i].as_str())
+    }
+
     /// Every (built-in region, K) of the paper's Tables 1–12, in table order.
     pub fn paper_cases() -> impl Iterator<Item = (&'static str, usize)> {
         BUILTIN_NAMES
