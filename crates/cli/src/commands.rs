@@ -362,7 +362,7 @@ pub struct PolishArgs {
 
 /// `cvtmesh polish`: a mesh from any tool, polished as `mesh` polishes its own.
 pub fn polish(a: PolishArgs) -> Result<()> {
-    inputs::output_kind(&a.output)?;
+    let kind = inputs::output_kind(&a.output)?;
     inputs::check_directory(&a.output)?;
     inputs::check_not_input(&a.output, &[a.mesh.as_path()])?;
     if !(0.0..=60.0).contains(&a.below) {
@@ -371,7 +371,11 @@ pub fn polish(a: PolishArgs) -> Result<()> {
             a.below
         );
     }
-    let (mut mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
+    let cvtmesh::io::MeshFile {
+        mut mesh,
+        walls,
+        higher_order,
+    } = cvtmesh::io::read_mesh_file(&a.mesh)?;
     let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
     let start = Instant::now();
     let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
@@ -385,7 +389,27 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         eprintln!("note: {report}");
     }
     let title = format!("{} polished K={}", region.name(), mesh.num_vertices());
-    inputs::write(&mesh, &region, &a.output, &title)?;
+    // Six-node triangles in, six-node triangles out: their edge nodes are placed again for the
+    // moved corners, as `mesh --order 2` places them.
+    if higher_order && matches!(kind, "triangle" | "msh" | "vtu") {
+        eprintln!(
+            "note: six-node triangles: the edge nodes placed again (midpoints, on the region's \
+             boundary for boundary edges)"
+        );
+        let quadratic = cvtmesh::Quadratic::new(&mesh, Some(&region));
+        inputs::written(
+            cvtmesh::io::write_quadratic(&quadratic, &a.output),
+            &a.output,
+        )?;
+    } else {
+        if higher_order {
+            eprintln!(
+                "note: six-node triangles written as three-node ones: '{}' holds no edge nodes",
+                a.output.display()
+            );
+        }
+        inputs::write(&mesh, &region, &a.output, &title)?;
+    }
     outln!(
         "K={} K~={} moved={} min-angle={:.2}deg -> {:.2}deg {:.2}s -> {}",
         mesh.num_vertices(),

@@ -1694,6 +1694,43 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
     assert!(quiet_mesh("annulus", "300", &[], &linear).status.success());
     let csv = |p: &Path| text(&cvtmesh(&["measure", s(p), "--region", "annulus", "--csv"]));
     assert_eq!(csv(&msh), csv(&linear));
+    // Polished, six-node triangles stay six-node triangles, on the same corners as the
+    // polished linear mesh.
+    let unpolished = dir.join("raw2.msh");
+    let o = quiet_mesh(
+        "annulus",
+        "300",
+        &["--order", "2", "--polish", "0"],
+        &unpolished,
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let polished = dir.join("polished2.msh");
+    let o = cvtmesh(&[
+        "polish",
+        s(&unpolished),
+        "--region",
+        "annulus",
+        "-o",
+        s(&polished),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = std::fs::read_to_string(&polished).unwrap();
+    let types: Vec<usize> = element_blocks(&t).iter().map(|(h, _)| h[2]).collect();
+    assert!(types.contains(&9) && !types.contains(&2), "{types:?}");
+    let linear_raw = dir.join("raw1.msh");
+    let o = quiet_mesh("annulus", "300", &["--polish", "0"], &linear_raw);
+    assert!(o.status.success(), "{}", text(&o));
+    let linear_polished = dir.join("polished1.msh");
+    let o = cvtmesh(&[
+        "polish",
+        s(&linear_raw),
+        "--region",
+        "annulus",
+        "-o",
+        s(&linear_polished),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(csv(&polished), csv(&linear_polished));
     // Triangle's format and VTK take it too; .obj and orders other than 1 and 2 are refused.
     for ok in ["c.node", "c.vtu"] {
         let o = quiet_mesh("annulus", "300", &["--order", "2"], &dir.join(ok));

@@ -392,10 +392,45 @@ pub struct Walls {
 /// boundary conditions ([`geometry::Region::from_triangles_marked`],
 /// [`geometry::Region::with_marker_names`]).
 pub fn read_mesh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
+    read_mesh_file(path).map(|f| (f.mesh, f.walls))
+}
+
+/// A mesh file as [`read_mesh_file`] reads it.
+#[derive(Clone, Debug)]
+pub struct MeshFile {
+    /// The mesh of the triangles' corners.
+    pub mesh: Mesh,
+    /// The walls the file numbers ([`read_mesh_with_walls`]).
+    pub walls: Walls,
+    /// The file's triangles had nodes beyond their corners (six-node, quadratic triangles),
+    /// which the mesh leaves out: a program that writes the mesh back writes them again.
+    pub higher_order: bool,
+}
+
+/// [`read_mesh_with_walls`], and whether the file's triangles were of higher order.
+///
+/// ```
+/// use cvtmesh_mesh::io;
+/// let dir = std::env::temp_dir().join(format!("cvtmesh_doc_p2_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// // One six-node triangle: its corners, then a node on each edge.
+/// std::fs::write(dir.join("t.node"), "6 2 0 0\n1 0 0\n2 1 0\n3 0 1\n4 0.5 0.5\n5 0 0.5\n6 0.5 0\n")?;
+/// std::fs::write(dir.join("t.ele"), "1 6 0\n1 1 2 3 4 5 6\n")?;
+/// let file = io::read_mesh_file(&dir.join("t.node"))?;
+/// assert!(file.higher_order);
+/// assert_eq!((file.mesh.num_vertices(), file.mesh.num_triangles()), (3, 1));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_mesh_file(path: &Path) -> Result<MeshFile, MeshError> {
     match extension(path).as_deref() {
-        Some("msh") => read_gmsh_with_walls(path),
-        Some("node") | Some("ele") => read_triangle_with_walls(&path.with_extension("node")),
-        _ => Ok((read_mesh(path)?, Walls::default())),
+        Some("msh") => gmsh::read_gmsh_file(path),
+        Some("node") | Some("ele") => triangle::read_triangle_file(&path.with_extension("node")),
+        _ => Ok(MeshFile {
+            mesh: read_mesh(path)?,
+            walls: Walls::default(),
+            higher_order: false,
+        }),
     }
 }
 

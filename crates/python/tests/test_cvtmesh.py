@@ -380,9 +380,14 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     for j in range(8):
         in_file = sum(len(back.cell_sets[f"piece{j}"][k]) for k in line_block)
         assert in_file == len(mm.cell_sets[f"piece_{j}"][1])
-    # A mesh read from a file needs the region for its pieces.
+    # A mesh read from a file needs the region for its pieces, and to_meshio takes it too.
+    read = cvtmesh.Mesh.read(tmp_path / "m.msh")
     with pytest.raises(MeshError, match="pass the region"):
-        cvtmesh.Mesh.read(tmp_path / "m.msh").boundary_pieces()
+        read.boundary_pieces()
+    assert not any(k.startswith("piece_") for k in read.to_meshio().cell_sets)
+    again = read.to_meshio(region=Region.from_loops(SQUARE, [HOLE]))
+    for j in range(8):
+        assert len(again.cell_sets[f"piece_{j}"][1]) == len(mm.cell_sets[f"piece_{j}"][1])
 
 
 MARKED_CHANNEL = (

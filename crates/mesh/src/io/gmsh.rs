@@ -1,7 +1,7 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
     file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, write_lines,
-    Nodes, Producer, Tokens, Walls, F,
+    MeshFile, Nodes, Producer, Tokens, Walls, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -434,9 +434,18 @@ pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
 
 /// [`read_gmsh`] and [`gmsh_walls_from_str`] of a file, read once.
 pub fn read_gmsh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
+    read_gmsh_file(path).map(|f| (f.mesh, f.walls))
+}
+
+/// [`read_gmsh_with_walls`], and whether the triangles had nodes beyond their corners.
+pub(crate) fn read_gmsh_file(path: &Path) -> Result<MeshFile, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     let parsed = parse(&String::from_utf8_lossy(&bytes), path, false)?;
-    Ok((parsed.mesh, parsed.walls))
+    Ok(MeshFile {
+        mesh: parsed.mesh,
+        walls: parsed.walls,
+        higher_order: parsed.higher_order,
+    })
 }
 
 /// Element kinds the reader distinguishes.
@@ -510,6 +519,7 @@ struct Parsed {
     mesh: Mesh,
     sizes: Option<Vec<f64>>,
     walls: Walls,
+    higher_order: bool,
 }
 
 fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
@@ -1015,7 +1025,12 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         points,
         names: std::mem::take(&mut raw.wall_names),
     };
-    Ok(Parsed { mesh, sizes, walls })
+    Ok(Parsed {
+        mesh,
+        sizes,
+        walls,
+        higher_order: raw.higher_order,
+    })
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines, Nodes,
-    Producer, Tokens, Walls, F, UNKNOWN_PIECE,
+    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines, MeshFile,
+    Nodes, Producer, Tokens, Walls, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -268,6 +268,11 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshError> {
+    read_triangle_file(node_path).map(|f| (f.mesh, f.walls))
+}
+
+/// [`read_triangle_with_walls`], and whether the triangles had six nodes.
+pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError> {
     let node = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
     let ele = read_ele_of(&ele_path, node_path)?;
@@ -277,7 +282,12 @@ pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshE
         true => walls_of(&read_text(&poly_path)?, &poly_path, &given, &mesh)?,
         false => Walls::default(),
     };
-    Ok((mesh, walls))
+    Ok(MeshFile {
+        mesh,
+        walls,
+        // The `.node`'s own points are kept apart only when the edge nodes were dropped.
+        higher_order: given.points.is_some(),
+    })
 }
 
 /// The walls of [`read_triangle_with_walls`] from the texts of a `.node`, its `.ele` and the `.poly` beside

@@ -205,8 +205,8 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     """The 12 quality measures of the paper's Section 3 for any triangle mesh of ``region``.
 
     ``points`` is ``(N, 2)``, ``triangles`` ``(M, 3)`` 0-based vertex indices; the result maps
-    ``lambda, gamma, h, mu, chi, nu, tau, d, alpha, beta, q, p`` (and the counts ``K``, ``Ktilde``) to
-    floats (lower is better, 0 on an ideal hexagonal lattice).
+    ``lambda, gamma, h, mu, chi, nu, tau, d, alpha, beta, q, p`` to floats (lower is better, 0
+    on an ideal hexagonal lattice), and the counts ``K`` and ``Ktilde`` to ints.
     """
     r = _region(region, None, None)
     pts, tri = _mesh_arrays(points, triangles)
@@ -234,7 +234,7 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
     return _size_conformity(pts, tri, r, size)
 
 
-def _to_meshio(self: Mesh, order: int = 1) -> Any:
+def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
     made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
@@ -244,7 +244,8 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
     (:meth:`Mesh.vertex_markers`), which finite-element libraries
     reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
-    the region's exact boundary)."""
+    the region's exact boundary). A mesh read from a file knows no region: pass ``region`` for
+    its pieces, markers and exact boundary."""
     import meshio
 
     loops = np.asarray(self.boundary_loop)
@@ -254,13 +255,13 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
     }
     cell_sets["domain"] = [np.arange(len(self.triangles)), np.empty(0, dtype=np.int64)]
     try:
-        pieces = np.asarray(self.boundary_pieces())
+        pieces = np.asarray(self.boundary_pieces(region))
     except MeshError:  # read from a file: its pieces need the region
         pieces = np.empty(0, dtype=np.int64)
     for j in np.unique(pieces):
         cell_sets[f"piece_{j}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(pieces == j)]
     try:
-        markers = np.asarray(self.boundary_markers())
+        markers = np.asarray(self.boundary_markers(region))
     except MeshError:  # no region, or one that numbers no walls
         markers = np.empty(0, dtype=np.int64)
     for m in np.unique(markers):
@@ -271,7 +272,7 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
             ("line", np.array(self.boundary_edges)),
         ]
     elif order == 2:
-        points, tri6 = self.quadratic()
+        points, tri6 = self.quadratic(region)
         # Each edge's node, by the edge's sorted ends: the triangles hold every edge.
         ends = np.concatenate([tri6[:, [0, 1]], tri6[:, [1, 2]], tri6[:, [2, 0]]])
         nodes = np.concatenate([tri6[:, 3], tri6[:, 4], tri6[:, 5]])
@@ -290,7 +291,7 @@ def _to_meshio(self: Mesh, order: int = 1) -> Any:
         # Each vertex's as a Triangle .node gives it (a point the region marks on its own
         # keeps its marker); the edge nodes of order 2 take 0.
         marks = np.zeros(len(points), dtype=np.int64)
-        own = np.asarray(self.vertex_markers())
+        own = np.asarray(self.vertex_markers(region))
         marks[: len(own)] = own
         point_data["marker"] = marks
     return meshio.Mesh(
