@@ -448,7 +448,7 @@ pub struct MeasureArgs {
     #[arg(long)]
     sampled: Option<usize>,
     /// Coordinate scale for the sampled estimate (the paper's circle/annulus τ, d match 0.5).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, requires = "sampled")]
     scale: f64,
     /// Also print how well the edges follow this size field h(x, y) (an expression or a mesh
     /// with a size at each vertex, as for `mesh`): the share of edges with length/h in
@@ -479,6 +479,17 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let (mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
     let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
     if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
+        // A mesh of a polygon inscribed in a curved region conforms only nearly; one that
+        // misses half the region is of another (its α would be below 0, its ν inf).
+        let (covered, whole) = (mesh.area(), region.area());
+        let near = (covered - whole).abs() <= 0.5 * whole;
+        if !near {
+            bail!(
+                "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
+                 of that region ({e}); give the region with --region",
+                region.name()
+            );
+        }
         eprintln!(
             "warning: the mesh does not conform to region '{}': {e}",
             region.name()
@@ -501,6 +512,14 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         )?),
         None => None,
     };
+    if let Some(s) = sampled.filter(|s| s.nu.is_infinite() || s.mu.is_infinite()) {
+        eprintln!(
+            "note: some cells got none of the {} samples, so their sampled area and reach are 0 \
+             and ν, μ inf (as in the paper's QUALITY library); take --sampled well above K = {}",
+            a.sampled.unwrap_or(0),
+            s.k
+        );
+    }
     // Loops and pieces numbered as `mesh` numbers them: on the region with its corners.
     let named = if a.size_toward.is_empty() {
         region.clone()

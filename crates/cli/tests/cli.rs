@@ -198,6 +198,28 @@ fn mesh_then_measure_csv_round_trip() {
     // Readable table without --csv.
     let o = cvtmesh(&["measure", s(&out), "--region", "circle"]);
     assert!(o.status.success() && text(&o).contains("lambda"));
+    // Too few samples for the cells: the inf that follows is explained; enough: no note.
+    for (n, note) in [("50", true), ("20000", false)] {
+        let o = cvtmesh(&["measure", s(&out), "--region", "circle", "--sampled", n]);
+        assert!(o.status.success(), "{}", text(&o));
+        assert_eq!(
+            text(&o).contains("got none of the"),
+            note,
+            "{n}: {}",
+            text(&o)
+        );
+    }
+    // A mesh of another region is refused by name, not measured into nonsense.
+    let o = cvtmesh(&["measure", s(&out), "--region", "lake"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("not a mesh of that region"),
+        "{}",
+        text(&o)
+    );
+    // A scale without the sampled estimate it scales is refused, not ignored.
+    let o = cvtmesh(&["measure", s(&out), "--region", "circle", "--scale", "0.5"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
 
 /// `cvtmesh measure … | head -1`: the reader goes away before the table is printed. The
