@@ -308,9 +308,13 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     for note in &result.notes {
         eprintln!("note: {note}");
     }
-    let energy = result.energy_history.last().copied().unwrap_or(f64::NAN);
+    // Only the CVT methods minimise an energy; the others report none.
+    let energy = match result.energy_history.last() {
+        Some(e) if e.is_finite() => format!(" energy={e:.6e}"),
+        _ => String::new(),
+    };
     outln!(
-        "K={} K~={} min-angle={:.2}deg iterations={} energy={:.6e} {} {:.2}s -> {}",
+        "K={} K~={} min-angle={:.2}deg iterations={}{} {} {:.2}s -> {}",
         result.mesh.num_vertices(),
         result.mesh.num_triangles(),
         result.mesh.min_angle_deg(),
@@ -684,13 +688,14 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
     };
     let raw = inputs::region(&name, None)?;
     let (region, _) = inputs::with_corners(raw, a.corner_angle)?;
+    let counted = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
     outln!(
-        "region {}: area {:.6}, {} loops, {} pieces, {} corners",
+        "region {}: area {:.6}, {}, {}, {}",
         region.name(),
         region.area(),
-        region.loops().len(),
-        region.pieces().len(),
-        region.corners().len()
+        counted(region.loops().len(), "loop"),
+        counted(region.pieces().len(), "piece"),
+        counted(region.corners().len(), "corner")
     );
     for (i, l) in region.loops().iter().enumerate() {
         let role = if l.role == cvtmesh::geometry::LoopRole::Outer {

@@ -263,16 +263,17 @@ pub struct PolishReport {
 impl std::fmt::Display for PolishReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let p = &self.polished;
+        let vertices = if p.moved == 1 { "vertex" } else { "vertices" };
         if self.kept {
             write!(
                 f,
-                "polish: {} vertices of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
+                "polish: {} {vertices} of triangles with an angle below {}° moved, smallest angle {:.2}° -> {:.2}°",
                 p.moved, self.below_deg, p.before_deg, p.after_deg
             )
         } else {
             write!(
                 f,
-                "polish undone: moving {} vertices made the mesh leave the region",
+                "polish undone: moving {} {vertices} made the mesh leave the region",
                 p.moved
             )
         }
@@ -299,7 +300,7 @@ impl std::fmt::Display for PolishReport {
 /// };
 /// let report = polish_within(&mut mesh, &square, 40.0);
 /// assert!(report.kept && report.checked && report.polished.moved == 1);
-/// assert!(report.to_string().starts_with("polish: 1 vertices"));
+/// assert!(report.to_string().starts_with("polish: 1 vertex of"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
