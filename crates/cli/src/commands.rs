@@ -560,10 +560,15 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let names = cvtmesh::metrics::Measures::NAMES;
     let values = m.values();
     let svalues = sampled.map(|s| s.values());
+    // K and K̃ are counts: whole numbers, not in the measures' scientific form.
+    let shown = |i: usize, v: f64| match i {
+        0 | 1 => format!("{v:>14}"),
+        _ => format!("{v:>14.6e}"),
+    };
     for (i, name) in names.iter().enumerate() {
         match svalues {
-            Some(s) => outln!("{name:>8}  {:>14.6e}  sampled {:>14.6e}", values[i], s[i]),
-            None => outln!("{name:>8}  {:>14.6e}", values[i]),
+            Some(s) => outln!("{name:>8}  {}  sampled {}", shown(i, values[i]), shown(i, s[i])),
+            None => outln!("{name:>8}  {}", shown(i, values[i])),
         }
     }
     if let Some(c) = conformity {
@@ -580,7 +585,10 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
             .iter()
             .zip(c.values())
         {
-            outln!("{name:>18}  {v:>14.6}");
+            match *name {
+                "edges" | "vertices" => outln!("{name:>18}  {v:>14}"),
+                _ => outln!("{name:>18}  {v:>14.6}"),
+            }
         }
     }
     Ok(())

@@ -257,8 +257,9 @@ impl PyRegion {
         })
     }
 
-    /// A polygon with polygonal holes: `outer` is (k, 2), each hole (m, 2); every vertex is a
-    /// corner (see `with_corner_angle`).
+    /// A polygon with polygonal holes: `outer` is (k, 2), each hole (m, 2). Every vertex is a
+    /// corner of this region; `cvtmesh.mesh` keeps those turning by more than its
+    /// `corner_angle` (30° by default), as `with_corner_angle` does.
     #[staticmethod]
     #[pyo3(signature = (outer, holes = Vec::new(), name = "region"))]
     fn from_loops(
