@@ -567,7 +567,11 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     };
     for (i, name) in names.iter().enumerate() {
         match svalues {
-            Some(s) => outln!("{name:>8}  {}  sampled {}", shown(i, values[i]), shown(i, s[i])),
+            Some(s) => outln!(
+                "{name:>8}  {}  sampled {}",
+                shown(i, values[i]),
+                shown(i, s[i])
+            ),
             None => outln!("{name:>8}  {}", shown(i, values[i])),
         }
     }

@@ -605,6 +605,12 @@ fn bad_input_is_refused_with_a_clear_message() {
         &picture_to,
         "no directory",
     );
+    // An unknown region format names the mesh formats too, which also give regions.
+    assert_refused(
+        &["mesh", s(&d.join("r.xyz")), "--points", "50", "-o", o],
+        &out,
+        ".msh",
+    );
     // How many vertices: any of the four ways is named when none is given.
     for way in ["--points", "--size", "--size-field", "--size-toward"] {
         assert_refused(&["mesh", "circle", "-o", o], &out, way);

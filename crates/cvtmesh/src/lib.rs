@@ -175,7 +175,23 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
         return region_of_mesh(&mesh, &walls, path);
     }
     if path.exists() || spec.contains('.') || spec.contains('/') {
-        Region::from_file(path)
+        Region::from_file(path).map_err(|e| match e {
+            // Here a mesh file is a region too: say so beside the region formats.
+            GeometryError::Parse { path, message } if message.contains("unknown region file") => {
+                GeometryError::Parse {
+                    path,
+                    message: format!(
+                        "{message}, or a mesh ({}) for the region its triangles cover",
+                        io::READ_EXTENSIONS
+                            .iter()
+                            .map(|x| format!(".{x}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                }
+            }
+            e => e,
+        })
     } else {
         Region::builtin(spec)
     }
