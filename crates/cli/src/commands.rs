@@ -64,7 +64,7 @@ pub struct MeshArgs {
     /// A point inside the region that the mesh keeps as a vertex (a source, a probe), with an
     /// optional marker for the files (`X,Y:M`); repeat for several. A `.poly`'s vertices on no
     /// segment are such points too [default: none].
-    #[arg(long, value_name = "X,Y[:M]")]
+    #[arg(long, value_name = "X,Y[:M]", allow_hyphen_values = true)]
     embed: Vec<String>,
     /// Smallest edge length --size-field may ask for [default: none].
     #[arg(long, requires = "graded", allow_negative_numbers = true)]
@@ -199,9 +199,9 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
 
 /// `cvtmesh mesh`: mesh, report, write.
 pub fn mesh(a: MeshArgs) -> Result<()> {
-    let kind = inputs::output_kind(&a.output)?;
+    inputs::output_kind(&a.output)?;
     inputs::check_directory(&a.output)?;
-    if a.order == 2 && !matches!(kind, "triangle" | "msh" | "vtu") {
+    if a.order == 2 && !inputs::holds_six_nodes(&a.output) {
         bail!(
             "--order 2 writes six-node triangles, which '{}' cannot hold; use .msh, .vtu or .node",
             a.output.display()
@@ -296,15 +296,8 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         method.name(),
         result.mesh.num_vertices()
     );
-    if a.order == 2 {
-        let quadratic = cvtmesh::Quadratic::new(&result.mesh, Some(&region));
-        inputs::written(
-            cvtmesh::io::write_quadratic(&quadratic, &a.output),
-            &a.output,
-        )?;
-    } else {
-        inputs::write(&result.mesh, &region, &a.output, &title)?;
-    }
+    let quadratic = (a.order == 2).then(|| cvtmesh::Quadratic::new(&result.mesh, Some(&region)));
+    inputs::write_order(&result.mesh, quadratic.as_ref(), &region, &a.output, &title)?;
     for note in &result.notes {
         eprintln!("note: {note}");
     }
@@ -375,12 +368,10 @@ pub fn polish(a: PolishArgs) -> Result<()> {
             a.below
         );
     }
-    let cvtmesh::io::MeshFile {
-        mut mesh,
-        walls,
-        higher_order,
-    } = cvtmesh::io::read_mesh_file(&a.mesh)?;
-    let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
+    let file = cvtmesh::io::read_mesh_file(&a.mesh)?;
+    let mut mesh = file.mesh;
+    let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &file.walls))?;
+    let unpolished = mesh.points.clone();
     let start = Instant::now();
     let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
         Ok(report) => report,
@@ -393,27 +384,37 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         eprintln!("note: {report}");
     }
     let title = format!("{} polished K={}", region.name(), mesh.num_vertices());
-    // Six-node triangles in, six-node triangles out: their edge nodes are placed again for the
-    // moved corners, as `mesh --order 2` places them.
-    if higher_order && matches!(kind, "triangle" | "msh" | "vtu") {
+    // Higher-order triangles in, six-node triangles out: the file's edge nodes stay where
+    // neither end moved; the others are placed as `mesh --order 2` places them.
+    let n = file.triangle_nodes;
+    let picture = matches!(kind, "svg" | "png");
+    let quadratic = (n > 3 && inputs::holds_six_nodes(&a.output)).then(|| {
+        let still = |v: u32| mesh.points[v as usize] == unpolished[v as usize];
+        let kept: Vec<_> = file
+            .edge_nodes
+            .iter()
+            .filter(|([u, v], _)| still(*u) && still(*v))
+            .copied()
+            .collect();
+        let placed = file.edge_nodes.len() - kept.len();
+        let what = match n {
+            6 => "six-node triangles".to_string(),
+            _ => format!("{n}-node triangles written as six-node ones"),
+        };
         eprintln!(
-            "note: six-node triangles: the edge nodes placed again (midpoints, on the region's \
-             boundary for boundary edges)"
+            "note: {what}: {} edge nodes kept, {placed} placed again at the moved vertices' \
+             edges (midpoints; on the boundary of --region for boundary edges)",
+            kept.len()
         );
-        let quadratic = cvtmesh::Quadratic::new(&mesh, Some(&region));
-        inputs::written(
-            cvtmesh::io::write_quadratic(&quadratic, &a.output),
-            &a.output,
-        )?;
-    } else {
-        if higher_order {
-            eprintln!(
-                "note: six-node triangles written as three-node ones: '{}' holds no edge nodes",
-                a.output.display()
-            );
-        }
-        inputs::write(&mesh, &region, &a.output, &title)?;
+        cvtmesh::Quadratic::new(&mesh, Some(&region)).keeping(&kept)
+    });
+    if n > 3 && quadratic.is_none() && !picture {
+        eprintln!(
+            "note: {n}-node triangles written as three-node ones: '{}' holds no edge nodes",
+            a.output.display()
+        );
     }
+    inputs::write_order(&mesh, quadratic.as_ref(), &region, &a.output, &title)?;
     outln!(
         "K={} K~={} moved={} min-angle={:.2}deg -> {:.2}deg {:.2}s -> {}",
         mesh.num_vertices(),
@@ -452,7 +453,12 @@ pub struct MeasureArgs {
     #[arg(long)]
     sampled: Option<usize>,
     /// Coordinate scale for the sampled estimate (the paper's circle/annulus τ, d match 0.5).
-    #[arg(long, default_value_t = 1.0, requires = "sampled")]
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        requires = "sampled",
+        allow_negative_numbers = true
+    )]
     scale: f64,
     /// Also print how well the edges follow this size field h(x, y) (an expression or a mesh
     /// with a size at each vertex, as for `mesh`): the share of edges with length/h in
@@ -474,7 +480,7 @@ pub struct MeasureArgs {
     size_threshold: Option<String>,
     /// As for `mesh`: the corner angle that numbers the pieces --size-toward piece:J names
     /// [default: as `mesh` does].
-    #[arg(long, requires = "size_toward")]
+    #[arg(long, requires = "size_toward", allow_negative_numbers = true)]
     corner_angle: Option<f64>,
 }
 
@@ -490,7 +496,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         if !near {
             bail!(
                 "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
-                 of that region ({e}); give the region with --region",
+                 of that region ({e}); without --region the mesh's own is measured",
                 region.name()
             );
         }
@@ -561,18 +567,18 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let values = m.values();
     let svalues = sampled.map(|s| s.values());
     // K and K̃ are counts: whole numbers, not in the measures' scientific form.
-    let shown = |i: usize, v: f64| match i {
-        0 | 1 => format!("{v:>14}"),
+    let shown = |name: &str, v: f64| match name {
+        "K" | "Ktilde" => format!("{v:>14}"),
         _ => format!("{v:>14.6e}"),
     };
     for (i, name) in names.iter().enumerate() {
         match svalues {
             Some(s) => outln!(
                 "{name:>8}  {}  sampled {}",
-                shown(i, values[i]),
-                shown(i, s[i])
+                shown(name, values[i]),
+                shown(name, s[i])
             ),
-            None => outln!("{name:>8}  {}", shown(i, values[i])),
+            None => outln!("{name:>8}  {}", shown(name, values[i])),
         }
     }
     if let Some(c) = conformity {
@@ -689,7 +695,7 @@ pub struct RegionsArgs {
     region: Option<String>,
     /// As for `mesh`: keep only corners turning more than this (degrees); pieces between
     /// corners are merged, so the numbering follows it [default: as `mesh` does].
-    #[arg(long, requires = "region")]
+    #[arg(long, requires = "region", allow_negative_numbers = true)]
     corner_angle: Option<f64>,
 }
 

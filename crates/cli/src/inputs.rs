@@ -137,12 +137,15 @@ pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
             .map_err(|e| anyhow!("--size-field {text}: {e}"));
     }
     SizeField::from_expr(text).map_err(|e| {
-        // `sizes.txt` or `h.csv` fails as an expression at its dot: say what was meant.
+        // `sizes.txt` or `run3/h.h5` fails as an expression at its dot: say what was meant.
         let file_like = Path::new(text)
             .extension()
             .and_then(|x| x.to_str())
-            .is_some_and(|x| !x.is_empty() && x.chars().all(|c| c.is_ascii_alphabetic()))
-            && !text.contains(|c: char| c.is_whitespace() || "+*/^()".contains(c));
+            .is_some_and(|x| {
+                x.starts_with(|c: char| c.is_ascii_alphabetic())
+                    && x.chars().all(|c| c.is_ascii_alphanumeric())
+            })
+            && !text.contains(|c: char| c.is_whitespace() || "+*^()".contains(c));
         if file_like {
             let what = if Path::new(text).exists() {
                 "a file of another format"
@@ -286,6 +289,28 @@ pub fn check_not_input(output: &Path, inputs: &[&Path]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether the format `path` names holds six-node triangles ([`cvtmesh::io::write_quadratic`]).
+pub fn holds_six_nodes(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        cvtmesh::io::QUADRATIC_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str())
+    })
+}
+
+/// Write `mesh`, with the six-node triangles of `quadratic` where given (the same mesh's), in
+/// the format the extension names.
+pub fn write_order(
+    mesh: &Mesh,
+    quadratic: Option<&cvtmesh::Quadratic>,
+    region: &Region,
+    path: &Path,
+    title: &str,
+) -> Result<()> {
+    match quadratic {
+        Some(q) => written(cvtmesh::io::write_quadratic(q, path), path),
+        None => write(mesh, region, path, title),
+    }
 }
 
 /// Write a mesh in the format its extension names (temp file + rename in every writer).

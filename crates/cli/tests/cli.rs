@@ -1086,6 +1086,7 @@ fn bad_size_fields_are_refused_before_any_work() {
         (s(&region_as_sizes), "vertex markers, not sizes"),
         // A file name in a format that holds no sizes is not taken for an expression.
         ("sizes.txt", "no such file"),
+        ("run3/h.h5", "no such file"),
         ("x.y", "no such file"),
     ] {
         assert_refused(
@@ -1787,6 +1788,30 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
     );
     assert_eq!(quadratic.len(), 2 * linear.len());
     for r in quadratic {
+        assert!(
+            (r - 1.0).abs() < 1e-12 || (r - 0.4).abs() < 1e-12,
+            "radius {r}"
+        );
+    }
+    // Polished without the region (the file's own, whose boundary is the corners' polygon),
+    // the file's edge nodes stay on the circles where their edges did not move: here none.
+    let same = dir.join("same.node");
+    let o = cvtmesh(&[
+        "polish",
+        s(&dir.join("c.node")),
+        "--below",
+        "1",
+        "-o",
+        s(&same),
+    ]);
+    assert!(
+        o.status.success() && text(&o).contains("kept"),
+        "{}",
+        text(&o)
+    );
+    let kept = boundary_radii(&same);
+    assert_eq!(kept.len(), 2 * linear.len());
+    for r in kept {
         assert!(
             (r - 1.0).abs() < 1e-12 || (r - 0.4).abs() < 1e-12,
             "radius {r}"

@@ -177,19 +177,20 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
     if path.exists() || spec.contains('.') || spec.contains('/') {
         Region::from_file(path).map_err(|e| match e {
             // Here a mesh file is a region too: say so beside the region formats.
-            GeometryError::Parse { path, message } if message.contains("unknown region file") => {
-                GeometryError::Parse {
-                    path,
-                    message: format!(
-                        "{message}, or a mesh ({}) for the region its triangles cover",
-                        io::READ_EXTENSIONS
-                            .iter()
-                            .map(|x| format!(".{x}"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                }
-            }
+            GeometryError::UnknownFormat { ref path, .. } => GeometryError::Parse {
+                path: path.clone(),
+                message: format!(
+                    "{}, or a mesh ({}) for the region its triangles cover",
+                    e.to_string()
+                        .strip_prefix(&format!("region file {path}: "))
+                        .unwrap_or_default(),
+                    io::READ_EXTENSIONS
+                        .iter()
+                        .map(|x| format!(".{x}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            },
             e => e,
         })
     } else {

@@ -31,4 +31,16 @@ pub enum GeometryError {
     /// No built-in region has this name.
     #[error("unknown region '{0}'; built-in regions are: {1}")]
     UnknownBuiltin(String, String),
+    /// The file's extension names no region format (and its text is no JSON object).
+    #[error(
+        "region file {path}: unknown region file extension {}; supported: .json (project schema \
+         or GeoJSON), .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
+        extension.as_deref().map_or("(none)".to_string(), |e| format!("'.{e}'"))
+    )]
+    UnknownFormat {
+        /// The file.
+        path: String,
+        /// Its extension, lower case, if it has one.
+        extension: Option<String>,
+    },
 }

@@ -118,13 +118,9 @@ impl Region {
                 Ok(text) if serde_json::from_str::<Value>(&text).is_ok_and(|v| v.is_object()) => {
                     json_region(&text, path)
                 }
-                _ => Err(GeometryError::Parse {
+                _ => Err(GeometryError::UnknownFormat {
                     path: label(path),
-                    message: format!(
-                        "unknown region file extension {}; supported: .json (project schema or \
-                         GeoJSON), .geojson, .poly (Triangle), .txt/.xy/.dat (plain loops)",
-                        ext.map_or("(none)".to_string(), |e| format!("'.{e}'"))
-                    ),
+                    extension: ext,
                 }),
             },
         }

@@ -397,17 +397,21 @@ pub fn read_mesh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
 
 /// A mesh file as [`read_mesh_file`] reads it.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct MeshFile {
     /// The mesh of the triangles' corners.
     pub mesh: Mesh,
     /// The walls the file numbers ([`read_mesh_with_walls`]).
     pub walls: Walls,
-    /// The file's triangles had nodes beyond their corners (six-node, quadratic triangles),
-    /// which the mesh leaves out: a program that writes the mesh back writes them again.
-    pub higher_order: bool,
+    /// Nodes per triangle in the file: 3, or 6 for quadratic triangles (Gmsh's higher orders
+    /// more), whose other nodes the mesh leaves out.
+    pub triangle_nodes: usize,
+    /// A six-node file's edge nodes, by the edge's ends as `mesh` numbers them (sorted, the
+    /// lower first), so that writing the mesh back can keep them ([`crate::Quadratic::keeping`]).
+    pub edge_nodes: Vec<([u32; 2], DVec2)>,
 }
 
-/// [`read_mesh_with_walls`], and whether the file's triangles were of higher order.
+/// [`read_mesh_with_walls`], with the file's triangles' order and edge nodes.
 ///
 /// ```
 /// use cvtmesh_mesh::io;
@@ -417,8 +421,10 @@ pub struct MeshFile {
 /// std::fs::write(dir.join("t.node"), "6 2 0 0\n1 0 0\n2 1 0\n3 0 1\n4 0.5 0.5\n5 0 0.5\n6 0.5 0\n")?;
 /// std::fs::write(dir.join("t.ele"), "1 6 0\n1 1 2 3 4 5 6\n")?;
 /// let file = io::read_mesh_file(&dir.join("t.node"))?;
-/// assert!(file.higher_order);
+/// assert_eq!(file.triangle_nodes, 6);
 /// assert_eq!((file.mesh.num_vertices(), file.mesh.num_triangles()), (3, 1));
+/// // Node 4 is opposite corner 1, on the edge of corners 2 and 3.
+/// assert_eq!(file.edge_nodes[2], ([1, 2], geometry::DVec2::new(0.5, 0.5)));
 /// std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -429,7 +435,8 @@ pub fn read_mesh_file(path: &Path) -> Result<MeshFile, MeshError> {
         _ => Ok(MeshFile {
             mesh: read_mesh(path)?,
             walls: Walls::default(),
-            higher_order: false,
+            triangle_nodes: 3,
+            edge_nodes: Vec::new(),
         }),
     }
 }

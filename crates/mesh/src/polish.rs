@@ -428,11 +428,12 @@ const AROUND: usize = 24;
 /// admitted at an end must not then refuse every later move.
 const SLACK: f64 = 1.0 + 1e-12;
 
-/// What a move may not take beyond the mesh as the polish found it: no triangle larger, with a
-/// larger circumcircle or a worse radius ratio R/(2r) than the largest there was; no cell
-/// reaching further per shortest edge at its vertex than the farthest-reaching one (a cell's
-/// reach: the largest circumradius of its vertex's triangles); and no wider spread, largest
-/// over smallest, of the cells' areas, of their reaches or of the vertices' shortest edges. So
+/// What a move may not take beyond the mesh as the polish found it: no triangle with a worse
+/// radius ratio R/(2r) than the worst there was, and no cell reaching further per shortest
+/// edge at its vertex than the farthest-reaching one (a cell's reach: the largest circumradius
+/// of its vertex's triangles); with `sized`, also no triangle larger or with a larger
+/// circumcircle than the largest there was, and no wider spread, largest over smallest, of the
+/// cells' areas, of their reaches or of the vertices' shortest edges. So
 /// the polish raises the smallest angle without raising the measures of the largest triangle
 /// (α), the worst radius ratio (q), the cells' sizes and shapes (h, μ, ν, χ) and the
 /// nearest-neighbour distances (γ): exactly for the triangles and the interior cells of a

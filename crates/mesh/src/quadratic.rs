@@ -161,6 +161,30 @@ impl Quadratic {
         }
     }
 
+    /// The same mesh with the edge nodes `nodes` (each by its edge's ends) where they were
+    /// given: what a six-node file had ([`crate::io::MeshFile::edge_nodes`]) for the edges a
+    /// change left alone, so that writing it back keeps the file's curved edges. Edges the
+    /// mesh does not have are passed over.
+    ///
+    /// ```
+    /// use cvtmesh_mesh::{io::markers_from_topology, Mesh, Quadratic};
+    /// use geometry::DVec2;
+    /// let points = vec![DVec2::ZERO, DVec2::X, DVec2::Y];
+    /// let mesh = Mesh { markers: markers_from_topology(&points, &[[0, 1, 2]]), points, triangles: vec![[0, 1, 2]] };
+    /// let bowed = DVec2::new(0.6, 0.6);
+    /// let q = Quadratic::new(&mesh, None).keeping(&[([1, 2], bowed), ([0, 5], DVec2::ONE)]);
+    /// assert_eq!(q.points[q.edge_node(2, 1).unwrap() as usize], bowed);
+    /// assert_eq!(q.points[q.edge_node(0, 1).unwrap() as usize], DVec2::new(0.5, 0.0));
+    /// ```
+    pub fn keeping(mut self, nodes: &[([u32; 2], DVec2)]) -> Quadratic {
+        for &([a, b], p) in nodes {
+            if let Some(n) = self.edge_node(a, b) {
+                self.points[n as usize] = p;
+            }
+        }
+        self
+    }
+
     /// The node on the edge between vertices `a` and `b`, if they share an edge.
     pub fn edge_node(&self, a: u32, b: u32) -> Option<u32> {
         self.edges

@@ -444,7 +444,8 @@ pub(crate) fn read_gmsh_file(path: &Path) -> Result<MeshFile, MeshError> {
     Ok(MeshFile {
         mesh: parsed.mesh,
         walls: parsed.walls,
-        higher_order: parsed.higher_order,
+        triangle_nodes: parsed.triangle_nodes,
+        edge_nodes: parsed.edge_nodes,
     })
 }
 
@@ -508,6 +509,10 @@ struct Raw {
     names: HashMap<(i64, i64), String>,
     /// The first `$NodeData` view, when asked for: (node tag, value).
     node_data: Option<Vec<(u64, f64)>>,
+    /// Six-node triangles' edge nodes: the edge's corner tags and the node's tag.
+    edge_nodes: Vec<([u64; 2], u64)>,
+    /// The most nodes a triangle element had (3, 6, 10, ...).
+    triangle_nodes: usize,
     /// Whether a triangle element had more nodes than its corners (six-node or higher).
     higher_order: bool,
 }
@@ -519,7 +524,8 @@ struct Parsed {
     mesh: Mesh,
     sizes: Option<Vec<f64>>,
     walls: Walls,
-    higher_order: bool,
+    triangle_nodes: usize,
+    edge_nodes: Vec<([u32; 2], DVec2)>,
 }
 
 fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
@@ -816,11 +822,20 @@ fn add_element(
         ));
     }
     let mut nodes = [0u64; 3];
+    let mut on_edges = [0u64; 3];
     for k in 0..nn {
         let v = t.usize("a node tag")? as u64;
-        // Higher-order elements list their corner nodes first.
+        // Higher-order elements list their corner nodes first; a six-node triangle then the
+        // nodes of its edges (0, 1), (1, 2), (2, 0).
         if let Some(slot) = nodes.get_mut(k) {
             *slot = v;
+        } else if let Some(slot) = on_edges.get_mut(k - 3) {
+            *slot = v;
+        }
+    }
+    if kind == Kind::Triangle && nn == 6 {
+        for (k, &node) in on_edges.iter().enumerate() {
+            raw.edge_nodes.push(([nodes[k], nodes[(k + 1) % 3]], node));
         }
     }
     match kind {
@@ -836,6 +851,7 @@ fn add_element(
         Kind::Triangle => {
             raw.triangles.push(nodes);
             raw.higher_order |= nn > 3;
+            raw.triangle_nodes = raw.triangle_nodes.max(nn);
         }
         Kind::Point => {
             if let Some((m, name)) = &groups.wall {
@@ -904,6 +920,23 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     if raw.triangles.is_empty() && !raw.nodes.is_empty() {
         return Err(file_err(path, "the file has no triangle elements"));
     }
+    // Where the edge nodes were, before they go with the other nodes that are no corners.
+    let edge_places: Vec<([u64; 2], DVec2)> = if raw.edge_nodes.is_empty() {
+        Vec::new()
+    } else {
+        let place: HashMap<u64, DVec2> = raw.nodes.iter().copied().collect();
+        let mut found = Vec::with_capacity(raw.edge_nodes.len());
+        for &(ends, node) in &raw.edge_nodes {
+            let p = place.get(&node).copied().ok_or_else(|| {
+                file_err(
+                    path,
+                    format!("an element refers to node {node}, which is not in $Nodes"),
+                )
+            })?;
+            found.push((ends, p));
+        }
+        found
+    };
     if raw.higher_order {
         // The mesh is the corners' triangles: the nodes on edges and inside go, with their
         // values, so a six-node mesh reads as the three-node mesh of its corners.
@@ -1025,11 +1058,19 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         points,
         names: std::mem::take(&mut raw.wall_names),
     };
+    let mut edge_nodes = Vec::with_capacity(edge_places.len());
+    for (ends, p) in edge_places {
+        let (a, b) = (lookup(ends[0])?, lookup(ends[1])?);
+        edge_nodes.push(([a.min(b), a.max(b)], p));
+    }
+    edge_nodes.sort_unstable_by_key(|e| e.0);
+    edge_nodes.dedup_by_key(|e| e.0);
     Ok(Parsed {
         mesh,
         sizes,
         walls,
-        higher_order: raw.higher_order,
+        triangle_nodes: raw.triangle_nodes,
+        edge_nodes,
     })
 }
 

@@ -285,8 +285,8 @@ pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError
     Ok(MeshFile {
         mesh,
         walls,
-        // The `.node`'s own points are kept apart only when the edge nodes were dropped.
-        higher_order: given.points.is_some(),
+        triangle_nodes: if given.points.is_some() { 6 } else { 3 },
+        edge_nodes: given.edge_nodes,
     })
 }
 
@@ -318,6 +318,8 @@ struct GivenVertices {
     base: usize,
     /// The `.node`'s boundary markers (empty without a marker column).
     markers: Vec<i64>,
+    /// A six-node mesh's edge nodes, by the edge's ends as the mesh numbers them.
+    edge_nodes: Vec<([u32; 2], DVec2)>,
 }
 
 /// The walls the `.poly` text `poly` numbers on `mesh`, whose `.node` listed `given`.
@@ -425,14 +427,30 @@ fn parse_mesh(
     ele_path: &Path,
 ) -> Result<(Mesh, GivenVertices), MeshError> {
     let (points, base, exact, _, column) = parse_node(node, node_path)?;
-    let (mut triangles, second) = parse_ele(ele, ele_path, points.len(), base)?;
-    let given = GivenVertices {
+    let (mut triangles, opposite) = parse_ele(ele, ele_path, points.len(), base)?;
+    let second = opposite.is_some();
+    let mut given = GivenVertices {
         points: second.then(|| points.clone()),
         base,
         markers: column,
+        edge_nodes: Vec::new(),
     };
-    let (points, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
-    let mesh = read_mesh_parts(points, triangles, (!exact.is_empty()).then_some(exact));
+    let (corners, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
+    // Each edge's node, by the edge's ends as the mesh numbers them: the node opposite a
+    // corner lies on the edge of the other two.
+    if let (Some(opposite), Some(all)) = (opposite, &given.points) {
+        for (t, far) in triangles.iter().zip(opposite) {
+            for k in 0..3 {
+                let (a, b) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+                given
+                    .edge_nodes
+                    .push(([a.min(b), a.max(b)], all[far[k] as usize]));
+            }
+        }
+        given.edge_nodes.sort_unstable_by_key(|e| e.0);
+        given.edge_nodes.dedup_by_key(|e| e.0);
+    }
+    let mesh = read_mesh_parts(corners, triangles, (!exact.is_empty()).then_some(exact));
     Ok((mesh, given))
 }
 
@@ -535,8 +553,8 @@ fn sizes_from(
             ),
         ));
     }
-    let (mut triangles, second) = parse_ele(ele_text, ele_path, points.len(), base)?;
-    let (points, sizes) = corners_of(second, points, &mut triangles, sizes);
+    let (mut triangles, opposite) = parse_ele(ele_text, ele_path, points.len(), base)?;
+    let (points, sizes) = corners_of(opposite.is_some(), points, &mut triangles, sizes);
     Ok((read_mesh_parts(points, triangles, None), sizes))
 }
 
@@ -662,13 +680,17 @@ fn decode_marker([kind, id, param]: [f64; 3], marker: i64) -> Option<VertexMarke
     }
 }
 
-/// The triangles of an `.ele` file by their corners, and whether they had six nodes.
+/// Triangles by three vertices each.
+type Triples = Vec<[u32; 3]>;
+
+/// The triangles of an `.ele` file by their corners, and for six-node triangles the node
+/// opposite each corner (Triangle's `-o2` order).
 fn parse_ele(
     text: &str,
     path: &Path,
     nvert: usize,
     base: usize,
-) -> Result<(Vec<[u32; 3]>, bool), MeshError> {
+) -> Result<(Triples, Option<Triples>), MeshError> {
     let mut t = Tokens::new(text, Some('#'), path);
     let ntri = t.usize("the number of triangles")?;
     let per = t.usize("the number of nodes per triangle")?;
@@ -679,10 +701,12 @@ fn parse_ele(
     }
     let nattr = t.usize("the number of attributes")?;
     let mut triangles = Vec::with_capacity(ntri.min(1 << 20));
+    let mut opposite = Vec::with_capacity(if per == 6 { ntri.min(1 << 20) } else { 0 });
     for _ in 0..ntri {
         let line = t.line_no();
         t.usize("a triangle number")?;
         let mut tri = [0u32; 3];
+        let mut far = [0u32; 3];
         for k in 0..per {
             let v = t.usize("a vertex number")?;
             if v < base || v - base >= nvert {
@@ -691,16 +715,20 @@ fn parse_ele(
                     format!("vertex {v} is out of range (the .node file has {nvert} vertices from {base})"),
                 ));
             }
-            if let Some(slot) = tri.get_mut(k) {
-                *slot = (v - base) as u32;
+            match k {
+                0..3 => tri[k] = (v - base) as u32,
+                _ => far[k - 3] = (v - base) as u32,
             }
         }
         for _ in 0..nattr {
             t.f64("a triangle attribute")?;
         }
         triangles.push(tri);
+        if per == 6 {
+            opposite.push(far);
+        }
     }
-    Ok((triangles, per == 6))
+    Ok((triangles, (per == 6).then_some(opposite)))
 }
 
 /// A six-node mesh's corners: the vertices its triangles' corners use (the nodes on edges are
