@@ -27,13 +27,14 @@ pub enum StudyError {
     /// Any other bad option value.
     #[error("{0}")]
     BadOption(String),
-    /// Reading or writing a file failed.
-    #[error("{path}: {source}")]
+    /// Reading or writing a file failed. The OS error is part of the message and not also a
+    /// source, so that printing the error with its chain says it once.
+    #[error("{path}: {cause}")]
     Io {
         /// The file.
         path: PathBuf,
         /// The underlying error.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A CSV file is malformed.
     #[error("{path}: {message}")]
@@ -68,7 +69,7 @@ impl StudyError {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> StudyError {
         StudyError::Io {
             path: path.into(),
-            source,
+            cause: source,
         }
     }
 }

@@ -132,6 +132,26 @@ pub struct Outcome {
     pub notes: Vec<String>,
 }
 
+/// `path` (a file or directory every study output has) is missing: no study wrote there.
+fn not_a_study(path: &Path, missing: &str) -> StudyError {
+    StudyError::io(
+        path,
+        std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!("no {missing} here; is this a study output directory?"),
+        ),
+    )
+}
+
+/// Refuse a directory without `csv/metrics.csv`: no study wrote there (a mistyped path).
+fn require_metrics(dir: &Path) -> Result<(), StudyError> {
+    let m = output::metrics_csv(dir);
+    match m.exists() {
+        true => Ok(()),
+        false => Err(not_a_study(&m, "metrics.csv")),
+    }
+}
+
 /// Read `DIR/csv/metrics.csv` and `DIR/csv/failures.csv` (either may be absent: empty).
 pub fn read_dir_csv(dir: &Path) -> Result<(Vec<Row>, Vec<Failure>), StudyError> {
     let m = output::metrics_csv(dir);
@@ -370,16 +390,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
     let mut failures = Vec::new();
     let mut result = Outcome::default();
     for d in dirs {
-        let m = output::metrics_csv(d);
-        if !m.exists() {
-            return Err(StudyError::io(
-                &m,
-                std::io::Error::new(
-                    std::io::ErrorKind::NotFound,
-                    "no metrics.csv here; is this a study output directory?",
-                ),
-            ));
-        }
+        require_metrics(d)?;
         let (rows, f) = read_dir_csv(d)?;
         // Copy this shard's meshes (those of its rows) unless merging in place.
         if d.as_path() != out {
@@ -464,6 +475,12 @@ pub fn load_meshes(
 /// Write `dir/tables/table_NN.md`, `dir/summary.md`, `dir/graded.md` and `dir/figures/*`
 /// from `dir/csv/*.csv` and `dir/meshes/*`.
 pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
+    // Every study writes `csv/` (a graded-only one no metrics.csv): without it, no study
+    // wrote here (a mistyped path), and an empty report would hide that.
+    let csv = dir.join("csv");
+    if !csv.is_dir() {
+        return Err(not_a_study(&csv, "csv/"));
+    }
     let (rows, failures) = read_dir_csv(dir)?;
     let paper = PaperTables::embedded()?;
     let agg = stats::Aggregate::from_rows(&rows);

@@ -43,5 +43,15 @@ fn unknown_names_and_bad_options_fail_clearly() {
     ]);
     assert_ne!(code, 0);
     assert!(err.contains("metrics.csv"), "{err}");
+    // Said once, not once as the message and again as its cause.
+    assert_eq!(
+        err.matches("is this a study output directory").count(),
+        1,
+        "{err}"
+    );
+    // A report of a directory no study wrote is refused, not an empty summary.
+    let (code, err) = study(&["report", "--out", out]);
+    assert_ne!(code, 0);
+    assert!(err.contains("is this a study output directory"), "{err}");
     assert!(!dir.path().join("never").exists());
 }

@@ -75,7 +75,11 @@ pub use vtm::{Vtm, VtmBoundary};
 
 /// Mesh `region` with `n` vertices by the default method ([`Method::Ccvt`]: Algorithm 2 with
 /// Newton's method) and the default request ([`MeshRequest::points`]: seed 1, tolerance 1e-4
-/// of the mean spacing). This is what `cvtmesh mesh REGION --points N` runs.
+/// of the mean spacing). This is what `cvtmesh mesh REGION --points N` runs, except that for a
+/// region read from a polygon file, whose every turning vertex is a corner, the command first
+/// keeps those turning by more than 30° ([`Region::with_default_corners`]): do so too before
+/// meshing a digitized boundary here, or a coastline's thousand corners ask for more points
+/// than it needs.
 ///
 /// ```
 /// let region = cvtmesh::Region::builtin("circle")?;
@@ -146,7 +150,8 @@ pub fn region_of_mesh(
 /// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
 /// ([`Region::from_triangles`]), so a mesh can be meshed again, polished or measured with no
 /// region file; or, when no such file exists and the text looks like no path (no `.` or
-/// `/`), the name of a built-in region.
+/// `/`), the name of a built-in region. As read: a polygon file's every turning vertex is a
+/// corner ([`Region::with_default_corners`] keeps the command line's).
 ///
 /// ```
 /// let lake = cvtmesh::load_region("lake")?;

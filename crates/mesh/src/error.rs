@@ -244,6 +244,7 @@ impl MeshError {
                 | MeshError::TooMuchMemory { .. }
                 | MeshError::InvalidTolerance(_)
                 | MeshError::ZeroMaxIter
+                | MeshError::InvalidPolish(_)
                 | MeshError::InvalidEdgeLength(_)
                 | MeshError::InvalidDensity { .. }
                 | MeshError::ZeroDensity

@@ -271,14 +271,15 @@ impl MeshRequest {
     /// Refused, in this order: an edge length that is not a positive finite number
     /// ([`MeshError::InvalidEdgeLength`]); K below [`boundary_points_needed`], a vertex on every
     /// corner and at least three on every boundary loop ([`MeshError::TooFewPoints`]); K above
-    /// [`MAX_POINTS`] ([`MeshError::TooManyPoints`]); a tolerance that
+    /// [`MAX_POINTS`] ([`MeshError::TooManyPoints`]); K whose memory estimate exceeds the
+    /// machine's ([`MeshError::TooMuchMemory`], see [`memory_estimate`]); a tolerance that
     /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
-    /// ([`MeshError::ZeroMaxIter`]); a density that is negative or not finite
+    /// ([`MeshError::ZeroMaxIter`]); a polish threshold outside 0–60°
+    /// ([`MeshError::InvalidPolish`]); a density that is negative or not finite
     /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
     /// 201 × 201 grid over the region's bounding box that lies in the region; a region of
-    /// several parts ([`MeshError::SeveralParts`]: [`Mesher::mesh_parts`] meshes those). K is
-    /// also refused when its memory estimate exceeds the machine's
-    /// ([`MeshError::TooMuchMemory`], see [`memory_estimate`]). Every method calls this first.
+    /// several parts ([`MeshError::SeveralParts`]: [`Mesher::mesh_parts`] meshes those). Every
+    /// method calls this first.
     pub fn validate(&self, region: &Region) -> Result<usize, MeshError> {
         let k = self.validate_whole(region)?;
         if region.num_parts() > 1 {
@@ -647,9 +648,13 @@ pub struct MeshResult {
 pub trait Mesher: Sync {
     /// Short name used on the command line and in tables (`ccvt2`, `distmesh`, ...).
     fn name(&self) -> &'static str;
-    /// Mesh `region`, after [`MeshRequest::validate`] accepted `request`. `progress` is called
-    /// as iterations complete; for CCVT the iteration number restarts with each phase, and
-    /// evaluations a safeguard rejects count in [`MeshResult::iterations`] without a report.
+    /// Mesh `region`, after [`MeshRequest::validate`] accepted `request`: the method's own
+    /// mesh, of a region of one part, neither polished nor checked for conformity (what the
+    /// study compares). [`Mesher::mesh_parts`] is what the front ends run: it also meshes
+    /// regions of several parts, polishes ([`MeshRequest::polish`]) and checks the result.
+    /// `progress` is called as iterations complete; for CCVT the iteration number restarts
+    /// with each phase, and evaluations a safeguard rejects count in [`MeshResult::iterations`]
+    /// without a report.
     fn mesh(
         &self,
         region: &Region,
