@@ -119,7 +119,9 @@ impl MeshRequest {
     /// ρ = (h_min / h)⁴ (uniform for a constant field), and `points` vertices, or when `None`
     /// the count the field asks for, (2/√3) ∫_Ω h⁻² dx. The field is checked first: positive
     /// and finite on the region ([`MeshError::SizeField`]), and asking for no more than
-    /// [`MAX_POINTS`] vertices ([`MeshError::TooManyPoints`]).
+    /// [`MAX_POINTS`] vertices ([`MeshError::TooManyPoints`]). The field is used as given: the
+    /// command line and Python limit its gradient to 0.3 first unless told otherwise, which
+    /// here is [`SizeField::bounded`](geometry::SizeField::bounded)'s to do.
     ///
     /// ```
     /// use geometry::{Region, SizeField};
