@@ -826,25 +826,37 @@ impl SizeField {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn from_fn(region: &Region, f: impl Fn(DVec2) -> f64 + Sync) -> SizeField {
-        let sample = |n: usize| {
-            SizeField::from_inside_samples(region, n, |nodes| {
-                Ok::<_, std::convert::Infallible>(nodes.par_iter().map(|&p| f(p)).collect())
-            })
-            .expect("n is between 2 and the largest side, and one value is made per node")
-            .unwrap_or_else(|never| match never {})
+        SizeField::from_sampler(region, |nodes| {
+            Ok::<_, std::convert::Infallible>(nodes.par_iter().map(|&p| f(p)).collect())
+        })
+        .expect("the grids are between 2 and the largest side, one value per node")
+        .unwrap_or_else(|never| match never {})
+    }
+
+    /// [`SizeField::from_samples`] on a grid fine enough for the field: `sample` (all of a
+    /// grid's nodes inside `region` at once, as [`SizeField::from_samples`] takes it) is called
+    /// on a first 256 × 256 grid, and again on one of 4 nodes per the smallest size it gave
+    /// (up to 2048 per side) if that is finer. What [`SizeField::from_fn`] and Python's
+    /// callables run.
+    pub fn from_sampler<E>(
+        region: &Region,
+        mut sample: impl FnMut(&[DVec2]) -> Result<Vec<f64>, E>,
+    ) -> Result<Result<SizeField, E>, SizeFieldError> {
+        let coarse = match SizeField::from_inside_samples(region, 256, &mut sample)? {
+            Ok(field) => field,
+            Err(e) => return Ok(Err(e)),
         };
-        let coarse = sample(256);
         let smallest = match &coarse.kind {
             Kind::Grid(g) => g.values.iter().copied().fold(f64::INFINITY, f64::min),
             _ => f64::NAN,
         };
         // A field that is not positive and finite somewhere is the check's to refuse.
         if !(smallest > 0.0 && smallest.is_finite()) {
-            return coarse;
+            return Ok(Ok(coarse));
         }
         match grid_side(region, smallest, 2048) {
-            n if n <= 256 => coarse,
-            n => sample(n),
+            n if n <= 256 => Ok(Ok(coarse)),
+            n => SizeField::from_inside_samples(region, n, sample),
         }
     }
 

@@ -28,9 +28,6 @@ create_exception!(
     "A region, request or file that cvtmesh cannot use; the message names the problem."
 );
 
-/// Nodes per side of the background grid on which a size or density function is sampled.
-const FIELD_GRID: usize = 256;
-
 fn err(e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(e.to_string())
 }
@@ -941,7 +938,7 @@ fn scalar_field(
     }
     if spec.is_callable() {
         let np = py.import("numpy")?;
-        let sampled = SizeField::from_samples(region, FIELD_GRID, |nodes| -> PyResult<Vec<f64>> {
+        let sampled = SizeField::from_sampler(region, |nodes| -> PyResult<Vec<f64>> {
             let xy = xy_array(py, nodes)?;
             let out = spec.call1((xy,))?;
             let arr = np.call_method1("asarray", (out, "float64"))?;

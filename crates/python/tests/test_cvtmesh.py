@@ -101,7 +101,7 @@ def test_measures_are_those_of_the_paper_and_match_the_free_function():
     assert own["beta"] == pytest.approx(math.pi / 3 / np.min(angles) - 1, rel=1e-9)
 
 
-def test_size_field_grades_the_mesh_and_callable_is_called_once():
+def test_size_field_grades_the_mesh_and_callable_is_called_on_whole_grids():
     calls = []
 
     def h(xy):
@@ -109,7 +109,11 @@ def test_size_field_grades_the_mesh_and_callable_is_called_once():
         return 0.03 + 0.12 * np.hypot(xy[:, 0], xy[:, 1])
 
     m = cvtmesh.mesh("circle", size=h, tol=1e-3)
-    assert len(calls) == 1 and calls[0][1] == 2 and calls[0][0] >= 256 * 256
+    # The nodes inside the circle of a 256 x 256 grid, then of one with 4 nodes per its
+    # smallest h (about 0.03) across the circle's width of 2: never point by point.
+    assert [c[1] for c in calls] == [2, 2]
+    assert 0.75 * 256**2 < calls[0][0] < 0.8 * 256**2
+    assert calls[0][0] < calls[1][0] < 0.8 * 268**2
     # Edges near the centre are shorter than edges near the rim, roughly as h says.
     e, lengths = edge_lengths(m.points, m.triangles)
     mid = 0.5 * (m.points[e[:, 0]] + m.points[e[:, 1]])

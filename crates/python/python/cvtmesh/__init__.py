@@ -101,8 +101,9 @@ def mesh(
     size
         The target edge length h: a number, an expression in ``x`` and ``y``
         (``"0.01 + 0.1*sqrt(x^2+y^2)"``), a vectorized callable ``f(xy) -> h`` that
-        receives an ``(n, 2)`` array and returns ``n`` values (it is called once, on the nodes
-        of a 256×256 background grid), or sizes at the vertices of a mesh, linear on its
+        receives an ``(n, 2)`` array and returns ``n`` values (called on the nodes inside the
+        region of a 256×256 background grid, and once more on one of 4 nodes per its smallest
+        h where that is finer), or sizes at the vertices of a mesh, linear on its
         triangles (an adaptive solver's sizes on its last mesh): ``(points, triangles, h)``
         arrays, or a Triangle ``.node`` file whose first attribute is h (with its ``.ele``) or
         a Gmsh ``.msh`` file with a ``$NodeData`` view. Without ``n`` the vertex count is
