@@ -4,7 +4,7 @@
 //!
 //! Arrays cross the boundary whole: inputs are read from numpy buffers into owned vectors
 //! before the interpreter is released, outputs are moved into numpy without a copy, and a
-//! user's size or density function is called once on every node of a background grid.
+//! user's size or density function is called on whole background grids.
 #![forbid(unsafe_code)]
 
 use cvtmesh::geometry::{LoopRole, SizeField, SizeFieldError, Threshold, Toward};
@@ -27,6 +27,9 @@ create_exception!(
     PyValueError,
     "A region, request or file that cvtmesh cannot use; the message names the problem."
 );
+
+/// Nodes per side of the background grid on which a density function is sampled.
+const DENSITY_GRID: usize = 256;
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(e.to_string())
@@ -938,14 +941,20 @@ fn scalar_field(
     }
     if spec.is_callable() {
         let np = py.import("numpy")?;
-        let sampled = SizeField::from_sampler(region, |nodes| -> PyResult<Vec<f64>> {
+        let call = |nodes: &[DVec2]| -> PyResult<Vec<f64>> {
             let xy = xy_array(py, nodes)?;
             let out = spec.call1((xy,))?;
             let arr = np.call_method1("asarray", (out, "float64"))?;
             let arr = np.call_method1("ravel", (arr,))?;
             let values: PyReadonlyArray1<'_, f64> = arr.extract()?;
             Ok(values.as_array().to_vec())
-        })
+        };
+        // A size's smallest value sets how fine its grid must be; a density's values are no
+        // lengths, so it keeps one grid.
+        let sampled = match what {
+            "density" => SizeField::from_samples(region, DENSITY_GRID, call),
+            _ => SizeField::from_sampler(region, call),
+        }
         .map_err(|e: SizeFieldError| err(format!("{what}: {e}")))?;
         return sampled;
     }
