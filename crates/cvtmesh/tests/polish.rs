@@ -1,7 +1,9 @@
 //! The polish raises the smallest angle of a CCVT mesh without making its worst triangles or
 //! cells worse by any of the measures it bounds.
 use cvtmesh::geometry::{Threshold, Toward};
-use cvtmesh::{measures, polish_within, MeshRequest, Method, Region, SizeField};
+use cvtmesh::{
+    looks_graded, measures, polish_restored, polish_within, MeshRequest, Method, Region, SizeField,
+};
 
 #[test]
 fn the_polish_raises_the_smallest_angle_and_keeps_the_worst_triangles_and_cells() {
@@ -68,10 +70,32 @@ fn a_graded_mesh_is_polished_with_its_sizes_free_and_its_shapes_held() {
         "{}° -> {free}° (sizes free), {bounded}° (held)",
         unpolished.min_angle_deg()
     );
+    // From a file, which carries no size field, the mesh looks graded and is polished so.
+    assert!(looks_graded(&unpolished));
+    let mut from_file = unpolished.clone();
+    polish_restored(&mut from_file, &region, 40.0).unwrap();
+    let restored = measures(&from_file, &region).unwrap();
+    assert!(
+        from_file.min_angle_deg() >= 40.0,
+        "{}",
+        from_file.min_angle_deg()
+    );
     for (what, a, b) in [
         ("q (worst radius ratio)", after.q, before.q),
         ("χ (cell per nearest neighbour)", after.chi, before.chi),
+        ("q from the file", restored.q, before.q),
+        ("χ from the file", restored.chi, before.chi),
     ] {
         assert!(a <= b * (1.0 + 1e-9), "{what} {b} -> {a}");
+    }
+}
+
+#[test]
+fn uniform_meshes_of_every_method_do_not_look_graded() {
+    let region = Region::builtin("horn").unwrap();
+    for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+        let request = MeshRequest::points(3000).polish(0.0).tol(1e-3);
+        let mesh = method.run(&region, &request).unwrap().mesh;
+        assert!(!looks_graded(&mesh), "{method}");
     }
 }

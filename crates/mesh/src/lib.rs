@@ -25,7 +25,8 @@ pub use mesher::{
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use polish::{
-    polish, polish_restored, polish_within, PolishReport, Polished, POLISH_BELOW_DEG,
+    looks_graded, polish, polish_restored, polish_within, PolishReport, Polished, GRADED_SPREAD,
+    POLISH_BELOW_DEG,
 };
 pub use quadratic::Quadratic;
 pub use thin::{thin_feature, ThinFeature};
