@@ -371,7 +371,11 @@ pub fn polish(a: PolishArgs) -> Result<()> {
     let file = cvtmesh::io::read_mesh_file(&a.mesh)?;
     let mut mesh = file.mesh;
     let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &file.walls))?;
-    let unpolished = mesh.points.clone();
+    // Where the vertices were, to tell a higher-order file's edges the polish left alone.
+    let unpolished = match file.triangle_nodes {
+        3 => Vec::new(),
+        _ => mesh.points.clone(),
+    };
     let start = Instant::now();
     let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
         Ok(report) => report,
