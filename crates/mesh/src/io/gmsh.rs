@@ -437,7 +437,7 @@ pub fn read_gmsh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
     read_gmsh_file(path).map(|f| (f.mesh, f.walls))
 }
 
-/// [`read_gmsh_with_walls`], and whether the triangles had nodes beyond their corners.
+/// [`read_gmsh_with_walls`], with the triangles' node count and a six-node file's edge nodes.
 pub(crate) fn read_gmsh_file(path: &Path) -> Result<MeshFile, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     let parsed = parse(&String::from_utf8_lossy(&bytes), path, false)?;
@@ -511,10 +511,9 @@ struct Raw {
     node_data: Option<Vec<(u64, f64)>>,
     /// Six-node triangles' edge nodes: the edge's corner tags and the node's tag.
     edge_nodes: Vec<([u64; 2], u64)>,
-    /// The most nodes a triangle element had (3, 6, 10, ...).
+    /// The most nodes a triangle element had (3, 6, 10, ...): above 3, the nodes that are no
+    /// corners go.
     triangle_nodes: usize,
-    /// Whether a triangle element had more nodes than its corners (six-node or higher).
-    higher_order: bool,
 }
 
 /// What a Gmsh file holds for us: the mesh, with `sizes` the first `$NodeData` view's value
@@ -850,7 +849,6 @@ fn add_element(
         }
         Kind::Triangle => {
             raw.triangles.push(nodes);
-            raw.higher_order |= nn > 3;
             raw.triangle_nodes = raw.triangle_nodes.max(nn);
         }
         Kind::Point => {
@@ -937,7 +935,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         }
         found
     };
-    if raw.higher_order {
+    if raw.triangle_nodes > 3 {
         // The mesh is the corners' triangles: the nodes on edges and inside go, with their
         // values, so a six-node mesh reads as the three-node mesh of its corners.
         let mut corners: Vec<u64> = raw.triangles.iter().flatten().copied().collect();

@@ -271,7 +271,8 @@ pub fn read_triangle_with_walls(node_path: &Path) -> Result<(Mesh, Walls), MeshE
     read_triangle_file(node_path).map(|f| (f.mesh, f.walls))
 }
 
-/// [`read_triangle_with_walls`], and whether the triangles had six nodes.
+/// [`read_triangle_with_walls`], with the triangles' node count and a six-node file's edge
+/// nodes.
 pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError> {
     let node = read_text(node_path)?;
     let ele_path = node_path.with_extension("ele");
