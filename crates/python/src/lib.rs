@@ -842,11 +842,25 @@ impl PyMesh {
         )
     }
 
-    /// Read a mesh file (.node/.ele, .msh, .obj).
+    /// Read a mesh file (.node/.ele, .msh, .obj). Higher-order triangles come back as the
+    /// three-node mesh of their corners, with a warning.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
-        let mesh = py.detach(|| cvtmesh::io::read_mesh(&path)).map_err(err)?;
-        PyMesh::new(py, mesh, None, true, 0, Vec::new(), Vec::new())
+        let file = py
+            .detach(|| cvtmesh::io::read_mesh_file(&path))
+            .map_err(err)?;
+        if file.triangle_nodes > 3 {
+            let warnings = py.import("warnings")?;
+            let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+            let note = format!(
+                "{}: {}-node triangles read as the three-node mesh of their corners \
+                 (Mesh.quadratic gives six-node ones again)",
+                path.display(),
+                file.triangle_nodes
+            );
+            warnings.call_method1("warn", (note, category))?;
+        }
+        PyMesh::new(py, file.mesh, None, true, 0, Vec::new(), Vec::new())
     }
 
     fn __repr__(&self) -> String {

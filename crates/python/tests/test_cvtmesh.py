@@ -848,5 +848,9 @@ def test_quadratic_triangles_put_boundary_nodes_on_the_exact_boundary(tmp_path):
     assert set(mm.cell_sets) == set(m.to_meshio().cell_sets)
     with pytest.raises(MeshError, match="six-node"):
         m.write(tmp_path / "c.obj", order=2)
+    # Read back, the six-node file is the mesh of its corners, said in a warning.
+    with pytest.warns(UserWarning, match="6-node triangles"):
+        back = cvtmesh.Mesh.read(tmp_path / "c.msh")
+    assert np.array_equal(back.triangles.shape, m.triangles.shape)
     with pytest.raises(MeshError, match="order must be 1 or 2"):
         m.write(tmp_path / "c.msh", order=3)
