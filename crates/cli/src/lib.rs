@@ -53,6 +53,9 @@ enum Command {
     /// Raise the smallest angles of a mesh made by any tool: the vertices of its worst
     /// triangles move (boundary ones along the region's boundary, corners fixed), the triangles
     /// stay.
+    ///
+    /// No triangle or cell becomes worse in shape than the worst there was, nor, unless the
+    /// mesh is graded, larger or smaller than the extremes there were.
     #[command(
         after_help = "Examples:\n  cvtmesh polish gmsh_mesh.msh --region lake -o lake_polished.msh\n  cvtmesh polish out.node --region my_region.json --below 35 -o polished.vtu"
     )]
