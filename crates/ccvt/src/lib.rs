@@ -24,9 +24,9 @@
 //! where the time went.
 //!
 //! ```
-//! use cvtmesh_ccvt::Ccvt;
-//! use geometry::Region;
-//! use mesh::{MeshRequest, Mesher};
+//! use cvtmesh::ccvt::Ccvt;
+//! use cvtmesh::geometry::Region;
+//! use cvtmesh::{MeshRequest, Mesher};
 //!
 //! // The paper's Algorithm 2 with Lloyd iteration, watched through the progress reports.
 //! let region = Region::builtin("circle")?;

@@ -24,9 +24,9 @@ use tessellation::Delaunay;
 /// acceleration; they differ from the default only in `algorithm` and `solver`.
 ///
 /// ```
-/// use cvtmesh_ccvt::Ccvt;
-/// use geometry::Region;
-/// use mesh::{check_conforming, MeshRequest, Mesher, VertexMarker};
+/// use cvtmesh::ccvt::Ccvt;
+/// use cvtmesh::geometry::Region;
+/// use cvtmesh::{check_conforming, MeshRequest, Mesher, VertexMarker};
 ///
 /// let region = Region::builtin("square_hole")?; // a square with a square hole: 8 corners
 /// let result = Ccvt::default().mesh(&region, &MeshRequest::points(200), &mut |_| {})?;
@@ -35,7 +35,7 @@ use tessellation::Delaunay;
 /// check_conforming(&result.mesh, &region)?;
 /// // Every corner carries a vertex, exactly.
 /// for (i, corner) in region.corners().iter().enumerate() {
-///     let on_it = |(p, m): (&geometry::DVec2, &VertexMarker)| {
+///     let on_it = |(p, m): (&cvtmesh::geometry::DVec2, &VertexMarker)| {
 ///         *p == corner.pos && matches!(m, VertexMarker::Corner { corner, .. } if *corner == i)
 ///     };
 ///     assert!(result.mesh.points.iter().zip(&result.mesh.markers).any(on_it));
@@ -160,8 +160,8 @@ impl Ccvt {
     /// ([`MeshError::InvalidSetting`] otherwise). The meshing calls check them first.
     ///
     /// ```
-    /// use cvtmesh_ccvt::Ccvt;
-    /// use mesh::MeshError;
+    /// use cvtmesh::ccvt::Ccvt;
+    /// use cvtmesh::MeshError;
     ///
     /// assert!(Ccvt::default().validate().is_ok());
     /// let bad = Ccvt { polygon_tol: 0.0, ..Ccvt::default() };

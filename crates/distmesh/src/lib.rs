@@ -41,9 +41,9 @@ use spade::{DelaunayTriangulation, Point2, Triangulation};
 /// DistMesh with its constants (defaults: the 2004 paper's).
 ///
 /// ```
-/// use cvtmesh_distmesh::DistMesh;
-/// use geometry::Region;
-/// use mesh::{check_conforming, MeshRequest, Mesher};
+/// use cvtmesh::distmesh::DistMesh;
+/// use cvtmesh::geometry::Region;
+/// use cvtmesh::{check_conforming, MeshRequest, Mesher};
 ///
 /// let region = Region::builtin("hex_hole")?; // a hexagon with a hexagonal hole
 /// let result = DistMesh::default().mesh(&region, &MeshRequest::points(200), &mut |_| {})?;
@@ -92,8 +92,8 @@ impl GridOrigin {
     /// The shift as fractions of one grid period in x and y, in [0, 1)².
     ///
     /// ```
-    /// use cvtmesh_distmesh::GridOrigin;
-    /// use geometry::DVec2;
+    /// use cvtmesh::distmesh::GridOrigin;
+    /// use cvtmesh::geometry::DVec2;
     ///
     /// assert_eq!(GridOrigin::BoxCorner.shift(7), DVec2::ZERO);
     /// let s = GridOrigin::Seeded.shift(7);

@@ -20,7 +20,7 @@ impl SizeField {
     /// the mesh does not have, or no triangle at all.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField};
     /// let square = Region::builtin("square_hole")?; // [-1, 1]² minus a disc
     /// // Two triangles over [-1, 1]², h = 0.02 + 0.01 (x + 1): linear, so kept exactly.
     /// let points = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| DVec2::new(x, y));

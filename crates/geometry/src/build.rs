@@ -154,7 +154,7 @@ impl Region {
     /// region), or one a threshold was already applied to, comes back unchanged.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, LoopRole, Region, DEFAULT_CORNER_ANGLE};
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region, DEFAULT_CORNER_ANGLE};
     /// use std::f64::consts::TAU;
     /// // A square whose bottom side is digitized with 200 slightly wiggling points.
     /// let mut pts: Vec<DVec2> = (0..200)
@@ -168,7 +168,7 @@ impl Region {
     /// assert_eq!(r.corner_threshold(), Some(DEFAULT_CORNER_ANGLE));
     /// // Listed corners are kept: the lake has 101.
     /// assert_eq!(Region::builtin("lake")?.with_default_corners().corners().len(), 101);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn with_default_corners(&self) -> Region {
         if self.corners_computed && self.corner_threshold.is_none() {

@@ -32,7 +32,7 @@ impl Density {
     /// ρ at seven points (a quadrature rule's), the same values as [`Density::at`] at each.
     ///
     /// ```
-    /// use cvtmesh_geometry::{Density, DVec2};
+    /// use cvtmesh::geometry::{Density, DVec2};
     /// let rho = Density::Function(std::sync::Arc::new(|p: DVec2| 1.0 + p.x * p.x));
     /// let ps = [DVec2::new(2.0, 0.0); 7];
     /// assert_eq!(rho.at7(&ps), [5.0; 7]);

@@ -61,7 +61,7 @@ impl Region {
     /// region's name unless the JSON has a `name`.
     ///
     /// ```
-    /// use cvtmesh_geometry::Region;
+    /// use cvtmesh::geometry::Region;
     /// // A half disc of radius 1: an arc from 0° to 180° closed by a straight diameter.
     /// let json = r#"{"name": "half_disc", "loops": [{"segments": [
     ///     {"kind": "arc", "center": [0, 0], "radius": 1, "from_deg": 0, "to_deg": 180},
@@ -71,7 +71,7 @@ impl Region {
     /// assert_eq!(r.name(), "half_disc");
     /// assert!((r.area() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
     /// assert_eq!(r.corners().len(), 2); // where the arc meets the diameter
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn from_json_str(text: &str, label: &str) -> Result<Region, GeometryError> {
         parse(text, label, label)
@@ -95,7 +95,7 @@ impl Region {
     /// of its file), in table order; empty for any other name.
     ///
     /// ```
-    /// use cvtmesh_geometry::Region;
+    /// use cvtmesh::geometry::Region;
     /// assert_eq!(Region::paper_k("circle"), [19, 88, 362]);
     /// assert!(Region::paper_k("nowhere").is_empty());
     /// ```
@@ -120,7 +120,7 @@ impl Region {
     /// where it comes from); None for any other name.
     ///
     /// ```
-    /// use cvtmesh_geometry::Region;
+    /// use cvtmesh::geometry::Region;
     /// assert_eq!(Region::builtin_title("circle"), Some("Unit circle"));
     /// assert_eq!(Region::builtin_title("nowhere"), None);
     /// ```

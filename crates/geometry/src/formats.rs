@@ -49,7 +49,7 @@ impl Region {
     /// with nesting.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region};
     /// let square = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
     /// let hole: Vec<DVec2> = square.iter().map(|&p| 0.4 + 0.2 * p).collect();
     /// let r = Region::from_loops("frame", vec![(LoopRole::Outer, square), (LoopRole::Hole, hole)])?;
@@ -59,7 +59,7 @@ impl Region {
     /// // A bow tie is refused, with the crossing named.
     /// let bow = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)];
     /// assert!(Region::from_loops("bow", vec![(LoopRole::Outer, bow)]).is_err());
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn from_loops(
         name: &str,
@@ -84,7 +84,7 @@ impl Region {
     /// pieces; the other formats give straight edges, every turning vertex a corner.
     ///
     /// ```
-    /// use cvtmesh_geometry::Region;
+    /// use cvtmesh::geometry::Region;
     /// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-from-file-{}", std::process::id()));
     /// std::fs::create_dir_all(&dir)?;
     /// // A Triangle .poly: a 4 × 2 rectangle (four vertices, four segments, no holes).
@@ -99,8 +99,8 @@ impl Region {
     /// std::fs::write(&loops, "0 0\n4 0\n4 2\n0 2\n\n1 0.5\n2 0.5\n2 1.5\n1 1.5\n")?;
     /// let r = Region::from_file(&loops)?;
     /// assert_eq!((r.loops().len(), r.area()), (2, 7.0));
-    /// assert!(r.contains(cvtmesh_geometry::DVec2::new(3.0, 1.0)));
-    /// assert!(!r.contains(cvtmesh_geometry::DVec2::new(1.5, 1.0)));
+    /// assert!(r.contains(cvtmesh::geometry::DVec2::new(3.0, 1.0)));
+    /// assert!(!r.contains(cvtmesh::geometry::DVec2::new(1.5, 1.0)));
     /// std::fs::remove_dir_all(&dir)?;
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```

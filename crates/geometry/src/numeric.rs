@@ -19,9 +19,9 @@ pub(crate) fn gamma(x: f64) -> f64 {
 /// incomplete gamma and beta functions of the study's tests.
 ///
 /// ```
-/// let ln24 = cvtmesh_geometry::ln_gamma(5.0); // Γ(5) = 4! = 24
+/// let ln24 = cvtmesh::geometry::ln_gamma(5.0); // Γ(5) = 4! = 24
 /// assert!((ln24 - 24f64.ln()).abs() < 1e-13);
-/// assert!(cvtmesh_geometry::ln_gamma(200.0).is_finite()); // Γ(200) overflows f64
+/// assert!(cvtmesh::geometry::ln_gamma(200.0).is_finite()); // Γ(200) overflows f64
 /// ```
 pub fn ln_gamma(x: f64) -> f64 {
     use std::f64::consts::PI;

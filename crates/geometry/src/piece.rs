@@ -83,7 +83,7 @@ impl Piece {
     /// What the piece is, in a word: `line`, `arc`, `circle`, `super-ellipse` or `chain`.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Piece};
+    /// use cvtmesh::geometry::{DVec2, Piece};
     /// assert_eq!(Piece::Line { a: DVec2::ZERO, b: DVec2::X }.kind(), "line");
     /// ```
     pub fn kind(&self) -> &'static str {

@@ -14,7 +14,7 @@ use glam::DVec2;
 /// negative when it lies right, zero when the three points are collinear.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::orient, DVec2};
+/// use cvtmesh::geometry::{predicates::orient, DVec2};
 /// let (a, b) = (DVec2::ZERO, DVec2::new(2.0, 0.0));
 /// assert_eq!(orient(a, b, DVec2::new(1.0, 3.0)), 6.0);
 /// assert_eq!(orient(a, b, DVec2::new(1.0, -3.0)), -6.0);
@@ -29,7 +29,7 @@ pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// counter-clockwise (see [`orient`]).
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::triangle_signed_area, DVec2};
+/// use cvtmesh::geometry::{predicates::triangle_signed_area, DVec2};
 /// let (a, b, c) = (DVec2::ZERO, DVec2::X, DVec2::Y);
 /// assert_eq!(triangle_signed_area(a, b, c), 0.5);
 /// assert_eq!(triangle_signed_area(a, c, b), -0.5);
@@ -52,7 +52,7 @@ pub fn triangle_signed_area(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// same triangle whatever its orientation must pass the vertices in a canonical order.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::circumcenter, DVec2};
+/// use cvtmesh::geometry::{predicates::circumcenter, DVec2};
 /// // The right triangle's circumcenter is the midpoint of its hypotenuse.
 /// let c = circumcenter(DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(0.0, 2.0));
 /// assert_eq!(c, DVec2::new(2.0, 1.0));
@@ -72,7 +72,7 @@ pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
 /// 0 for fewer than three points.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::ring_signed_area, DVec2};
+/// use cvtmesh::geometry::{predicates::ring_signed_area, DVec2};
 /// let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
 /// assert_eq!(ring_signed_area(&square), 1.0);
 /// let mut clockwise = square;
@@ -97,7 +97,7 @@ pub fn ring_signed_area(points: &[DVec2]) -> f64 {
 /// When the projection is clamped, t is exactly 0 or 1 and the point is exactly `a` or `b`.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::closest_on_segment, DVec2};
+/// use cvtmesh::geometry::{predicates::closest_on_segment, DVec2};
 /// let (a, b) = (DVec2::ZERO, DVec2::new(4.0, 0.0));
 /// assert_eq!(closest_on_segment(a, b, DVec2::new(1.0, 2.0)), (DVec2::X, 0.25, 4.0));
 /// assert_eq!(closest_on_segment(a, b, DVec2::new(7.0, 4.0)), (b, 1.0, 25.0));
@@ -125,7 +125,7 @@ pub fn closest_on_segment(a: DVec2, b: DVec2, p: DVec2) -> (DVec2, f64, f64) {
 /// recorded with this formula.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::segment_distance, DVec2};
+/// use cvtmesh::geometry::{predicates::segment_distance, DVec2};
 /// let (a, b) = (DVec2::ZERO, DVec2::new(4.0, 0.0));
 /// assert_eq!(segment_distance(DVec2::new(1.0, 2.0), a, b), 2.0);
 /// assert_eq!(segment_distance(DVec2::new(7.0, 4.0), a, b), 5.0);
@@ -149,7 +149,7 @@ pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 /// Touching (an end point on the other segment) and collinear overlap are not crossings.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::segments_cross, DVec2};
+/// use cvtmesh::geometry::{predicates::segments_cross, DVec2};
 /// let (a, b) = (DVec2::ZERO, DVec2::ONE);
 /// assert!(segments_cross(a, b, DVec2::X, DVec2::Y));
 /// // Meeting at an end point is not a crossing.
@@ -168,7 +168,7 @@ pub fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
 /// at that vertex, so the parity over a closed ring is the even-odd rule ([`point_in_ring`]).
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::edge_crosses_ray, DVec2};
+/// use cvtmesh::geometry::{predicates::edge_crosses_ray, DVec2};
 /// let p = DVec2::new(0.0, 0.5);
 /// assert!(edge_crosses_ray(p, DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0)));
 /// assert!(!edge_crosses_ray(p, DVec2::new(-1.0, 0.0), DVec2::new(-1.0, 1.0)));
@@ -183,7 +183,7 @@ pub fn edge_crosses_ray(p: DVec2, a: DVec2, b: DVec2) -> bool {
 /// orientation; a point exactly on an edge may come out either way.
 ///
 /// ```
-/// use cvtmesh_geometry::{predicates::point_in_ring, DVec2};
+/// use cvtmesh::geometry::{predicates::point_in_ring, DVec2};
 /// let square = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
 /// assert!(point_in_ring(DVec2::splat(0.5), &square));
 /// assert!(!point_in_ring(DVec2::new(1.5, 0.5), &square));

@@ -21,7 +21,7 @@ use std::sync::Arc;
 /// cheap to clone (the search index is shared), and can be shared across threads.
 ///
 /// ```
-/// use cvtmesh_geometry::{DVec2, Region};
+/// use cvtmesh::geometry::{DVec2, Region};
 /// use std::f64::consts::PI;
 /// // The square [-1, 1]² with a circular hole of radius 0.4 around the origin.
 /// let r = Region::builtin("square_hole")?;
@@ -53,7 +53,7 @@ use std::sync::Arc;
 /// for c in r.corners() {
 ///     assert!(p.rings[0].points.contains(&c.pos));
 /// }
-/// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
 /// ```
 #[derive(Clone, Debug)]
 pub struct Region {
@@ -122,7 +122,7 @@ impl Region {
     /// a mesh has a vertex there and no boundary edge lies on two walls.
     ///
     /// ```
-    /// use cvtmesh_geometry::formats::poly_from_str;
+    /// use cvtmesh::geometry::formats::poly_from_str;
     /// // A 4 × 1 channel: bottom and top walls marked 1, the inlet 2 and the outlet 3; the
     /// // bottom wall is two collinear segments.
     /// let poly = "5 2 0 0\n1 0 0\n2 2 0\n3 4 0\n4 4 1\n5 0 1\n\
@@ -134,8 +134,8 @@ impl Region {
     /// // The bottom wall's two segments go straight on at (2, 0) with one marker: one piece.
     /// assert_eq!(sorted, [1, 1, 2, 3]);
     /// assert_eq!(r.with_default_corners().corners().len(), 4);
-    /// assert!(cvtmesh_geometry::Region::builtin("circle")?.piece_markers().is_none());
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// assert!(cvtmesh::geometry::Region::builtin("circle")?.piece_markers().is_none());
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn piece_markers(&self) -> Option<&[i64]> {
         (!self.markers.is_empty()).then_some(&self.markers[..])
@@ -148,8 +148,8 @@ impl Region {
     /// that vertex this marker. Empty for regions whose files give no such vertex.
     ///
     /// ```
-    /// use cvtmesh_geometry::formats::poly_from_str;
-    /// use cvtmesh_geometry::DVec2;
+    /// use cvtmesh::geometry::formats::poly_from_str;
+    /// use cvtmesh::geometry::DVec2;
     /// // A 4 × 1 channel, its walls marked 1; vertex 2 in the middle of the bottom wall marks
     /// // itself 7. Vertices marked as their walls are (Triangle writes such files) pin nothing.
     /// let poly = "5 2 0 1\n1 0 0 1\n2 2 0 7\n3 4 0 1\n4 4 1 1\n5 0 1 1\n\
@@ -159,7 +159,7 @@ impl Region {
     /// let c = r.corners().iter().position(|c| c.pos == DVec2::new(2.0, 0.0)).unwrap();
     /// assert_eq!(r.corner_marker(c), Some(7));
     /// assert_eq!(r.corners().len(), 5);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn vertex_markers(&self) -> &[(DVec2, i64)] {
         &self.vertex_markers
@@ -178,13 +178,13 @@ impl Region {
     /// inside, where a source sits or a solver reads a value. Empty for most regions.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// let r = Region::builtin("circle")?.with_embedded_points([(DVec2::new(0.3, 0.1), 5)])?;
     /// assert_eq!(r.embedded_points(), &[(DVec2::new(0.3, 0.1), 5)]);
     /// // A point outside the region, or on its boundary, is refused by name.
     /// let e = Region::builtin("circle")?.with_embedded_points([(DVec2::new(2.0, 0.0), 0)]);
     /// assert!(e.unwrap_err().to_string().contains("(2, 0)"));
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn embedded_points(&self) -> &[(DVec2, i64)] {
         &self.embedded
@@ -258,14 +258,14 @@ impl Region {
     /// curves have a tag and a name): the files written for its meshes name the walls so.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// let points = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
     /// let walls = [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)];
     /// let r = Region::from_triangles_marked("sq", &points, &[[0, 1, 2], [0, 2, 3]], &walls)?
     ///     .with_marker_names([(7, "heated".to_string())]);
     /// assert_eq!((r.marker_name(7), r.marker_name(9)), (Some("heated"), None));
     /// assert_eq!(r.with_default_corners().marker_name(7), Some("heated"));
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn with_marker_names(mut self, names: impl IntoIterator<Item = (i64, String)>) -> Region {
         self.marker_names.extend(names);
@@ -275,7 +275,7 @@ impl Region {
     /// about one centre (a disc, an annulus). `None` otherwise.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     ///
     /// assert_eq!(Region::builtin("annulus")?.rotation_centre(), Some(DVec2::ZERO));
     /// assert_eq!(Region::builtin("pie_hole")?.rotation_centre(), None);
@@ -303,7 +303,7 @@ impl Region {
     /// stopping rules that measure the mesh's change of shape use these moves.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     ///
     /// let old: Vec<DVec2> = (0..12).map(|i| DVec2::from_angle(i as f64 * 0.5) * 0.5).collect();
     /// let turned: Vec<DVec2> = old.iter().map(|p| DVec2::from_angle(1e-3).rotate(*p)).collect();
@@ -369,7 +369,7 @@ impl Region {
     /// // Two unit squares side by side, the second with a hole; in a loop list, nesting
     /// // decides which loop is a hole.
     /// let text = "0 0\n1 0\n1 1\n0 1\n\n2 0\n3 0\n3 1\n2 1\n\n2.4 0.4\n2.6 0.4\n2.6 0.6\n2.4 0.6\n";
-    /// let r = cvtmesh_geometry::formats::loops_from_str(text, "two", "two")?;
+    /// let r = cvtmesh::geometry::formats::loops_from_str(text, "two", "two")?;
     /// assert_eq!(r.num_parts(), 2);
     /// let parts = r.parts();
     /// assert_eq!(parts[1].loops, vec![1, 2]);
@@ -378,7 +378,7 @@ impl Region {
     /// // Piece and corner numbers map back to the whole region's.
     /// let c = &parts[1].region.corners()[0];
     /// assert_eq!(r.corners()[parts[1].corners[0]].pos, c.pos);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn parts(&self) -> Vec<Part> {
         let outers: Vec<usize> = (0..self.loops.len())
@@ -463,14 +463,14 @@ impl Region {
     /// it three or four times.
     ///
     /// ```
-    /// use cvtmesh_geometry::Region;
+    /// use cvtmesh::geometry::Region;
     /// let disc = Region::builtin("circle")?;
     /// let (centres, cell) = disc.inside_grid();
     /// // The unit disc covers π/4 of its bounding box.
     /// let covered = centres.len() as f64 * cell;
     /// assert!((covered - std::f64::consts::PI).abs() < 0.01 * std::f64::consts::PI);
     /// assert!(centres.iter().all(|&p| disc.contains(p)));
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn inside_grid(&self) -> (&[DVec2], f64) {
         use rayon::prelude::*;
@@ -524,13 +524,13 @@ impl Region {
     /// by the same hierarchy as [`Region::signed_distance`].
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// let r = Region::builtin("square_hole")?; // the square [-1, 1]², a hole of radius 0.4
     /// let hole: Vec<usize> = r.loops()[1].pieces.clone();
     /// let d = r.distance_where(DVec2::new(0.9, 0.0), |piece| hole.contains(&piece));
     /// assert!((d - 0.5).abs() < 1e-12);
     /// assert!((r.signed_distance(DVec2::new(0.9, 0.0)) + 0.1).abs() < 1e-12);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn distance_where(&self, p: DVec2, keep: impl Fn(PieceId) -> bool) -> f64 {
         self.index.nearest_where(&self.pieces, p, keep).d2.sqrt()

@@ -74,7 +74,7 @@ impl Region {
     /// that [`Region::with_default_corners`] applies to it.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region};
     /// use std::f64::consts::TAU;
     /// // A unit square whose bottom side wiggles by ±0.002 over 400 points.
     /// let mut pts: Vec<DVec2> = (0..400)
@@ -87,7 +87,7 @@ impl Region {
     /// assert!(s.deviation <= 0.002 + 1e-12);
     /// assert_eq!(s.region.with_default_corners().corners().len(), 4);
     /// assert!((s.region.area() - raw.area()).abs() < 0.002);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn simplified(&self, tolerance: f64) -> Result<Simplified, GeometryError> {
         if !(tolerance.is_finite() && tolerance >= 0.0) {

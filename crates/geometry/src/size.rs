@@ -195,7 +195,7 @@ impl SampledDensity {
     /// ρ at `p` (the nearest grid value's extension outside the grid's box).
     ///
     /// ```
-    /// use cvtmesh_geometry::{Density, DVec2, Region, SizeField, Threshold, Toward};
+    /// use cvtmesh::geometry::{Density, DVec2, Region, SizeField, Threshold, Toward};
     /// let region = Region::builtin("circle")?;
     /// let t = Threshold { size_min: 0.05, size_max: 0.2, dist_min: 0.3, dist_max: 0.7 };
     /// let h = SizeField::threshold(&region, &[Toward::Point(DVec2::ZERO)], t)?;
@@ -539,13 +539,13 @@ impl std::str::FromStr for Toward {
     /// the command line and the Python package take them.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Toward};
+    /// use cvtmesh::geometry::{DVec2, Toward};
     /// assert_eq!("loop:1".parse::<Toward>()?, Toward::Loop(1));
     /// assert_eq!("piece:3".parse::<Toward>()?, Toward::Piece(3));
     /// assert_eq!("marker:-2".parse::<Toward>()?, Toward::Marker(-2));
     /// assert_eq!("point: 0.5, 0.25".parse::<Toward>()?, Toward::Point(DVec2::new(0.5, 0.25)));
     /// assert!("corner:1".parse::<Toward>().is_err());
-    /// # Ok::<(), cvtmesh_geometry::SizeFieldError>(())
+    /// # Ok::<(), cvtmesh::geometry::SizeFieldError>(())
     /// ```
     fn from_str(text: &str) -> Result<Self, Self::Err> {
         let bad = || SizeFieldError::Toward(text.to_string());
@@ -618,7 +618,7 @@ impl Threshold {
 /// A target edge length h(x) on a region.
 ///
 /// ```
-/// use cvtmesh_geometry::{DVec2, Region, SizeField};
+/// use cvtmesh::geometry::{DVec2, Region, SizeField};
 ///
 /// let square = Region::builtin("square_hole")?;
 /// // Finer (h = 0.02) at the origin, coarser (h = 0.1) far from it.
@@ -662,7 +662,7 @@ impl SizeField {
     /// side); distances to a loop are exact distances to its curved pieces.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField, Threshold, Toward};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField, Threshold, Toward};
     /// // Refine toward the hole of square_hole (loop 1, radius 0.4 about the origin).
     /// let region = Region::builtin("square_hole")?;
     /// let t = Threshold { size_min: 0.02, size_max: 0.2, dist_min: 0.05, dist_max: 0.5 };
@@ -788,7 +788,7 @@ impl SizeField {
     /// own error type passes through.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField};
     ///
     /// let circle = Region::builtin("circle")?;
     /// let mut calls = 0;
@@ -817,7 +817,7 @@ impl SizeField {
     /// finite on the region is checked with the request, as for every field.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField};
     /// let circle = Region::builtin("circle")?;
     /// // Fine toward the origin, as a point source asks.
     /// let h = SizeField::from_fn(&circle, |p: DVec2| 0.01 + 0.1 * p.length());
@@ -938,7 +938,7 @@ impl SizeField {
     /// sampled fields are returned as they are.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField};
     /// let circle = Region::builtin("circle")?;
     /// let h = SizeField::from_expr("0.02 + 0.1 * (x + 1)")?;
     /// let g = h.on_grid(&circle, 0.02);
@@ -974,7 +974,7 @@ impl SizeField {
     /// leaves the gradient alone.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region, SizeField};
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField};
     /// let square = Region::builtin("square_hole")?;
     /// // A jump from 0.01 to 0.2 across x = 0.5 ...
     /// let h = SizeField::from_expr("0.01 + 0.19 * max(0, min(1, (x - 0.5) * 1e6))")?;

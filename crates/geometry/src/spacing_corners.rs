@@ -94,7 +94,7 @@ impl Region {
     /// vertex for the gaps.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, LoopRole, Region};
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region};
     /// use std::f64::consts::PI;
     /// // A square with a round bump of radius 0.05 on its top side, finely digitized: no
     /// // vertex of the bump turns by more than the default corner angle.
@@ -115,7 +115,7 @@ impl Region {
     /// assert!(fitted.bends >= 1);
     /// assert!(fitted.region.corners().iter().any(|c| c.pos.y > 1.04));
     /// assert_eq!(fitted.region.area(), region.area());
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn with_spacing_corners(&self, spacing: &dyn Fn(DVec2) -> f64) -> SpacingCorners {
         let mut lps: Vec<(LoopRole, Vec<Piece>)> = Vec::with_capacity(self.loops.len());

@@ -25,7 +25,7 @@ impl Region {
     /// whatever [`Region::from_loops`] refuses of the loops found.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// // A unit square of two triangles, with a square hole of side 1/3 in a 3 × 3 grid of
     /// // squares (eight squares, sixteen triangles).
     /// let points: Vec<DVec2> = (0..16).map(|i| DVec2::new((i % 4) as f64, (i / 4) as f64) / 3.0).collect();
@@ -40,7 +40,7 @@ impl Region {
     /// assert!((r.area() - 8.0 / 9.0).abs() < 1e-12);
     /// assert!(!r.contains(DVec2::new(0.5, 0.5)));
     /// assert_eq!(r.with_default_corners().corners().len(), 8);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn from_triangles(
         name: &str,
@@ -59,7 +59,7 @@ impl Region {
     /// conditions. Pairs that are not boundary edges are ignored.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// // Two triangles of the unit square; its bottom edge is wall 7, the rest wall 9.
     /// let points = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
     /// let triangles = [[0, 1, 2], [0, 2, 3]];
@@ -68,7 +68,7 @@ impl Region {
     /// let mut m = r.with_default_corners().piece_markers().unwrap().to_vec();
     /// m.sort();
     /// assert_eq!(m, [7, 9, 9, 9]);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn from_triangles_marked(
         name: &str,
@@ -88,7 +88,7 @@ impl Region {
     /// ([`Region::embedded_points`]). Other pairs are ignored.
     ///
     /// ```
-    /// use cvtmesh_geometry::{DVec2, Region};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// // A 2 × 1 rectangle of four triangles, all walls 1; vertex 1, the middle of the
     /// // bottom, is marked 5.
     /// let points = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (0.0, 1.0)]
@@ -99,7 +99,7 @@ impl Region {
     /// let r = Region::from_triangles_pinned("r", &points, &triangles, &walls, &[(1, 5), (4, 1)])?;
     /// assert_eq!(r.vertex_markers(), &[(DVec2::new(1.0, 0.0), 5)]);
     /// assert_eq!(r.with_default_corners().corners().len(), 5);
-    /// # Ok::<(), cvtmesh_geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn from_triangles_pinned(
         name: &str,

@@ -58,8 +58,8 @@ const ROWS: usize = 4096;
 /// edges join boundary vertices of one loop, and the region's topology (V − E + F = 1 − holes).
 ///
 /// ```
-/// use cvtmesh_mesh::{check_conforming, ConformityError, Mesh, VertexMarker};
-/// use geometry::{DVec2, LoopRole, Piece, Region};
+/// use cvtmesh::{check_conforming, ConformityError, Mesh, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, LoopRole, Piece, Region};
 ///
 /// // The unit square, cut into four triangles at its centre.
 /// let c = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
@@ -338,8 +338,8 @@ impl std::fmt::Display for Slivers {
 /// sharp there (a wedge's tip), and every mesh of it has that angle. O(M).
 ///
 /// ```
-/// use cvtmesh_mesh::{slivers, Mesh, VertexMarker};
-/// use geometry::DVec2;
+/// use cvtmesh::{slivers, Mesh, VertexMarker};
+/// use cvtmesh::geometry::DVec2;
 /// // A flat triangle with an interior vertex on its long side's apex: its 0.11° angles lie
 /// // between a boundary edge and an inner one.
 /// let p = |x: f64, y: f64| DVec2::new(x, y);
@@ -434,8 +434,8 @@ impl std::fmt::Display for ShortCoverage {
 /// How much of `region` `mesh` covers, when that is less than [`MIN_COVERAGE`].
 ///
 /// ```
-/// use cvtmesh_mesh::{short_coverage, Mesh, VertexMarker};
-/// use geometry::{DVec2, Region};
+/// use cvtmesh::{short_coverage, Mesh, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, Region};
 /// let disc = Region::builtin("circle")?;
 /// // A square inscribed in the unit circle covers 2/π of it.
 /// let points = vec![DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y];

@@ -9,8 +9,8 @@ use thiserror::Error;
 /// [`MeshError::Failed`] carry the rest as text. Every message names what to change.
 ///
 /// ```
-/// use cvtmesh_mesh::{MeshError, MeshRequest};
-/// # use geometry::Region;
+/// use cvtmesh::{MeshError, MeshRequest};
+/// # use cvtmesh::geometry::Region;
 /// let region = Region::builtin("hex_hole")?; // 12 corners on 2 loops
 /// match MeshRequest::points(8).validate(&region) {
 ///     Err(MeshError::TooFewPoints { needed, corners, .. }) => {

@@ -53,9 +53,9 @@ pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "obj"];
 /// `.obj` (Wavefront). Pictures (`.svg`, `.png`) are the render crate's.
 ///
 /// ```
-/// use cvtmesh_mesh::io::{read_mesh, write_mesh};
-/// use cvtmesh_mesh::{Mesh, MeshError, VertexMarker};
-/// use geometry::DVec2;
+/// use cvtmesh::io::{read_mesh, write_mesh};
+/// use cvtmesh::{Mesh, MeshError, VertexMarker};
+/// use cvtmesh::geometry::DVec2;
 ///
 /// let corner = |i: usize| VertexMarker::Corner { loop_index: 0, corner: i, loop_param: i as f64 };
 /// let mesh = Mesh {
@@ -115,14 +115,14 @@ pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu"];
 /// six-node triangle and are refused.
 ///
 /// ```
-/// use cvtmesh_mesh::{io, Quadratic};
-/// let region = geometry::Region::builtin("circle")?;
+/// use cvtmesh::{io, Quadratic};
+/// let region = cvtmesh::geometry::Region::builtin("circle")?;
 /// let mesh = ccvt_free_mesh();
-/// # fn ccvt_free_mesh() -> cvtmesh_mesh::Mesh {
-/// #     let ring: Vec<geometry::DVec2> = (0..8).map(|k| geometry::DVec2::from_angle(k as f64 * std::f64::consts::TAU / 8.0)).collect();
-/// #     let points = [vec![geometry::DVec2::ZERO], ring].concat();
+/// # fn ccvt_free_mesh() -> cvtmesh::Mesh {
+/// #     let ring: Vec<cvtmesh::geometry::DVec2> = (0..8).map(|k| cvtmesh::geometry::DVec2::from_angle(k as f64 * std::f64::consts::TAU / 8.0)).collect();
+/// #     let points = [vec![cvtmesh::geometry::DVec2::ZERO], ring].concat();
 /// #     let triangles: Vec<[u32; 3]> = (1..=8).map(|k| [0, k, k % 8 + 1]).collect();
-/// #     cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles }
+/// #     cvtmesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles }
 /// # }
 /// let q = Quadratic::new(&mesh, Some(&region));
 /// let path = std::env::temp_dir().join(format!("cvtmesh-doc-p2-{}.msh", std::process::id()));
@@ -340,7 +340,7 @@ fn names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
 /// Triangle's format, else `path` itself.
 ///
 /// ```
-/// use cvtmesh_mesh::io::files_written;
+/// use cvtmesh::io::files_written;
 /// use std::path::{Path, PathBuf};
 /// let f = files_written(Path::new("out/coast.node"));
 /// assert_eq!(f, ["out/coast.node", "out/coast.ele", "out/coast.poly"].map(PathBuf::from));
@@ -414,7 +414,7 @@ pub struct MeshFile {
 /// [`read_mesh_with_walls`], with the file's triangles' order and edge nodes.
 ///
 /// ```
-/// use cvtmesh_mesh::io;
+/// use cvtmesh::io;
 /// let dir = std::env::temp_dir().join(format!("cvtmesh_doc_p2_{}", std::process::id()));
 /// std::fs::create_dir_all(&dir)?;
 /// // One six-node triangle: its corners, then a node on each edge.
@@ -424,7 +424,7 @@ pub struct MeshFile {
 /// assert_eq!(file.triangle_nodes, 6);
 /// assert_eq!((file.mesh.num_vertices(), file.mesh.num_triangles()), (3, 1));
 /// // Node 4 is opposite corner 1, on the edge of corners 2 and 3.
-/// assert_eq!(file.edge_nodes[2], ([1, 2], geometry::DVec2::new(0.5, 0.5)));
+/// assert_eq!(file.edge_nodes[2], ([1, 2], cvtmesh::geometry::DVec2::new(0.5, 0.5)));
 /// std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -444,7 +444,7 @@ pub fn read_mesh_file(path: &Path) -> Result<MeshFile, MeshError> {
 /// Whether `path` names a file [`read_mesh`] reads (by its extension).
 ///
 /// ```
-/// use cvtmesh_mesh::io::names_mesh;
+/// use cvtmesh::io::names_mesh;
 /// use std::path::Path;
 /// assert!(names_mesh(Path::new("run3/out.MSH")) && names_mesh(Path::new("a.ele")));
 /// assert!(!names_mesh(Path::new("lake")) && !names_mesh(Path::new("region.poly")));
@@ -460,7 +460,7 @@ pub const SIZE_EXTENSIONS: &[&str] = &["node", "ele", "msh"];
 /// an expression given where a size field is asked for.
 ///
 /// ```
-/// use cvtmesh_mesh::io::names_sizes;
+/// use cvtmesh::io::names_sizes;
 /// use std::path::Path;
 /// assert!(names_sizes(Path::new("run3/sizes.NODE")) && names_sizes(Path::new("bg.msh")));
 /// assert!(!names_sizes(Path::new("0.01 + 0.1*x")) && !names_sizes(Path::new("0.08")));
@@ -490,15 +490,15 @@ pub fn read_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
 /// numbers no walls. `mesh` is a mesh of `region` (its corner markers index its corners).
 ///
 /// ```
-/// use cvtmesh_mesh::io;
-/// use geometry::formats::poly_from_str;
-/// use geometry::DVec2;
+/// use cvtmesh::io;
+/// use cvtmesh::geometry::formats::poly_from_str;
+/// use cvtmesh::geometry::DVec2;
 /// // The unit square, bottom wall 2, the others 1, and its bottom-left vertex marked 9.
 /// let poly = "4 2 0 1\n1 0 0 9\n2 1 0 2\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 2\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n";
 /// let r = poly_from_str(poly, "sq.poly", "sq")?.with_default_corners();
 /// let points = vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y, DVec2::splat(0.5)];
 /// let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
-/// let mut mesh = cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles };
+/// let mut mesh = cvtmesh::Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles };
 /// io::restore_markers(&mut mesh, &r);
 /// assert_eq!(io::vertex_markers(&mesh, &r), Some(vec![9, 1, 1, 1, 0]));
 /// # Ok::<(), Box<dyn std::error::Error>>(())

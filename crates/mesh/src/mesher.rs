@@ -43,8 +43,8 @@ impl Size {
 /// methods; [`MeshRequest::validate`] refuses what no method can do, before any work is done:
 ///
 /// ```
-/// use cvtmesh_mesh::{MeshError, MeshRequest};
-/// use geometry::Region;
+/// use cvtmesh::{MeshError, MeshRequest};
+/// use cvtmesh::geometry::Region;
 ///
 /// let circle = Region::builtin("circle")?; // radius 1
 /// let request = MeshRequest::points(500).seed(7).tol(1e-5).max_iter(200);
@@ -124,8 +124,8 @@ impl MeshRequest {
     /// here is [`SizeField::bounded`](geometry::SizeField::bounded)'s to do.
     ///
     /// ```
-    /// use geometry::{Region, SizeField};
-    /// use cvtmesh_mesh::{MeshError, MeshRequest};
+    /// use cvtmesh::geometry::{Region, SizeField};
+    /// use cvtmesh::{MeshError, MeshRequest};
     ///
     /// let circle = Region::builtin("circle")?;
     /// let h = SizeField::from_expr("0.05 * (2 + x)")?;
@@ -134,7 +134,7 @@ impl MeshRequest {
     /// assert!((k as f64 - h.predicted_points(&circle)).abs() <= 0.5);
     /// // Spacing ∝ ρ^(-1/4): where h is 5/3 as large, ρ is (5/3)⁴ as small (ρ is sampled on
     /// // the field's grid and interpolated, hence the tolerance).
-    /// let rho = |x: f64| request.density.at(geometry::DVec2::new(x, 0.0));
+    /// let rho = |x: f64| request.density.at(cvtmesh::geometry::DVec2::new(x, 0.0));
     /// assert!((rho(-0.5) / rho(0.5) / (5.0f64 / 3.0).powi(4) - 1.0).abs() < 1e-3);
     /// // A field that is not positive on the region is refused before any work.
     /// let bad = SizeField::from_expr("x")?;
@@ -187,8 +187,8 @@ impl MeshRequest {
     /// polishing off).
     ///
     /// ```
-    /// use cvtmesh_mesh::{MeshError, MeshRequest};
-    /// let circle = geometry::Region::builtin("circle")?;
+    /// use cvtmesh::{MeshError, MeshRequest};
+    /// let circle = cvtmesh::geometry::Region::builtin("circle")?;
     /// assert!(MeshRequest::points(100).polish(0.0).validate(&circle).is_ok());
     /// let e = MeshRequest::points(100).polish(75.0).validate(&circle).unwrap_err();
     /// assert!(matches!(e, MeshError::InvalidPolish(_)));
@@ -206,15 +206,15 @@ impl MeshRequest {
     /// Builder: a flag that stops the run when set (see [`MeshRequest::cancel`]).
     ///
     /// ```
-    /// use cvtmesh_mesh::{MeshError, MeshRequest, Mesher};
+    /// use cvtmesh::{MeshError, MeshRequest, Mesher};
     /// use std::sync::{atomic::{AtomicBool, Ordering}, Arc};
     /// # struct Count;
     /// # impl Mesher for Count {
     /// #     fn name(&self) -> &'static str { "count" }
-    /// #     fn mesh(&self, _: &geometry::Region, r: &MeshRequest, p: &mut dyn FnMut(cvtmesh_mesh::Progress))
-    /// #         -> Result<cvtmesh_mesh::MeshResult, MeshError> {
+    /// #     fn mesh(&self, _: &cvtmesh::geometry::Region, r: &MeshRequest, p: &mut dyn FnMut(cvtmesh::Progress))
+    /// #         -> Result<cvtmesh::MeshResult, MeshError> {
     /// #         for iteration in 1.. {
-    /// #             p(cvtmesh_mesh::Progress { iteration, max_iter: r.max_iter, energy: f64::NAN, max_move: 1.0 });
+    /// #             p(cvtmesh::Progress { iteration, max_iter: r.max_iter, energy: f64::NAN, max_move: 1.0 });
     /// #             r.check_cancel(self.name(), iteration)?;
     /// #         }
     /// #         unreachable!()
@@ -222,7 +222,7 @@ impl MeshRequest {
     /// # }
     /// let stop = Arc::new(AtomicBool::new(false));
     /// let request = MeshRequest::points(100).cancel_flag(stop.clone());
-    /// let region = geometry::Region::builtin("circle")?;
+    /// let region = cvtmesh::geometry::Region::builtin("circle")?;
     /// // Stop at the third progress report.
     /// let e = Count
     ///     .mesh(&region, &request, &mut |p| stop.store(p.iteration == 3, Ordering::Relaxed))
@@ -237,7 +237,7 @@ impl MeshRequest {
     /// Builder: stop iterating `limit` from now (see [`MeshRequest::deadline`]).
     ///
     /// ```
-    /// use cvtmesh_mesh::MeshRequest;
+    /// use cvtmesh::MeshRequest;
     /// use std::time::Duration;
     /// let request = MeshRequest::points(100).time_limit(Duration::ZERO);
     /// assert!(request.out_of_time());
@@ -360,8 +360,8 @@ impl MeshRequest {
     /// region (spacing ∝ ρ^(-1/4), and K ∝ ∫ ρ^(1/2)).
     ///
     /// ```
-    /// use cvtmesh_mesh::MeshRequest;
-    /// use geometry::{DVec2, Density, Region};
+    /// use cvtmesh::MeshRequest;
+    /// use cvtmesh::geometry::{DVec2, Density, Region};
     /// use std::sync::Arc;
     /// let region = Region::builtin("square_hole")?;
     /// let uniform = MeshRequest::points(1000);
@@ -373,7 +373,7 @@ impl MeshRequest {
     /// let (left, right) = (at(DVec2::new(-0.5, 0.0)), at(DVec2::new(0.5, 0.0)));
     /// assert!((left / right - 2.0).abs() < 1e-9);
     /// assert!(right < h && h < left);
-    /// # Ok::<(), geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn spacing_at<'a>(&'a self, region: &Region) -> impl Fn(DVec2) -> f64 + 'a {
         let mean_spacing = self.spacing(region);
@@ -398,13 +398,13 @@ impl MeshRequest {
     /// asks for along the boundary (the spacing itself for a uniform mesh).
     ///
     /// ```
-    /// use cvtmesh_mesh::{MeshRequest, SIMPLIFY_SPACINGS};
-    /// use geometry::Region;
+    /// use cvtmesh::{MeshRequest, SIMPLIFY_SPACINGS};
+    /// use cvtmesh::geometry::Region;
     /// let region = Region::builtin("square_hole")?;
     /// let request = MeshRequest::points(1000);
     /// let tol = request.simplify_tolerance(&region);
     /// assert!((tol - SIMPLIFY_SPACINGS * request.spacing(&region)).abs() < 1e-15);
-    /// # Ok::<(), geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn simplify_tolerance(&self, region: &Region) -> f64 {
         let spacing = self.spacing_at(region);
@@ -427,14 +427,14 @@ impl MeshRequest {
 /// every boundary loop (a loop with fewer corners needs boundary vertices besides them).
 ///
 /// ```
-/// use cvtmesh_mesh::boundary_points_needed;
-/// use geometry::Region;
+/// use cvtmesh::boundary_points_needed;
+/// use cvtmesh::geometry::Region;
 /// // The disc: three on its circle; the square with a round hole: its 4 corners and three on
 /// // the hole; the hexagon with a hexagonal hole: its 12 corners.
 /// assert_eq!(boundary_points_needed(&Region::builtin("circle")?), 3);
 /// assert_eq!(boundary_points_needed(&Region::builtin("square_hole")?), 7);
 /// assert_eq!(boundary_points_needed(&Region::builtin("hex_hole")?), 12);
-/// # Ok::<(), geometry::GeometryError>(())
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
 /// ```
 pub fn boundary_points_needed(region: &Region) -> usize {
     let mut per_loop = vec![0usize; region.loops().len()];
@@ -448,11 +448,11 @@ pub fn boundary_points_needed(region: &Region) -> usize {
 /// keep them as vertices (`method` names it in the error).
 ///
 /// ```
-/// use geometry::{DVec2, Region};
+/// use cvtmesh::geometry::{DVec2, Region};
 /// let r = Region::builtin("circle")?.with_embedded_points([(DVec2::new(0.2, 0.0), 0)])?;
-/// let e = cvtmesh_mesh::refuse_embedded(&r, "meshgen").unwrap_err().to_string();
+/// let e = cvtmesh::refuse_embedded(&r, "meshgen").unwrap_err().to_string();
 /// assert!(e.contains("meshgen") && e.contains("embeds 1 point"), "{e}");
-/// assert!(cvtmesh_mesh::refuse_embedded(&Region::builtin("circle")?, "meshgen").is_ok());
+/// assert!(cvtmesh::refuse_embedded(&Region::builtin("circle")?, "meshgen").is_ok());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn refuse_embedded(region: &Region, method: &str) -> Result<(), MeshError> {
@@ -475,7 +475,7 @@ pub const BYTES_PER_VERTEX: u64 = 1024;
 /// [`BYTES_PER_VERTEX`] plus 64 MiB for the program itself.
 ///
 /// ```
-/// assert_eq!(cvtmesh_mesh::memory_estimate(1_000_000), 1_000_000 * 1024 + (64 << 20));
+/// assert_eq!(cvtmesh::memory_estimate(1_000_000), 1_000_000 * 1024 + (64 << 20));
 /// ```
 pub fn memory_estimate(k: usize) -> u64 {
     (k as u64)
@@ -573,10 +573,10 @@ pub struct MeshResult {
 /// region into four by its edge midpoints:
 ///
 /// ```
-/// use cvtmesh_mesh::{
+/// use cvtmesh::{
 ///     check_conforming, Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress, VertexMarker,
 /// };
-/// use geometry::{DVec2, LoopRole, Piece, Region};
+/// use cvtmesh::geometry::{DVec2, LoopRole, Piece, Region};
 ///
 /// struct Midpoints;
 ///
@@ -682,9 +682,9 @@ pub trait Mesher: Sync {
     /// prefixed with its number.
     ///
     /// ```
-    /// use cvtmesh_mesh::{check_conforming, MeshRequest, Mesher};
-    /// # use cvtmesh_mesh::{Mesh, MeshError, MeshResult, Progress, VertexMarker};
-    /// # use geometry::{DVec2, Region};
+    /// use cvtmesh::{check_conforming, MeshRequest, Mesher};
+    /// # use cvtmesh::{Mesh, MeshError, MeshResult, Progress, VertexMarker};
+    /// # use cvtmesh::geometry::{DVec2, Region};
     /// # /// Fans a convex polygon's corners from its first corner (K = corners).
     /// # struct Fan;
     /// # impl Mesher for Fan {
@@ -702,7 +702,7 @@ pub trait Mesher: Sync {
     /// # }
     /// // Two squares, the second twice as wide: two parts.
     /// let text = "0 0\n1 0\n1 1\n0 1\n\n2 0\n4 0\n4 1\n2 1\n";
-    /// let region = geometry::formats::loops_from_str(text, "two", "two")?;
+    /// let region = cvtmesh::geometry::formats::loops_from_str(text, "two", "two")?;
     /// assert_eq!(region.num_parts(), 2);
     /// // A method alone refuses it; mesh_parts meshes both parts and merges them.
     /// assert!(Fan.mesh(&region, &MeshRequest::points(21), &mut |_| {}).is_err());
@@ -728,9 +728,9 @@ pub trait Mesher: Sync {
     /// keep chords from cutting into concave curves) says so here.
     ///
     /// ```
-    /// use cvtmesh_mesh::{boundary_points_needed, Mesher};
-    /// # use cvtmesh_mesh::{MeshError, MeshRequest, MeshResult, Progress};
-    /// # use geometry::Region;
+    /// use cvtmesh::{boundary_points_needed, Mesher};
+    /// # use cvtmesh::{MeshError, MeshRequest, MeshResult, Progress};
+    /// # use cvtmesh::geometry::Region;
     /// # struct Any;
     /// # impl Mesher for Any {
     /// #     fn name(&self) -> &'static str { "any" }

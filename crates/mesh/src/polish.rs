@@ -83,8 +83,8 @@ impl Polished {
 /// order of their worst triangle's angle.
 ///
 /// ```
-/// use cvtmesh_mesh::{polish, Mesh, VertexMarker};
-/// use geometry::{DVec2, LoopRole, Region};
+/// use cvtmesh::{polish, Mesh, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, LoopRole, Region};
 ///
 /// // The unit square cut into four triangles around an off-centre interior vertex.
 /// let corners = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
@@ -287,8 +287,8 @@ impl std::fmt::Display for PolishReport {
 /// `polish_with`).
 ///
 /// ```
-/// use cvtmesh_mesh::{polish_within, Mesh, VertexMarker};
-/// use geometry::{DVec2, LoopRole, Region};
+/// use cvtmesh::{polish_within, Mesh, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, LoopRole, Region};
 ///
 /// let corners = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
 /// let square = Region::from_loops("square", vec![(LoopRole::Outer, corners.clone())])?;
@@ -360,8 +360,8 @@ pub const GRADED_SPREAD: f64 = 3.0;
 /// to hold.
 ///
 /// ```
-/// use cvtmesh_mesh::{io::markers_from_topology, looks_graded, Mesh};
-/// use geometry::DVec2;
+/// use cvtmesh::{io::markers_from_topology, looks_graded, Mesh};
+/// use cvtmesh::geometry::DVec2;
 /// // Squares of side 1, 2 and 8 in a row, each cut into two triangles.
 /// let xs = [0.0, 1.0, 3.0, 11.0];
 /// let points: Vec<DVec2> = xs.iter().flat_map(|&x| [DVec2::new(x, 0.0), DVec2::new(x, 1.0)]).collect();

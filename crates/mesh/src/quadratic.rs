@@ -34,8 +34,8 @@ impl Quadratic {
     /// M triangles.
     ///
     /// ```
-    /// use cvtmesh_mesh::{io::markers_from_topology, Mesh, Quadratic};
-    /// use geometry::{DVec2, Region};
+    /// use cvtmesh::{io::markers_from_topology, Mesh, Quadratic};
+    /// use cvtmesh::geometry::{DVec2, Region};
     /// let mesh = |points: Vec<DVec2>, triangles: Vec<[u32; 3]>| Mesh {
     ///     markers: markers_from_topology(&points, &triangles),
     ///     points,
@@ -57,7 +57,7 @@ impl Quadratic {
     /// let q = Quadratic::new(&hexagon, Some(&circle));
     /// assert!(q.edge_node(1, 2).is_some_and(|m| (q.points[m as usize].length() - 1.0).abs() < 1e-12));
     /// assert!((q.area() - std::f64::consts::PI).abs() < (hexagon.area() - std::f64::consts::PI).abs() / 10.0);
-    /// # Ok::<(), geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn new(mesh: &Mesh, region: Option<&Region>) -> Quadratic {
         let corners = mesh.points.len();
@@ -167,8 +167,8 @@ impl Quadratic {
     /// mesh does not have are passed over.
     ///
     /// ```
-    /// use cvtmesh_mesh::{io::markers_from_topology, Mesh, Quadratic};
-    /// use geometry::DVec2;
+    /// use cvtmesh::{io::markers_from_topology, Mesh, Quadratic};
+    /// use cvtmesh::geometry::DVec2;
     /// let points = vec![DVec2::ZERO, DVec2::X, DVec2::Y];
     /// let mesh = Mesh { markers: markers_from_topology(&points, &[[0, 1, 2]]), points, triangles: vec![[0, 1, 2]] };
     /// let bowed = DVec2::new(0.6, 0.6);

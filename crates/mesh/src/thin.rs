@@ -96,15 +96,15 @@ impl fmt::Display for ThinFeature {
 /// the request's mean spacing, scaled by ρ^(-1/4) against its mean for a graded request.
 ///
 /// ```
-/// use cvtmesh_mesh::{thin_feature, MeshRequest};
-/// let channel = geometry::formats::loops_from_str("0 0\n10 0\n10 0.001\n0 0.001\n", "c", "c")?;
+/// use cvtmesh::{thin_feature, MeshRequest};
+/// let channel = cvtmesh::geometry::formats::loops_from_str("0 0\n10 0\n10 0.001\n0 0.001\n", "c", "c")?;
 /// let t = thin_feature(&channel, &MeshRequest::points(300)).expect("a thin channel");
 /// assert!((t.width - 0.001).abs() < 1e-9);
 /// assert!(t.spacing / t.width > 6.0);
 /// assert!((11_400..11_800).contains(&t.points_needed));
-/// let circle = geometry::Region::builtin("circle")?;
+/// let circle = cvtmesh::geometry::Region::builtin("circle")?;
 /// assert!(thin_feature(&circle, &MeshRequest::points(300)).is_none());
-/// # Ok::<(), geometry::GeometryError>(())
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
 /// ```
 pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeature> {
     let k = request.size.points(region);

@@ -126,8 +126,8 @@ impl Mesh {
     /// Smallest interior angle over all triangles, in degrees. O(M), in parallel.
     ///
     /// ```
-    /// use cvtmesh_mesh::{Mesh, VertexMarker};
-    /// use geometry::DVec2;
+    /// use cvtmesh::{Mesh, VertexMarker};
+    /// use cvtmesh::geometry::DVec2;
     /// // A right isosceles triangle and a 30°–60°–90° one.
     /// let mesh = Mesh {
     ///     points: vec![DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::new(3f64.sqrt(), 1.0)],
@@ -152,8 +152,8 @@ impl Mesh {
     /// O(M) to find them, O(B log B) to order the B found.
     ///
     /// ```
-    /// use cvtmesh_mesh::{Mesh, VertexMarker};
-    /// use geometry::DVec2;
+    /// use cvtmesh::{Mesh, VertexMarker};
+    /// use cvtmesh::geometry::DVec2;
     /// // Two triangles making the unit square: four boundary edges, the diagonal is inner.
     /// let mesh = Mesh {
     ///     points: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)],
@@ -202,8 +202,8 @@ impl Mesh {
     /// own, and a mesh read from a foreign file has none.)
     ///
     /// ```
-    /// use cvtmesh_mesh::{io::markers_from_topology, Mesh};
-    /// use geometry::{DVec2, LoopRole, Region};
+    /// use cvtmesh::{io::markers_from_topology, Mesh};
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region};
     /// // A 2 × 1 channel whose four sides are its four pieces (every vertex a corner).
     /// let corners = vec![DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 1.0), DVec2::Y];
     /// let channel = Region::from_loops("channel", vec![(LoopRole::Outer, corners.clone())])?;
@@ -215,7 +215,7 @@ impl Mesh {
     ///     assert_eq!(channel.project(mid).piece, *piece);
     /// }
     /// assert_eq!(pieces.len(), 4);
-    /// # Ok::<(), geometry::GeometryError>(())
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn boundary_pieces(&self, region: &geometry::Region) -> Vec<PieceId> {
         self.pieces_of(&self.boundary_edges(), region)

@@ -977,9 +977,9 @@ fn lattice(region: &Region, outline: &Outline, h0: f64, seed: u64) -> Vec<DVec2>
 /// recorded in [`MeshResult::energy_history`] (NaN if the method has none).
 ///
 /// ```
-/// use cvtmesh_meshgen::relax::relax;
-/// use geometry::{DVec2, Density, Region};
-/// use mesh::{Mesh, MeshRequest};
+/// use cvtmesh::meshgen::relax::relax;
+/// use cvtmesh::geometry::{DVec2, Density, Region};
+/// use cvtmesh::{Mesh, MeshRequest};
 ///
 /// // Laplacian smoothing: every vertex moves to the mean of its neighbours.
 /// let laplace = |mesh: &Mesh, _: &Density| {
@@ -1001,7 +1001,7 @@ fn lattice(region: &Region, outline: &Outline, h0: f64, seed: u64) -> Vec<DVec2>
 /// let result = relax("laplace", &region, &request, &mut |_| {}, &laplace)?;
 /// assert_eq!(result.mesh.num_vertices(), 150);
 /// assert!(result.iterations <= 20);
-/// mesh::check_conforming(&result.mesh, &region)?;
+/// cvtmesh::check_conforming(&result.mesh, &region)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn relax(

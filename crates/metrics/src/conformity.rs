@@ -62,9 +62,9 @@ impl SizeConformity {
 /// Size conformity of `mesh` against `field` on `region` (see the module documentation).
 ///
 /// ```
-/// use cvtmesh_metrics::size_conformity;
-/// use geometry::{DVec2, Region, SizeField};
-/// use mesh::{Mesh, VertexMarker};
+/// use cvtmesh::metrics::size_conformity;
+/// use cvtmesh::geometry::{DVec2, Region, SizeField};
+/// use cvtmesh::{Mesh, VertexMarker};
 ///
 /// // Two equilateral triangles of side 0.1 (a rhombus): every edge has l = 1 for h ≡ 0.1.
 /// let s = 3f64.sqrt() / 2.0;

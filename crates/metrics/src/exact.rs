@@ -27,8 +27,8 @@ pub const POLYGON_TOL: f64 = 1e-6;
 /// triangle cut into four by its edge midpoints has α = β = q = p = 0 and λ = γ = 0.
 ///
 /// ```
-/// use geometry::{DVec2, LoopRole, Piece, Region};
-/// use mesh::{Mesh, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, LoopRole, Piece, Region};
+/// use cvtmesh::{Mesh, VertexMarker};
 ///
 /// let c = [(0.0, 0.0), (1.0, 0.0), (0.5, 0.75f64.sqrt())].map(|(x, y)| DVec2::new(x, y));
 /// let sides = (0..3).map(|i| Piece::Line { a: c[i], b: c[(i + 1) % 3] }).collect();
@@ -45,7 +45,7 @@ pub const POLYGON_TOL: f64 = 1e-6;
 /// let triangles = vec![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
 /// let mesh = Mesh { points, triangles, markers };
 ///
-/// let m = cvtmesh_metrics::measures(&mesh, &triangle)?;
+/// let m = cvtmesh::metrics::measures(&mesh, &triangle)?;
 /// assert_eq!((m.k, m.k_tilde), (6, 4));
 /// for value in [m.alpha, m.beta, m.q, m.p, m.lambda, m.gamma] {
 ///     assert!(value.abs() < 1e-12, "{m:?}");

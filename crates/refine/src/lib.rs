@@ -66,9 +66,9 @@ const BRACKET_TOL: f64 = 1e-7;
 /// Used through the [`Mesher`] trait like every method of the workspace:
 ///
 /// ```
-/// use cvtmesh_refine::Refine;
-/// use geometry::Region;
-/// use mesh::{check_conforming, MeshRequest, Mesher};
+/// use cvtmesh::refine::Refine;
+/// use cvtmesh::geometry::Region;
+/// use cvtmesh::{check_conforming, MeshRequest, Mesher};
 /// let region = Region::builtin("square_hole")?;
 /// let result = Refine::default().mesh(&region, &MeshRequest::points(194), &mut |_| {})?;
 /// let mesh = &result.mesh;
@@ -120,9 +120,9 @@ impl CurveStart {
     /// The start of each loop's chords as a fraction of one chord, in [0, 1).
     ///
     /// ```
-    /// use cvtmesh_refine::{CurveStart, Refine};
-    /// use geometry::Region;
-    /// use mesh::{check_conforming, MeshRequest, Mesher};
+    /// use cvtmesh::refine::{CurveStart, Refine};
+    /// use cvtmesh::geometry::Region;
+    /// use cvtmesh::{check_conforming, MeshRequest, Mesher};
     ///
     /// let annulus = Region::builtin("annulus")?;
     /// assert_eq!(CurveStart::PieceStart.phases(&annulus, 3), vec![0.0, 0.0]);

@@ -88,8 +88,8 @@ impl Cells {
 ///   cell inside Ω (possibly empty).
 ///
 /// ```
-/// use cvtmesh_tessellation::{clipped_cells, Delaunay};
-/// use geometry::{DVec2, Density, Region, Rng};
+/// use cvtmesh::tessellation::{clipped_cells, Delaunay};
+/// use cvtmesh::geometry::{DVec2, Density, Region, Rng};
 /// let region = Region::builtin("square_hole")?;
 /// let domain = region.polygonize(1e-4);
 /// // 200 random generators in the domain.
@@ -115,7 +115,7 @@ impl Cells {
 /// }
 /// // Cells that reach the boundary name the boundary pieces they touch.
 /// assert!(cells.cells.iter().any(|c| c.on_boundary()));
-/// # Ok::<(), geometry::GeometryError>(())
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
 /// ```
 pub fn clipped_cells(
     points: &[DVec2],

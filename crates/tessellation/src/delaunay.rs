@@ -56,8 +56,8 @@ impl Delaunay {
     /// Triangulate `points`.
     ///
     /// ```
-    /// use cvtmesh_tessellation::Delaunay;
-    /// use geometry::DVec2;
+    /// use cvtmesh::tessellation::Delaunay;
+    /// use cvtmesh::geometry::DVec2;
     /// // A unit square's corners around a point off its centre, and a duplicate of corner 0.
     /// let points = [
     ///     DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y,
@@ -886,8 +886,8 @@ impl HintGrid {
 /// which is also the order [`Delaunay`] inserts them in. O(n log n).
 ///
 /// ```
-/// use cvtmesh_tessellation::hilbert_order;
-/// use geometry::DVec2;
+/// use cvtmesh::tessellation::hilbert_order;
+/// use cvtmesh::geometry::DVec2;
 /// // The four corners of a square, listed crosswise: the curve visits them around the square.
 /// let corners = [(0.0, 0.0), (1.0, 1.0), (1.0, 0.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
 /// let order = hilbert_order(&corners);

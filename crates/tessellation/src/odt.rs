@@ -31,8 +31,8 @@ pub fn odt_boundary_triangles(triangles: &[[u32; 3]]) -> Vec<bool> {
 /// that are not counter-clockwise) keeps its position.
 ///
 /// ```
-/// use cvtmesh_tessellation::odt_targets;
-/// use geometry::{DVec2, Density};
+/// use cvtmesh::tessellation::odt_targets;
+/// use cvtmesh::geometry::{DVec2, Density};
 ///
 /// // A regular hexagon around the origin: its centre is a fixed point.
 /// let mut points = vec![DVec2::new(0.1, -0.05)];
@@ -74,8 +74,8 @@ pub fn odt_targets(points: &[DVec2], triangles: &[[u32; 3]], density: &Density) 
 /// barycentre).
 ///
 /// ```
-/// use cvtmesh_tessellation::odt_energy;
-/// use geometry::{DVec2, Density};
+/// use cvtmesh::tessellation::odt_energy;
+/// use cvtmesh::geometry::{DVec2, Density};
 ///
 /// // ∫_T (u_I − u) on the unit right triangle is 1/3 − 1/6.
 /// let points = [DVec2::ZERO, DVec2::X, DVec2::Y];

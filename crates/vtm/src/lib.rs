@@ -54,9 +54,9 @@ pub enum VtmBoundary {
 /// The VTM method.
 ///
 /// ```
-/// use cvtmesh_vtm::{Vtm, VtmBoundary};
-/// use geometry::Region;
-/// use mesh::{check_conforming, MeshRequest, Mesher};
+/// use cvtmesh::vtm::{Vtm, VtmBoundary};
+/// use cvtmesh::geometry::Region;
+/// use cvtmesh::{check_conforming, MeshRequest, Mesher};
 ///
 /// let region = Region::builtin("square_hole")?;
 /// for boundary in [VtmBoundary::Sliding, VtmBoundary::Voronoi] {

@@ -33,12 +33,12 @@ pub fn write_gmsh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 /// Readers that take an entity's first physical curve, as [`read_gmsh`] does, see the loops.
 ///
 /// ```
-/// use cvtmesh_mesh::io;
-/// use geometry::{DVec2, LoopRole, Region};
+/// use cvtmesh::io;
+/// use cvtmesh::geometry::{DVec2, LoopRole, Region};
 /// let corners = vec![DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 1.0), DVec2::Y];
 /// let channel = Region::from_loops("channel", vec![(LoopRole::Outer, corners.clone())])?;
 /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
-/// let mesh = cvtmesh_mesh::Mesh { markers: io::markers_from_topology(&corners, &triangles), points: corners, triangles };
+/// let mesh = cvtmesh::Mesh { markers: io::markers_from_topology(&corners, &triangles), points: corners, triangles };
 /// let path = std::env::temp_dir().join(format!("cvtmesh-doc-pieces-{}.msh", std::process::id()));
 /// io::write_gmsh_on(&mesh, &channel, &path)?;
 /// let text = std::fs::read_to_string(&path)?;
@@ -366,9 +366,9 @@ pub fn read_gmsh_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
 /// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n\
 ///     $EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n$NodeData\n1\n\"h\"\n1\n0\n3\n0\n1\n3\n\
 ///     1 0.1\n2 0.2\n3 0.3\n$EndNodeData\n";
-/// let (m, h) = cvtmesh_mesh::io::gmsh_sizes_from_str(text)?;
+/// let (m, h) = cvtmesh::io::gmsh_sizes_from_str(text)?;
 /// assert_eq!((m.num_triangles(), h), (1, vec![0.1, 0.2, 0.3]));
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_sizes_from_str(text: &str) -> Result<(Mesh, Vec<f64>), MeshError> {
     sizes_from(text, Path::new("mesh.msh"))
@@ -391,10 +391,10 @@ fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
 ///
 /// ```
 /// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n";
-/// let m = cvtmesh_mesh::io::gmsh_from_str(text)?;
+/// let m = cvtmesh::io::gmsh_from_str(text)?;
 /// assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
-/// assert!(cvtmesh_mesh::io::gmsh_from_str("$MeshFormat\n").is_err());
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// assert!(cvtmesh::io::gmsh_from_str("$MeshFormat\n").is_err());
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
     Ok(parse(text, Path::new("mesh.msh"), false)?.mesh)
@@ -413,20 +413,20 @@ pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
 /// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n\
 ///     4 0 1 0\n$EndNodes\n$Elements\n6\n1 1 2 7 1 1 2\n2 1 2 9 2 2 3\n3 1 2 9 2 3 4\n\
 ///     4 1 2 9 2 4 1\n5 2 2 0 1 1 2 3\n6 2 2 0 1 1 3 4\n$EndElements\n";
-/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(text)?;
+/// let walls = cvtmesh::io::gmsh_walls_from_str(text)?;
 /// assert_eq!(walls.edges, [([0, 1], 7), ([1, 2], 9), ([2, 3], 9), ([3, 0], 9)]);
 /// // Named groups give their names.
 /// let named = text.replace("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n",
 ///     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 7 \"heated\"\n$EndPhysicalNames\n");
-/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(&named)?;
+/// let walls = cvtmesh::io::gmsh_walls_from_str(&named)?;
 /// assert_eq!(walls.names.get(&7).map(String::as_str), Some("heated"));
 /// // A point element (type 15) on node 3 in physical point 21 "pin": a point of its own.
 /// let pinned = named.replace("$Elements\n6\n", "$Elements\n7\n0 15 2 21 5 3\n")
 ///     .replace("1\n1 7 \"heated\"", "2\n1 7 \"heated\"\n0 21 \"pin\"");
-/// let walls = cvtmesh_mesh::io::gmsh_walls_from_str(&pinned)?;
+/// let walls = cvtmesh::io::gmsh_walls_from_str(&pinned)?;
 /// assert_eq!(walls.points, [(2, 21)]);
 /// assert_eq!(walls.names.get(&21).map(String::as_str), Some("pin"));
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
     Ok(parse(text, Path::new("mesh.msh"), false)?.walls)

@@ -41,9 +41,9 @@ pub fn read_obj(path: &Path) -> Result<Mesh, MeshError> {
 /// `mesh.obj`.
 ///
 /// ```
-/// let m = cvtmesh_mesh::io::obj_from_str("v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n")?;
+/// let m = cvtmesh::io::obj_from_str("v 0 0\nv 1 0\nv 0 1\nf 1 2 3\n")?;
 /// assert_eq!(m.num_triangles(), 1);
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn obj_from_str(text: &str) -> Result<Mesh, MeshError> {
     parse(text, Path::new("mesh.obj"))

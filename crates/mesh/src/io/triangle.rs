@@ -48,15 +48,15 @@ pub fn write_triangle(mesh: &Mesh, base: &Path) -> Result<(), MeshError> {
 /// to a fourth vertex attribute. Without such numbers the files are [`write_triangle`]'s.
 ///
 /// ```
-/// use cvtmesh_mesh::io;
-/// use geometry::formats::poly_from_str;
+/// use cvtmesh::io;
+/// use cvtmesh::geometry::formats::poly_from_str;
 /// // The unit square, its bottom marked 5 and the rest 7.
 /// let poly = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 1\n1 1 2 5\n2 2 3 7\n3 3 4 7\n4 4 1 7\n0\n";
 /// let region = poly_from_str(poly, "square.poly", "square")?;
-/// let points: Vec<geometry::DVec2> = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(geometry::DVec2::from).to_vec();
+/// let points: Vec<cvtmesh::geometry::DVec2> = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(cvtmesh::geometry::DVec2::from).to_vec();
 /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
 /// let markers = io::markers_from_topology(&points, &triangles);
-/// let mut mesh = cvtmesh_mesh::Mesh { points, triangles, markers };
+/// let mut mesh = cvtmesh::Mesh { points, triangles, markers };
 /// io::restore_markers(&mut mesh, &region);
 /// let base = std::env::temp_dir().join(format!("cvtmesh-doc-walls-{}", std::process::id()));
 /// io::write_triangle_on(&mesh, &region, &base)?;
@@ -254,7 +254,7 @@ fn hole_point(mesh: &Mesh, edges: &[(u32, u32)]) -> Option<DVec2> {
 /// whose ends are not both mesh vertices is left out.
 ///
 /// ```
-/// use cvtmesh_mesh::io;
+/// use cvtmesh::io;
 /// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-tri-walls-{}", std::process::id()));
 /// std::fs::create_dir_all(&dir)?;
 /// // Triangle's output for the unit square: its bottom segment marked 7, the rest 9.
@@ -301,10 +301,10 @@ pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError
 /// let node = "4 2 0 1\n1 0 0 2\n2 1 0 1\n3 1 1 5\n4 0 1 1\n";
 /// let ele = "2 3 0\n1 1 2 3\n2 1 3 4\n";
 /// let poly = "0 2 0 1\n4 1\n1 1 2 2\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n";
-/// let walls = cvtmesh_mesh::io::triangle_walls_from_str(node, ele, poly)?;
+/// let walls = cvtmesh::io::triangle_walls_from_str(node, ele, poly)?;
 /// assert_eq!(walls.edges, [([0, 1], 2), ([1, 2], 1), ([2, 3], 1), ([3, 0], 1)]);
 /// assert_eq!(walls.points, [(0, 2), (1, 1), (2, 5), (3, 1)]);
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
     let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
@@ -475,10 +475,10 @@ fn read_ele_of(ele_path: &Path, node_path: &Path) -> Result<String, MeshError> {
 /// reads them; errors name `mesh.node` and `mesh.ele`.
 ///
 /// ```
-/// let m = cvtmesh_mesh::io::triangle_from_str("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n")?;
+/// let m = cvtmesh::io::triangle_from_str("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n")?;
 /// assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
-/// assert!(cvtmesh_mesh::io::triangle_from_str("3 2 0 0\n", "").is_err());
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// assert!(cvtmesh::io::triangle_from_str("3 2 0 0\n", "").is_err());
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn triangle_from_str(node_text: &str, ele_text: &str) -> Result<Mesh, MeshError> {
     let (node_path, ele_path) = (Path::new("mesh.node"), Path::new("mesh.ele"));
@@ -499,14 +499,14 @@ pub fn read_triangle_sizes(node_path: &Path) -> Result<(Mesh, Vec<f64>), MeshErr
 /// `mesh.ele`.
 ///
 /// ```
-/// use cvtmesh_mesh::io::triangle_sizes_from_str;
+/// use cvtmesh::io::triangle_sizes_from_str;
 /// let node = "3 2 1 0\n1 0 0 0.1\n2 1 0 0.2\n3 0 1 0.3\n";
 /// let (m, h) = triangle_sizes_from_str(node, "1 3 0\n1 1 2 3\n")?;
 /// assert_eq!((m.num_triangles(), h), (1, vec![0.1, 0.2, 0.3]));
 /// // Without an attribute there is no size to read.
 /// let e = triangle_sizes_from_str("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n");
 /// assert!(e.unwrap_err().to_string().contains("no attribute"));
-/// # Ok::<(), cvtmesh_mesh::MeshError>(())
+/// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn triangle_sizes_from_str(
     node_text: &str,
