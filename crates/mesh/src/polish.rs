@@ -78,9 +78,11 @@ impl Polished {
 /// smallest angle around each, keeping every triangle and corner, boundary vertices on their
 /// piece (their markers follow; one whose marker names no piece of `region`, as a file's do
 /// before [`io::restore_markers`](crate::io::restore_markers), stays) and interior ones inside
-/// the region: see the module documentation. A threshold of 0 (or a mesh with no
-/// triangle below it) leaves the mesh as it is. Deterministic: the vertices are visited in the
-/// order of their worst triangle's angle.
+/// the region: see the module documentation. A threshold of 0 or less, or NaN (or a mesh with
+/// no triangle below it), leaves the mesh as it is; one above 60° takes every triangle, as 60°
+/// does (no triangle's smallest angle is larger). A meshing request refuses both
+/// ([`MeshRequest::polish`](crate::MeshRequest::polish)). Deterministic: the vertices are
+/// visited in the order of their worst triangle's angle.
 ///
 /// ```
 /// use cvtmesh::{polish, Mesh, VertexMarker};
@@ -1203,8 +1205,20 @@ mod tests {
         assert_eq!(mesh.points, before);
         let (mut jittered, _) = grid(6, wobble(0.2));
         let before = jittered.points.clone();
-        assert_eq!(polish(&mut jittered, &square, 0.0).moved, 0);
-        assert_eq!(jittered.points, before);
+        for below in [0.0, -10.0, f64::NAN] {
+            assert_eq!(polish(&mut jittered, &square, below).moved, 0, "{below}");
+            assert_eq!(jittered.points, before);
+        }
+    }
+
+    #[test]
+    fn a_threshold_above_sixty_degrees_polishes_as_sixty_does() {
+        let (mut at_sixty, square) = grid(8, wobble(0.2));
+        let mut above = at_sixty.clone();
+        let p = polish(&mut at_sixty, &square, 60.0);
+        assert!(p.moved > 0);
+        assert_eq!(polish(&mut above, &square, 75.0).moved, p.moved);
+        assert_eq!(above.points, at_sixty.points);
     }
 
     #[test]
