@@ -229,7 +229,7 @@ fn table_converge(args: &Args, solver: Solver) {
         "\n## Algorithm 2 ({}) to tol 1e-4 of the spacing ({})",
         solver_name(solver),
         if solver == Solver::Newton {
-            "the default method: the row start from 10⁴ generators, else the lattice"
+            "the default method: the row start from 3000 generators, else the lattice"
         } else {
             "lattice start"
         }

@@ -117,9 +117,11 @@ pub struct Ccvt {
     /// on the CVT of Ω and its slow dilation into Ω_ε, which is what thins the outer row to
     /// that spacing; the row start skips both. Over the ten built-in regions at K = 30 000
     /// (two seeds) it took 0.61 of the time, with a lower energy in 18 of 20 runs and 11 of the
-    /// 12 measures lower on average (`docs/design-notes.md`). Below 10⁴ the lattice's own
-    /// structure (the rings of Table 1's disc) matters more, and the paper's methods
-    /// ([`Ccvt::algorithm1`], [`Ccvt::algorithm2`]) never take it.
+    /// 12 measures lower on average; at K = 3000 and 5000, 0.43 and 0.42 of the time with 9
+    /// and 11 of the 12 lower on average (λ 2–4 % higher: `docs/design-notes.md`). 3000 by
+    /// default: below it the lattice's own structure (the rings of Table 1's disc) matters
+    /// more, and the study's K stay below it; the paper's methods ([`Ccvt::algorithm1`],
+    /// [`Ccvt::algorithm2`]) never take it.
     pub row_from: usize,
     /// Where each generator moves before the labels and projections: its centroid (CCVT, the
     /// default) or VTM's optimal-Delaunay target ([`Update::Odt`], with Algorithm 1 and Lloyd
@@ -144,7 +146,7 @@ impl Default for Ccvt {
             graded_multilevel_from: 75_000,
             levels_max_boundary_share: 0.03,
             graded_start: true,
-            row_from: 10_000,
+            row_from: 3_000,
             update: Update::Centroid,
         }
     }

@@ -129,7 +129,7 @@ fn constructors_have_their_documented_settings() {
     assert_eq!((d.algorithm, d.solver), (Algorithm::Two, Solver::Newton));
     assert_eq!(d.name(), "ccvt");
     assert_eq!(Ccvt::fast(), d);
-    assert!(d.graded_start && d.multilevel_from == usize::MAX && d.row_from == 10_000);
+    assert!(d.graded_start && d.multilevel_from == usize::MAX && d.row_from == 3_000);
     assert_eq!(d.graded_multilevel_from, 75_000);
     assert_eq!(d.levels_max_boundary_share, 0.03);
     for (m, algorithm, solver, name) in [
@@ -501,8 +501,8 @@ fn settled_epsilon(notes: &[String]) -> f64 {
     rel.parse().unwrap()
 }
 
-/// Starting ε near its settled value (`Ccvt::eps_start`) skips the CVT of Ω itself: fewer
-/// phases, the same settled ε within a few tolerances, and an energy as low.
+/// Starting ε near its settled value (`Ccvt::eps_start`) skips the lattice path's CVT of Ω
+/// itself: fewer phases, the same settled ε within a few tolerances, and an energy as low.
 #[test]
 fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
     let region = Region::builtin("circle").unwrap();
@@ -510,6 +510,7 @@ fn epsilon_start_skips_a_phase_and_settles_to_the_same_epsilon() {
     let from = |eps_start: f64| {
         let m = Ccvt {
             eps_start,
+            row_from: usize::MAX,
             ..Ccvt::fast()
         };
         let mut phases = 0;
