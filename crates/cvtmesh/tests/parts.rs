@@ -77,6 +77,28 @@ fn every_part_is_meshed_in_proportion_to_its_area() {
 }
 
 #[test]
+fn the_last_energy_of_a_region_of_parts_is_the_sum_of_its_parts() {
+    let r = three_parts();
+    let whole = cvtmesh::mesh(&r, 600).unwrap();
+    let n = per_part(&r, &whole.mesh);
+    let mut sum = 0.0;
+    let mut runs = 0;
+    for (part, &ni) in r.parts().iter().zip(&n) {
+        let alone = Method::Ccvt
+            .run(&part.region, &MeshRequest::points(ni))
+            .unwrap();
+        sum += alone.energy_history.last().unwrap();
+        runs += alone.energy_history.len();
+    }
+    assert_eq!(whole.energy_history.len(), runs);
+    let last = *whole.energy_history.last().unwrap();
+    assert!(
+        (last - sum).abs() <= 1e-12 * sum,
+        "{last:e} against {sum:e}"
+    );
+}
+
+#[test]
 fn every_method_meshes_every_part() {
     let r = three_parts();
     for m in Method::ALL {

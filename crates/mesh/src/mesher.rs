@@ -557,7 +557,10 @@ pub struct MeshResult {
     pub iterations: usize,
     /// True only if the convergence criterion was met before the cap.
     pub converged: bool,
-    /// Objective per iteration (CVT energy of eq. (4) for CVT methods; empty if none).
+    /// Objective per iteration (CVT energy of eq. (4) for CVT methods; empty if none). For a
+    /// region of several parts, meshed one after another, the parts' histories follow each
+    /// other, each entry the energy of the parts already meshed plus the current part's: the
+    /// last is the whole region's.
     pub energy_history: Vec<f64>,
     /// Largest relative move per iteration.
     pub move_history: Vec<f64>,

@@ -235,6 +235,9 @@ fn mesh_each_part<M: Mesher + ?Sized>(
         move_history: Vec::new(),
         notes: Vec::new(),
     };
+    // The energy is a sum over cells: while part i runs, the region's energy is that of the
+    // parts before it, as they ended, plus part i's own.
+    let mut finished = 0.0;
     for (i, (part, &ki)) in parts.iter().zip(&shares).enumerate() {
         let mut r = request.clone();
         r.size = Size::Points(ki);
@@ -256,7 +259,10 @@ fn mesh_each_part<M: Mesher + ?Sized>(
         merge(&mut merged.mesh, result.mesh, part)?;
         merged.iterations += result.iterations;
         merged.converged &= result.converged;
-        merged.energy_history.extend(result.energy_history);
+        merged
+            .energy_history
+            .extend(result.energy_history.iter().map(|e| finished + e));
+        finished += result.energy_history.last().copied().unwrap_or(0.0);
         merged.move_history.extend(result.move_history);
     }
     Ok(merged)
