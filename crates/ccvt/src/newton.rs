@@ -228,7 +228,9 @@ pub fn run(phase: &Phase, mut z: Vec<DVec2>, work: &mut Work, trace: &mut Trace)
     // the work done when it came.
     let mut spent = 1.0;
     let (mut best_move, mut best_spent) = (f64::INFINITY, 0.0);
-    if phase.project_first && phase.max_iter > 1 {
+    // Past the deadline (or cancelled) the first evaluation's targets, projected already, end
+    // the phase.
+    if phase.project_first && phase.max_iter > 1 && !phase.out_of_time() && !phase.cancelled() {
         // σ stays where it starts: after a rejected first candidate it would have quadrupled,
         // and a large σ confines the next steps to the boundary layer.
         record(phase, &s, &z, iterations, trace);

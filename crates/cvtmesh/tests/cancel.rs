@@ -10,15 +10,24 @@ use std::time::Duration;
 #[test]
 fn every_method_hands_back_a_conforming_mesh_at_its_deadline() {
     let region = Region::builtin("lake").unwrap();
-    for method in Method::ALL {
-        let request = MeshRequest::points(2000).time_limit(Duration::ZERO);
+    // CCVT from the lattice below 3000 generators, from the outer row at 3000.
+    for (method, k) in Method::ALL
+        .iter()
+        .map(|&m| (m, 2000))
+        .chain([(Method::Ccvt, 3000)])
+    {
+        let request = MeshRequest::points(k).time_limit(Duration::ZERO);
         let r = method
             .run(&region, &request)
             .unwrap_or_else(|e| panic!("{method}: {e}"));
         check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
         assert!(!r.converged, "{method}");
         // CCVT: one evaluation per phase (an ε-phase and the constrained one).
-        assert!(r.iterations <= 2, "{method}: {} iterations", r.iterations);
+        assert!(
+            r.iterations <= 2,
+            "{method} at {k}: {} iterations",
+            r.iterations
+        );
         assert!(
             r.notes.iter().any(|n| n.contains("time limit")),
             "{method}: {:?}",
