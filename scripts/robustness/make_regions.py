@@ -228,8 +228,9 @@ def build(w):
 
     dup = [(0, 0), (0, 0), (0.5, 0), (1, 0), (1, 0), (1, 0.5), (1, 1), (0.5, 1), (0.25, 1), (0, 1), (0, 1),
            (0, 0.5), (0, 0)]
-    w.add("dup_collinear", w.txt("dup_collinear.txt", [dup]), "mesh", [[sq, []]],
-          note="repeated and collinear points, closing point repeated")
+    w.add("dup_collinear", w.txt("dup_collinear.txt", [dup]), "error", None,
+          note="repeated and collinear points, closing point repeated: a repeated consecutive point is "
+               "refused with its position")
 
     w.add("orient_cw_cw", w.txt("orient_cw_cw.txt", [cw(sq), cw(h)]), "mesh", [[sq, [h]]], note="outer CW, hole CW")
     w.add("orient_ccw_ccw", w.txt("orient_ccw_ccw.txt", [ccw(sq), ccw(h)]), "mesh", [[sq, [h]]],

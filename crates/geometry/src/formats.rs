@@ -5,8 +5,9 @@
 //! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
 //! of its vertices as corners, as Triangle users expect ([`Region::with_default_corners`]
 //! keeps only the real turns, as the command line and the Python package do by default).
-//! Loops may come in either orientation (they are oriented here: outer CCW, holes CW); exact
-//! repeated points are dropped.
+//! Loops may come in either orientation (they are oriented here: outer CCW, holes CW); a
+//! closing copy of a loop's first point is dropped, any other repeated consecutive point is
+//! refused with its position (a zero-length edge the user should see).
 //!
 //! A file may hold several disjoint parts. GeoJSON says which ring is a hole; a loop list and
 //! a `.poly` do not, so nesting decides: a loop inside no other loop is an outer loop, a loop
