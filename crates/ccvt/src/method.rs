@@ -620,8 +620,8 @@ impl Ccvt {
         if tally.stalled {
             notes.push(format!(
                 "stopped unconverged: the largest move made no new low in the work of {} \
-                 evaluations (the iterate cycles); more points, or --corner-angle keeping \
-                 fewer corners, give the generators room",
+                 evaluations (the iterate cycles); more points, or a corner angle keeping \
+                 fewer corners (corner_angle, --corner-angle), give the generators room",
                 crate::newton::STALL_EVALUATIONS
             ));
         }

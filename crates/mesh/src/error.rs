@@ -44,16 +44,16 @@ pub enum MeshError {
         edge_length: Option<f64>,
     },
     /// The convergence tolerance is not a positive finite number.
-    #[error("the tolerance (--tol) must be a positive finite number, got {0}")]
+    #[error("the tolerance (tol, --tol) must be a positive finite number, got {0}")]
     InvalidTolerance(f64),
     /// The polish threshold is not an angle from 0 to 60 degrees.
-    #[error("the polish threshold (--polish) must be an angle from 0 to 60 degrees (0: no polish), got {0}")]
+    #[error("the polish threshold (polish, --polish) must be an angle from 0 to 60 degrees (0: no polish), got {0}")]
     InvalidPolish(f64),
     /// The iteration cap is zero.
-    #[error("the iteration cap (--max-iter) must be at least 1")]
+    #[error("the iteration cap (max_iter, --max-iter) must be at least 1")]
     ZeroMaxIter,
     /// The target edge length is not a positive finite number.
-    #[error("the edge length (--size) must be a positive finite number, got {0}")]
+    #[error("the edge length (size, --size) must be a positive finite number, got {0}")]
     InvalidEdgeLength(f64),
     /// The density is negative or not finite somewhere in the region.
     #[error(
@@ -284,12 +284,14 @@ fn too_few_points(
         );
     }
     match edge_length {
-        Some(h) => s += &format!("; the edge length {h} (--size) is too large for the region"),
+        Some(h) => {
+            s += &format!("; the edge length {h} (size, --size) is too large for the region")
+        }
         None => s += "; ask for more points",
     }
     if corners > 0 {
-        s += ", keep only the sharper corners with --corner-angle, or simplify a digitized \
-              boundary to the mesh's scale with --simplify auto";
+        s += ", keep only the sharper corners (corner_angle, --corner-angle), or simplify a \
+              digitized boundary to the mesh's scale (simplify \"auto\", --simplify auto)";
     }
     s
 }

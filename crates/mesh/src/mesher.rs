@@ -795,7 +795,12 @@ mod tests {
         }
         let text = e.to_string();
         assert!(text.contains("too small") && text.contains(&format!("{corners} corners")));
-        assert!(text.contains("--corner-angle"), "{text}");
+        // Named as the library and Python call the setting, and as the command line does.
+        assert!(text.contains("(corner_angle, --corner-angle)"), "{text}");
+        assert!(
+            text.contains("(simplify \"auto\", --simplify auto)"),
+            "{text}"
+        );
         assert!(e.is_invalid_request());
         assert_eq!(MeshRequest::points(needed).validate(&r).unwrap(), needed);
     }
@@ -814,7 +819,7 @@ mod tests {
             } => assert_eq!((*requested, *needed, *edge_length), (0, 3, Some(5.0))),
             other => panic!("{other:?}"),
         }
-        assert!(e.to_string().contains("--size"), "{e}");
+        assert!(e.to_string().contains("(size, --size)"), "{e}");
     }
 
     #[test]
@@ -843,7 +848,7 @@ mod tests {
                 .validate(&circle)
                 .unwrap_err();
             assert!(matches!(e, MeshError::InvalidTolerance(_)), "{tol}: {e:?}");
-            assert!(e.to_string().contains("--tol"), "{e}");
+            assert!(e.to_string().contains("(tol, --tol)"), "{e}");
         }
     }
 

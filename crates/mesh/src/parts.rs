@@ -24,7 +24,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         format!(
             "at this spacing the boundary's bends and gaps need {needed} boundary vertices, more \
              than K = {}: a larger K would follow them, or a boundary simplified to the mesh's \
-             scale (--simplify auto) would need fewer",
+             scale (simplify \"auto\", --simplify auto) would need fewer",
             request.size.points(region)
         )
     };
@@ -84,7 +84,9 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             let hint = match (thin_feature(region, request), unfitted) {
                 (Some(thin), _) => thin.to_string(),
                 (None, Some(needed)) => unfitted_hint(needed),
-                (None, None) => "try a larger K, or keep every corner (--corner-angle 0)".into(),
+                (None, None) => {
+                    "try a larger K, or keep every corner (corner_angle 0, --corner-angle 0)".into()
+                }
             };
             return Err(MeshError::NotConforming {
                 method: mesher.name().to_string(),

@@ -68,7 +68,7 @@ impl fmt::Display for ThinFeature {
         write!(
             f,
             "the region is {:.3e} wide near ({:.6}, {:.6}) ({:.3e} of its boundary is that thin), \
-             {:.1}× thinner than the spacing {:.3e} of K = {}: K ≥ {} (or --size {:.3e}) would resolve it \
+             {:.1}× thinner than the spacing {:.3e} of K = {}: K ≥ {} (or an edge length of {:.3e}: size, --size) would resolve it \
              with one edge across",
             self.width,
             self.at.x,

@@ -316,8 +316,11 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, simplify=-1.0), "simplify"),
         (dict(region="circle", n=100, time_limit=-1.0), "time_limit"),
         (dict(region="circle", n=100, time_limit=float("nan")), "time_limit"),
-        (dict(region="circle", n=100, polish=75.0), "polish threshold"),
+        (dict(region="circle", n=100, polish=75.0), "polish threshold (polish,"),
         (dict(region="circle", n=100, polish=float("nan")), "polish threshold"),
+        (dict(region="circle", n=100, tol=0.0), "tolerance (tol,"),
+        (dict(region="circle", n=100, max_iter=0), "(max_iter,"),
+        (dict(region="square_hole", n=3), "(corner_angle,"),
     ],
 )
 def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):
