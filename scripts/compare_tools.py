@@ -2,9 +2,12 @@
 score every mesh with `cvtmesh measure --csv`; write results/compare/compare.{csv,md}.
 
 Each external tool is timed around its mesher call only. K is matched by a short search on
-the tool's size parameter (area bound, characteristic length, h0).
+the tool's size parameter (area bound, characteristic length, h0). With --repeat N, Triangle's
+and Gmsh's calls at the parameter found and cvtmesh's whole command are timed N times and the
+fastest is kept: one call of a tenth of a second moves by half from run to run on a shared
+machine, and the least of several is the time the tool needs when nothing else runs.
 """
-import argparse, json, math, os, queue, subprocess, sys, time, multiprocessing as mp
+import argparse, functools, json, math, os, queue, subprocess, sys, time, multiprocessing as mp
 import numpy as np
 
 MEASURES = "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p".split(",")
@@ -119,11 +122,12 @@ def triangle_input(domain_file, h, split_lines=False):
 
 
 def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=None, tries=8,
-                 split_lines=False):
+                 split_lines=False, repeat=1):
     """Triangle -pq<min_angle>a<A> with A searched to K. Without split_boundary, -Y keeps the
     boundary as sampled (curves at spacing h, straight edges whole); with it Triangle splits
     encroached boundary segments as its default does. `info` (a dict) receives the switches;
-    `tries` caps the search on A; split_lines samples straight edges at spacing h too."""
+    `tries` caps the search on A; split_lines samples straight edges at spacing h too; the
+    call at the A found is timed `repeat` times in all and the fastest kept."""
     import triangle
     h = math.sqrt(2 * area / (math.sqrt(3) * k))
     geom = triangle_input(domain_file, h, split_lines)
@@ -137,13 +141,18 @@ def run_triangle(domain_file, k, area, min_angle=30, split_boundary=False, info=
         sec = time.perf_counter() - t0
         kk = len(m["vertices"])
         if best is None or abs(kk - k) < abs(best[2] - k):
-            best = (m["vertices"], m["triangles"], kk, sec)
+            best = (m["vertices"], m["triangles"], kk, sec, switches)
             if info is not None:
                 info["switches"] = switches
         if abs(kk - k) <= 0.005 * k:
             break
         a = next_size(a, kk, k, kk / k, bracket)
-    return best[0], best[1], best[3]
+    sec = best[3]
+    for _ in range(repeat - 1):
+        t0 = time.perf_counter()
+        triangle.triangulate(geom, best[4])
+        sec = min(sec, time.perf_counter() - t0)
+    return best[0], best[1], sec
 
 
 def _gmsh_curved_loop(gmsh, d, lp, h):
@@ -190,16 +199,18 @@ def gmsh_generate(gmsh):
     return p, tri, sec
 
 
-def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=True):
+def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=True, repeat=1):
     """Gmsh algorithm `algo` at a uniform size searched to K; `info` (a dict) receives the size.
     Gmsh extends the sizes of the boundary's 1-D mesh inward, below Mesh.MeshSizeMin: a short
     edge split in two then halves the spacing around it (square_two_hex: K jumps from 145 to
-    277 between sizes 0.100 and 0.099). size_from_boundary=False turns that off."""
+    277 between sizes 0.100 and 0.099). size_from_boundary=False turns that off. The size
+    found is meshed `repeat` times in all and the fastest `generate` kept."""
     import gmsh
     h0 = math.sqrt(2 * area / (math.sqrt(3) * k))
     d, loops = loops_of(domain_file, h0 / 4)
     best, h, bracket = None, h0, [None, None]
-    for _ in range(tries):
+
+    def build(h):
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("m")
@@ -223,15 +234,22 @@ def run_gmsh(domain_file, k, area, algo, info=None, tries=5, size_from_boundary=
         gmsh.option.setNumber("Mesh.Algorithm", algo)
         if not size_from_boundary:
             gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+
+    for _ in range(tries):
+        build(h)
         p, tri, sec = gmsh_generate(gmsh)
         if best is None or abs(len(p) - k) < abs(len(best[0]) - k):
-            best = (p, tri, sec)
+            best = (p, tri, sec, h)
             if info is not None:
                 info["size"] = h
         if abs(len(p) - k) <= 0.01 * k:
             break
         h = next_size(h, len(p), k, math.sqrt(len(p) / k), bracket)
-    return best
+    sec = best[2]
+    for _ in range(repeat - 1):
+        build(best[3])
+        sec = min(sec, gmsh_generate(gmsh)[2])
+    return best[0], best[1], sec
 
 
 def run_distmesh(domain_file, k, area):
@@ -270,14 +288,18 @@ def run_distmesh(domain_file, k, area):
     return np.asarray(p), np.asarray(t), sec
 
 
-def cvtmesh_run(exe, region, k, base, max_iter, timeout):
-    """Seconds of the whole command and a note: iterations and whether it converged."""
-    t0 = time.perf_counter()
-    out = subprocess.run([exe, "mesh", region, "--points", str(k), "--quiet", "--max-iter", str(max_iter),
-                          "-o", base + ".node"], capture_output=True, text=True, timeout=timeout)
-    if out.returncode != 0:
-        raise RuntimeError(out.stderr)
-    sec = time.perf_counter() - t0
+def cvtmesh_run(exe, region, k, base, max_iter, timeout, repeat=1):
+    """Seconds of the whole command (the fastest of `repeat` runs) and a note: iterations and
+    whether it converged."""
+    sec = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = subprocess.run([exe, "mesh", region, "--points", str(k), "--quiet", "--max-iter",
+                              str(max_iter), "-o", base + ".node"],
+                             capture_output=True, text=True, timeout=timeout)
+        if out.returncode != 0:
+            raise RuntimeError(out.stderr)
+        sec = min(sec, time.perf_counter() - t0)
     line = out.stdout.strip().splitlines()[-1]
     its = next((w.split("=")[1] for w in line.split() if w.startswith("iterations=")), "?")
     state = "not converged" if "not converged" in line.lower() else "converged"
@@ -346,13 +368,21 @@ def main():
     ap.add_argument("--name", default="compare", help="stem of the CSV and Markdown tables in --out")
     ap.add_argument("--tools", default="triangle,gmsh-delaunay,gmsh-frontal,distmeshpy,cvtmesh",
                     help="which tools to run (e.g. leave out the slow ones at 10^6)")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="time Triangle's and Gmsh's calls and cvtmesh's command this many times "
+                         "and keep the fastest (distmeshpy runs once)")
     ap.add_argument("--cvtmesh-max-iter", type=int, default=10000,
                     help="cvtmesh's iteration cap per phase (a capped run is reported as not converged)")
     a = ap.parse_args()
+    if a.repeat < 1:
+        ap.error("--repeat must be at least 1")
     os.makedirs(a.out, exist_ok=True)
     rows = []
-    tools = [("triangle", run_triangle, ()), ("gmsh-delaunay", run_gmsh, (5,)),
-             ("gmsh-frontal", run_gmsh, (6,)), ("distmeshpy", run_distmesh, ())]
+    timed = functools.partial
+    tools = [("triangle", timed(run_triangle, repeat=a.repeat), ()),
+             ("gmsh-delaunay", timed(run_gmsh, repeat=a.repeat), (5,)),
+             ("gmsh-frontal", timed(run_gmsh, repeat=a.repeat), (6,)),
+             ("distmeshpy", run_distmesh, ())]
     wanted = set(a.tools.split(","))
     tools = [t for t in tools if t[0] in wanted]
     for region in a.regions.split(","):
@@ -379,7 +409,8 @@ def main():
                 continue
             base = os.path.join(a.out, f"{region}_{k}_cvtmesh")
             try:
-                sec, note = cvtmesh_run(a.cvtmesh, region, k, base, a.cvtmesh_max_iter, a.timeout)
+                sec, note = cvtmesh_run(a.cvtmesh, region, k, base, a.cvtmesh_max_iter, a.timeout,
+                                        a.repeat)
             except subprocess.TimeoutExpired:
                 print(f"{region} {k} cvtmesh: no result within {a.timeout:.0f} s", file=sys.stderr)
                 rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=float("nan"), note="timeout"))
