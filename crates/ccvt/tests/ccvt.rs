@@ -406,21 +406,25 @@ fn newton_needs_fewer_evaluations_than_anderson_for_the_same_energy() {
 }
 
 /// Newton's linear algebra (dot products, Hessian rows, CG) gives the same bits on any number
-/// of threads.
+/// of threads: at the paper's sizes, and with more than one chunk of the fixed-chunk sums
+/// (2·K values above `DOT_CHUNK`), the row start and active-set steps.
 #[test]
 fn newton_result_does_not_depend_on_the_thread_count() {
     let region = Region::builtin("square_two_hex").unwrap();
-    let solve = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| run(&Ccvt::fast(), &region, 203, 3))
-    };
-    let (one, two) = (solve(1), solve(2));
-    assert_eq!(one.mesh, two.mesh);
-    assert_eq!(one.energy_history, two.energy_history);
-    assert_eq!(one.iterations, two.iterations);
+    for k in [203, 3000] {
+        assert!(k < 1000 || 2 * k > tessellation::DOT_CHUNK);
+        let solve = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| run(&Ccvt::fast(), &region, k, 3))
+        };
+        let (one, two) = (solve(1), solve(2));
+        assert_eq!(one.mesh, two.mesh, "K = {k}");
+        assert_eq!(one.energy_history, two.energy_history, "K = {k}");
+        assert_eq!(one.iterations, two.iterations, "K = {k}");
+    }
 }
 
 /// A capped Newton run stops at the cap (a rejected candidate never pushes it past) and says

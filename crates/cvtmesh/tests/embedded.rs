@@ -48,7 +48,8 @@ fn the_polish_leaves_an_embedded_point_where_it_is() {
         .unwrap()
         .mesh;
     // Every vertex may move, up to a polish at 60° (every triangle is "bad").
-    polish(&mut mesh, &region, 60.0);
+    let polished = polish(&mut mesh, &region, 60.0);
+    assert!(polished.moved > 0, "the polish moved nothing");
     for &(p, _) in region.embedded_points() {
         assert!(
             mesh.points.contains(&p),

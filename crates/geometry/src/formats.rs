@@ -1,9 +1,10 @@
 //! Region input formats besides the project JSON: Triangle .poly, GeoJSON, plain loop lists,
 //! and [`Region::from_file`], which reads any of them and the project JSON.
 //!
-//! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] and every
-//! vertex where the boundary turns (by more than 1e-9 rad) is a corner, so a polygon keeps all
-//! of its vertices as corners, as Triangle users expect ([`Region::with_default_corners`]
+//! Every format gives straight-edged loops; each edge becomes a [`Piece::Line`] (edges that
+//! meet where the boundary goes straight on join into one) and every vertex where the boundary
+//! turns (by more than 1e-9 rad) is a corner, so a polygon keeps all of its vertices as
+//! corners, as Triangle users expect ([`Region::with_default_corners`]
 //! keeps only the real turns, as the command line and the Python package do by default).
 //! Loops may come in either orientation (they are oriented here: outer CCW, holes CW); a
 //! closing copy of a loop's first point is dropped, any other repeated consecutive point is
@@ -1523,16 +1524,22 @@ mod tests {
             DVec2::new(1.0, 2.0),
             DVec2::new(0.0, 2.0),
         ];
-        let n = pts.len();
-        let turning: Vec<usize> = (0..n)
-            .filter(|&i| {
-                (pts[i] - pts[(i + n - 1) % n])
-                    .angle_to(pts[(i + 1) % n] - pts[i])
-                    .abs()
-                    > CORNER_TURN
-            })
-            .collect();
-        assert_eq!(turning, [0, 2, 3, 5]);
+        let r = Region::from_loops("square", vec![(LoopRole::Outer, pts.to_vec())]).unwrap();
+        let mut corners: Vec<(f64, f64)> = r.corners().iter().map(|c| (c.pos.x, c.pos.y)).collect();
+        corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(corners, [(0.0, 0.0), (0.0, 2.0), (2.0, 0.0), (2.0, 2.0)]);
+        // Collinear edges join into one piece between corners.
+        assert_eq!(r.pieces().len(), 4);
+        // A turn of about 1e-6 rad (the threshold is 1e-9) makes a corner.
+        let bent = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 1e-6),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        let r = Region::from_loops("bent", vec![(LoopRole::Outer, bent.to_vec())]).unwrap();
+        assert_eq!((r.corners().len(), r.pieces().len()), (5, 5));
     }
 
     proptest::proptest! {

@@ -300,7 +300,6 @@ mod tests {
             p in point(), a in point(), b in point()
         ) {
             let d = segment_distance(p, a, b);
-            prop_assert!(d >= 0.0);
             prop_assert!(d <= p.distance(a) * (1.0 + 1e-12) + 1e-12);
             prop_assert!(d <= p.distance(b) * (1.0 + 1e-12) + 1e-12);
             // The closest point realises the same distance.
@@ -308,6 +307,12 @@ mod tests {
             prop_assert!((0.0..=1.0).contains(&t));
             prop_assert!((d2.sqrt() - d).abs() <= 1e-9 * (1.0 + d));
             prop_assert!((q.distance(p) - d).abs() <= 1e-9 * (1.0 + d));
+            // The closest point lies on the segment, and no point of it is closer.
+            prop_assert!(q.distance(a.lerp(b, t)) <= 1e-9 * (1.0 + a.distance(b)));
+            for k in 0..=16 {
+                let r = a.lerp(b, f64::from(k) / 16.0);
+                prop_assert!(d <= r.distance(p) * (1.0 + 1e-12) + 1e-12);
+            }
         }
 
         #[test]

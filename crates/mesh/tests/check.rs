@@ -93,8 +93,16 @@ fn triangles_across_the_hole_are_caught() {
 #[test]
 fn a_missing_triangle_is_caught() {
     let mut m = frame_mesh();
-    m.triangles.pop();
-    assert!(check_conforming(&m, &frame_region()).is_err());
+    let [a, b, c] = m.triangles.pop().unwrap();
+    // Its edge across the frame, from the outer loop to the hole, is left on one triangle:
+    // a boundary edge between two loops.
+    let e = check_conforming(&m, &frame_region()).unwrap_err();
+    match e {
+        ConformityError::CrossLoopEdge(u, w) => {
+            assert!([a, b, c].contains(&u) && [a, b, c].contains(&w), "{e}");
+        }
+        _ => panic!("expected a boundary edge across the loops, got {e}"),
+    }
 }
 
 #[test]

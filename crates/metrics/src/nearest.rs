@@ -203,6 +203,10 @@ mod tests {
             let g = nearest_neighbor_distances(&pts);
             assert_eq!(g[0], 0.0);
             assert_eq!(g[pts.len() - 1], 0.0);
+            for (k, &d) in g.iter().enumerate() {
+                let nearest = brute(&pts, pts[k], Some(k)).unwrap().1.sqrt();
+                assert_eq!(d, nearest, "n={n} k={k}");
+            }
         }
     }
 

@@ -102,6 +102,11 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
 }
 
+/// |a − b| within `tol` of the larger magnitude: for values far below 1 too.
+fn relative_close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * a.abs().max(b.abs())
+}
+
 #[test]
 fn unit_square_end_to_end() {
     let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
@@ -172,14 +177,16 @@ fn invariant_under_similarity_transformations() {
             assert!(close(x, y, 1e-9), "{name}: {x} vs {y} (seed {seed})");
             assert!(x > 0.0, "{name} = {x} should be positive for random points");
         }
+        // τ is a length², d a length⁴: relative to their own size (at s = 0.013, d·s⁴ is far
+        // below any absolute tolerance).
         assert!(
-            close(a.tau * s * s, b.tau, 1e-9),
+            relative_close(a.tau * s * s, b.tau, 1e-9),
             "tau: {} vs {}",
             a.tau * s * s,
             b.tau
         );
         assert!(
-            close(a.d * s.powi(4), b.d, 1e-9),
+            relative_close(a.d * s.powi(4), b.d, 1e-9),
             "d: {} vs {}",
             a.d * s.powi(4),
             b.d
@@ -280,10 +287,16 @@ fn converged_in_polygon_tolerance() {
         );
         let b = measures_from_parts(&mesh.points, &mesh.triangles, &cells, region.area()).unwrap();
         for (i, name) in Measures::NAMES.iter().enumerate() {
-            let (x, y) = (a.values()[i], b.values()[i]);
+            // τ (a length²) and d (a length⁴) in units of the spacing, like the others.
+            let unit = match *name {
+                "tau" => s * s,
+                "d" => s.powi(4),
+                _ => 1.0,
+            };
+            let (x, y) = (a.values()[i] / unit, b.values()[i] / unit);
             assert!(
                 x == y || close(x, y, 1e-5),
-                "{name}: {x} at tol, {y} at tol/100 (K = {})",
+                "{name}: {x} at tol, {y} at tol/100 (K = {}, in units of the spacing)",
                 a.k
             );
         }

@@ -1,6 +1,6 @@
 //! Clipped Voronoi cells against an independent brute-force reference and exact cases.
 use cvtmesh_tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
-use geometry::predicates::segment_distance;
+use geometry::predicates::{circumcenter, segment_distance};
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
 use std::sync::Arc;
@@ -567,7 +567,8 @@ fn random_polygons_with_boundary_generators_match_reference() {
         let dom = star(&mut rng, n, hole);
         let (lo, hi) = dom.bbox();
         let mut pts = Vec::new();
-        while pts.len() < 1 + rng.below(20) {
+        let want = 1 + rng.below(20);
+        while pts.len() < want {
             let p = v(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
             if dom.contains(p) {
                 pts.push(p);
@@ -575,15 +576,7 @@ fn random_polygons_with_boundary_generators_match_reference() {
         }
         add_boundary_generators(&mut rng, &dom, &mut pts, 3, 2);
         let cells = cells_of(&pts, &dom);
-        let r = reference(&pts, &dom);
-        for (i, c) in cells.cells.iter().enumerate() {
-            if (c.area - r[i].0).abs() > 1e-9 {
-                panic!(
-                    "seed {seed} cell {i} at {}: {} vs {}; dom {:?}; pts {:?}",
-                    pts[i], c.area, r[i].0, dom, pts
-                );
-            }
-        }
+        assert_matches_reference(&cells, &pts, &dom);
     }
 }
 
@@ -863,6 +856,32 @@ proptest! {
     }
 }
 
+/// Whether the segment c–d meets the box lo–hi (Liang–Barsky clipping).
+fn segment_meets_box(c: DVec2, d: DVec2, lo: DVec2, hi: DVec2) -> bool {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let dir = d - c;
+    for (p, q) in [
+        (-dir.x, c.x - lo.x),
+        (dir.x, hi.x - c.x),
+        (-dir.y, c.y - lo.y),
+        (dir.y, hi.y - c.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    t0 <= t1
+}
+
 /// A framed triangulation of `pts` after `moved` (a subset of input indices) were moved to their
 /// positions in `after` by `move_points`, with the cells updated only around them, against a
 /// fresh triangulation and a full cells pass.
@@ -882,22 +901,49 @@ fn assert_moved_points_match_fresh(dom: &Polygon, pts: &[DVec2], after: &[DVec2]
         clipped_cells(after, &framed, dom, &Density::Uniform).cells
     );
     let fresh = Delaunay::new(after);
+    // Triangles of the frameless triangulation by their edges.
+    let mut sides: std::collections::HashMap<(u32, u32), Vec<[u32; 3]>> = Default::default();
+    for t in fresh.triangles() {
+        for k in 0..3 {
+            let (u, w) = (t[k], t[(k + 1) % 3]);
+            sides.entry((u.min(w), u.max(w))).or_default().push(t);
+        }
+    }
+    let (lo, hi) = dom.bbox();
     for i in 0..pts.len() {
         let (mut a, mut b) = (framed.neighbors(i), fresh.neighbors(i));
         a.sort_unstable();
         b.sort_unstable();
-        // The frame only removes hull slivers of the frameless triangulation.
+        // The frame only removes edges of the frameless triangulation, and only those whose
+        // Voronoi edge lies outside the box where cells are wanted.
         assert!(
             a.iter().all(|j| b.contains(j)),
             "neighbours of {i}: {a:?} vs {b:?}"
         );
-        if !b.iter().any(|&j| !a.contains(&j)) {
-            continue;
+        for &j in b.iter().filter(|j| !a.contains(j)) {
+            let key = (i.min(j) as u32, i.max(j) as u32);
+            let centres: Vec<DVec2> = sides[&key]
+                .iter()
+                .map(|t| {
+                    circumcenter(
+                        after[t[0] as usize],
+                        after[t[1] as usize],
+                        after[t[2] as usize],
+                    )
+                })
+                .collect();
+            // Two triangles: the Voronoi edge is the segment between their circumcentres; one
+            // (a hull edge): a ray from its circumcentre, which must start outside the box.
+            let clear = match centres[..] {
+                [c, d] => !segment_meets_box(c, d, lo, hi),
+                [c] => !(c.cmpge(lo).all() && c.cmple(hi).all()),
+                _ => false,
+            };
+            assert!(
+                clear,
+                "edge {i}–{j} is missing but its Voronoi edge enters the box"
+            );
         }
-        assert!(
-            fresh.neighbors(i).len() > a.len(),
-            "a hull vertex of the frameless triangulation only"
-        );
     }
     let want = cells_of(after, dom);
     let scale = dom.area();
