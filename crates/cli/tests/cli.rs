@@ -268,6 +268,22 @@ fn every_output_format_is_written_and_meshes_read_back() {
         let len = std::fs::metadata(&out).unwrap().len();
         assert!(len > 100, "{ext}: {len} bytes");
     }
+    // The formats that read back give the same mesh: the same seed, vertices and triangles
+    // (`.msh` and `.obj` print coordinates to the last bit, as `.node` does).
+    let node = cvtmesh::io::read_mesh(&d.join("m.node")).unwrap();
+    assert_eq!(node.num_vertices(), 203);
+    for ext in ["msh", "obj"] {
+        let m = cvtmesh::io::read_mesh(&d.join(format!("m.{ext}"))).unwrap();
+        assert_eq!(m.points, node.points, "{ext}");
+        assert_eq!(m.triangles, node.triangles, "{ext}");
+    }
+    let vtu = std::fs::read_to_string(d.join("m.vtu")).unwrap();
+    assert!(
+        vtu.contains("NumberOfPoints=\"203\"")
+            && vtu.contains(&format!("NumberOfCells=\"{}\"", node.triangles.len())),
+        "{}",
+        &vtu[..vtu.len().min(400)]
+    );
     let o = cvtmesh(&[
         "measure",
         s(&d.join("m.msh")),
@@ -292,6 +308,22 @@ fn every_output_format_is_written_and_meshes_read_back() {
     assert!(std::fs::read_to_string(d.join("lake.svg"))
         .unwrap()
         .contains("<svg"));
+}
+
+/// Mean length of the mesh's edges (counted once per triangle side) whose midpoint `near`
+/// accepts.
+fn mean_edge_where(m: &cvtmesh::Mesh, near: impl Fn(cvtmesh::DVec2) -> bool) -> f64 {
+    let (mut sum, mut n) = (0.0, 0);
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (m.points[t[k] as usize], m.points[t[(k + 1) % 3] as usize]);
+            if near(0.5 * (a + b)) {
+                sum += (b - a).length();
+                n += 1;
+            }
+        }
+    }
+    sum / n as f64
 }
 
 /// Number of edges used by exactly one triangle of the mesh in `path`.
@@ -644,14 +676,22 @@ fn bad_input_is_refused_with_a_clear_message() {
             "0 0\n1 0\n1 1\n0 1\n\n0.5 0.5\n6 5\n6 6\n",
             "cross",
         ),
-        ("nan.txt", "0 0\n1 0\nnan 1\n0 1\n", "nan.txt"),
+        (
+            "nan.txt",
+            "0 0\n1 0\nnan 1\n0 1\n",
+            "nan.txt: line 3: x is not finite",
+        ),
         ("dup.txt", "0 0\n1 0\n1 0\n1 1\n0 1\n", "duplicate"),
         (
             "open.json",
             r#"{"loops":[{"role":"outer","segments":[{"kind":"polyline","points":[[0,0],[1,0],[1,1],[0,1]]}]}]}"#,
-            "open.json",
+            "open.json): loop 0 (outer) is not closed",
         ),
-        ("garbage.json", "{ this is not json", "garbage.json"),
+        (
+            "garbage.json",
+            "{ this is not json",
+            "garbage.json: invalid JSON",
+        ),
     ] {
         let p = d.join(name);
         std::fs::write(&p, body).unwrap();
@@ -660,7 +700,7 @@ fn bad_input_is_refused_with_a_clear_message() {
     assert_refused(
         &["measure", s(&d.join("none.node")), "--region", "circle"],
         &d.join("none.node"),
-        "none",
+        "none.node: cannot read",
     );
 }
 
@@ -891,10 +931,15 @@ fn a_size_field_on_a_mesh_grades_the_mesh_as_its_expression_does() {
         rows[0]
     );
     // A mesh file is an input: never overwritten.
-    assert_refused(
-        &["mesh", "circle", "--size-field", s(&msh), "-o", s(&msh)],
-        &dir.join("never.msh"),
-        "would replace the input file",
+    let before = std::fs::read(&msh).unwrap();
+    let o = cvtmesh(&["mesh", "circle", "--size-field", s(&msh), "-o", s(&msh)]);
+    let t = text(&o);
+    assert!(!o.status.success(), "accepted:\n{t}");
+    assert!(t.contains("would replace the input file"), "{t}");
+    assert_eq!(
+        std::fs::read(&msh).unwrap(),
+        before,
+        "the sizes file was changed"
     );
 }
 
@@ -940,20 +985,10 @@ fn a_distance_field_toward_one_piece_refines_that_wall_and_regions_names_it() {
     assert!(o.status.success(), "{}", text(&o));
     let m = cvtmesh::io::read_mesh(&out).unwrap();
     // Edges near the bottom wall are several times shorter than near the top one.
-    let mean_edge = |near: &dyn Fn(f64) -> bool| {
-        let (mut sum, mut n) = (0.0, 0);
-        for t in &m.triangles {
-            for k in 0..3 {
-                let (a, b) = (m.points[t[k] as usize], m.points[t[(k + 1) % 3] as usize]);
-                if near(0.5 * (a.y + b.y)) {
-                    sum += (b - a).length();
-                    n += 1;
-                }
-            }
-        }
-        sum / n as f64
-    };
-    let (bottom, top) = (mean_edge(&|y| y < 0.05), mean_edge(&|y| y > 0.9));
+    let (bottom, top) = (
+        mean_edge_where(&m, |p| p.y < 0.05),
+        mean_edge_where(&m, |p| p.y > 0.9),
+    );
     assert!(top > 4.0 * bottom, "bottom {bottom}, top {top}");
     let o = cvtmesh(
         &[
@@ -1721,7 +1756,11 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
     // Read back by its corners: the same mesh as the linear run.
     let linear = dir.join("c1.msh");
     assert!(quiet_mesh("annulus", "300", &[], &linear).status.success());
-    let csv = |p: &Path| text(&cvtmesh(&["measure", s(p), "--region", "annulus", "--csv"]));
+    let csv = |p: &Path| {
+        let o = cvtmesh(&["measure", s(p), "--region", "annulus", "--csv"]);
+        assert!(o.status.success(), "measure {}: {}", p.display(), text(&o));
+        text(&o)
+    };
     assert_eq!(csv(&msh), csv(&linear));
     // Polished, six-node triangles stay six-node triangles, on the same corners as the
     // polished linear mesh.
@@ -2287,4 +2326,10 @@ fn a_gmsh_users_physical_curves_survive_meshing_again() {
         &graded,
     );
     assert!(o.status.success(), "{}", text(&o));
+    let m = cvtmesh::io::read_mesh(&graded).unwrap();
+    let (inlet, outlet) = (
+        mean_edge_where(&m, |p| p.x < 0.05),
+        mean_edge_where(&m, |p| p.x > 3.5),
+    );
+    assert!(outlet > 4.0 * inlet, "inlet {inlet}, outlet {outlet}");
 }

@@ -54,13 +54,17 @@ proptest! {
     ) {
         let Some(region) = region(&radii, hole) else { return Ok(()) };
         let k = cvtmesh::boundary_points_needed(&region) + extra;
+        let mut meshed = 0;
         for m in methods() {
             let req = MeshRequest::points(k).seed(seed).max_iter(400);
             if let Ok(r) = m.mesh(&region, &req, &mut |_| {}) {
                 if let Err(e) = check_conforming(&r.mesh, &region) {
                     panic!("{} returned a non-conforming mesh for radii {radii:?} hole {hole} K {k} seed {seed}: {e}", m.name());
                 }
+                meshed += 1;
             }
         }
+        // A refusal is allowed, not a region that no method meshes.
+        prop_assert!(meshed > 0, "no method meshed radii {:?} hole {} K {}", radii, hole, k);
     }
 }

@@ -325,17 +325,7 @@ impl MeshRequest {
                 max: MAX_POINTS,
             });
         }
-        if let Some(available) = total_memory() {
-            let bytes = memory_estimate(k);
-            if bytes > available {
-                return Err(MeshError::TooMuchMemory {
-                    requested: k,
-                    bytes,
-                    bytes_per_vertex: BYTES_PER_VERTEX,
-                    available,
-                });
-            }
-        }
+        check_memory(k, total_memory())?;
         if !(self.tol.is_finite() && self.tol > 0.0) {
             return Err(MeshError::InvalidTolerance(self.tol));
         }
@@ -481,6 +471,20 @@ pub fn memory_estimate(k: usize) -> u64 {
     (k as u64)
         .saturating_mul(BYTES_PER_VERTEX)
         .saturating_add(64 << 20)
+}
+
+/// K vertices against a machine of `available` bytes (unknown: no bound).
+fn check_memory(k: usize, available: Option<u64>) -> Result<(), MeshError> {
+    let bytes = memory_estimate(k);
+    match available {
+        Some(available) if bytes > available => Err(MeshError::TooMuchMemory {
+            requested: k,
+            bytes,
+            bytes_per_vertex: BYTES_PER_VERTEX,
+            available,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// The machine's total memory in bytes (`MemTotal` of `/proc/meminfo`), or `None` where it
@@ -853,7 +857,31 @@ mod tests {
     }
 
     #[test]
+    fn a_request_beyond_a_given_memory_is_refused_with_the_figures() {
+        let gib = 1u64 << 30;
+        let k = 2_000_000;
+        let e = check_memory(k, Some(gib)).unwrap_err();
+        match &e {
+            MeshError::TooMuchMemory {
+                requested,
+                bytes,
+                available,
+                ..
+            } => assert_eq!(
+                (*requested, *bytes, *available),
+                (k, memory_estimate(k), gib)
+            ),
+            other => panic!("{other:?}"),
+        }
+        assert!(e.to_string().contains("1.0 GiB"), "{e}");
+        // What fits is accepted, and without a figure for the machine nothing is refused.
+        assert!(check_memory(100_000, Some(gib)).is_ok());
+        assert!(check_memory(k, None).is_ok());
+    }
+
+    #[test]
     fn a_request_beyond_the_machines_memory_is_refused_with_the_figure() {
+        // On this machine, where its memory can be read and lies below MAX_POINTS vertices'.
         let Some(total) = total_memory() else { return };
         let k = (total / BYTES_PER_VERTEX) as usize + 1;
         if k > MAX_POINTS {

@@ -852,42 +852,67 @@ mod tests {
         let dir = TempDir::new("tri-bad");
         let ele = "1 3 0\n1 1 2 3\n";
         let cases = [
-            ("3 2 0 0\n1 0 0\n2 1 0\n", ele, "unexpected end of file"),
-            ("3 3 0 0\n", ele, "dimension is 3"),
-            ("3 2 0 0\n1 0 0\n2 1 x\n3 0 1\n", ele, "line 3: expected y"),
+            (
+                "3 2 0 0\n1 0 0\n2 1 0\n",
+                ele,
+                "unexpected end of file",
+                "b.node",
+            ),
+            ("3 3 0 0\n", ele, "dimension is 3", "b.node"),
+            (
+                "3 2 0 0\n1 0 0\n2 1 x\n3 0 1\n",
+                ele,
+                "line 3: expected y",
+                "b.node",
+            ),
             (
                 "3 2 0 0\n1 0 0\n3 1 0\n3 0 1\n",
                 ele,
                 "line 3: vertex number 3, expected 2",
+                "b.node",
             ),
             (
                 "3 2 0 0\n5 0 0\n",
                 ele,
                 "line 2: first vertex is numbered 5",
+                "b.node",
             ),
             (
                 "3 2 0 0\n1 0 0\n2 nan 0\n3 0 1\n",
                 ele,
                 "line 3: x is not finite",
+                "b.node",
             ),
             (
                 "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n",
                 "1 3 0\n1 1 2 4\n",
                 "line 2: vertex 4 is out of range",
+                "b.ele",
             ),
             (
                 "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n",
                 "1 4 0\n1 1 2 3 4\n",
                 "4 nodes per triangle",
+                "b.ele",
             ),
-            ("\u{fffd}garbage", ele, "expected the number of vertices"),
+            (
+                "\u{fffd}garbage",
+                ele,
+                "expected the number of vertices",
+                "b.node",
+            ),
         ];
-        for (node, ele, want) in cases {
+        for (node, ele, want, file) in cases {
             fs::write(dir.path("b.node"), node).unwrap();
             fs::write(dir.path("b.ele"), ele).unwrap();
             let e = read_triangle(&dir.path("b.node")).unwrap_err().to_string();
             assert!(e.contains(want), "{e:?} should contain {want:?}");
-            assert!(e.contains("b.node") || e.contains("b.ele"), "{e}");
+            // The file at fault is named, not its partner.
+            let other = if file == "b.node" { "b.ele" } else { "b.node" };
+            assert!(
+                e.contains(file) && !e.contains(other),
+                "{e}: should name {file}"
+            );
         }
         // Our signature with impossible marker attributes is an error, not a panic.
         for bad in [
