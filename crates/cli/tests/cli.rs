@@ -1080,6 +1080,16 @@ fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
         s(&dir.join("notch.node")),
     ]);
     assert!(o.status.success(), "{}", text(&o));
+    // The mesh is refined toward that piece of the region as given: its left side.
+    assert!(listing.contains(&format!(
+        "piece {last}    line          from (-1, 1) to (-1, -1)"
+    )));
+    let m = cvtmesh::io::read_mesh(&dir.join("notch.node")).unwrap();
+    let (near, far) = (
+        mean_edge_where(&m, |p| p.x < -0.9),
+        mean_edge_where(&m, |p| p.x > 0.8),
+    );
+    assert!(far > 3.0 * near, "near the piece {near}, far from it {far}");
     // An expression or a .msh field is not a Triangle pair: meshing twice to the same name
     // is no overwrite of an input.
     for _ in 0..2 {
