@@ -503,6 +503,7 @@ mod tests {
             .collect();
         let e = compare(&exact, &paper, &t, Basis::Exact);
         let p = compare(&exact, &paper, &t, Basis::ExactPaperScale);
+        assert_eq!((e.len(), p.len()), (14, 14));
         for (a, b) in e.iter().zip(&p) {
             let want = match a.measure {
                 Measure::Tau => 0.25,

@@ -479,6 +479,11 @@ mod tests {
         for x in [0.1, 1.0, 2.5, 10.0] {
             assert!(close(gamma_p(1.0, x), 1.0 - (-x).exp(), 1e-13), "{x}");
         }
+        // Q(n, x) = e^(−x) Σ_{k<n} x^k / k! for whole n, on both sides of x = a + 1 (series
+        // and continued fraction); Q(½, x) = erfc(√x), here from an independent value.
+        assert!(close(gamma_q(3.0, 2.0), 5.0 * (-2f64).exp(), 1e-13));
+        assert!(close(gamma_q(3.0, 8.0), 41.0 * (-8f64).exp(), 1e-13));
+        assert!(close(gamma_q(0.5, 0.3), 0.438_578_026_080_999_9, 1e-13));
         for (a, x) in [(0.5, 0.3), (3.0, 2.0), (3.0, 8.0), (12.5, 30.0)] {
             assert!((gamma_p(a, x) + gamma_q(a, x) - 1.0).abs() < 1e-14);
         }
@@ -486,6 +491,9 @@ mod tests {
         assert!(close(erfc(1.0), 0.157_299_207_050_285_13, 1e-13));
         assert!(close(erfc(3.0), 2.209_049_699_858_544e-5, 1e-12));
         assert!(close(erfc(-1.0), 2.0 - 0.157_299_207_050_285_13, 1e-14));
+        // The normal distribution's two-sided 5 % point, from below and from above.
+        assert!(close(normal_sf(-1.959_963_984_540_054), 0.975, 1e-12));
+        assert!(close(normal_sf(1.959_963_984_540_054), 0.025, 1e-12));
     }
 
     #[test]

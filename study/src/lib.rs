@@ -653,7 +653,12 @@ mod tests {
             &dir.path().join("bad"),
         );
         assert!(matches!(twice, Err(StudyError::Duplicate(_))), "{twice:?}");
-        // A directory without metrics.csv is refused with a message.
-        assert!(merge(&[dir.path().join("nowhere")], &dir.path().join("bad2")).is_err());
+        // A directory without metrics.csv is refused with a message naming it.
+        let e = merge(&[dir.path().join("nowhere")], &dir.path().join("bad2")).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("nowhere") && text.contains("is this a study output directory"),
+            "{text}"
+        );
     }
 }

@@ -1224,7 +1224,10 @@ mod tests {
             let json = region_json(name).unwrap_or_else(|| panic!("{name}"));
             let copy = Region::from_json_str(json, name).unwrap();
             let builtin = Region::builtin(name).unwrap();
+            assert_eq!(copy.name(), name);
             assert_eq!(copy.area(), builtin.area(), "{name}");
+            assert_eq!(copy.corners(), builtin.corners(), "{name}");
+            assert_eq!(copy.pieces(), builtin.pieces(), "{name}");
         }
         assert!(region_json("moon").is_none());
     }

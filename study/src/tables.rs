@@ -413,14 +413,41 @@ mod tests {
             assert!(line.ends_with(" 1.00 |"), "{line}");
         }
         assert!(md.contains("- vtm seed 1: no luck"));
-        // Table 6 ratios of γ and h carry the dagger.
+        // Table 6's ratios of γ and h carry the dagger, and only those.
+        let t6 = &TABLES[5];
+        let mut v6 = [0.0; 14];
+        for m in Measure::ALL {
+            v6[m.index()] = paper.cell(6, m, MethodId::Ccvt2).unwrap().value;
+        }
+        let rows6: Vec<Row> = [Kind::Exact, Kind::Sampled]
+            .into_iter()
+            .map(|kind| Row::new(t6.region, t6.k, MethodId::Ccvt2, 1, kind, v6, 10, true, 1.0))
+            .collect();
         let md6 = render_table(
-            &TABLES[5],
-            &Aggregate::from_rows(&[]),
+            t6,
+            &Aggregate::from_rows(&rows6),
             &paper,
             &[MethodId::Ccvt2],
             &[],
         );
-        assert!(md6.contains("typesetting error"));
+        let ratios = md6
+            .split("## Ratio ours (exact, at the paper's length scale) / paper")
+            .nth(1)
+            .unwrap()
+            .split("## Ratio ours (sampled)")
+            .next()
+            .unwrap();
+        let lines: Vec<&str> = ratios
+            .lines()
+            .filter(|l| l.starts_with("| ") && !l.starts_with("| |") && !l.starts_with("| :"))
+            .collect();
+        let mut daggers = 0;
+        for line in &lines {
+            let dagger = line.starts_with(&format!("| {} |", Measure::Gamma.symbol()))
+                || line.starts_with(&format!("| {} |", Measure::H.symbol()));
+            assert_eq!(line.ends_with(" † |"), dagger, "{line}");
+            daggers += usize::from(dagger);
+        }
+        assert_eq!(daggers, 2, "{ratios}");
     }
 }
