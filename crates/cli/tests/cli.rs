@@ -220,6 +220,7 @@ fn mesh_then_measure_csv_round_trip() {
     // A scale without the sampled estimate it scales is refused, not ignored.
     let o = cvtmesh(&["measure", s(&out), "--region", "circle", "--scale", "0.5"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("--sampled"), "{}", text(&o));
 }
 
 /// `cvtmesh measure … | head -1`: the reader goes away before the table is printed. The

@@ -947,6 +947,7 @@ fn assert_moved_points_match_fresh(dom: &Polygon, pts: &[DVec2], after: &[DVec2]
     }
     let want = cells_of(after, dom);
     let scale = dom.area();
+    assert_eq!(cells.cells.len(), want.cells.len());
     for (i, (g, w)) in cells.cells.iter().zip(&want.cells).enumerate() {
         assert!((g.area - w.area).abs() <= 1e-12 * scale, "cell {i}");
         assert!(g.centroid.distance(w.centroid) <= 1e-12, "cell {i}");
