@@ -1096,6 +1096,7 @@ mod tests {
             .replace("\"loop1\"", "\"loop0\"");
         fs::write(&p, text.replace("\"loopX\"", "\"loop1\"")).unwrap();
         let r = read_gmsh(&p).unwrap();
+        assert_eq!(r.markers.len(), m.markers.len());
         for (a, b) in r.markers.iter().zip(&m.markers) {
             assert_eq!(a.loop_index(), b.loop_index().map(|l| 1 - l));
         }

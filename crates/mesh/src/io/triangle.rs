@@ -782,6 +782,7 @@ mod tests {
         m.markers = super::super::markers_from_topology(&m.points, &m.triangles);
         write_triangle(&m, &dir.path("u")).unwrap();
         let r = read_triangle(&dir.path("u.node")).unwrap();
+        assert_eq!(r.markers.len(), m.markers.len());
         for (a, b) in r.markers.iter().zip(&m.markers) {
             assert_eq!(a.loop_index(), b.loop_index());
             if let VertexMarker::Boundary {
