@@ -251,7 +251,16 @@ pub(crate) fn angle(u: DVec2, w: DVec2) -> f64 {
 }
 
 /// Does the closed segment a–b meet the closed box [lo, hi]?
-pub(crate) fn segment_meets_box(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> bool {
+///
+/// ```
+/// use cvtmesh::tessellation::segment_meets_box;
+/// use cvtmesh::geometry::DVec2;
+/// let (lo, hi) = (DVec2::ZERO, DVec2::ONE);
+/// assert!(segment_meets_box(DVec2::new(-1.0, 0.5), DVec2::new(2.0, 0.5), lo, hi));
+/// // Beside a corner: the bounding boxes overlap, the segment does not meet the box.
+/// assert!(!segment_meets_box(DVec2::new(0.5, 2.0), DVec2::new(2.0, 0.5), lo, hi));
+/// ```
+pub fn segment_meets_box(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> bool {
     if a.x.max(b.x) < lo.x || a.x.min(b.x) > hi.x || a.y.max(b.y) < lo.y || a.y.min(b.y) > hi.y {
         return false;
     }

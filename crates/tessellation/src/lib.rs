@@ -30,6 +30,7 @@ mod topology;
 pub use cells::{
     clipped_cells, clipped_cells_into, update_cells, Cell, Cells, CellsBuffer, DomainGrid,
 };
+pub use clip::segment_meets_box;
 pub use conforming::{conforming_mesh, conforming_mesh_from, mark_vertices};
 pub use delaunay::{hilbert_order, Delaunay};
 pub use hessian::{energy_hessian, energy_hessian_rows};

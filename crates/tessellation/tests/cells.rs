@@ -1,5 +1,7 @@
 //! Clipped Voronoi cells against an independent brute-force reference and exact cases.
-use cvtmesh_tessellation::{clipped_cells, update_cells, Cell, Cells, Delaunay, DomainGrid};
+use cvtmesh_tessellation::{
+    clipped_cells, segment_meets_box, update_cells, Cell, Cells, Delaunay, DomainGrid,
+};
 use geometry::predicates::{circumcenter, segment_distance};
 use geometry::{DVec2, Density, Polygon, Ring, Rng};
 use proptest::prelude::*;
@@ -856,32 +858,6 @@ proptest! {
     }
 }
 
-/// Whether the segment c–d meets the box lo–hi (Liang–Barsky clipping).
-fn segment_meets_box(c: DVec2, d: DVec2, lo: DVec2, hi: DVec2) -> bool {
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let dir = d - c;
-    for (p, q) in [
-        (-dir.x, c.x - lo.x),
-        (dir.x, hi.x - c.x),
-        (-dir.y, c.y - lo.y),
-        (dir.y, hi.y - c.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return false;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
-        }
-    }
-    t0 <= t1
-}
-
 /// A framed triangulation of `pts` after `moved` (a subset of input indices) were moved to their
 /// positions in `after` by `move_points`, with the cells updated only around them, against a
 /// fresh triangulation and a full cells pass.
@@ -933,10 +909,23 @@ fn assert_moved_points_match_fresh(dom: &Polygon, pts: &[DVec2], after: &[DVec2]
                 })
                 .collect();
             // Two triangles: the Voronoi edge is the segment between their circumcentres; one
-            // (a hull edge): a ray from its circumcentre, which must start outside the box.
-            let clear = match centres[..] {
-                [c, d] => !segment_meets_box(c, d, lo, hi),
-                [c] => !(c.cmpge(lo).all() && c.cmple(hi).all()),
+            // (a hull edge): the ray from its circumcentre away from the triangle's third
+            // vertex, here as a segment far longer than the box.
+            let clear = match (&sides[&key][..], &centres[..]) {
+                (_, &[c, d]) => !segment_meets_box(c, d, lo, hi),
+                (&[t], &[c]) => {
+                    let (p, q) = (after[i], after[j]);
+                    let third = t
+                        .iter()
+                        .map(|&v| after[v as usize])
+                        .find(|&v| v != p && v != q);
+                    let mut out = (q - p).perp().normalize();
+                    if third.is_some_and(|v| out.dot(v - p) > 0.0) {
+                        out = -out;
+                    }
+                    let far = c + out * 1e3 * ((hi - lo).length() + c.distance(lo));
+                    !segment_meets_box(c, far, lo, hi)
+                }
                 _ => false,
             };
             assert!(
