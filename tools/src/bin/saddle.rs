@@ -177,6 +177,105 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             second(&v, d * spacing)
         );
     }
+    // Local patches: each boundary generator with its Delaunay neighbours, the same matrix
+    // restricted to their moves. A negative eigenvalue there is one of the whole matrix too
+    // (interlacing), with its eigenvector padded by zeros.
+    let mut saddles: Vec<(f64, Vec<(usize, DVec2)>)> = Vec::new();
+    for b in 0..n {
+        if !matches!(dofs[b], Dof::Along(..)) {
+            continue;
+        }
+        if del.vertex_index(b).is_none() {
+            continue;
+        }
+        // The generator, its Delaunay neighbours and theirs.
+        let mut patch = vec![b];
+        for u in del.neighbors(b) {
+            patch.push(u);
+            patch.extend(del.neighbors(u));
+        }
+        patch.sort_unstable();
+        patch.dedup();
+        if let Some(at) = patch.iter().position(|&i| i == b) {
+            patch.swap(0, at);
+        }
+        // Columns: (generator, unit direction).
+        let mut cols: Vec<(usize, DVec2)> = Vec::new();
+        for &i in &patch {
+            match dofs[i] {
+                Dof::Free => cols.extend([(i, DVec2::X), (i, DVec2::Y)]),
+                Dof::Along(t, ..) => cols.push((i, t)),
+                Dof::Fixed => {}
+            }
+        }
+        let m = cols.len();
+        let mut a = vec![0.0; m * m];
+        for (p, &(i, u)) in cols.iter().enumerate() {
+            for (q, &(j, w)) in cols.iter().enumerate() {
+                let (vi, vj) = (del.vertex_index(i).unwrap(), del.vertex_index(j).unwrap());
+                let mut x = u.dot(hessian.get(vi, vj) * w);
+                if i == j {
+                    if let Dof::Along(t, curve, _) = dofs[i] {
+                        x += grad[i].dot(curve) * u.dot(t) * w.dot(t);
+                    }
+                }
+                a[p * m + q] = x;
+            }
+        }
+        let (lam, vec) = least_eigen(&a, m);
+        if lam < -1e-3 * m2 {
+            saddles.push((
+                lam,
+                cols.iter()
+                    .zip(&vec)
+                    .map(|(&(i, u), &c)| (i, u * c))
+                    .collect(),
+            ));
+        }
+    }
+    saddles.sort_by(|x, y| x.0.total_cmp(&y.0));
+    println!(
+        "{} boundary patches with negative curvature below -1e-3 of 2m",
+        saddles.len()
+    );
+    let mut gain = 0.0;
+    let mut escaped = z.clone();
+    for (lam, v) in &saddles {
+        let mut dir = vec![DVec2::ZERO; n];
+        for &(i, d) in v {
+            dir[i] += d;
+        }
+        let big = dir.iter().fold(0.0f64, |m, d| m.max(d.length()));
+        let mut best = (0.0, 0.0);
+        for f in [0.1, 0.2, 0.3, 0.4, 0.5] {
+            for sg in [1.0, -1.0] {
+                let e = energy(&path(&dir, sg * f * spacing / big));
+                if e - e0 < best.0 {
+                    best = (e - e0, sg * f);
+                }
+            }
+        }
+        gain += best.0;
+        let moved = path(&dir, best.1 * spacing / big);
+        for &(i, _) in v {
+            escaped[i] = moved[i];
+        }
+        if saddles.len() <= 12 || *lam == saddles[0].0 {
+            println!(
+                "  {:.4} of 2m at generator {} ({:?}): best {:+.3e} of E at {:+.1} spacings",
+                lam / m2,
+                v[0].0,
+                g.markers[v[0].0],
+                best.0 / e0,
+                best.1
+            );
+        }
+    }
+    println!(
+        "sum of the best single escapes {:+.3e} of E; all at once {:+.3e}",
+        gain / e0,
+        (energy(&escaped) - e0) / e0
+    );
     for _ in 0..3 {
         let r = random(&mut rng);
         println!(
@@ -186,4 +285,55 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// Least eigenvalue and its unit eigenvector of the symmetric `m`×`m` matrix `a` (row-major),
+/// by cyclic Jacobi rotations.
+fn least_eigen(a: &[f64], m: usize) -> (f64, Vec<f64>) {
+    let mut a = a.to_vec();
+    let mut v = vec![0.0; m * m];
+    for i in 0..m {
+        v[i * m + i] = 1.0;
+    }
+    for _ in 0..50 {
+        let off: f64 = (0..m)
+            .flat_map(|p| (0..m).filter(move |&q| q != p).map(move |q| (p, q)))
+            .map(|(p, q)| a[p * m + q] * a[p * m + q])
+            .sum();
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..m {
+            for q in p + 1..m {
+                let apq = a[p * m + q];
+                if apq.abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q * m + q] - a[p * m + p]) / (2.0 * apq);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..m {
+                    let (akp, akq) = (a[k * m + p], a[k * m + q]);
+                    a[k * m + p] = c * akp - s * akq;
+                    a[k * m + q] = s * akp + c * akq;
+                }
+                for k in 0..m {
+                    let (apk, aqk) = (a[p * m + k], a[q * m + k]);
+                    a[p * m + k] = c * apk - s * aqk;
+                    a[q * m + k] = s * apk + c * aqk;
+                }
+                for k in 0..m {
+                    let (vkp, vkq) = (v[k * m + p], v[k * m + q]);
+                    v[k * m + p] = c * vkp - s * vkq;
+                    v[k * m + q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    let j = (0..m)
+        .min_by(|&x, &y| a[x * m + x].total_cmp(&a[y * m + y]))
+        .unwrap_or(0);
+    (a[j * m + j], (0..m).map(|k| v[k * m + j]).collect())
 }
