@@ -634,7 +634,8 @@ fn newton_move(
 /// Adds to the move `x` the direction of negative curvature `p` (one entry per row),
 /// restricted to each row's allowed moves, turned to point down the energy (along `rhs`, the
 /// negative projected gradient) and scaled so that its largest move is `CURVATURE_STEP` of
-/// the row's local spacing `h`. A direction with no allowed move, or not finite, adds nothing.
+/// the row's local spacing `h`. A direction with no allowed move, or with an entry that is not
+/// finite, adds nothing.
 fn add_curvature_step(
     x: &mut [DVec2],
     mut p: Vec<DVec2>,
@@ -643,6 +644,10 @@ fn add_curvature_step(
     tan: &[Tangent],
     h: &[f64],
 ) {
+    // CG reports a direction it could not measure (pᵀAp not finite) as negative curvature too.
+    if p.iter().any(|q| !q.is_finite()) {
+        return;
+    }
     for (q, d) in p.iter_mut().zip(dofs) {
         *q = d.project(*q, tan);
     }
@@ -969,6 +974,11 @@ mod tests {
         for p in [
             vec![DVec2::ZERO, DVec2::new(0.0, 3.0), DVec2::ONE],
             vec![DVec2::new(f64::NAN, 0.0), DVec2::ZERO, DVec2::ZERO],
+            vec![
+                DVec2::new(0.3, 0.4),
+                DVec2::new(f64::INFINITY, 1.0),
+                DVec2::ZERO,
+            ],
         ] {
             let mut x = vec![DVec2::ONE; 3];
             add_curvature_step(&mut x, p, &rhs, &dofs, &tan, &h);
