@@ -63,4 +63,5 @@ mod sublevel;
 pub use init::{initial_points, Init};
 pub use map::Profile;
 pub use method::{Ccvt, Generators};
+pub use newton::piece_tangent;
 pub use params::{Algorithm, Solver, Update};

@@ -160,9 +160,22 @@ impl Dof {
     }
 }
 
-/// Unit tangent and curvature vector of piece `j` at its point `z`, from projections of nearby
-/// points.
-fn tangent(region: &Region, z: DVec2, j: PieceId, spacing: f64) -> (DVec2, DVec2) {
+/// Unit tangent and curvature vector d²γ/ds² of piece `j` at its point `z`, as Newton's method
+/// takes them for a boundary generator (local spacing `spacing`): from projections onto the
+/// piece of points 10⁻³ spacings either way, and of points a quarter spacing along the
+/// tangent. The tangent's sign is arbitrary.
+///
+/// ```
+/// use cvtmesh::ccvt::piece_tangent;
+/// use cvtmesh::geometry::{DVec2, Region};
+/// let circle = Region::builtin("circle")?; // the unit circle, one piece
+/// let (t, k) = piece_tangent(&circle, DVec2::new(1.0, 0.0), 0, 0.01);
+/// assert!((t.y.abs() - 1.0).abs() < 1e-9 && t.x.abs() < 1e-6);
+/// // Curvature 1, toward the centre.
+/// assert!((k - DVec2::new(-1.0, 0.0)).length() < 1e-4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn piece_tangent(region: &Region, z: DVec2, j: PieceId, spacing: f64) -> (DVec2, DVec2) {
     let along = |d: f64, e: DVec2| {
         (
             region.project_onto_piece(z + e * d, j).point,
@@ -565,7 +578,7 @@ fn newton_move(
             let (i, Role::Boundary(piece)) = (pt(r as usize), s.roles[pt(r as usize)]) else {
                 unreachable!("tangent dofs are boundary generators")
             };
-            let (t, k) = tangent(region, z[i], piece, s.h(i, &phase.scale));
+            let (t, k) = piece_tangent(region, z[i], piece, s.h(i, &phase.scale));
             Tangent { t, piece, k }
         })
         .collect_into_vec(&mut buf.tangents);
@@ -1056,7 +1069,7 @@ mod tests {
         let region = Region::builtin("circle").unwrap();
         let z = DVec2::from_angle(0.7);
         let j = region.project(z).piece;
-        let (t, k) = tangent(&region, z, j, 0.01);
+        let (t, k) = piece_tangent(&region, z, j, 0.01);
         assert!(
             t.dot(z).abs() < 1e-6,
             "tangent {t} not perpendicular to {z}"

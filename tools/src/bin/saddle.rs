@@ -1,15 +1,17 @@
 //! Is a converged CCVT a minimum of the constrained energy, or a saddle? The Hessian Newton
 //! uses (interior generators free, boundary ones along their piece with the curvature term
-//! g · γ'', corners fixed), its least eigenvalue by power iteration, and finite differences of
-//! the energy along the same constrained path (boundary generators projected back onto their
-//! piece) to check it.
+//! g · γ'' from `ccvt::piece_tangent`, corners fixed), its least eigenvalue by power iteration,
+//! and finite differences of the energy along the same constrained path (boundary generators
+//! projected back onto their piece) to check it.
 //! `cargo run --release -p cvtmesh-tools --bin saddle -- REGION [K] [SEED] [ITERATIONS]`
 //!
 //! Prints the least eigenvalue relative to the mean 2m (Lloyd's scale), the generators that
-//! carry its eigenvector (kind 0 interior, 1 boundary; depth in spacings), the energy change
-//! along it at 0.05–0.8 spacings either way, its curvature by finite differences at three
-//! steps, and the same comparison along random directions.
-use cvtmesh::ccvt::Ccvt;
+//! carry its eigenvector (marker, depth in spacings), the energy change along it at 0.05–0.8
+//! spacings either way and its curvature by finite differences at three steps; then the
+//! boundary patches (a boundary generator and two rings of its Delaunay neighbours) whose own
+//! least eigenvalue is negative, each with the best energy change a step of 0.1–0.5 spacings
+//! along its eigenvector gives; and the Hessian against differences along random directions.
+use cvtmesh::ccvt::{piece_tangent, Ccvt};
 use cvtmesh::geometry::{DVec2, Density, PieceId, Rng};
 use cvtmesh::tessellation::{clipped_cells, energy_hessian, BlockMatrix, Delaunay};
 use cvtmesh::{MeshRequest, VertexMarker};
@@ -55,23 +57,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|i| match g.markers[i] {
             VertexMarker::Interior => Dof::Free,
             VertexMarker::Boundary { piece, .. } => {
-                let along = |d: f64, e: DVec2| {
-                    (
-                        region.project_onto_piece(z[i] + e * d, piece).point,
-                        region.project_onto_piece(z[i] - e * d, piece).point,
-                    )
-                };
-                let d = 1e-3 * spacing;
-                let ((a, b), (c, e)) = (along(d, DVec2::X), along(d, DVec2::Y));
-                let t = if (a - b).length_squared() >= (c - e).length_squared() {
-                    a - b
-                } else {
-                    c - e
-                }
-                .normalize();
-                let d = 0.25 * spacing;
-                let (a, b) = along(d, t);
-                Dof::Along(t, (a + b - 2.0 * z[i]) / (d * d), piece)
+                let (t, curve) = piece_tangent(&region, z[i], piece, spacing);
+                Dof::Along(t, curve, piece)
             }
             _ => Dof::Fixed,
         })
