@@ -20,8 +20,7 @@ fn a_boundary_generator_moved_along_its_piece_curves_as_newton_assumes() {
         let omega = region.polygonize(ccvt.polygon_tol * spacing);
         let energy = |p: &[DVec2]| -> f64 {
             let d = Delaunay::new(p);
-            let cells = clipped_cells(p, &d, &omega, &Density::Uniform);
-            cells.cells.iter().map(|c| c.energy).sum()
+            clipped_cells(p, &d, &omega, &Density::Uniform).energy()
         };
         let z = &g.points;
         let del = Delaunay::new(z);

@@ -13,7 +13,7 @@
 //! along its eigenvector gives; and the Hessian against differences along random directions.
 use cvtmesh::ccvt::{piece_tangent, Ccvt};
 use cvtmesh::geometry::{DVec2, Density, PieceId, Rng};
-use cvtmesh::tessellation::{clipped_cells, energy_hessian, BlockMatrix, Delaunay};
+use cvtmesh::tessellation::{clipped_cells, dot, energy_hessian, BlockMatrix, Delaunay};
 use cvtmesh::{MeshRequest, VertexMarker};
 
 /// A generator's moves: free, along a piece (unit tangent, curvature vector, piece), fixed.
@@ -45,8 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let density = Density::Uniform;
     let energy = |p: &[DVec2]| -> f64 {
         let d = Delaunay::new(p);
-        let cells = clipped_cells(p, &d, &omega, &density);
-        cells.cells.iter().map(|c| c.energy).sum()
+        clipped_cells(p, &d, &omega, &density).energy()
     };
     let del = Delaunay::new(z);
     let cells = clipped_cells(z, &del, &omega, &density);
@@ -93,7 +92,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         project(&mut res);
         res
     };
-    let dot = |a: &[DVec2], b: &[DVec2]| a.iter().zip(b).map(|(x, y)| x.dot(*y)).sum::<f64>();
     let path = |v: &[DVec2], s: f64| -> Vec<DVec2> {
         (0..n)
             .map(|i| match dofs[i] {
