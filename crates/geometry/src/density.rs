@@ -46,6 +46,27 @@ impl Density {
         }
     }
 
+    /// ρ where it is one known constant over the whole box `lo`–`hi`: 1 for ρ ≡ 1, a sampled
+    /// density's value where every sample its interpolation reads there is the same
+    /// ([`SampledDensity::constant_over`]), else None (a function is never known to be
+    /// constant).
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{Density, DVec2};
+    /// let (lo, hi) = (DVec2::ZERO, DVec2::ONE);
+    /// assert_eq!(Density::Uniform.constant_over(lo, hi), Some(1.0));
+    /// let f = Density::Function(std::sync::Arc::new(|_| 2.0));
+    /// assert_eq!(f.constant_over(lo, hi), None);
+    /// ```
+    #[inline]
+    pub fn constant_over(&self, lo: DVec2, hi: DVec2) -> Option<f64> {
+        match self {
+            Density::Uniform => Some(1.0),
+            Density::Function(_) => None,
+            Density::Sampled(s) => s.constant_over(lo, hi),
+        }
+    }
+
     /// True for ρ ≡ 1, where exact polygon moments replace quadrature.
     pub fn is_uniform(&self) -> bool {
         matches!(self, Density::Uniform)

@@ -216,6 +216,26 @@ impl SampledDensity {
     pub fn at7(&self, ps: &[DVec2; 7]) -> [f64; 7] {
         self.grid.at7(ps)
     }
+
+    /// ρ where it is one constant over the whole box `lo`–`hi` (the far field of a size field
+    /// that reaches its largest size), else None.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{Density, DVec2, Region, SizeField, Threshold, Toward};
+    /// let region = Region::builtin("circle")?;
+    /// let t = Threshold { size_min: 0.05, size_max: 0.2, dist_min: 0.1, dist_max: 0.3 };
+    /// let h = SizeField::threshold(&region, &[Toward::Point(DVec2::ZERO)], t)?;
+    /// let Density::Sampled(rho) = h.density(0.05) else { panic!("a sampled field") };
+    /// // Far from the point h is 0.2 everywhere: ρ = (0.05 / 0.2)⁴.
+    /// let far = rho.constant_over(DVec2::new(0.6, 0.0), DVec2::new(0.7, 0.1));
+    /// assert_eq!(far, Some(1.0 / 256.0));
+    /// assert_eq!(rho.constant_over(DVec2::new(-0.1, -0.1), DVec2::new(0.1, 0.1)), None);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn constant_over(&self, lo: DVec2, hi: DVec2) -> Option<f64> {
+        self.grid.constant_over(lo, hi)
+    }
 }
 
 /// Values on a regular grid over a box, interpolated by cubic B-splines (clamped outside the
@@ -235,7 +255,15 @@ struct Grid {
     /// then lies inside it, so an evaluation reads four runs of four values with no clamping
     /// per node. The interpolation is most of a graded run's time.
     padded: Vec<f64>,
+    /// Per tile of `FLAT_TILE` × `FLAT_TILE` grid intervals (row-major, `flat_nx` per row): the
+    /// value every node its B-spline reads holds, where they all hold the same, else NaN. Made
+    /// by [`Grid::sealed`]; see [`Grid::constant_over`].
+    flat: Vec<f64>,
+    flat_nx: usize,
 }
+
+/// Grid intervals per side of a tile of [`Grid::constant_over`]'s map.
+const FLAT_TILE: usize = 8;
 
 impl Grid {
     /// The grid with `padded` made from `values`; call it once the values are final.
@@ -250,7 +278,58 @@ impl Grid {
         }
         self.padded = padded;
         self.inv_step = 1.0 / self.step;
+        // Interval i of an axis reads nodes i − 1 … i + 2, padded nodes i … i + 3; a tile of
+        // intervals t·T … t·T + T − 1 reads padded nodes t·T … t·T + T + 2.
+        let w = nx + 2;
+        let (tx, ty) = ((nx - 1).div_ceil(FLAT_TILE), (ny - 1).div_ceil(FLAT_TILE));
+        let tile = |t: usize| {
+            let (ti, tj) = (t % tx, t / tx);
+            let (i0, j0) = (ti * FLAT_TILE, tj * FLAT_TILE);
+            let (i1, j1) = (
+                (i0 + FLAT_TILE + 2).min(nx + 1),
+                (j0 + FLAT_TILE + 2).min(ny + 1),
+            );
+            let first = self.padded[j0 * w + i0];
+            let same = (j0..=j1).all(|j| {
+                self.padded[j * w + i0..=j * w + i1]
+                    .iter()
+                    .all(|v| v.to_bits() == first.to_bits())
+            });
+            if same && usable(first) {
+                first
+            } else {
+                f64::NAN
+            }
+        };
+        self.flat = (0..tx * ty).into_par_iter().map(tile).collect();
+        self.flat_nx = tx;
         self
+    }
+
+    /// The B-spline's value where it is the same constant over the whole box `lo`–`hi` (every
+    /// node it reads there holds that value), else None: a cell inside such a box has ρ's
+    /// moments as exact multiples of its area's, with no quadrature.
+    #[inline]
+    fn constant_over(&self, lo: DVec2, hi: DVec2) -> Option<f64> {
+        let cell = |p: DVec2| {
+            let t = (p - self.lo) * self.inv_step;
+            let i = (t.x.clamp(0.0, (self.nx - 1) as f64) as usize).min(self.nx - 2);
+            let j = (t.y.clamp(0.0, (self.ny - 1) as f64) as usize).min(self.ny - 2);
+            (i / FLAT_TILE, j / FLAT_TILE)
+        };
+        let ((i0, j0), (i1, j1)) = (cell(lo), cell(hi));
+        let first = self.flat[j0 * self.flat_nx + i0];
+        if first.is_nan() {
+            return None;
+        }
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if self.flat[j * self.flat_nx + i].to_bits() != first.to_bits() {
+                    return None;
+                }
+            }
+        }
+        Some(first)
     }
 
     /// The same grid holding other values (one per node), sealed.
@@ -263,6 +342,8 @@ impl Grid {
             ny: self.ny,
             values,
             padded: Vec::new(),
+            flat: Vec::new(),
+            flat_nx: 0,
         }
         .sealed()
     }
@@ -896,6 +977,8 @@ impl SizeField {
             ny: n,
             values: Vec::new(),
             padded: Vec::new(),
+            flat: Vec::new(),
+            flat_nx: 0,
         };
         let inside = grid.inside(region);
         let node = |k: usize| lo + step * DVec2::new((k % n) as f64, (k / n) as f64);
@@ -1012,6 +1095,7 @@ impl SizeField {
         let mut grid = Grid {
             values: grid.values.clone(),
             padded: Vec::new(),
+            flat: Vec::new(),
             ..*grid
         };
         for v in grid.values.iter_mut() {
@@ -1417,6 +1501,55 @@ mod tests {
         }
     }
 
+    /// Wherever the density claims a constant over a box, the B-spline there gives it at every
+    /// point; boxes of every size across the ramp of a threshold field, near and far.
+    #[test]
+    fn a_constant_over_a_box_is_the_value_inside_it() {
+        let r = Region::builtin("circle").unwrap();
+        let t = Threshold {
+            size_min: 0.02,
+            size_max: 0.1,
+            dist_min: 0.2,
+            dist_max: 0.5,
+        };
+        let Density::Sampled(rho) = SizeField::threshold(&r, &[Toward::Point(DVec2::ZERO)], t)
+            .unwrap()
+            .density(0.02)
+        else {
+            panic!("a sampled field")
+        };
+        let mut rng = crate::Rng::new(4);
+        let (mut some, mut none) = (0, 0);
+        for _ in 0..4000 {
+            let c = DVec2::new(2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0) * 0.7;
+            let half = DVec2::new(rng.uniform(), rng.uniform()) * 0.05;
+            match rho.constant_over(c - half, c + half) {
+                Some(v) => {
+                    some += 1;
+                    // ρ = 1 on the plateau by the point, (h_min / h_max)⁴ in the far field.
+                    assert!(v == 1.0 || (v - 0.0016).abs() < 1e-15, "{v}");
+                    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+                    let random: Vec<(f64, f64)> = (0..20)
+                        .map(|_| (2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0))
+                        .collect();
+                    for (x, y) in corners.into_iter().chain(random) {
+                        let p = c + half * DVec2::new(x, y);
+                        assert!(
+                            (rho.at(p) - v).abs() <= 1e-15 * v,
+                            "{p}: {} vs {v}",
+                            rho.at(p)
+                        );
+                    }
+                }
+                None => none += 1,
+            }
+        }
+        assert!(
+            some > 500 && none > 500,
+            "{some} constant boxes, {none} not"
+        );
+    }
+
     #[test]
     fn density_gives_spacing_proportional_to_h() {
         // Spacing ∝ ρ^(-1/4): two points whose h differ by 2 have densities 16 apart.
@@ -1538,6 +1671,8 @@ mod tests {
                 ny,
                 values: values.clone(),
                 padded: Vec::new(),
+                flat: Vec::new(),
+                flat_nx: 0,
             };
             let g = 0.3;
             grid.limit_gradation(g);

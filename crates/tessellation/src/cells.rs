@@ -192,6 +192,7 @@ pub fn update_cells(
         del: delaunay,
         bnd,
         density: (!density.is_uniform()).then_some(density),
+        constant: None,
         whole_rings: false,
     };
     let new: Vec<Cell> = vertices
@@ -235,6 +236,7 @@ fn cells_with(
         del: delaunay,
         bnd: &bnd,
         density: (!density.is_uniform()).then_some(density),
+        constant: None,
         whole_rings,
     };
     // In vertex order (Hilbert order: cache-friendly whatever the input order), then back to
@@ -321,6 +323,8 @@ struct Ctx<'a> {
     del: &'a Delaunay,
     bnd: &'a Boundary,
     density: Option<&'a Density>,
+    /// ρ where it is one constant over the cell being computed ([`Fan::constant`]).
+    constant: Option<f64>,
     /// Always use the whole-ring fallback (tests).
     whole_rings: bool,
 }
@@ -387,6 +391,7 @@ impl Ctx<'_> {
             origin,
             density: self.density,
             fine: false,
+            constant: self.constant,
         }
     }
 
@@ -413,8 +418,14 @@ impl Ctx<'_> {
         if bounded && s.k.len() >= 3 {
             let (lo, hi) = bbox(&s.k);
             if self.bnd.box_inside(z + lo, z + hi) {
-                return self.finish(
-                    self.fan(z).polygon(&s.k),
+                // Where ρ is one constant over the cell (a size field's plateau), its moments
+                // are that multiple of the exact ones: no quadrature.
+                let ctx = Ctx {
+                    constant: self.density.and_then(|d| d.constant_over(z + lo, z + hi)),
+                    ..*self
+                };
+                return ctx.finish(
+                    ctx.fan(z).polygon(&s.k),
                     DVec2::ZERO,
                     z,
                     max_norm(&s.k),
@@ -997,6 +1008,59 @@ mod tests {
         let total: f64 = cells.cells.iter().map(|c| c.mass).sum();
         // 2.9e-7 so, 4.6e-6 with one 7-point rule per fan triangle.
         assert!((total - exact).abs() < 1e-6 * exact, "{total} vs {exact}");
+    }
+
+    /// Where a sampled density is one constant over an interior cell (a size field's far
+    /// field), the cell's moments are that multiple of its exact polygon moments; the same
+    /// cells integrated by quadrature (the density read through a function, which is never
+    /// known constant) agree to rounding, near the point and far from it.
+    #[test]
+    fn cells_in_a_constant_far_field_equal_their_quadrature() {
+        let region = geometry::Region::builtin("circle").unwrap();
+        let domain = region.polygonize(1e-4);
+        let t = geometry::Threshold {
+            size_min: 0.05,
+            size_max: 0.2,
+            dist_min: 0.1,
+            dist_max: 0.4,
+        };
+        let field =
+            geometry::SizeField::threshold(&region, &[geometry::Toward::Point(DVec2::ZERO)], t)
+                .unwrap();
+        let sampled = field.density(0.05);
+        let Density::Sampled(grid) = sampled.clone() else {
+            panic!("a threshold field is sampled")
+        };
+        let read = Density::Function(Arc::new(move |p| grid.at(p)));
+        let mut rng = Rng::new(11);
+        let mut pts = Vec::new();
+        while pts.len() < 3000 {
+            let p = DVec2::new(2.0 * rng.uniform() - 1.0, 2.0 * rng.uniform() - 1.0);
+            if region.signed_distance(p) < -0.01 {
+                pts.push(p);
+            }
+        }
+        let far = pts
+            .iter()
+            .filter(|p| sampled.constant_over(**p - 0.05, **p + 0.05).is_some())
+            .count();
+        assert!(far > 1000, "{far} generators in the far field");
+        let del = Delaunay::new(&pts);
+        let (a, b) = (
+            clipped_cells(&pts, &del, &domain, &sampled),
+            clipped_cells(&pts, &del, &domain, &read),
+        );
+        for (x, y) in a.cells.iter().zip(&b.cells) {
+            assert!((x.mass - y.mass).abs() <= 1e-12 * y.mass, "{x:?} vs {y:?}");
+            assert!(
+                (x.energy - y.energy).abs() <= 1e-12 * y.energy,
+                "{x:?} vs {y:?}"
+            );
+            assert!(
+                (x.mass_centroid - y.mass_centroid).length() <= 1e-12,
+                "{x:?} vs {y:?}"
+            );
+        }
     }
 
     #[test]

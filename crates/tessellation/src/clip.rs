@@ -18,6 +18,17 @@ pub(crate) struct Mom {
     pub mr2: f64,
 }
 
+impl Mom {
+    /// The geometric moments with the ρ-moments of a constant density `rho` filled in.
+    pub fn with_density(mut self, rho: f64) -> Mom {
+        self.m = rho * self.a;
+        self.mx = rho * self.sx;
+        self.my = rho * self.sy;
+        self.mr2 = rho * (self.sxx + self.syy);
+        self
+    }
+}
+
 impl std::ops::AddAssign for Mom {
     fn add_assign(&mut self, o: Mom) {
         self.a += o.a;
@@ -99,6 +110,9 @@ pub(crate) struct Fan<'a> {
     /// Integrate ρ on the four half-size triangles of each fan triangle (cells that reach
     /// the boundary, where a size field toward a loop changes ρ most across a cell).
     pub fine: bool,
+    /// ρ's value where it is known to be this constant over every triangle of the fan (a size
+    /// field's plateau): the ρ-moments are then that multiple of the exact ones, no rule.
+    pub constant: Option<f64>,
 }
 
 impl Fan<'_> {
@@ -118,6 +132,9 @@ impl Fan<'_> {
             syy: cr * (p.y * p.y + p.y * q.y + q.y * q.y) * TWELFTH,
             ..Mom::default()
         };
+        if let Some(c) = self.constant.filter(|_| self.density.is_some()) {
+            return m.with_density(c);
+        }
         if let Some(rho) = self.density {
             let area = 0.5 * cr;
             if area != 0.0 {
@@ -316,6 +333,7 @@ mod tests {
                     origin: DVec2::ZERO,
                     density: Some(&rho),
                     fine: false,
+                    constant: None,
                 }
                 .tri(p, q)
                 .m;
@@ -329,6 +347,7 @@ mod tests {
             origin: DVec2::ZERO,
             density: Some(&rho),
             fine: false,
+            constant: None,
         }
         .tri(p, q)
         .m;
@@ -347,6 +366,7 @@ mod tests {
             origin: DVec2::ZERO,
             density: None,
             fine: false,
+            constant: None,
         }
         .polygon(&sq);
         assert!((m.a - 1.0).abs() < 1e-15);
@@ -359,10 +379,22 @@ mod tests {
             origin: DVec2::ZERO,
             density: Some(&one),
             fine: false,
+            constant: None,
         }
         .polygon(&sq);
         assert!((q.m - 1.0).abs() < 1e-14 && (q.mx - 0.5).abs() < 1e-14);
         assert!((q.mr2 - 2.0 / 3.0).abs() < 1e-14);
+        // A density known to be 3 there: three times the exact moments, the rule not read.
+        let wrong = Density::Function(Arc::new(|_| f64::NAN));
+        let c = Fan {
+            origin: DVec2::ZERO,
+            density: Some(&wrong),
+            fine: true,
+            constant: Some(3.0),
+        }
+        .polygon(&sq);
+        assert_eq!((c.m, c.mx, c.my, c.mr2), (3.0, 1.5, 1.5, 2.0));
+        assert_eq!((c.a, c.sx, c.sxx), (m.a, m.sx, m.sxx));
     }
 
     #[test]
