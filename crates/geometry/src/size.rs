@@ -257,7 +257,7 @@ struct Grid {
     padded: Vec<f64>,
     /// Per tile of `FLAT_TILE` × `FLAT_TILE` grid intervals (row-major, `flat_nx` per row): the
     /// value every node its B-spline reads holds, where they all hold the same, else NaN. Made
-    /// by [`Grid::sealed`]; see [`Grid::constant_over`].
+    /// by [`Grid::tiled`] (empty otherwise); see [`Grid::constant_over`].
     flat: Vec<f64>,
     flat_nx: usize,
 }
@@ -278,6 +278,13 @@ impl Grid {
         }
         self.padded = padded;
         self.inv_step = 1.0 / self.step;
+        self
+    }
+
+    /// The grid with its map of constant tiles ([`Grid::constant_over`]) made: a density's
+    /// grid, which the cells read, not a size field's.
+    fn tiled(mut self) -> Grid {
+        let (nx, ny) = (self.nx, self.ny);
         // Interval i of an axis reads nodes i − 1 … i + 2, padded nodes i … i + 3; a tile of
         // intervals t·T … t·T + T − 1 reads padded nodes t·T … t·T + T + 2.
         let w = nx + 2;
@@ -317,6 +324,9 @@ impl Grid {
             let j = (t.y.clamp(0.0, (self.ny - 1) as f64) as usize).min(self.ny - 2);
             (i / FLAT_TILE, j / FLAT_TILE)
         };
+        if self.flat.is_empty() {
+            return None;
+        }
         let ((i0, j0), (i1, j1)) = (cell(lo), cell(hi));
         let first = self.flat[j0 * self.flat_nx + i0];
         if first.is_nan() {
@@ -1171,7 +1181,9 @@ impl SizeField {
             Kind::Constant(_) => Density::Uniform,
             // ρ itself on the grid: the cells read it ~45 times per cell and evaluation.
             Kind::Grid(g) => Density::Sampled(Arc::new(SampledDensity {
-                grid: g.with_values(g.values.iter().map(|&h| (h_min / h).powi(4)).collect()),
+                grid: g
+                    .with_values(g.values.iter().map(|&h| (h_min / h).powi(4)).collect())
+                    .tiled(),
             })),
             Kind::Expr(_) => {
                 let field = self.clone();

@@ -192,7 +192,6 @@ pub fn update_cells(
         del: delaunay,
         bnd,
         density: (!density.is_uniform()).then_some(density),
-        constant: None,
         whole_rings: false,
     };
     let new: Vec<Cell> = vertices
@@ -236,7 +235,6 @@ fn cells_with(
         del: delaunay,
         bnd: &bnd,
         density: (!density.is_uniform()).then_some(density),
-        constant: None,
         whole_rings,
     };
     // In vertex order (Hilbert order: cache-friendly whatever the input order), then back to
@@ -323,8 +321,6 @@ struct Ctx<'a> {
     del: &'a Delaunay,
     bnd: &'a Boundary,
     density: Option<&'a Density>,
-    /// ρ where it is one constant over the cell being computed ([`Fan::constant`]).
-    constant: Option<f64>,
     /// Always use the whole-ring fallback (tests).
     whole_rings: bool,
 }
@@ -391,7 +387,7 @@ impl Ctx<'_> {
             origin,
             density: self.density,
             fine: false,
-            constant: self.constant,
+            constant: None,
         }
     }
 
@@ -420,12 +416,12 @@ impl Ctx<'_> {
             if self.bnd.box_inside(z + lo, z + hi) {
                 // Where ρ is one constant over the cell (a size field's plateau), its moments
                 // are that multiple of the exact ones: no quadrature.
-                let ctx = Ctx {
+                let fan = Fan {
                     constant: self.density.and_then(|d| d.constant_over(z + lo, z + hi)),
-                    ..*self
+                    ..self.fan(z)
                 };
-                return ctx.finish(
-                    ctx.fan(z).polygon(&s.k),
+                return self.finish(
+                    fan.polygon(&s.k),
                     DVec2::ZERO,
                     z,
                     max_norm(&s.k),
