@@ -177,6 +177,22 @@ fn bspline_weights_6(u: f64) -> [f64; 4] {
     ]
 }
 
+/// [`bspline_weights_6`] of eight values at once, by weight: entry `[a][k]` is weight a of
+/// `u[k]`, the same arithmetic (laid out so that each weight is one operation on eight lanes).
+#[inline(always)]
+fn bspline_weights_6_lanes(u: &[f64; 8]) -> [[f64; 8]; 4] {
+    let mut w = [[0.0f64; 8]; 4];
+    for k in 0..8 {
+        let (u, u2, u3) = (u[k], u[k] * u[k], u[k] * u[k] * u[k]);
+        let v = 1.0 - u;
+        w[0][k] = v * v * v;
+        w[1][k] = 3.0 * u3 - 6.0 * u2 + 4.0;
+        w[2][k] = -3.0 * u3 + 3.0 * u2 + 3.0 * u + 1.0;
+        w[3][k] = u3;
+    }
+    w
+}
+
 /// Whether an interpolated density is positive and finite (NaN fails both comparisons, which
 /// compile to fewer instructions than `is_finite`).
 #[inline]
@@ -508,15 +524,13 @@ impl Grid {
             t.x.clamp(0.0, (self.nx - 1) as f64),
             t.y.clamp(0.0, (self.ny - 1) as f64),
         );
+        // The interval's indices as floating-point numbers (exact), as `at7` takes them.
         let (i, j) = (
-            (fx.floor() as usize).min(self.nx - 2),
-            (fy.floor() as usize).min(self.ny - 2),
+            fx.floor().min((self.nx - 2) as f64),
+            fy.floor().min((self.ny - 2) as f64),
         );
-        let (wx, wy) = (
-            bspline_weights_6(fx - i as f64),
-            bspline_weights_6(fy - j as f64),
-        );
-        let v = self.spline_sum(i, j, &wx, &wy);
+        let (wx, wy) = (bspline_weights_6(fx - i), bspline_weights_6(fy - j));
+        let v = self.stencil_sum((j * (self.nx + 2) as f64 + i) as usize, &wx, &wy);
         if usable(v) {
             v
         } else {
@@ -525,14 +539,14 @@ impl Grid {
     }
 
     /// The B-spline's sum over the 4 × 4 stencil of interval (i, j) with the weights (times 6)
-    /// of each axis.
+    /// of each axis; `start` = j·(nx + 2) + i, the stencil's first node in `padded` (node
+    /// (i + a − 1, j + b − 1), clamped to the grid, is padded node (i + a, j + b)).
     #[inline(always)]
-    fn spline_sum(&self, i: usize, j: usize, wx: &[f64; 4], wy: &[f64; 4]) -> f64 {
-        // Node (i + a − 1, j + b − 1), clamped to the grid, is padded node (i + a, j + b).
+    fn stencil_sum(&self, start: usize, wx: &[f64; 4], wy: &[f64; 4]) -> f64 {
         let w = self.nx + 2;
         let mut v = 0.0;
         for (b, wy) in wy.iter().enumerate() {
-            let row: &[f64; 4] = self.padded[(j + b) * w + i..][..4]
+            let row: &[f64; 4] = self.padded[start + b * w..][..4]
                 .try_into()
                 .expect("a run of four");
             let mut r = 0.0;
@@ -553,29 +567,31 @@ impl Grid {
     fn at7(&self, ps: &[DVec2; 7]) -> [f64; 7] {
         const L: usize = 8;
         let (mx, my) = ((self.nx - 1) as f64, (self.ny - 1) as f64);
-        let (ix, iy) = (self.nx - 2, self.ny - 2);
+        let (ix, iy) = ((self.nx - 2) as f64, (self.ny - 2) as f64);
+        let w = (self.nx + 2) as f64;
+        // Lane by lane (the eighth lane repeats the last point), and the interval's indices as
+        // floating-point numbers (exact): every step is one operation on eight lanes, and only
+        // the start of each point's stencil is converted to an integer.
         let (mut fx, mut fy) = ([0.0f64; L], [0.0f64; L]);
-        for k in 0..7 {
-            let t = (ps[k] - self.lo) * self.inv_step;
+        for k in 0..L {
+            let t = (ps[k.min(6)] - self.lo) * self.inv_step;
             fx[k] = t.x.clamp(0.0, mx);
             fy[k] = t.y.clamp(0.0, my);
         }
-        let (mut i, mut j) = ([0usize; L], [0usize; L]);
-        let (mut u, mut v) = ([0.0f64; L], [0.0f64; L]);
+        let (mut u, mut v, mut start) = ([0.0f64; L], [0.0f64; L], [0.0f64; L]);
         for k in 0..L {
-            i[k] = (fx[k].floor() as usize).min(ix);
-            j[k] = (fy[k].floor() as usize).min(iy);
-            u[k] = fx[k] - i[k] as f64;
-            v[k] = fy[k] - j[k] as f64;
+            let (i, j) = (fx[k].floor().min(ix), fy[k].floor().min(iy));
+            u[k] = fx[k] - i;
+            v[k] = fy[k] - j;
+            start[k] = j * w + i;
         }
-        let (mut wx, mut wy) = ([[0.0f64; 4]; L], [[0.0f64; 4]; L]);
-        for k in 0..L {
-            wx[k] = bspline_weights_6(u[k]);
-            wy[k] = bspline_weights_6(v[k]);
-        }
+        // The weights of node a (b) of every point, across the lanes.
+        let (wxl, wyl) = (bspline_weights_6_lanes(&u), bspline_weights_6_lanes(&v));
         let mut out = [0.0f64; 7];
         for k in 0..7 {
-            out[k] = self.spline_sum(i[k], j[k], &wx[k], &wy[k]);
+            let wx = [wxl[0][k], wxl[1][k], wxl[2][k], wxl[3][k]];
+            let wy = [wyl[0][k], wyl[1][k], wyl[2][k], wyl[3][k]];
+            out[k] = self.stencil_sum(start[k] as usize, &wx, &wy);
         }
         if !out.iter().all(|&v| usable(v)) {
             for (v, p) in out.iter_mut().zip(ps) {
@@ -1483,7 +1499,7 @@ mod tests {
     #[test]
     fn the_density_at_seven_points_is_its_value_at_each_bit_for_bit() {
         // Points inside the region, in the hole (where the grid holds the loop's size), outside
-        // the grid's box (clamped) and on its nodes; and a grid with a non-positive sample,
+        // the grid's box (clamped, from infinitely far too) and on its nodes; and a grid with a non-positive sample,
         // where both take the bilinear value.
         let (r, _, toward_hole) = toward_the_hole();
         let with_zero = SizeField::from_samples(&r, 16, |nodes| {
@@ -1498,9 +1514,12 @@ mod tests {
             };
             for round in 0..200 {
                 let spread = if round % 2 == 0 { 1.0 } else { 1.5 };
+                let far = [f64::INFINITY, -f64::INFINITY, 1e300, -1e300, 0.0, 2.5, -7.0];
                 let ps: [DVec2; 7] = std::array::from_fn(|k| {
                     if round == 0 {
                         DVec2::new(-1.0 + k as f64 / 3.0, 1.0)
+                    } else if round == 1 {
+                        DVec2::new(far[k], far[(k + 3) % 7])
                     } else {
                         DVec2::new(rng.range(-spread, spread), rng.range(-spread, spread))
                     }
