@@ -4,10 +4,12 @@
 //! to 0.3 (`SizeField::bounded`), and the density the methods read. The four fields are those of
 //! `scripts/compare_graded.sh` at about 10⁴ vertices, each on a 1024 × 1024 grid: O(nodes) work,
 //! independent of K once the grid is at its cap, so at small K it is a large part of a run.
-//! Then a field given at the vertices of meshes of 10⁴ to 10⁶ vertices (`SizeField::from_mesh`).
+//! Then the density read at the seven points of a quadrature rule, as every clipped cell of a
+//! graded run does for each of its fan triangles (`Density::at7`, nanoseconds per call), and a
+//! field given at the vertices of meshes of 10⁴ to 10⁶ vertices (`SizeField::from_mesh`).
 //! Run: `cargo bench -p cvtmesh-geometry --bench size_fields`. Prints Markdown tables of
 //! best-of-3 wall-clock seconds.
-use cvtmesh_geometry::{formats, DVec2, Region, SizeField, Threshold, Toward};
+use cvtmesh_geometry::{formats, DVec2, Density, Region, SizeField, Threshold, Toward};
 mod common;
 use common::best_of;
 
@@ -66,12 +68,44 @@ fn main() {
             sample + limit + density
         );
     }
+    // The density at the seven points of small triangles swept row by row over the circle's
+    // field (600 000 triangles of about a fifth of the finest spacing): one fan triangle each.
+    let circle = Region::builtin("circle").unwrap();
+    let field = SizeField::threshold(
+        &circle,
+        &[Toward::Point(DVec2::ZERO)],
+        t(0.00574, 0.0631, 0.0, 1.0),
+    )
+    .unwrap();
+    let rho = field.density(0.00574);
+    let triangles: Vec<[DVec2; 7]> = (0..600_000)
+        .map(|k| {
+            let base = DVec2::new(
+                -0.7 + 1.4 * (k % 1000) as f64 / 1000.0,
+                -0.7 + 1.4 * (k / 1000) as f64 / 600.0,
+            );
+            std::array::from_fn(|i| base + DVec2::new(5e-4 * i as f64, 3e-4 * (i % 3) as f64))
+        })
+        .collect();
+    let (t7, sum) = best_of(5, || {
+        triangles
+            .iter()
+            .map(|p| rho.at7(std::hint::black_box(p)).iter().sum::<f64>())
+            .sum::<f64>()
+    });
+    assert!(sum > 0.0 && matches!(rho, Density::Sampled(_)));
+    println!("\n| density at seven points, circle toward its centre | calls | ns per call |");
+    println!("| :--- | ---: | ---: |");
+    println!(
+        "| `Density::at7` | {} | {:.1} |",
+        triangles.len(),
+        t7 * 1e9 / triangles.len() as f64
+    );
     // Sizes at the vertices of a mesh (an adaptive solver's): a structured mesh of n × n
     // vertices over the circle's box, h = 0.005 + 0.05·|x|, located on a grid of up to 1024²
     // nodes.
     println!("\n| sizes on a mesh of the circle's box | vertices | triangles | from_mesh (s) |");
     println!("| :--- | ---: | ---: | ---: |");
-    let circle = Region::builtin("circle").unwrap();
     for n in [101usize, 317, 1001] {
         let step = 2.2 / (n - 1) as f64;
         let points: Vec<DVec2> = (0..n * n)
