@@ -178,17 +178,14 @@ fn bspline_weights_6(u: f64) -> [f64; 4] {
 }
 
 /// [`bspline_weights_6`] of eight values at once, by weight: entry `[a][k]` is weight a of
-/// `u[k]`, the same arithmetic (laid out so that each weight is one operation on eight lanes).
+/// `u[k]` (laid out so that each weight is one operation on eight lanes).
 #[inline(always)]
 fn bspline_weights_6_lanes(u: &[f64; 8]) -> [[f64; 8]; 4] {
     let mut w = [[0.0f64; 8]; 4];
-    for k in 0..8 {
-        let (u, u2, u3) = (u[k], u[k] * u[k], u[k] * u[k] * u[k]);
-        let v = 1.0 - u;
-        w[0][k] = v * v * v;
-        w[1][k] = 3.0 * u3 - 6.0 * u2 + 4.0;
-        w[2][k] = -3.0 * u3 + 3.0 * u2 + 3.0 * u + 1.0;
-        w[3][k] = u3;
+    for (k, &u) in u.iter().enumerate() {
+        for (a, wa) in bspline_weights_6(u).into_iter().enumerate() {
+            w[a][k] = wa;
+        }
     }
     w
 }
