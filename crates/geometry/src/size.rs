@@ -1496,8 +1496,8 @@ mod tests {
     #[test]
     fn the_density_at_seven_points_is_its_value_at_each_bit_for_bit() {
         // Points inside the region, in the hole (where the grid holds the loop's size), outside
-        // the grid's box (clamped, from infinitely far too) and on its nodes; and a grid with a non-positive sample,
-        // where both take the bilinear value.
+        // the grid's box (clamped, from infinitely far too), at NaN, and on its nodes; and a
+        // grid with a non-positive sample, where both take the bilinear value.
         let (r, _, toward_hole) = toward_the_hole();
         let with_zero = SizeField::from_samples(&r, 16, |nodes| {
             Ok::<_, ()>(nodes.iter().map(|p| p.x.max(0.0) * 0.1).collect())
@@ -1511,7 +1511,15 @@ mod tests {
             };
             for round in 0..200 {
                 let spread = if round % 2 == 0 { 1.0 } else { 1.5 };
-                let far = [f64::INFINITY, -f64::INFINITY, 1e300, -1e300, 0.0, 2.5, -7.0];
+                let far = [
+                    f64::INFINITY,
+                    -f64::INFINITY,
+                    1e300,
+                    -1e300,
+                    f64::NAN,
+                    2.5,
+                    -7.0,
+                ];
                 let ps: [DVec2; 7] = std::array::from_fn(|k| {
                     if round == 0 {
                         DVec2::new(-1.0 + k as f64 / 3.0, 1.0)
