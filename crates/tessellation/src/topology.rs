@@ -586,9 +586,17 @@ impl Topology {
                             return false;
                         }
                         // The far edge and one of the two edges at v (the other is the next
-                        // triangle's), as `move_in_place` stacks them.
-                        for k in [i, (i + 1) % 3] {
-                            if self.adj[t as usize][k] != NONE && self.illegal(pos, t, k as u8) {
+                        // triangle's), as `move_in_place` stacks them; each edge from one star
+                        // only: an edge at v from the lesser of its ends that moved, the far
+                        // edge where neither of its ends did (else it is an edge at one).
+                        let w = tri[(i + 2) % 3];
+                        let far_own = !in_moved(tri[(i + 1) % 3]) && !in_moved(w);
+                        let near_own = v < w || !in_moved(w);
+                        for (k, own) in [(i, far_own), ((i + 1) % 3, near_own)] {
+                            if own
+                                && self.adj[t as usize][k] != NONE
+                                && self.illegal(pos, t, k as u8)
+                            {
                                 out.illegal.push((t, k as u8));
                             }
                         }
