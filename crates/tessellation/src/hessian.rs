@@ -97,6 +97,12 @@ pub fn energy_hessian_rows(
         return;
     };
     let density = (!density.is_uniform()).then_some(density);
+    // Each vertex's row, u32::MAX for those not in `rows` (frame vertices included).
+    let mut row_of = vec![u32::MAX; del.pos.len()];
+    for (r, &v) in rows.iter().enumerate() {
+        row_of[v as usize] = r as u32;
+    }
+    let row_of = &row_of;
     // Rows in parallel (fixed chunks, each a block matrix of its own), then concatenated.
     let parts: Vec<BlockMatrix> = rows
         .par_chunks(512)
@@ -106,8 +112,9 @@ pub fn energy_hessian_rows(
             for &v in chunk {
                 let mass = cells.cells[del.point_of_vertex[v as usize] as usize].mass;
                 let d = row(del, bnd, density, mass, v as usize, &mut s, |u, w| {
-                    if let Ok(c) = rows.binary_search(&u) {
-                        m.col.push(c as u32);
+                    let c = row_of[u as usize];
+                    if c != u32::MAX {
+                        m.col.push(c);
                         m.block.push(w.as_mat2());
                     }
                 });
