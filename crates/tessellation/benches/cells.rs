@@ -1,9 +1,11 @@
 //! Delaunay alone vs Delaunay + all clipped cells with moments, 10⁴–10⁶ generators in the unit
 //! circle and in the lake; and the cells again with the density of a size field (the graded
 //! comparison's: toward the circle's centre, toward the lake's shores), whose quadrature is
-//! most of a graded run's cost. Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
+//! most of a graded run's cost; and the repair by flips after 5 % of the generators, those
+//! nearest one point (an active set's cluster), moved by up to a tenth of the mean spacing and
+//! back (`Delaunay::move_points`, two calls). Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
 //! quick]` (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds
-//! (best of 7 for the graded cells).
+//! (best of 7 for the graded cells and the moves).
 #[path = "../../geometry/benches/common/mod.rs"]
 mod common;
 
@@ -33,6 +35,34 @@ fn generators(poly: &Polygon, n: usize, seed: u64) -> Vec<DVec2> {
     pts
 }
 
+/// Best of 7: 5 % of `pts` (those nearest a point inside `poly`) moved by up to a tenth of the
+/// mean spacing and back, each by `Delaunay::move_points` on a framed triangulation.
+fn moved_and_back(poly: &Polygon, pts: &[DVec2]) -> f64 {
+    let (lo, hi) = poly.bbox();
+    let mut del = Delaunay::framed(lo, hi);
+    del.rebuild(pts);
+    let centre = pts[pts.len() / 2];
+    let mut order: Vec<u32> = (0..pts.len() as u32).collect();
+    order.sort_by(|&a, &b| {
+        let d = |i: u32| pts[i as usize].distance_squared(centre);
+        d(a).total_cmp(&d(b))
+    });
+    let mut moved = order[..pts.len() / 20].to_vec();
+    moved.sort_unstable();
+    let step = 0.1 * (poly.area() / pts.len() as f64).sqrt();
+    let mut rng = Rng::new(5);
+    let mut to = pts.to_vec();
+    for &i in &moved {
+        to[i as usize] += DVec2::new(rng.range(-step, step), rng.range(-step, step));
+    }
+    best_of(7, || {
+        let there = del.move_points(&to, &moved).is_some();
+        let back = del.move_points(pts, &moved).is_some();
+        assert!(there && back, "repaired by flips");
+    })
+    .0
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "quick");
     let sizes: &[usize] = if quick {
@@ -42,9 +72,9 @@ fn main() {
     };
     println!("threads: {}", rayon::current_num_threads());
     println!(
-        "| domain | edges | n | spade bulk_load s | Delaunay::new s | cells s | total s | total / spade | boundary cells | area rel. err | cells, graded ρ s |"
+        "| domain | edges | n | spade bulk_load s | Delaunay::new s | cells s | total s | total / spade | boundary cells | area rel. err | cells, graded ρ s | 5 % moved and back s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in ["circle", "lake"] {
         let region = Region::builtin(name).expect("built-in region");
         let poly = region.polygonize(1e-4 * region.diameter());
@@ -75,8 +105,9 @@ fn main() {
             let boundary = cells.cells.iter().filter(|c| c.on_boundary()).count();
             let err = (cells.total_area() - poly.area()).abs() / poly.area();
             let (tg, _) = best_of(7, || clipped_cells(&pts, &del, &poly, &graded));
+            let tm = moved_and_back(&poly, &pts);
             println!(
-                "| {name} | {edges} | {n} | {ts:.3} | {td:.3} | {tc:.3} | {:.3} | {:.2} | {boundary} | {err:.1e} | {tg:.3} |",
+                "| {name} | {edges} | {n} | {ts:.3} | {td:.3} | {tc:.3} | {:.3} | {:.2} | {boundary} | {err:.1e} | {tg:.3} | {tm:.4} |",
                 td + tc,
                 (td + tc) / ts
             );
