@@ -70,6 +70,7 @@ impl BlockMatrix {
     }
 
     /// Row `i` of `A x` (the diagonal, then the other blocks, summed in a fixed order).
+    #[inline]
     pub fn row_times(&self, i: usize, x: &[DVec2]) -> DVec2 {
         let r = self.row_start[i]..self.row_start[i + 1];
         self.col[r.clone()]
