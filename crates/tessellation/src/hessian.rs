@@ -421,4 +421,74 @@ mod tests {
             }
         }
     }
+
+    /// The rows of an active set are the full Hessian's rows restricted to the set's columns:
+    /// every block and diagonal, near ∂Ω (a hole) and inside, with ρ ≡ 1 and with a density.
+    #[test]
+    fn active_rows_are_the_full_hessian_restricted() {
+        let graded = Density::Function(std::sync::Arc::new(|p: DVec2| (0.8 * p.x).exp()));
+        for density in [Density::Uniform, graded] {
+            let region = Region::builtin("pie_hole").unwrap();
+            let domain = region.polygonize(1e-4);
+            let (lo, hi) = region.bbox();
+            let mut rng = Rng::new(4);
+            let pts: Vec<DVec2> =
+                std::iter::repeat_with(|| DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y)))
+                    .filter(|p| region.signed_distance(*p) < 0.0)
+                    .take(1500)
+                    .collect();
+            let del = Delaunay::new(&pts);
+            let cells = clipped_cells(&pts, &del, &domain, &density);
+            let mut full = BlockMatrix::default();
+            energy_hessian(&del, &domain, &density, &cells, &mut full);
+            // A cluster (the vertices nearest one point) and scattered vertices.
+            let centre = pts[0];
+            let mut rows: Vec<u32> = (0..del.num_vertices() as u32)
+                .filter(|&v| {
+                    let p = del.pos[v as usize];
+                    p.distance(centre) < 0.4 || v % 11 == 0
+                })
+                .collect();
+            rows.sort_unstable();
+            assert!(rows.len() > 600, "{} rows", rows.len());
+            let grid = DomainGrid::new(&domain, del.num_vertices());
+            let mut part = BlockMatrix::default();
+            energy_hessian_rows(&del, &grid, &density, &cells, &rows, &mut part);
+            let close = |a: DMat2, b: DMat2, tol: f64| {
+                let scale = b
+                    .abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(1e-300, |m: f64, x| m.max(*x));
+                (a - b)
+                    .abs()
+                    .to_cols_array()
+                    .iter()
+                    .all(|x| *x <= tol * scale)
+            };
+            let mut shared = 0;
+            for (r, &v) in rows.iter().enumerate() {
+                let v = v as usize;
+                assert!(close(part.diag[r], full.diag[v], 1e-9), "diagonal of {v}");
+                let mut expected: Vec<(u32, DMat2)> = (full.row_start[v]..full.row_start[v + 1])
+                    .filter_map(|k| {
+                        let c = rows.binary_search(&full.col[k]).ok()?;
+                        Some((c as u32, full.block[k].as_dmat2()))
+                    })
+                    .collect();
+                let mut got: Vec<(u32, DMat2)> = (part.row_start[r]..part.row_start[r + 1])
+                    .map(|k| (part.col[k], part.block[k].as_dmat2()))
+                    .collect();
+                expected.sort_by_key(|e| e.0);
+                got.sort_by_key(|e| e.0);
+                assert_eq!(got.len(), expected.len(), "columns of {v}");
+                for ((c, a), (d, b)) in got.iter().zip(&expected) {
+                    assert_eq!(c, d);
+                    assert!(close(*a, *b, 1e-5), "block ({v}, {c})");
+                }
+                shared += got.len();
+            }
+            assert!(shared > 2 * rows.len(), "{shared} blocks between rows");
+        }
+    }
 }
