@@ -9,7 +9,7 @@ use mesh::Progress;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use tessellation::{clipped_cells_into, Cells, CellsBuffer, Delaunay, DomainGrid};
+use tessellation::{clipped_cells_on, Cells, CellsBuffer, Delaunay, DomainGrid};
 
 /// Wall-clock seconds spent in each part of the iteration, summed over all iterations.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -133,13 +133,22 @@ impl Work {
     /// The triangulation, the cells and the domain's grid for partial cell and Hessian updates
     /// (built as a full cells pass builds it, so updated cells are bit-identical).
     pub(crate) fn parts(&mut self, domain: &Polygon) -> (&Delaunay, &mut Cells, &DomainGrid) {
-        let nv = self.del.num_vertices();
-        if self.grid.as_ref().is_none_or(|g| g.1 != nv) {
-            self.grid = Some((DomainGrid::new(domain, nv), nv));
-        }
-        let grid = &self.grid.as_ref().expect("just built").0;
+        let grid = grid_for(&mut self.grid, domain, self.del.num_vertices());
         (&self.del, &mut self.cells, grid)
     }
+}
+
+/// The domain's grid for a triangulation of `nv` vertices, built when `kept` holds none for
+/// that count (the domain is the `Work`'s: [`Work::retarget`] drops the grid).
+fn grid_for<'a>(
+    kept: &'a mut Option<(DomainGrid, usize)>,
+    domain: &Polygon,
+    nv: usize,
+) -> &'a DomainGrid {
+    if kept.as_ref().is_none_or(|g| g.1 != nv) {
+        *kept = Some((DomainGrid::new(domain, nv), nv));
+    }
+    &kept.as_ref().expect("just built").0
 }
 
 /// The fixed-point map at one iterate (its cells are in the `Work`): energy, labels and the
@@ -246,10 +255,11 @@ pub fn step(phase: &Phase, z: &[DVec2], work: &mut Work, prof: &mut Profile) -> 
     let del = &work.del;
     prof.flipped += usize::from(del.flipped());
     prof.triangulation += lap(&mut t);
-    clipped_cells_into(
+    let grid = grid_for(&mut work.grid, phase.domain, del.num_vertices());
+    clipped_cells_on(
         z,
         del,
-        phase.domain,
+        grid,
         phase.density,
         &mut work.cells,
         &mut work.buffer,

@@ -23,7 +23,7 @@ use geometry::{DVec2, PieceId, Region};
 use glam::DMat2;
 use rayon::prelude::*;
 use std::time::Instant;
-use tessellation::{dot, energy_hessian, energy_hessian_rows, BlockMatrix, DOT_CHUNK};
+use tessellation::{dot, energy_hessian_on, energy_hessian_rows, BlockMatrix, DOT_CHUNK};
 
 /// Evaluations without a new low of the largest move after which a phase stops, not
 /// converged: the iterate is cycling. Over 17 converged runs (four graded cases at K = 10⁴,
@@ -389,15 +389,17 @@ fn newton_point(
     phase: &Phase,
     z: &[DVec2],
     s: &Step,
-    work: &Work,
+    work: &mut Work,
     buf: &mut Buffers,
     sigma: &mut f64,
     prof: &mut Profile,
 ) -> Vec<DVec2> {
     let mut t = Instant::now();
-    let del = &work.del;
-    energy_hessian(del, phase.domain, phase.density, &work.cells, &mut buf.hess);
+    let (del, cells, grid) = work.parts(phase.domain);
+    energy_hessian_on(del, grid, phase.density, cells, &mut buf.hess);
     prof.hessian += lap(&mut t);
+    let work = &*work;
+    let del = &work.del;
     newton_move(
         phase,
         z,

@@ -146,10 +146,44 @@ pub fn clipped_cells_into(
     out: &mut Cells,
     buffer: &mut CellsBuffer,
 ) {
+    let grid = DomainGrid::new(domain, delaunay.num_vertices());
+    clipped_cells_on(points, delaunay, &grid, density, out, buffer);
+}
+
+/// [`clipped_cells_into`] on the domain's `grid` ([`DomainGrid::new`] of the domain with
+/// `delaunay.num_vertices()`), kept by a caller that clips to the same domain again and again:
+/// the grid is then built once instead of at every call, with the same cells bit for bit.
+///
+/// ```
+/// use cvtmesh::geometry::{DVec2, Density, Region};
+/// use cvtmesh::tessellation::{
+///     clipped_cells, clipped_cells_on, Cells, CellsBuffer, Delaunay, DomainGrid,
+/// };
+/// let region = Region::builtin("circle")?;
+/// let domain = region.polygonize(1e-3);
+/// let points: Vec<DVec2> = (0..50)
+///     .map(|i| DVec2::from_angle(i as f64 * 2.4) * (i as f64 / 50.0).sqrt() * 0.9)
+///     .collect();
+/// let delaunay = Delaunay::new(&points);
+/// let grid = DomainGrid::new(&domain, delaunay.num_vertices());
+/// let (mut cells, mut buffer) = (Cells { cells: Vec::new() }, CellsBuffer::default());
+/// clipped_cells_on(&points, &delaunay, &grid, &Density::Uniform, &mut cells, &mut buffer);
+/// let fresh = clipped_cells(&points, &delaunay, &domain, &Density::Uniform);
+/// assert!(cells.cells.iter().zip(&fresh.cells).all(|(a, b)| a.mass == b.mass));
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+/// ```
+pub fn clipped_cells_on(
+    points: &[DVec2],
+    delaunay: &Delaunay,
+    grid: &DomainGrid,
+    density: &Density,
+    out: &mut Cells,
+    buffer: &mut CellsBuffer,
+) {
     cells_with(
         points,
         delaunay,
-        domain,
+        grid,
         density,
         false,
         &mut out.cells,
@@ -211,7 +245,7 @@ pub fn update_cells(
 fn cells_with(
     points: &[DVec2],
     delaunay: &Delaunay,
-    domain: &Polygon,
+    grid: &DomainGrid,
     density: &Density,
     whole_rings: bool,
     out: &mut Vec<Cell>,
@@ -224,7 +258,7 @@ fn cells_with(
     );
     let nv = delaunay.num_vertices();
     let empty = |i: usize| Cell::empty(points.get(i).copied().unwrap_or(DVec2::ZERO));
-    let Some(bnd) = Boundary::new(domain, nv) else {
+    let Some(bnd) = grid.bnd.as_ref() else {
         (0..delaunay.num_points())
             .into_par_iter()
             .map(empty)
@@ -233,7 +267,7 @@ fn cells_with(
     };
     let ctx = Ctx {
         del: delaunay,
-        bnd: &bnd,
+        bnd,
         density: (!density.is_uniform()).then_some(density),
         whole_rings,
     };
@@ -895,7 +929,7 @@ mod tests {
                     cells_with(
                         &pts,
                         &del,
-                        &domain,
+                        &DomainGrid::new(&domain, del.num_vertices()),
                         &density,
                         whole_rings,
                         &mut cells.cells,

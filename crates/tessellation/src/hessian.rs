@@ -29,25 +29,66 @@ pub fn energy_hessian(
     cells: &Cells,
     out: &mut BlockMatrix,
 ) {
+    let grid = DomainGrid::new(domain, del.num_vertices());
+    energy_hessian_on(del, &grid, density, cells, out);
+}
+
+/// [`energy_hessian`] on the domain's `grid` ([`DomainGrid::new`] of the domain with
+/// `del.num_vertices()`), for a caller that keeps the grid from one Hessian to the next: the
+/// same matrix bit for bit, without building the grid at every call.
+///
+/// ```
+/// use cvtmesh::geometry::{DVec2, Density, Region};
+/// use cvtmesh::tessellation::{
+///     clipped_cells, energy_hessian, energy_hessian_on, BlockMatrix, Delaunay, DomainGrid,
+/// };
+/// let region = Region::builtin("circle")?;
+/// let domain = region.polygonize(1e-3);
+/// let points: Vec<DVec2> = (0..50)
+///     .map(|i| DVec2::from_angle(i as f64 * 2.4) * (i as f64 / 50.0).sqrt() * 0.9)
+///     .collect();
+/// let delaunay = Delaunay::new(&points);
+/// let cells = clipped_cells(&points, &delaunay, &domain, &Density::Uniform);
+/// let grid = DomainGrid::new(&domain, delaunay.num_vertices());
+/// let (mut kept, mut fresh) = (BlockMatrix::default(), BlockMatrix::default());
+/// energy_hessian_on(&delaunay, &grid, &Density::Uniform, &cells, &mut kept);
+/// energy_hessian(&delaunay, &domain, &Density::Uniform, &cells, &mut fresh);
+/// assert_eq!(kept.diag, fresh.diag);
+/// assert_eq!(kept.block, fresh.block);
+/// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+/// ```
+pub fn energy_hessian_on(
+    del: &Delaunay,
+    grid: &DomainGrid,
+    density: &Density,
+    cells: &Cells,
+    out: &mut BlockMatrix,
+) {
     let nv = del.num_vertices();
     // A row: the diagonal and the neighbours that are points (not a frame's vertices).
+    let counts: Vec<usize> = (0..nv)
+        .into_par_iter()
+        .map(|v| {
+            del.rings
+                .of(v)
+                .0
+                .iter()
+                .filter(|&&u| (u as usize) < nv)
+                .count()
+        })
+        .collect();
     out.row_start.clear();
+    out.row_start.reserve(nv + 1);
     out.row_start.push(0);
     let mut total = 0;
-    for v in 0..nv {
-        total += del
-            .rings
-            .of(v)
-            .0
-            .iter()
-            .filter(|&&u| (u as usize) < nv)
-            .count();
+    for c in counts {
+        total += c;
         out.row_start.push(total);
     }
     out.col.resize(total, 0);
     out.block.resize(total, glam::Mat2::ZERO);
     out.diag.resize(nv, DMat2::ZERO);
-    let Some(bnd) = Boundary::new(domain, nv) else {
+    let Some(bnd) = grid.bnd.as_ref() else {
         out.diag.iter_mut().for_each(|d| *d = DMat2::ZERO);
         return;
     };
@@ -63,7 +104,7 @@ pub fn energy_hessian(
     drop(by_point);
     out.par_rows_mut(Scratch::default, |s, v, diagonal, col, block| {
         let mut c = 0;
-        *diagonal = row(del, &bnd, density, mass[v], v, s, |u, w| {
+        *diagonal = row(del, bnd, density, mass[v], v, s, |u, w| {
             if (u as usize) < nv {
                 col[c] = u;
                 block[c] = w.as_mat2();

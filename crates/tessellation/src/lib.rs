@@ -28,11 +28,12 @@ mod sparse;
 mod topology;
 
 pub use cells::{
-    clipped_cells, clipped_cells_into, update_cells, Cell, Cells, CellsBuffer, DomainGrid,
+    clipped_cells, clipped_cells_into, clipped_cells_on, update_cells, Cell, Cells, CellsBuffer,
+    DomainGrid,
 };
 pub use clip::segment_meets_box;
 pub use conforming::{conforming_mesh, conforming_mesh_from, mark_vertices};
 pub use delaunay::{hilbert_order, Delaunay};
-pub use hessian::{energy_hessian, energy_hessian_rows};
+pub use hessian::{energy_hessian, energy_hessian_on, energy_hessian_rows};
 pub use odt::{odt_boundary_triangles, odt_energy, odt_targets};
 pub use sparse::{dot, BlockMatrix, DOT_CHUNK};
