@@ -7,7 +7,7 @@ and Gmsh's calls at the parameter found and cvtmesh's whole command are timed N 
 fastest is kept: one call of a tenth of a second moves by half from run to run on a shared
 machine, and the least of several is the time the tool needs when nothing else runs.
 """
-import argparse, functools, json, math, os, queue, subprocess, sys, time, multiprocessing as mp
+import argparse, functools, json, math, os, queue, statistics, subprocess, sys, time, multiprocessing as mp
 import numpy as np
 
 MEASURES = "K,Ktilde,lambda,gamma,h,mu,chi,nu,tau,d,alpha,beta,q,p".split(",")
@@ -306,6 +306,26 @@ def cvtmesh_run(exe, region, k, base, max_iter, timeout, repeat=1):
     return sec, f"whole command; {its} iterations; {state}"
 
 
+def paired_ratios(exe, region, k, domain_file, area, base, max_iter, timeout, pairs):
+    """cvtmesh's whole command over Triangle's call, timed `pairs` times in alternation (one
+    Triangle call, then one cvtmesh command), so that both see the machine in the same state:
+    on a shared VM the speed drifts by tens of per cent within a minute, which moves the ratio
+    of two separately timed blocks as much. Triangle at the switches its search finds here."""
+    import triangle
+    info = {}
+    run_triangle(domain_file, k, area, info=info)
+    h = math.sqrt(2 * area / (math.sqrt(3) * k))
+    geom = triangle_input(domain_file, h, False)
+    ratios = []
+    for _ in range(pairs):
+        t0 = time.perf_counter()
+        triangle.triangulate(geom, info["switches"])
+        tri = time.perf_counter() - t0
+        sec, _ = cvtmesh_run(exe, region, k, base, max_iter, timeout)
+        ratios.append(sec / tri)
+    return ratios
+
+
 def measure(exe, base, region):
     out = subprocess.run([exe, "measure", base + ".node", "--region", region, "--csv"], capture_output=True, text=True)
     if out.returncode != 0:
@@ -371,6 +391,9 @@ def main():
     ap.add_argument("--repeat", type=int, default=1,
                     help="time Triangle's and Gmsh's calls and cvtmesh's command this many times "
                          "and keep the fastest (distmeshpy runs once)")
+    ap.add_argument("--pairs", type=int, default=0,
+                    help="also time Triangle's call and cvtmesh's command this many times in "
+                         "alternation and add the median of the pairs' ratios to cvtmesh's note")
     ap.add_argument("--cvtmesh-max-iter", type=int, default=10000,
                     help="cvtmesh's iteration cap per phase (a capped run is reported as not converged)")
     a = ap.parse_args()
@@ -416,6 +439,13 @@ def main():
                 rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=float("nan"), note="timeout"))
                 continue
             m = measure(a.cvtmesh, base, region)
+            if a.pairs > 0:
+                ratios = sorted(paired_ratios(a.cvtmesh, region, k, dfile, area, base,
+                                              a.cvtmesh_max_iter, a.timeout, a.pairs))
+                note += (f"; {len(ratios)} alternating pairs with Triangle: median ratio "
+                         f"{statistics.median(ratios):.1f}x ({ratios[0]:.1f}-{ratios[-1]:.1f})")
+                print(f"{region} {k} cvtmesh / triangle over {len(ratios)} pairs: "
+                      + " ".join(f"{r:.1f}" for r in ratios), file=sys.stderr)
             rows.append(dict(region=region, K_requested=k, tool="cvtmesh", seconds=sec, note=note, **m))
             print(f"{region} {k} cvtmesh: K={m['K']:.0f} {sec:.2f}s", file=sys.stderr)
     cols = ["region", "K_requested", "tool", "seconds"] + MEASURES + ["note"]

@@ -5,6 +5,7 @@
 #   scripts/compare_tools.sh [--sizes 10000,100000] [--regions circle,lake] [--timeout 600]
 #     [--tools triangle,gmsh-delaunay,gmsh-frontal,distmeshpy,cvtmesh] [--cvtmesh-max-iter N]
 #     [--repeat N]   (the fastest of N timings of Triangle, Gmsh and cvtmesh at the K found)
+#     [--pairs N]    (N more timings of Triangle and cvtmesh in alternation; the median ratio)
 #     [--name compare] [--update]   (--update keeps the rows of results/compare/NAME.csv not redone)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
