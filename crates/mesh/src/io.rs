@@ -733,6 +733,26 @@ impl fmt::Display for F {
     }
 }
 
+/// Appends `v` in decimal, as `{}` formats it: the millions of indices of a large mesh's files
+/// without the formatting machinery's cost per argument (a third of writing them).
+pub(crate) fn push_int(s: &mut String, v: i64) {
+    let mut digits = [0u8; 20];
+    let mut at = digits.len();
+    let mut u = v.unsigned_abs();
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (u % 10) as u8;
+        u /= 10;
+        if u == 0 {
+            break;
+        }
+    }
+    if v < 0 {
+        s.push('-');
+    }
+    s.push_str(std::str::from_utf8(&digits[at..]).expect("ASCII digits"));
+}
+
 /// A file's contents, produced into a writer.
 pub(crate) type Producer<'a> = Box<dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a>;
 
@@ -1190,6 +1210,32 @@ pub(crate) mod test_util {
 mod tests {
     use super::test_util::*;
     use super::*;
+
+    /// Integers are appended as `{}` writes them, at the extremes and signs too.
+    #[test]
+    fn push_int_writes_what_display_writes() {
+        let mut rng = geometry::Rng::new(11);
+        let mut values = vec![
+            0,
+            1,
+            -1,
+            9,
+            10,
+            -10,
+            99,
+            100,
+            i64::MAX,
+            i64::MIN,
+            i64::MIN + 1,
+        ];
+        values.extend((0..10_000).map(|_| (rng.uniform() * 2e18 - 1e18) as i64));
+        values.extend((0..10_000).map(|_| rng.below(1000) as i64 - 500));
+        for v in values {
+            let mut s = String::from("x");
+            push_int(&mut s, v);
+            assert_eq!(s, format!("x{v}"));
+        }
+    }
 
     #[test]
     fn lines_formatted_in_parallel_are_written_in_order() {

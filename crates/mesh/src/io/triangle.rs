@@ -1,7 +1,7 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    file_err, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines, MeshFile,
-    Nodes, Producer, Tokens, Walls, F, UNKNOWN_PIECE,
+    file_err, push_int, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines,
+    MeshFile, Nodes, Producer, Tokens, Walls, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -130,18 +130,22 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
                     loop_param,
                 } => (2, known_id(corner), known_param(loop_param), loop_index + 1),
             };
-            let _ = write!(
-                s,
-                "{} {} {} {kind} {id} {} {marker}",
-                i + 1,
-                F(p.x),
-                F(p.y),
-                F(param)
-            );
-            let _ = match &walls {
-                Some((_, by_node)) => writeln!(s, " {}", by_node[i]),
-                None => writeln!(s),
-            };
+            // "{i + 1} {x} {y} {kind} {id} {param} {marker}[ {wall}]", field by field.
+            push_int(s, i as i64 + 1);
+            for x in [p.x, p.y] {
+                let _ = write!(s, " {}", F(x));
+            }
+            for n in [kind, id] {
+                s.push(' ');
+                push_int(s, n);
+            }
+            let _ = write!(s, " {} ", F(param));
+            push_int(s, marker as i64);
+            if let Some((_, by_node)) = &walls {
+                s.push(' ');
+                push_int(s, by_node[i]);
+            }
+            s.push('\n');
         })
     });
     let write_ele: Producer = Box::new(|w: &mut dyn Write| {
@@ -153,11 +157,12 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
         writeln!(w, "{} {} 0", nodes.triangles.len(), order.len())?;
         write_lines(w, nodes.triangles.len(), |t, s| {
             let tri = &nodes.triangles[t];
-            let _ = write!(s, "{}", t + 1);
+            push_int(s, t as i64 + 1);
             for &k in order {
-                let _ = write!(s, " {}", tri[k] + 1);
+                s.push(' ');
+                push_int(s, i64::from(tri[k]) + 1);
             }
-            let _ = writeln!(s);
+            s.push('\n');
         })
     });
     let write_poly: Producer = Box::new(|w: &mut dyn Write| {
