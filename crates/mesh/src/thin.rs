@@ -193,10 +193,12 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
             next = 0.0;
         }
     }
-    // The rays in parallel (each meets every segment), their verdicts in sample order.
+    // The rays in parallel, each through the cells of a grid of the segments, their verdicts
+    // in sample order.
+    let grid = SegmentGrid::new(&segs, diam);
     let hits: Vec<Option<(f64, usize, f64)>> = rays
         .par_iter()
-        .map(|&(q, normal, _, _)| cast(q, normal, &segs, tiny))
+        .map(|&(q, normal, _, _)| grid.cast(q, normal, &segs, tiny))
         .collect();
     for (&(q, _, r, sq), hit) in rays.iter().zip(hits) {
         let Some((width, hit_ring, hit_s)) = hit else {
@@ -262,29 +264,159 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
     })
 }
 
-/// The first boundary segment the ray `o + t·d` (t > `tiny`) meets: distance, ring, arc
-/// length of the hit.
-fn cast(
-    o: DVec2,
-    d: DVec2,
-    segs: &[(DVec2, DVec2, usize, f64)],
-    tiny: f64,
-) -> Option<(f64, usize, f64)> {
+/// A boundary segment: its ends, ring, and arc length at its start.
+type Seg = (DVec2, DVec2, usize, f64);
+
+/// Where the ray `o + t·d` meets segment `seg` (t > `tiny`): t, and the arc length of the hit.
+#[inline]
+fn meet(o: DVec2, d: DVec2, &(a, b, _, s0): &Seg, tiny: f64) -> Option<(f64, f64)> {
+    let e = b - a;
+    let den = d.perp_dot(e);
+    if den.abs() <= f64::MIN_POSITIVE {
+        return None;
+    }
+    let w = a - o;
+    let t = w.perp_dot(e) / den;
+    let u = w.perp_dot(d) / den;
+    (t > tiny && (0.0..=1.0).contains(&u)).then(|| (t, s0 + u * e.length()))
+}
+
+/// The first boundary segment the ray `o + t·d` (t > `tiny`, `d` a unit vector) meets:
+/// distance, ring, arc length of the hit; of segments met at the same distance, the first
+/// listed. Every segment tested: what [`SegmentGrid::cast`] must find.
+#[cfg(test)]
+fn cast(o: DVec2, d: DVec2, segs: &[Seg], tiny: f64) -> Option<(f64, usize, f64)> {
     let mut best: Option<(f64, usize, f64)> = None;
-    for &(a, b, r, s0) in segs {
-        let e = b - a;
-        let den = d.perp_dot(e);
-        if den.abs() <= f64::MIN_POSITIVE {
-            continue;
-        }
-        let w = a - o;
-        let t = w.perp_dot(e) / den;
-        let u = w.perp_dot(d) / den;
-        if t > tiny && (0.0..=1.0).contains(&u) && best.is_none_or(|x| t < x.0) {
-            best = Some((t, r, s0 + u * e.length()));
+    for seg in segs {
+        if let Some((t, s)) = meet(o, d, seg, tiny) {
+            if best.is_none_or(|x| t < x.0) {
+                best = Some((t, seg.2, s));
+            }
         }
     }
     best
+}
+
+/// The segments on a uniform grid of about one cell per segment, each listed in every cell its
+/// box overlaps once grown by `margin` (far above the rounding of a ray's walk through the
+/// cells): a ray tests the segments of the cells it passes, nearest first, instead of all of
+/// them (on the circle at 10⁵ points, 4000 rays against 3000 segments each).
+struct SegmentGrid {
+    lo: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    margin: f64,
+    /// Cell c's segments are `items[start[c]..start[c + 1]]`, in list order.
+    start: Vec<usize>,
+    items: Vec<u32>,
+}
+
+impl SegmentGrid {
+    fn new(segs: &[Seg], diam: f64) -> SegmentGrid {
+        let margin = 1e-9 * diam.max(f64::MIN_POSITIVE);
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for &(a, b, _, _) in segs {
+            lo = lo.min(a.min(b));
+            hi = hi.max(a.max(b));
+        }
+        lo -= DVec2::splat(2.0 * margin);
+        hi += DVec2::splat(2.0 * margin);
+        let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+        let cell = (size.x * size.y / segs.len().max(1) as f64)
+            .sqrt()
+            .max(size.max_element() / 1024.0);
+        let nx = ((size.x / cell).ceil() as usize).clamp(1, 1024);
+        let ny = ((size.y / cell).ceil() as usize).clamp(1, 1024);
+        let mut grid = SegmentGrid {
+            lo,
+            cell,
+            nx,
+            ny,
+            margin,
+            start: vec![0; nx * ny + 1],
+            items: Vec::new(),
+        };
+        let cells_of = |g: &SegmentGrid, &(a, b, _, _): &Seg| {
+            let (i0, j0) = g.at(a.min(b) - DVec2::splat(margin));
+            let (i1, j1) = g.at(a.max(b) + DVec2::splat(margin));
+            let nx = g.nx;
+            (j0..=j1).flat_map(move |j| (i0..=i1).map(move |i| j * nx + i))
+        };
+        for seg in segs {
+            for c in cells_of(&grid, seg) {
+                grid.start[c + 1] += 1;
+            }
+        }
+        for c in 0..nx * ny {
+            grid.start[c + 1] += grid.start[c];
+        }
+        let mut fill = grid.start.clone();
+        let mut items = vec![0u32; grid.start[nx * ny]];
+        for (k, seg) in segs.iter().enumerate() {
+            for c in cells_of(&grid, seg) {
+                items[fill[c]] = k as u32;
+                fill[c] += 1;
+            }
+        }
+        grid.items = items;
+        grid
+    }
+
+    /// The cell of `p`, clamped to the grid.
+    fn at(&self, p: DVec2) -> (usize, usize) {
+        let q = (p - self.lo) / self.cell;
+        let clamp = |x: f64, n: usize| (x.max(0.0) as usize).min(n - 1);
+        (clamp(q.x, self.nx), clamp(q.y, self.ny))
+    }
+
+    /// [`cast`] through the cells the ray passes (Amanatides and Woo's walk), stopping once the
+    /// nearest hit lies a margin before the next cell: the same segment, as the least
+    /// (distance, list index) over the segments tested.
+    fn cast(&self, o: DVec2, d: DVec2, segs: &[Seg], tiny: f64) -> Option<(f64, usize, f64)> {
+        let (mut i, mut j) = self.at(o);
+        let mut best: Option<(f64, u32, f64)> = None;
+        // Ray parameter of the next vertical and horizontal cell side, and between sides.
+        let side = |x: f64, lo: f64, k: usize, dx: f64| {
+            if dx > 0.0 {
+                (lo + (k + 1) as f64 * self.cell - x) / dx
+            } else if dx < 0.0 {
+                (lo + k as f64 * self.cell - x) / dx
+            } else {
+                f64::INFINITY
+            }
+        };
+        let (mut tx, mut ty) = (side(o.x, self.lo.x, i, d.x), side(o.y, self.lo.y, j, d.y));
+        let (dtx, dty) = (self.cell / d.x.abs(), self.cell / d.y.abs());
+        loop {
+            let c = j * self.nx + i;
+            for &k in &self.items[self.start[c]..self.start[c + 1]] {
+                if let Some((t, s)) = meet(o, d, &segs[k as usize], tiny) {
+                    if best.is_none_or(|(bt, bk, _)| t < bt || (t == bt && k < bk)) {
+                        best = Some((t, k, s));
+                    }
+                }
+            }
+            let exit = tx.min(ty);
+            if best.is_some_and(|(bt, _, _)| bt + self.margin < exit) || !exit.is_finite() {
+                break;
+            }
+            if tx <= ty {
+                if (d.x > 0.0 && i + 1 == self.nx) || (d.x < 0.0 && i == 0) {
+                    break;
+                }
+                i = if d.x > 0.0 { i + 1 } else { i - 1 };
+                tx += dtx;
+            } else {
+                if (d.y > 0.0 && j + 1 == self.ny) || (d.y < 0.0 && j == 0) {
+                    break;
+                }
+                j = if d.y > 0.0 { j + 1 } else { j - 1 };
+                ty += dty;
+            }
+        }
+        best.map(|(t, k, s)| (t, segs[k as usize].2, s))
+    }
 }
 
 #[cfg(test)]
@@ -300,6 +432,57 @@ mod tests {
                 None,
                 "{name} K={k}"
             );
+        }
+    }
+
+    /// The grid's walk finds the segment testing every segment finds (the same distance,
+    /// ring and arc length bit for bit): from boundary points along their inward normals, as
+    /// `thin_feature` casts, from their vertices (rays through segments' shared ends, met at
+    /// equal distances) and from random points in random directions, on every built-in region.
+    #[test]
+    fn the_grid_finds_what_testing_every_segment_finds() {
+        let mut rng = geometry::Rng::new(23);
+        for name in Region::builtin_names() {
+            let region = Region::builtin(name).unwrap();
+            let diam = region.diameter();
+            for tol in [1e-2, 1e-4] {
+                let poly = region.polygonize(tol * diam);
+                let mut segs: Vec<Seg> = Vec::new();
+                for (r, ring) in poly.rings.iter().enumerate() {
+                    let n = ring.points.len();
+                    let mut s = 0.0;
+                    for i in 0..n {
+                        let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
+                        segs.push((a, b, r, s));
+                        s += a.distance(b);
+                    }
+                }
+                let grid = SegmentGrid::new(&segs, diam);
+                let tiny = 1e-12 * diam;
+                let (lo, hi) = region.bbox();
+                let mut rays: Vec<(DVec2, DVec2)> = Vec::new();
+                for &(a, b, _, _) in segs.iter().step_by(3) {
+                    let dir = (b - a).normalize_or_zero();
+                    rays.push((a.lerp(b, rng.uniform()), dir.perp()));
+                    rays.push((a, dir.perp()));
+                    rays.push((a, -dir.perp()));
+                }
+                for _ in 0..500 {
+                    let o = DVec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
+                    rays.push((o, DVec2::from_angle(rng.range(0.0, std::f64::consts::TAU))));
+                }
+                for (o, d) in rays {
+                    let (fast, every) = (grid.cast(o, d, &segs, tiny), cast(o, d, &segs, tiny));
+                    let bits = |h: Option<(f64, usize, f64)>| {
+                        h.map(|(t, r, s)| (t.to_bits(), r, s.to_bits()))
+                    };
+                    assert_eq!(
+                        bits(fast),
+                        bits(every),
+                        "{name} tol {tol}: ray from {o} along {d}"
+                    );
+                }
+            }
         }
     }
 
