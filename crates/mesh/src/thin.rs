@@ -2,7 +2,7 @@
 //! asks for, no triangle fits across and the mesh there is slivers. Found before any work, so
 //! that the user learns the size that would resolve it.
 use crate::MeshRequest;
-use geometry::{DVec2, Region};
+use geometry::{DVec2, Polygon, Region};
 use rayon::prelude::*;
 use std::fmt;
 
@@ -118,21 +118,7 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
     if nseg > MAX_SEGMENTS || nseg == 0 {
         return None;
     }
-    // Segments of every ring with their ring and arc length at their start.
-    let mut segs: Vec<(DVec2, DVec2, usize, f64)> = Vec::with_capacity(nseg);
-    let mut lengths = Vec::with_capacity(poly.rings.len());
-    let mut ring_start = Vec::with_capacity(poly.rings.len());
-    for (r, ring) in poly.rings.iter().enumerate() {
-        ring_start.push(segs.len());
-        let n = ring.points.len();
-        let mut s = 0.0;
-        for i in 0..n {
-            let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
-            segs.push((a, b, r, s));
-            s += a.distance(b);
-        }
-        lengths.push(s);
-    }
+    let (segs, lengths, ring_start) = segments(&poly);
     let perimeter: f64 = lengths.iter().sum();
     let samples = MAX_SAMPLES.min(MAX_TESTS / nseg).max(1);
     let step = (perimeter / samples as f64).max(f64::MIN_POSITIVE);
@@ -266,6 +252,25 @@ pub fn thin_feature(region: &Region, request: &MeshRequest) -> Option<ThinFeatur
 
 /// A boundary segment: its ends, ring, and arc length at its start.
 type Seg = (DVec2, DVec2, usize, f64);
+
+/// The segments of every ring of `poly` in order, each ring's length, and where each ring's
+/// segments start.
+fn segments(poly: &Polygon) -> (Vec<Seg>, Vec<f64>, Vec<usize>) {
+    let mut segs = Vec::with_capacity(poly.rings.iter().map(|r| r.points.len()).sum());
+    let (mut lengths, mut ring_start) = (Vec::new(), Vec::new());
+    for (r, ring) in poly.rings.iter().enumerate() {
+        ring_start.push(segs.len());
+        let n = ring.points.len();
+        let mut s = 0.0;
+        for i in 0..n {
+            let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
+            segs.push((a, b, r, s));
+            s += a.distance(b);
+        }
+        lengths.push(s);
+    }
+    (segs, lengths, ring_start)
+}
 
 /// Where the ray `o + t·d` meets segment `seg` (t > `tiny`): t, and the arc length of the hit.
 #[inline]
@@ -446,17 +451,7 @@ mod tests {
             let region = Region::builtin(name).unwrap();
             let diam = region.diameter();
             for tol in [1e-2, 1e-4] {
-                let poly = region.polygonize(tol * diam);
-                let mut segs: Vec<Seg> = Vec::new();
-                for (r, ring) in poly.rings.iter().enumerate() {
-                    let n = ring.points.len();
-                    let mut s = 0.0;
-                    for i in 0..n {
-                        let (a, b) = (ring.points[i], ring.points[(i + 1) % n]);
-                        segs.push((a, b, r, s));
-                        s += a.distance(b);
-                    }
-                }
+                let (segs, _, _) = segments(&region.polygonize(tol * diam));
                 let grid = SegmentGrid::new(&segs, diam);
                 let tiny = 1e-12 * diam;
                 let (lo, hi) = region.bbox();
