@@ -604,7 +604,7 @@ fn cell_of<'a>(mesh: &Mesh, tris: impl Iterator<Item = &'a u32>, u: u32) -> (f64
     let cell = sorted_sum(tris.map(|&t| {
         let c = mesh.triangles[t as usize];
         let k = c.iter().position(|&w| w == u).unwrap_or(0);
-        let (part, r2, side2) = corners(mesh.triangle(t as usize))[k];
+        let (part, r2, side2) = corner(mesh.triangle(t as usize), k);
         reach2 = reach2.max(r2);
         nearest2 = nearest2.min(side2);
         part
@@ -784,19 +784,38 @@ fn triangle_size(q: [DVec2; 3]) -> (f64, f64, f64) {
 /// whatever corner the triangle is listed from.
 #[inline]
 fn corners(q: [DVec2; 3]) -> [(f64, f64, f64); 3] {
-    let k = first_corner(q);
-    let r = rotated(q, k);
-    let c = circumcenter(r[0], r[1], r[2]);
-    let sign = (r[1] - r[0]).perp_dot(r[2] - r[0]).signum();
-    [0, 1, 2].map(|i| {
-        let (v, a, b) = (q[i], q[(i + 1) % 3], q[(i + 2) % 3]);
-        let side2 = (a - v).length_squared().min((b - v).length_squared());
-        (
-            corner_part(v, a, b, c, sign),
-            (c - v).length_squared(),
-            side2,
-        )
-    })
+    let (c, sign) = centre_and_sign(q);
+    [0, 1, 2].map(|i| corner_of(q, i, c, sign))
+}
+
+/// [`corners`]`(q)[i]` alone: a vertex's cell reads one corner of each of its triangles.
+#[inline]
+fn corner(q: [DVec2; 3], i: usize) -> (f64, f64, f64) {
+    let (c, sign) = centre_and_sign(q);
+    corner_of(q, i, c, sign)
+}
+
+/// The circumcentre of `q` and the sign of its orientation, computed from the corner
+/// [`first_corner`] names whatever corner `q` is listed from.
+#[inline]
+fn centre_and_sign(q: [DVec2; 3]) -> (DVec2, f64) {
+    let r = rotated(q, first_corner(q));
+    (
+        circumcenter(r[0], r[1], r[2]),
+        (r[1] - r[0]).perp_dot(r[2] - r[0]).signum(),
+    )
+}
+
+/// Corner `i`'s part, squared distance to the circumcentre `c` and shorter side squared.
+#[inline]
+fn corner_of(q: [DVec2; 3], i: usize, c: DVec2, sign: f64) -> (f64, f64, f64) {
+    let (v, a, b) = (q[i], q[(i + 1) % 3], q[(i + 2) % 3]);
+    let side2 = (a - v).length_squared().min((b - v).length_squared());
+    (
+        corner_part(v, a, b, c, sign),
+        (c - v).length_squared(),
+        side2,
+    )
 }
 
 /// The corner of `q` a computation starts from, whatever corner it is listed from: the least
@@ -1065,6 +1084,24 @@ fn best_place(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One corner alone is that corner of all three, bit for bit, whatever corner a triangle
+    /// is listed from.
+    #[test]
+    fn one_corner_is_that_corner_of_the_three() {
+        let mut rng = geometry::Rng::new(4);
+        for _ in 0..10_000 {
+            let q = [(); 3].map(|_| DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)));
+            let all = corners(q);
+            for (i, c) in all.iter().enumerate() {
+                let one = corner(q, i);
+                assert_eq!(
+                    [one.0.to_bits(), one.1.to_bits(), one.2.to_bits()],
+                    [c.0.to_bits(), c.1.to_bits(), c.2.to_bits()]
+                );
+            }
+        }
+    }
 
     /// The square [lo, hi]² as a region.
     fn square(lo: f64, hi: f64) -> Region {
