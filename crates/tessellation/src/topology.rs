@@ -186,7 +186,7 @@ pub(crate) fn coord(p: DVec2) -> Coord<f64> {
 /// written out here (the same operations, bound and value) and its exact stage called only
 /// where that stage cannot decide: the walks and the repairs' orientation tests inline it.
 #[inline(always)]
-pub(crate) fn orient2d(a: Coord<f64>, b: Coord<f64>, c: Coord<f64>) -> f64 {
+fn orient2d(a: Coord<f64>, b: Coord<f64>, c: Coord<f64>) -> f64 {
     // robust's bound for this stage (Ozaki et al.).
     const THETA: f64 = 3.3306690621773722e-16;
     let detleft = (a.x - c.x) * (b.y - c.y);
@@ -203,10 +203,11 @@ pub(crate) fn orient2d(a: Coord<f64>, b: Coord<f64>, c: Coord<f64>) -> f64 {
 /// Whether `d` lies strictly inside the circle through the counter-clockwise `a`, `b`, `c`:
 /// `robust::incircle(a, b, c, d) > 0`, with its floating-point stage written out here (the same
 /// operations in the same order and the same error bound, so the same answer) and its exact
-/// stages called only where that bound cannot decide. Most tests of a triangulation's repair
-/// are decided by the first stage, and a call that is not inlined cost a fifth of them.
+/// stages called only where that bound cannot decide. Nearly every test of a build or a repair
+/// is decided by the first stage, which the call into `robust` (not inlined: its exact stages
+/// make it large) wrapped in a call of its own.
 #[inline(always)]
-pub(crate) fn in_circle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+fn in_circle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
     // Shewchuk's bound for this stage (robust's ICCERRBOUND_A).
     const BOUND: f64 = (10.0 + 96.0 * f64::EPSILON / 2.0) * (f64::EPSILON / 2.0);
     let (adx, bdx, cdx) = (a.x - d.x, b.x - d.x, c.x - d.x);
