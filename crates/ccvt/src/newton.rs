@@ -603,12 +603,8 @@ fn newton_move(
             _ => DVec2::ZERO,
         })
         .collect_into_vec(&mut buf.x);
-    let (rows_data, hess, x) = (&buf.rows, &buf.hess, &buf.x);
-    (0..n)
-        .into_par_iter()
-        .map(|r| -dofs[r].project(rows_data[r].grad + hess.row_times(r, x), tan))
-        .collect_into_vec(&mut buf.rhs);
-    shift(&mut buf.hess, dofs, tan, rows_data);
+    newton_rhs(&buf.hess, dofs, tan, &buf.rows, &buf.x, &mut buf.rhs);
+    shift(&mut buf.hess, dofs, tan, &buf.rows);
     // Not kept through the solve: 32 MB at 10⁶ generators, where the solve is near the peak.
     buf.rows = Vec::new();
     prof.hessian += lap(&mut t);
@@ -652,6 +648,42 @@ fn newton_move(
     buf.cg = Vec::new();
     buf.steps += 1;
     prof.linear_solve += lap(&mut t);
+}
+
+/// Newton's right-hand side −P (g + H d) for the rows' gradients g and the moves `d` of the
+/// fixed rows (zero in every other row), into `rhs`. H d is zero but in the rows of the fixed rows'
+/// neighbours (a fixed row's own entry is projected away), so the product is taken there only,
+/// not over the whole matrix; elsewhere the entry is −P g, as the full product gives it.
+fn newton_rhs(
+    hess: &BlockMatrix,
+    dofs: &[Dof],
+    tan: &[Tangent],
+    rows: &[RowData],
+    d: &[DVec2],
+    rhs: &mut Vec<DVec2>,
+) {
+    let n = dofs.len();
+    let fixed: Vec<usize> = (0..n)
+        .into_par_iter()
+        .filter(|&r| dofs[r] == Dof::Fixed)
+        .collect();
+    let mut near_fixed = vec![false; n];
+    for r in fixed {
+        for &c in &hess.col[hess.row_start[r]..hess.row_start[r + 1]] {
+            near_fixed[c as usize] = true;
+        }
+    }
+    (0..n)
+        .into_par_iter()
+        .map(|r| {
+            let g = if near_fixed[r] {
+                rows[r].grad + hess.row_times(r, d)
+            } else {
+                rows[r].grad
+            };
+            -dofs[r].project(g, tan)
+        })
+        .collect_into_vec(rhs);
 }
 
 /// Adds to the move `x` the direction of negative curvature `p` (one entry per row),
@@ -818,15 +850,13 @@ fn pcg(
             return (true, it);
         }
         let alpha = rz / pap;
-        let (rr, rz_new): (Vec<f64>, Vec<f64>) = x
+        let (rr, rz_new): (Vec<f64>, Vec<f64>) = r
             .par_chunks_mut(DOT_CHUNK)
-            .zip(r.par_chunks_mut(DOT_CHUNK))
             .zip(zv.par_chunks_mut(DOT_CHUNK))
-            .zip(p.par_chunks(DOT_CHUNK).zip(ap.par_chunks(DOT_CHUNK)))
+            .zip(ap.par_chunks(DOT_CHUNK))
             .enumerate()
-            .map(|(c, (((x, r), z), (p, ap)))| {
-                for k in 0..x.len() {
-                    x[k] += p[k] * alpha;
+            .map(|(c, ((r, z), ap))| {
+                for k in 0..r.len() {
                     r[k] -= ap[k] * alpha;
                     z[k] = precond(c * DOT_CHUNK + k, r[k]);
                 }
@@ -836,15 +866,24 @@ fn pcg(
                 )
             })
             .unzip();
-        if ordered(rr).sqrt() <= CG_TOL * b_norm {
+        // x += α p waits for the pass that reads p anyway (the new direction's), where it
+        // costs no read of its own; or, at the end, a pass of its own.
+        if ordered(rr).sqrt() <= CG_TOL * b_norm || it == CG_MAX {
+            x.par_iter_mut()
+                .zip(p.par_iter())
+                .for_each(|(x, p)| *x += *p * alpha);
             return (false, it);
         }
         let rz_new = ordered(rz_new);
         let beta = rz_new / rz;
         rz = rz_new;
-        p.par_iter_mut()
+        x.par_iter_mut()
+            .zip(p.par_iter_mut())
             .zip(zv.par_iter())
-            .for_each(|(p, z)| *p = *z + *p * beta);
+            .for_each(|((x, p), z)| {
+                *x += *p * alpha;
+                *p = *z + *p * beta;
+            });
     }
     (false, CG_MAX)
 }
@@ -962,6 +1001,99 @@ mod tests {
         a.mul_vec(&x, &mut ax);
         let r: Vec<DVec2> = ax.iter().zip(&b).map(|(p, q)| *p - *q).collect();
         assert!(dot(&r, &r).sqrt() <= CG_TOL * dot(&b, &b).sqrt() * (1.0 + 1e-9));
+    }
+
+    /// The solve is textbook preconditioned CG operation for operation (its passes only fuse
+    /// them, and x's update waits for the pass that reads p): the same iterate bit for bit,
+    /// whether it stops at its tolerance or at the iteration cap.
+    #[test]
+    fn pcg_is_the_textbook_iteration_bit_for_bit() {
+        for (n, mass, capped) in [(300, 0.5, false), (9000, 1e-4, true)] {
+            let a = chain(n, 1.0, mass);
+            let b: Vec<DVec2> = (0..n)
+                .map(|i| DVec2::new((i as f64 * 0.37).sin(), (i % 11) as f64 - 5.0))
+                .collect();
+            let (mut x, mut work) = (Vec::new(), Vec::new());
+            let (negative, its) = pcg(&a, &b, &mut x, &mut work, jacobi(&a));
+            assert!(!negative);
+            let pre = jacobi(&a);
+            let mut xr = vec![DVec2::ZERO; n];
+            let mut r = b.clone();
+            let mut z: Vec<DVec2> = (0..n).map(|i| pre(i, r[i])).collect();
+            let mut p = z.clone();
+            let mut ap = vec![DVec2::ZERO; n];
+            let mut rz = dot(&r, &z);
+            let mut taken = CG_MAX;
+            for it in 1..=CG_MAX {
+                a.mul_vec(&p, &mut ap);
+                let alpha = rz / dot(&p, &ap);
+                for i in 0..n {
+                    xr[i] += p[i] * alpha;
+                    r[i] -= ap[i] * alpha;
+                    z[i] = pre(i, r[i]);
+                }
+                if dot(&r, &r).sqrt() <= CG_TOL * dot(&b, &b).sqrt() {
+                    taken = it;
+                    break;
+                }
+                let rz_new = dot(&r, &z);
+                let beta = rz_new / rz;
+                rz = rz_new;
+                for i in 0..n {
+                    p[i] = z[i] + p[i] * beta;
+                }
+            }
+            assert_eq!(its, taken);
+            assert_eq!(its == CG_MAX, capped, "{its} iterations");
+            let bits = |v: &[DVec2]| -> Vec<[u64; 2]> {
+                v.iter().map(|v| [v.x.to_bits(), v.y.to_bits()]).collect()
+            };
+            assert_eq!(bits(&x), bits(&xr));
+        }
+    }
+
+    /// The right-hand side takes H d only in the rows next to a fixed row, and is what the full
+    /// product gives in every row.
+    #[test]
+    fn the_right_hand_side_is_the_full_product_where_it_matters() {
+        let n = 400;
+        let a = chain(n, 1.0, 0.5);
+        let tan = [Tangent {
+            t: DVec2::new(0.6, 0.8),
+            piece: 0,
+            k: DVec2::ZERO,
+        }];
+        let dofs: Vec<Dof> = (0..n)
+            .map(|i| match i % 37 {
+                0 | 5 => Dof::Fixed,
+                3 | 9 => Dof::Tangent(0),
+                _ => Dof::Free,
+            })
+            .collect();
+        let rows: Vec<RowData> = (0..n)
+            .map(|i| RowData {
+                mass: 1.0,
+                grad: DVec2::new((i as f64).cos(), 0.25 * (i % 5) as f64 - 0.5),
+                sigma: 0.0,
+            })
+            .collect();
+        let d: Vec<DVec2> = (0..n)
+            .map(|i| match dofs[i] {
+                Dof::Fixed => DVec2::new(0.1 * i as f64, -0.3),
+                _ => DVec2::ZERO,
+            })
+            .collect();
+        let mut rhs = Vec::new();
+        newton_rhs(&a, &dofs, &tan, &rows, &d, &mut rhs);
+        let mut hd = vec![DVec2::ZERO; n];
+        a.mul_vec(&d, &mut hd);
+        for r in 0..n {
+            let full = -dofs[r].project(rows[r].grad + hd[r], &tan);
+            assert_eq!(rhs[r], full, "row {r}");
+        }
+        // The rows next to a fixed row do take H d.
+        assert_ne!(rhs[1], -rows[1].grad);
+        assert_eq!(rhs[2], -rows[2].grad);
     }
 
     /// The step along negative curvature: nothing for a fixed generator, only the tangent for

@@ -482,7 +482,8 @@ pub(crate) fn boundary_row(
         *p += DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * (1e-9 * h);
     }
     // The deepest first: the shallowest surplus makes the gap between the row and the lattice.
-    lattice.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // A stable sort, so the same order on any number of threads (ties keep the lattice's).
+    lattice.par_sort_by(|a, b| a.0.total_cmp(&b.0));
     lattice.truncate(want);
     let mut z = row;
     z.extend(lattice.into_iter().map(|(_, p)| p));

@@ -6,6 +6,7 @@ use geometry::DVec2;
 use rayon::prelude::*;
 use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, Point2, Triangulation};
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A rebuild by flips gives up (and triangulates afresh) beyond this many flips per triangle.
 const MAX_FLIP_FRACTION: usize = 8;
@@ -819,11 +820,13 @@ struct HintGrid {
 impl HintGrid {
     fn new(pos: &[DVec2]) -> HintGrid {
         let n = pos.len();
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for p in pos {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
+        // Built after every rebuild: in parallel, with the same grid as one thread would build
+        // (minima and maxima do not depend on the order, nor does each cell's smallest vertex).
+        let far = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let (lo, hi) = pos
+            .par_iter()
+            .fold(|| far, |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+            .reduce(|| far, |a, b| (a.0.min(b.0), a.1.max(b.1)));
         if n == 0 {
             return HintGrid {
                 lo: DVec2::ZERO,
@@ -847,14 +850,17 @@ impl HintGrid {
             inv,
             nx,
             ny,
-            cells: vec![NONE; nx * ny],
+            cells: Vec::new(),
         };
-        for (v, p) in pos.iter().enumerate() {
-            let c = grid.cell(*p);
-            if grid.cells[c] == NONE {
-                grid.cells[c] = v as u32;
-            }
-        }
+        // Each cell's first vertex: the smallest index that falls in it.
+        let first: Vec<AtomicU32> = (0..nx * ny)
+            .into_par_iter()
+            .map(|_| AtomicU32::new(NONE))
+            .collect();
+        pos.par_iter().enumerate().for_each(|(v, p)| {
+            first[grid.cell(*p)].fetch_min(v as u32, Ordering::Relaxed);
+        });
+        grid.cells = first.into_iter().map(AtomicU32::into_inner).collect();
         // Empty cells borrow the previous filled cell's vertex (any start is correct).
         let first = grid.cells.iter().copied().find(|&c| c != NONE).unwrap_or(0);
         let mut last = first;
@@ -958,6 +964,47 @@ mod tests {
             }
         }
         pts
+    }
+
+    /// The hint grid built in parallel is the one a single pass in vertex order builds: each
+    /// cell starts at the first vertex that falls in it, an empty cell at the last filled
+    /// cell's.
+    #[test]
+    fn the_hint_grid_is_the_serial_one() {
+        let mut rng = Rng::new(7);
+        let pos: Vec<DVec2> = (0..50_000)
+            .map(|i| {
+                let p = DVec2::new(rng.range(-1.0, 3.0), rng.range(0.5, 1.5));
+                // Clustered and duplicated points leave cells empty and crowd others.
+                if i % 3 == 0 {
+                    p * 0.1
+                } else {
+                    p
+                }
+            })
+            .collect();
+        let g = HintGrid::new(&pos);
+        let mut serial = vec![NONE; g.nx * g.ny];
+        for (v, p) in pos.iter().enumerate() {
+            let c = g.cell(*p);
+            if serial[c] == NONE {
+                serial[c] = v as u32;
+            }
+        }
+        assert!(serial.contains(&NONE), "some cells empty");
+        let mut last = serial.iter().copied().find(|&c| c != NONE).unwrap();
+        for c in serial.iter_mut() {
+            if *c == NONE {
+                *c = last;
+            } else {
+                last = *c;
+            }
+        }
+        assert_eq!(g.cells, serial);
+        let lo = pos
+            .iter()
+            .fold(DVec2::splat(f64::INFINITY), |a, p| a.min(*p));
+        assert_eq!(g.lo, lo);
     }
 
     #[test]
