@@ -16,6 +16,11 @@ const MOVE_TOGETHER_FROM: usize = 512;
 /// Vertices of the frame around a framed triangulation.
 const FRAME: usize = 8;
 
+/// From this many points on, a fresh framed build triangulates the two halves of the points
+/// (either side of their median abscissa) on two threads and joins them (`halves`): the same
+/// triangulation, its triangles stored in another order.
+const HALVES_FROM: usize = 50_000;
+
 /// Delaunay triangulation of a point set. Vertex `i` is `points[i]` (duplicates are merged
 /// onto the first occurrence; `vertex_of` maps each input point to its vertex).
 ///
@@ -551,11 +556,31 @@ impl Delaunay {
         self.pos.clear();
         self.pos.resize(m, DVec2::ZERO);
         self.pos.extend(frame(c, diag));
-        let fan: Vec<u32> = (m..m + FRAME).map(|v| v as u32).collect();
-        self.topo.convex_fan(&fan, m + FRAME);
         self.point_of_vertex.clear();
         self.vertex_of_point.clear();
         self.vertex_of_point.resize(points.len(), NONE);
+        if m == points.len() && m >= HALVES_FROM {
+            // Vertex v is the v-th point in Hilbert order, as one-by-one insertion numbers
+            // them when every point is finite and none is a duplicate.
+            let keys = &self.keys;
+            self.pos[..m]
+                .par_iter_mut()
+                .zip(keys.par_iter())
+                .for_each(|(p, &key)| *p = points[key as u32 as usize]);
+            if let Some(topo) = crate::halves::triangulate_in_halves(&self.pos, m) {
+                self.topo = topo;
+                self.point_of_vertex
+                    .extend(keys.iter().map(|&key| key as u32));
+                for (v, &i) in self.point_of_vertex.iter().enumerate() {
+                    self.vertex_of_point[i as usize] = v as u32;
+                }
+                self.framed = FRAME;
+                self.frame_safe = (c, diag);
+                return true;
+            }
+        }
+        let fan: Vec<u32> = (m..m + FRAME).map(|v| v as u32).collect();
+        self.topo.convex_fan(&fan, m + FRAME);
         let (mut hint, mut budget) = (0, usize::MAX);
         for &key in &self.keys {
             let i = key as u32;

@@ -22,6 +22,7 @@ mod cells;
 mod clip;
 mod conforming;
 mod delaunay;
+mod halves;
 mod hessian;
 mod odt;
 mod sparse;
