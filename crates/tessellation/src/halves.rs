@@ -15,7 +15,7 @@ use geometry::predicates::circumcenter;
 use geometry::DVec2;
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Triangulate the vertices `0..m` at `pos` (in the order of their numbers, which should be
 /// spatially coherent, e.g. Hilbert order) inside the convex frame `m..pos.len()` (CCW, around
@@ -82,9 +82,9 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
         }
     }
     // New numbers: the kept triangles of the left half, of the right half, then the hole's.
-    let (idx_a, after_a) = ranks(&kept[0], 0);
-    let (idx_b, after_b) = ranks(&kept[1], after_a);
-    let idx = [idx_a, idx_b];
+    let (idx_a, starts_a, after_a) = ranks(&kept[0], 0);
+    let (idx_b, starts_b, after_b) = ranks(&kept[1], after_a);
+    let (idx, starts) = ([idx_a, idx_b], [starts_a, starts_b]);
     // The rim: each edge (x, y) of a kept triangle (on its left) whose neighbour its half did
     // not keep, with the kept triangle's new number. Across it lies the hole, or a triangle the
     // other half kept (only possible between two frame vertices: the halves share no other).
@@ -141,8 +141,10 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
     }
     let total = after_b as usize + order.len();
     let mut out = Topology::default();
-    out.tri = Vec::with_capacity(total);
-    out.adj = Vec::with_capacity(total);
+    (0..total)
+        .into_par_iter()
+        .map(|_| ([NONE; 3], [NONE; 3]))
+        .unzip_into_vecs(&mut out.tri, &mut out.adj);
     // Across edge (x, y) of a triangle, where its own half did not keep the neighbour.
     let across_rim = |x: u32, y: u32| -> Option<u32> {
         match rim.get(&(y, x)) {
@@ -156,10 +158,23 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
     let failed = AtomicBool::new(false);
     for h in 0..2 {
         let t = &halves[h];
-        let (mut tri, mut adj): (Vec<[u32; 3]>, Vec<[u32; 3]>) = (0..t.tri.len())
-            .into_par_iter()
-            .filter(|&u| kept[h][u])
-            .map(|u| {
+        // Each chunk of the half's triangles fills its own stretch of the new arrays.
+        let (lo, hi) = (starts[h][0] as usize, [after_a, after_b][h] as usize);
+        let mut slices = Vec::with_capacity(starts[h].len());
+        let (mut tri, mut adj) = (&mut out.tri[lo..hi], &mut out.adj[lo..hi]);
+        for (c, &start) in starts[h].iter().enumerate() {
+            let end = starts[h].get(c + 1).map_or(hi, |&e| e as usize);
+            let len = end - start as usize;
+            let (ta, tr) = std::mem::take(&mut tri).split_at_mut(len);
+            let (aa, ar) = std::mem::take(&mut adj).split_at_mut(len);
+            slices.push((c, ta, aa));
+            (tri, adj) = (tr, ar);
+        }
+        slices.into_par_iter().for_each(|(c, tri_out, adj_out)| {
+            let first = c * CHUNK;
+            let last = (first + CHUNK).min(t.tri.len());
+            let mut w = 0;
+            for u in (first..last).filter(|&u| kept[h][u]) {
                 let tri = t.tri[u];
                 let mut adj = [NONE; 3];
                 for k in 0..3 {
@@ -175,16 +190,16 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
                         })
                     };
                 }
-                (tri, adj)
-            })
-            .unzip();
-        out.tri.append(&mut tri);
-        out.adj.append(&mut adj);
+                tri_out[w] = tri;
+                adj_out[w] = adj;
+                w += 1;
+            }
+        });
     }
     if failed.into_inner() {
         return None;
     }
-    for &s in &order {
+    for (k_new, &s) in order.iter().enumerate() {
         let tri = hole.tri[s as usize];
         let mut adj = [NONE; 3];
         for k in 0..3 {
@@ -203,33 +218,73 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
                 }
             };
         }
-        out.tri.push(tri);
-        out.adj.push(adj);
+        out.tri[after_b as usize + k_new] = tri;
+        out.adj[after_b as usize + k_new] = adj;
     }
-    // Each vertex's last triangle, as `Topology::index_vertices` picks it.
-    let last: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
-    let seen: Vec<AtomicBool> = (0..n)
+    // Each vertex's triangle: the one its half had, if kept; else the first kept one around
+    // it, or the first of the hole's (the same whatever the number of threads).
+    let side = |v: usize| usize::from(v < m && pos[v].x >= x_mid);
+    let found = |v: usize| -> u32 {
+        let own = [side(v), 1 - side(v)];
+        let first_kept = own.iter().find_map(|&h| {
+            star(&halves[h], v as u32).find_map(|t| kept[h][t as usize].then(|| idx[h][t as usize]))
+        });
+        first_kept
+            .or_else(|| {
+                star(&hole, v as u32)
+                    .map(|s| in_hole[s as usize])
+                    .find(|&s| s != NONE)
+            })
+            .unwrap_or(NONE)
+    };
+    out.v2t = (0..n)
         .into_par_iter()
-        .map(|_| AtomicBool::new(false))
+        .map(|v| {
+            let (h, t) = (side(v), halves[side(v)].v2t[v]);
+            if t != NONE && kept[h][t as usize] {
+                idx[h][t as usize]
+            } else {
+                found(v)
+            }
+        })
         .collect();
-    out.tri.par_iter().enumerate().for_each(|(t, tri)| {
-        for &v in tri {
-            last[v as usize].fetch_max(t as u32, Ordering::Relaxed);
-            seen[v as usize].store(true, Ordering::Relaxed);
-        }
-    });
-    out.v2t = last
-        .into_par_iter()
-        .zip(seen.into_par_iter())
-        .map(|(t, s)| if s.into_inner() { t.into_inner() } else { NONE })
-        .collect();
-    consistent(&out, n).then_some(out)
+    // The links the join made (at the rim and in the hole) are mutual; the others are the
+    // halves' own.
+    let joined: Vec<u32> = rim.values().copied().chain(after_b..total as u32).collect();
+    let linked = joined.par_iter().all(|&t| mutual(&out, t as usize));
+    (linked && out.v2t.par_iter().all(|&t| t != NONE)).then_some(out)
 }
 
+/// The triangles around vertex `v` of `t` (counter-clockwise from its own triangle, then
+/// clockwise from there where the star is open).
+fn star(t: &Topology, v: u32) -> impl Iterator<Item = u32> + '_ {
+    let slot = move |s: u32| t.tri[s as usize].iter().position(|&x| x == v).unwrap_or(0);
+    let t0 = t.v2t.get(v as usize).copied().unwrap_or(NONE);
+    let turn = move |dir: usize| {
+        let mut s = t0;
+        let mut n = 0;
+        std::iter::from_fn(move || {
+            if s == NONE || n > t.tri.len() {
+                return None;
+            }
+            let here = s;
+            s = t.adj[s as usize][(slot(s) + dir) % 3];
+            n += 1;
+            if s == t0 {
+                s = NONE;
+            }
+            Some(here)
+        })
+    };
+    turn(1).chain(turn(2).skip(1))
+}
+
+/// Triangles per chunk of the passes that number and copy the kept triangles.
+const CHUNK: usize = 1 << 16;
+
 /// The new numbers of the triangles `keep` marks (from `base` on, in order; `NONE` for the
-/// others) and the next free number.
-fn ranks(keep: &[bool], base: u32) -> (Vec<u32>, u32) {
-    const CHUNK: usize = 1 << 16;
+/// others), the first new number of each chunk of `CHUNK` triangles, and the next free one.
+fn ranks(keep: &[bool], base: u32) -> (Vec<u32>, Vec<u32>, u32) {
     let counts: Vec<u32> = keep
         .par_chunks(CHUNK)
         .map(|c| c.iter().filter(|&&k| k).count() as u32)
@@ -253,7 +308,7 @@ fn ranks(keep: &[bool], base: u32) -> (Vec<u32>, u32) {
                 }
             }
         });
-    (idx, next)
+    (idx, starts, next)
 }
 
 /// Insert `vs` (in this order) into the fan of the frame `fan`: None when one fails.
@@ -270,24 +325,20 @@ fn insert_all(pos: &[DVec2], fan: &[u32], n: usize, vs: &[u32]) -> Option<Topolo
     Some(t)
 }
 
-/// Every neighbour link is mutual, across the same two vertices, and every vertex `0..n` is
-/// in a triangle.
-fn consistent(t: &Topology, n: usize) -> bool {
-    let links = (0..t.tri.len()).into_par_iter().all(|u| {
-        (0..3).all(|k| {
-            let nb = t.adj[u][k];
-            if nb == NONE {
-                return true;
-            }
-            let (a, b) = (t.tri[u][(k + 1) % 3], t.tri[u][(k + 2) % 3]);
-            let (o, q) = (t.tri.get(nb as usize), t.adj.get(nb as usize));
-            let (Some(o), Some(q)) = (o, q) else {
-                return false;
-            };
-            (0..3).any(|j| q[j] == u as u32 && o[(j + 1) % 3] == b && o[(j + 2) % 3] == a)
-        })
-    });
-    links && t.v2t.len() == n && t.v2t.par_iter().all(|&s| s != NONE)
+/// Triangle `u`'s neighbour links are mutual, across the same two vertices.
+fn mutual(t: &Topology, u: usize) -> bool {
+    (0..3).all(|k| {
+        let nb = t.adj[u][k];
+        if nb == NONE {
+            return true;
+        }
+        let (a, b) = (t.tri[u][(k + 1) % 3], t.tri[u][(k + 2) % 3]);
+        let (o, q) = (t.tri.get(nb as usize), t.adj.get(nb as usize));
+        let (Some(o), Some(q)) = (o, q) else {
+            return false;
+        };
+        (0..3).any(|j| q[j] == u as u32 && o[(j + 1) % 3] == b && o[(j + 2) % 3] == a)
+    })
 }
 
 #[cfg(test)]
@@ -378,7 +429,11 @@ mod tests {
             let one_by_one =
                 insert_all(&pos, &fan, pos.len(), &(0..m as u32).collect::<Vec<_>>()).unwrap();
             let joined = triangulate_in_halves(&pos, m).expect("joined");
-            assert!(consistent(&joined, pos.len()));
+            assert!((0..joined.tri.len()).all(|t| mutual(&joined, t)));
+            assert_eq!(joined.v2t.len(), pos.len());
+            for (v, &t) in joined.v2t.iter().enumerate() {
+                assert!(joined.tri[t as usize].contains(&(v as u32)), "vertex {v}");
+            }
             assert_eq!(triangles(&joined), triangles(&one_by_one), "{m} points");
         }
     }
