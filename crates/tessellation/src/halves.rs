@@ -173,8 +173,7 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
         slices.into_par_iter().for_each(|(c, tri_out, adj_out)| {
             let first = c * CHUNK;
             let last = (first + CHUNK).min(t.tri.len());
-            let mut w = 0;
-            for u in (first..last).filter(|&u| kept[h][u]) {
+            for (w, u) in (first..last).filter(|&u| kept[h][u]).enumerate() {
                 let tri = t.tri[u];
                 let mut adj = [NONE; 3];
                 for k in 0..3 {
@@ -192,7 +191,6 @@ pub(crate) fn triangulate_in_halves(pos: &[DVec2], m: usize) -> Option<Topology>
                 }
                 tri_out[w] = tri;
                 adj_out[w] = adj;
-                w += 1;
             }
         });
     }
