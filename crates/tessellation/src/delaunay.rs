@@ -991,6 +991,43 @@ mod tests {
         pts
     }
 
+    /// A framed build of enough points to be triangulated in two halves gives every point the
+    /// neighbours spade's build gives it (away from the hull, where the frame's triangles
+    /// differ), and repairs by flips from it after the points move do as well.
+    #[test]
+    fn a_build_in_halves_gives_the_neighbours_a_build_by_spade_gives() {
+        let mut rng = Rng::new(11);
+        let h = 0.0075;
+        let (u, v) = (DVec2::new(h, 0.0), DVec2::new(0.5 * h, 0.75f64.sqrt() * h));
+        let mut pts = Vec::new();
+        for i in -160..=160 {
+            for j in -160..=160 {
+                let p = u * i as f64 + v * j as f64;
+                if p.length() < 1.0 {
+                    pts.push(p + DVec2::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2)) * h);
+                }
+            }
+        }
+        assert!(pts.len() >= HALVES_FROM, "{} points", pts.len());
+        let mut framed = Delaunay::framed(DVec2::splat(-1.0), DVec2::splat(1.0));
+        for round in 0..2 {
+            framed.rebuild(&pts);
+            assert_eq!(framed.flipped(), round == 1, "fresh, then repaired");
+            let spade = Delaunay::new(&pts);
+            for (i, p) in pts.iter().enumerate() {
+                if p.length() < 1.0 - 4.0 * h {
+                    let (mut a, mut b) = (framed.neighbors(i), spade.neighbors(i));
+                    a.sort_unstable();
+                    b.sort_unstable();
+                    assert_eq!(a, b, "round {round}, point {i}");
+                }
+            }
+            for p in pts.iter_mut() {
+                *p += DVec2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)) * h;
+            }
+        }
+    }
+
     /// The hint grid built in parallel is the one a single pass in vertex order builds: each
     /// cell starts at the first vertex that falls in it, an empty cell at the last filled
     /// cell's.
