@@ -3,7 +3,8 @@
 //! comparison's: toward the circle's centre, toward the lake's shores), whose quadrature is
 //! most of a graded run's cost; and the repair by flips after 5 % of the generators, those
 //! nearest one point (an active set's cluster), moved by up to a tenth of the mean spacing and
-//! back (`Delaunay::move_points`, two calls). Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
+//! back (`Delaunay::move_points`, two calls); and a fresh framed build, the one a run starts
+//! with (from 5·10⁴ points the two halves on two threads, joined). Run: `cargo bench -p cvtmesh-tessellation --bench cells [--
 //! quick]` (`quick` stops at 10⁵). Prints a Markdown table of best-of-3 wall-clock seconds
 //! (best of 7 for the graded cells and the moves).
 #[path = "../../geometry/benches/common/mod.rs"]
@@ -72,9 +73,9 @@ fn main() {
     };
     println!("threads: {}", rayon::current_num_threads());
     println!(
-        "| domain | edges | n | spade bulk_load s | Delaunay::new s | cells s | total s | total / spade | boundary cells | area rel. err | cells, graded ρ s | 5 % moved and back s |"
+        "| domain | edges | n | spade bulk_load s | Delaunay::new s | framed fresh s | cells s | total s | total / spade | boundary cells | area rel. err | cells, graded ρ s | 5 % moved and back s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in ["circle", "lake"] {
         let region = Region::builtin(name).expect("built-in region");
         let poly = region.polygonize(1e-4 * region.diameter());
@@ -101,13 +102,19 @@ fn main() {
                 DelaunayTriangulation::<Point2<f64>>::bulk_load(v).map(|t| t.num_vertices())
             });
             let (td, del) = best_of(3, || Delaunay::new(&pts));
+            let (lo, hi) = region.bbox();
+            let (tf, _) = best_of(3, || {
+                let mut d = Delaunay::framed(lo, hi);
+                d.rebuild(&pts);
+                d.num_vertices()
+            });
             let (tc, cells) = best_of(3, || clipped_cells(&pts, &del, &poly, &Density::Uniform));
             let boundary = cells.cells.iter().filter(|c| c.on_boundary()).count();
             let err = (cells.total_area() - poly.area()).abs() / poly.area();
             let (tg, _) = best_of(7, || clipped_cells(&pts, &del, &poly, &graded));
             let tm = moved_and_back(&poly, &pts);
             println!(
-                "| {name} | {edges} | {n} | {ts:.3} | {td:.3} | {tc:.3} | {:.3} | {:.2} | {boundary} | {err:.1e} | {tg:.3} | {tm:.4} |",
+                "| {name} | {edges} | {n} | {ts:.3} | {td:.3} | {tf:.3} | {tc:.3} | {:.3} | {:.2} | {boundary} | {err:.1e} | {tg:.3} | {tm:.4} |",
                 td + tc,
                 (td + tc) / ts
             );
