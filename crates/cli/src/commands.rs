@@ -283,7 +283,8 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         }
         eprintln!("warning: {short}");
     }
-    if let Some(slivers) = cvtmesh::slivers(&result.mesh) {
+    let (min_angle, slivers) = cvtmesh::min_angle_and_slivers(&result.mesh);
+    if let Some(slivers) = slivers {
         if a.strict {
             bail!("--strict: {slivers}; nothing written");
         }
@@ -310,7 +311,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         "K={} K~={} min-angle={:.2}deg iterations={}{} {} {:.2}s -> {}",
         result.mesh.num_vertices(),
         result.mesh.num_triangles(),
-        result.mesh.min_angle_deg(),
+        min_angle,
         result.iterations,
         energy,
         if result.converged {

@@ -1,5 +1,5 @@
 //! The conformity check every method's mesh must pass (and every test asserts).
-use crate::types::maybe_below;
+use crate::types::{maybe_below, smallest_angle_cosines};
 use crate::Mesh;
 use geometry::Region;
 use rayon::prelude::*;
@@ -356,12 +356,38 @@ impl std::fmt::Display for Slivers {
 /// assert_eq!(slivers(&alone), None);
 /// ```
 pub fn slivers(mesh: &Mesh) -> Option<Slivers> {
+    slivers_in(mesh, &smallest_angle_cosines(mesh))
+}
+
+/// The mesh's smallest angle in degrees ([`Mesh::min_angle_deg`]) and its [`slivers`], from
+/// one pass over the triangles' cosines instead of one each (a command reports both).
+///
+/// ```
+/// use cvtmesh::{min_angle_and_slivers, slivers, Mesh, VertexMarker};
+/// use cvtmesh::geometry::DVec2;
+/// let p = |x: f64, y: f64| DVec2::new(x, y);
+/// let mesh = Mesh {
+///     points: vec![p(0.0, 0.0), p(1.0, 0.0), p(0.5, 0.001), p(0.5, 1.0)],
+///     triangles: vec![[0, 1, 2], [0, 2, 3], [2, 1, 3]],
+///     markers: vec![VertexMarker::Interior; 4],
+/// };
+/// let (angle, flat) = min_angle_and_slivers(&mesh);
+/// assert_eq!(angle, mesh.min_angle_deg());
+/// assert_eq!(flat, slivers(&mesh));
+/// ```
+pub fn min_angle_and_slivers(mesh: &Mesh) -> (f64, Option<Slivers>) {
+    let cos = smallest_angle_cosines(mesh);
+    (mesh.min_angle_deg_in(&cos), slivers_in(mesh, &cos))
+}
+
+/// [`slivers`] from the triangles' cosines ([`smallest_angle_cosines`]).
+fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
     // (angle, triangle, corner at the angle) of every triangle with an angle under the bound;
     // a triangle with a zero-length side has no angle (NaN) and counts as 0°.
     // The angles themselves only of triangles whose smallest angle's cosine says they may be
     // under it (a few, against 2·10⁶ at a 10⁶-vertex mesh's end).
     let flat_cos = SLIVER_ANGLE_DEG.to_radians().cos();
-    let flat: Vec<(f64, usize, usize)> = maybe_below(mesh, |_| flat_cos)
+    let flat: Vec<(f64, usize, usize)> = maybe_below(cos, |_| flat_cos)
         .into_par_iter()
         .filter_map(|t| {
             let p = mesh.triangle(t);

@@ -15,8 +15,8 @@ mod thin;
 mod types;
 
 pub use check::{
-    check_conforming, short_coverage, slivers, ConformityError, ShortCoverage, Slivers,
-    MIN_COVERAGE, SLIVER_ANGLE_DEG,
+    check_conforming, min_angle_and_slivers, short_coverage, slivers, ConformityError,
+    ShortCoverage, Slivers, MIN_COVERAGE, SLIVER_ANGLE_DEG,
 };
 pub use error::MeshError;
 pub use mesher::{

@@ -137,10 +137,15 @@ impl Mesh {
     /// assert!((mesh.min_angle_deg() - 30.0).abs() < 1e-9);
     /// ```
     pub fn min_angle_deg(&self) -> f64 {
+        self.min_angle_deg_in(&smallest_angle_cosines(self))
+    }
+
+    /// [`Mesh::min_angle_deg`] from the triangles' cosines ([`smallest_angle_cosines`]).
+    pub(crate) fn min_angle_deg_in(&self, cos: &[f64]) -> f64 {
         // The flattest triangles by the cosine of their smallest angle first (no
         // trigonometry), then the angles of those alone: the same value as the angles of every
         // triangle, with the inverse trigonometry of a few instead of 2·10⁶ at 10⁶ vertices.
-        maybe_below(self, |worst| worst)
+        maybe_below(cos, |worst| worst)
             .into_par_iter()
             .map(|t| triangle_min_angle_deg(self.triangle(t)))
             .reduce(|| f64::INFINITY, f64::min)
@@ -335,16 +340,22 @@ fn law_of_cosines(q: [DVec2; 3]) -> f64 {
     }
 }
 
+/// [`law_of_cosines`] of every triangle, in order: what [`maybe_below`] reads, computed once
+/// where several bounds are asked of the same mesh.
+pub(crate) fn smallest_angle_cosines(mesh: &Mesh) -> Vec<f64> {
+    (0..mesh.triangles.len())
+        .into_par_iter()
+        .map(|t| law_of_cosines(mesh.triangle(t)))
+        .collect()
+}
+
 /// The triangles (in order) whose smallest angle may lie within rounding of the cosine
-/// `least`, or below it: [`law_of_cosines`] at least `least` − [`COS_MARGIN`], or not a number.
+/// `least`, or below it, from the triangles' cosines `cos` ([`smallest_angle_cosines`]):
+/// [`law_of_cosines`] at least `least` − [`COS_MARGIN`], or not a number.
 /// The law of cosines and `angle_to` round differently, but by ~10⁻¹⁴ of the cosine even for a
 /// triangle 10⁶ times longer than wide, so a pass that computes the angles of these alone finds
 /// what the angles of every triangle would.
-pub(crate) fn maybe_below(mesh: &Mesh, least: impl Fn(f64) -> f64 + Sync) -> Vec<usize> {
-    let cos: Vec<f64> = (0..mesh.triangles.len())
-        .into_par_iter()
-        .map(|t| law_of_cosines(mesh.triangle(t)))
-        .collect();
+pub(crate) fn maybe_below(cos: &[f64], least: impl Fn(f64) -> f64 + Sync) -> Vec<usize> {
     let worst = cos
         .par_iter()
         .copied()
