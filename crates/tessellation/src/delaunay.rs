@@ -820,13 +820,13 @@ impl Delaunay {
 
 /// Centre and size of the frame around the box `lo`–`hi`: points stay safe while within one
 /// diagonal of the centre (then the frame's bisectors are 1.5 diagonals out, beyond the box).
-fn frame_around(lo: DVec2, hi: DVec2) -> (DVec2, f64) {
+pub(crate) fn frame_around(lo: DVec2, hi: DVec2) -> (DVec2, f64) {
     let diag = (hi - lo).length().max(f64::MIN_POSITIVE.sqrt());
     (0.5 * (lo + hi), diag)
 }
 
 /// The frame: a regular octagon of radius 4 diagonals, CCW.
-fn frame(c: DVec2, diag: f64) -> impl Iterator<Item = DVec2> {
+pub(crate) fn frame(c: DVec2, diag: f64) -> impl Iterator<Item = DVec2> {
     (0..FRAME).map(move |k| {
         let a = std::f64::consts::TAU * k as f64 / FRAME as f64;
         c + DVec2::from_angle(a) * (4.0 * diag)

@@ -350,11 +350,9 @@ mod tests {
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
         );
-        let (c, r) = (0.5 * (lo + hi), 4.0 * (hi - lo).length());
+        let (c, diag) = crate::delaunay::frame_around(lo, hi);
         let mut pos = points;
-        pos.extend(
-            (0..8).map(|k| c + DVec2::from_angle(std::f64::consts::TAU * k as f64 / 8.0) * r),
-        );
+        pos.extend(crate::delaunay::frame(c, diag));
         pos
     }
 
