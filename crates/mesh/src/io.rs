@@ -719,38 +719,48 @@ pub(crate) fn validate_for_writing(mesh: &Mesh, path: &Path) -> Result<(), MeshE
 }
 
 /// A float in its shortest round-trip form: plain decimals for ordinary magnitudes, scientific
-/// notation for very small or large ones (Rust's `{}` never uses an exponent).
+/// notation for very small or large ones (Rust's `{}` never uses an exponent). The text of `{}`
+/// for zero and magnitudes in [10⁻⁵, 10¹⁶) and of `{:e}` otherwise, but for the rounding of a
+/// tie ([`float_text`]).
 pub(crate) struct F(pub f64);
 
 impl fmt::Display for F {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let a = self.0.abs();
-        if a == 0.0 || (1e-5..1e16).contains(&a) {
-            write!(f, "{}", self.0)
+        f.write_str(float_text(&mut ryu::Buffer::new(), self.0))
+    }
+}
+
+/// Appends `x` as [`F`] displays it, without the formatting machinery: the millions of
+/// coordinates of a large mesh's files.
+pub(crate) fn push_float(s: &mut String, x: f64) {
+    s.push_str(float_text(&mut ryu::Buffer::new(), x));
+}
+
+/// [`F`]'s text of `x`, from Ryū: the shortest digits that read back to `x` (the nearest such
+/// when there are several; of two equally near, the even one, where the standard library takes
+/// the larger: 1748266582941778.2 for 1748266582941778.25), placed as `F` places them: plain for
+/// magnitudes in [10⁻⁵, 10¹⁶), with an exponent (`1.5e-7`, `1e300`) otherwise; but for Ryū's
+/// `.0` after a whole number. A fraction of the standard library's time: a third of writing a
+/// million-vertex `.node` file.
+fn float_text(buf: &mut ryu::Buffer, x: f64) -> &str {
+    if x.is_nan() {
+        "NaN"
+    } else if x.is_infinite() {
+        if x > 0.0 {
+            "inf"
         } else {
-            write!(f, "{:e}", self.0)
+            "-inf"
         }
+    } else {
+        let text = buf.format_finite(x);
+        text.strip_suffix(".0").unwrap_or(text)
     }
 }
 
 /// Appends `v` in decimal, as `{}` formats it: the millions of indices of a large mesh's files
 /// without the formatting machinery's cost per argument (a third of writing them).
 pub(crate) fn push_int(s: &mut String, v: i64) {
-    let mut digits = [0u8; 20];
-    let mut at = digits.len();
-    let mut u = v.unsigned_abs();
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (u % 10) as u8;
-        u /= 10;
-        if u == 0 {
-            break;
-        }
-    }
-    if v < 0 {
-        s.push('-');
-    }
-    s.push_str(std::str::from_utf8(&digits[at..]).expect("ASCII digits"));
+    s.push_str(itoa::Buffer::new().format(v));
 }
 
 /// A file's contents, produced into a writer.
@@ -1280,6 +1290,76 @@ mod tests {
         }
         assert_eq!(F(0.5).to_string(), "0.5");
         assert_eq!(F(1e-7).to_string(), "1e-7");
+    }
+
+    /// What `F` writes but for ties: `{}` for zero and magnitudes in [1e-5, 1e16), `{:e}`
+    /// otherwise.
+    fn std_text(x: f64) -> String {
+        let a = x.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) {
+            format!("{x}")
+        } else {
+            format!("{x:e}")
+        }
+    }
+
+    #[test]
+    fn float_text_is_the_standard_librarys_but_for_ties() {
+        let mut rng = geometry::Rng::new(5);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            10.0,
+            100.0,
+            0.1,
+            1e-5,
+            9.999999999999999e-6,
+            1e16,
+            9999999999999998.0,
+            1e15,
+            123456789012345680.0,
+            5e-324,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            f64::MIN,
+            f64::EPSILON,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1.0 / 3.0,
+            2.0f64.powi(60),
+        ];
+        // Every bit pattern's exponent, coordinates of ordinary meshes, integers, and decimals
+        // with few digits.
+        for _ in 0..300_000 {
+            let bits = (rng.uniform() * 2f64.powi(32)) as u64
+                | (((rng.uniform() * 2f64.powi(32)) as u64) << 32);
+            values.push(f64::from_bits(bits));
+            values.push((rng.uniform() - 0.5) * 2000.0);
+            values.push(((rng.uniform() - 0.5) * 2e6).round());
+            values.push(((rng.uniform() - 0.5) * 2e4).round() / 1000.0);
+            values.push(rng.uniform() * 10f64.powi((rng.uniform() * 44.0) as i32 - 22));
+        }
+        let (mut pushed, mut ties) = (String::new(), 0);
+        for &x in &values {
+            let expected = std_text(x);
+            let text = F(x).to_string();
+            pushed.clear();
+            push_float(&mut pushed, x);
+            assert_eq!(pushed, text);
+            if text != expected {
+                // Two shortest texts equally near x: the same length, both read back to x.
+                ties += 1;
+                assert_eq!(text.len(), expected.len(), "{text} for {expected}");
+                assert_eq!(text.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{text}");
+            }
+        }
+        assert!(ties < values.len() / 1000, "{ties} of {} differ", values.len());
+        assert_eq!(F(1748266582941778.25).to_string(), "1748266582941778.2");
+        assert_eq!(F(-0.0).to_string(), "-0");
+        assert_eq!(F(123.0).to_string(), "123");
     }
 
     #[test]

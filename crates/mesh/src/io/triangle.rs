@@ -1,12 +1,11 @@
 //! Shewchuk's Triangle formats: `.node` (vertices), `.ele` (triangles), `.poly` (segments).
 use super::{
-    file_err, push_int, read_mesh_parts, read_text, validate_for_writing, write_files, write_lines,
-    MeshFile, Nodes, Producer, Tokens, Walls, F, UNKNOWN_PIECE,
+    file_err, push_float, push_int, read_mesh_parts, read_text, validate_for_writing, write_files,
+    write_lines, MeshFile, Nodes, Producer, Tokens, Walls, F, UNKNOWN_PIECE,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
 use std::ffi::OsString;
-use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -133,13 +132,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
             // "{i + 1} {x} {y} {kind} {id} {param} {marker}[ {wall}]", field by field.
             push_int(s, i as i64 + 1);
             for x in [p.x, p.y] {
-                let _ = write!(s, " {}", F(x));
+                s.push(' ');
+                push_float(s, x);
             }
             for n in [kind, id] {
                 s.push(' ');
                 push_int(s, n);
             }
-            let _ = write!(s, " {} ", F(param));
+            s.push(' ');
+            push_float(s, param);
+            s.push(' ');
             push_int(s, marker as i64);
             if let Some((_, by_node)) = &walls {
                 s.push(' ');
