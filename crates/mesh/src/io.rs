@@ -1357,7 +1357,10 @@ mod tests {
             }
         }
         assert!(ties < values.len() / 1000, "{ties} of {} differ", values.len());
-        assert_eq!(F(1748266582941778.25).to_string(), "1748266582941778.2");
+        // Exactly halfway between the two 17-digit texts.
+        let tie = 1_748_266_582_941_778.0 + 0.25;
+        assert_eq!(F(tie).to_string(), "1748266582941778.2");
+        assert_eq!(std_text(tie), "1748266582941778.3");
         assert_eq!(F(-0.0).to_string(), "-0");
         assert_eq!(F(123.0).to_string(), "123");
     }
