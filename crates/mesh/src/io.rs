@@ -1353,10 +1353,18 @@ mod tests {
                 // Two shortest texts equally near x: the same length, both read back to x.
                 ties += 1;
                 assert_eq!(text.len(), expected.len(), "{text} for {expected}");
-                assert_eq!(text.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{text}");
+                assert_eq!(
+                    text.parse::<f64>().unwrap().to_bits(),
+                    x.to_bits(),
+                    "{text}"
+                );
             }
         }
-        assert!(ties < values.len() / 1000, "{ties} of {} differ", values.len());
+        assert!(
+            ties < values.len() / 1000,
+            "{ties} of {} differ",
+            values.len()
+        );
         // Exactly halfway between the two 17-digit texts.
         let tie = 1_748_266_582_941_778.0 + 0.25;
         assert_eq!(F(tie).to_string(), "1748266582941778.2");

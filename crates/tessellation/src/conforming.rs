@@ -177,7 +177,7 @@ fn chord_leaves(region: &Region, a: DVec2, b: DVec2) -> Option<DVec2> {
 }
 
 /// [`conforming_mesh`] from a Delaunay triangulation at hand of about the same points (an
-/// iteration's last, which is repaired to `points` by flips): where every boundary chord is
+/// iteration's last, which is repaired to `points` by flips unless it is at them already): where every boundary chord is
 /// one of its edges and no triangle inside the chords is degenerate, the constrained
 /// triangulation is this one, and the mesh is read off it in O(K) instead of K insertions.
 /// Anywhere else (a chord that is not an edge, duplicate points, a thin place) the result is
@@ -190,7 +190,9 @@ pub fn conforming_mesh_from(
     region: &Region,
 ) -> Result<Mesh, MeshError> {
     validate(points, markers, region)?;
-    del.rebuild(points);
+    if !del.is_at(points) {
+        del.rebuild(points);
+    }
     match read_off(del, points, markers, region) {
         Some(mesh) => Ok(mesh),
         None => constrained(points, markers, region),

@@ -149,6 +149,34 @@ impl Delaunay {
         }
     }
 
+    /// Whether this triangulation is already the one [`Delaunay::rebuild`] would repair it to
+    /// for `points`: every point a vertex of the last triangulation built or repaired, and each
+    /// at its vertex's position to the bit. Such a rebuild would flip no edge (every repair
+    /// ends legal) and costs a pass over every edge: a caller holding the last iterate's
+    /// triangulation can skip it.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::DVec2;
+    /// use cvtmesh::tessellation::Delaunay;
+    /// let mut pts = vec![DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::new(1.0, 1.2)];
+    /// let mut del = Delaunay::new(&pts);
+    /// assert!(del.is_at(&pts));
+    /// pts[3].x += 0.1;
+    /// assert!(!del.is_at(&pts));
+    /// del.rebuild(&pts);
+    /// assert!(del.is_at(&pts));
+    /// ```
+    pub fn is_at(&self, points: &[DVec2]) -> bool {
+        let of = &self.point_of_vertex;
+        self.flippable
+            && points.len() == self.num_points()
+            && of.len() == points.len()
+            && (0..of.len()).into_par_iter().with_min_len(4096).all(|v| {
+                let (p, q) = (self.pos[v], points[of[v] as usize]);
+                p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits()
+            })
+    }
+
     /// Move only the points `moved` (input indices) to their positions in `points`; every other
     /// point must be where it was. Each moved vertex is repaired by Lawson flips around it when
     /// its triangles stay upright, else removed and inserted again: O(its degree) instead of a
@@ -1026,6 +1054,50 @@ mod tests {
                 *p += DVec2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)) * h;
             }
         }
+    }
+
+    /// `is_at` holds after every build and repair, at the same positions only, and where it
+    /// holds a rebuild leaves the triangles as they are.
+    #[test]
+    fn is_at_holds_exactly_where_a_rebuild_would_change_nothing() {
+        let sorted = |del: &Delaunay| {
+            let mut t: Vec<[u32; 3]> = del
+                .triangles()
+                .into_iter()
+                .map(|t| {
+                    let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+                    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+                })
+                .collect();
+            t.sort_unstable();
+            t
+        };
+        let mut rng = Rng::new(3);
+        let mut pts: Vec<DVec2> = (0..2000)
+            .map(|_| DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
+            .collect();
+        let mut del = Delaunay::framed(DVec2::splat(-0.5), DVec2::splat(1.5));
+        del.rebuild(&pts);
+        assert!(del.is_at(&pts));
+        let built = sorted(&del);
+        del.rebuild(&pts);
+        assert_eq!(sorted(&del), built);
+        let moved: Vec<u32> = (0..50).map(|i| i * 37).collect();
+        for &i in &moved {
+            pts[i as usize] += DVec2::new(rng.range(-0.01, 0.01), rng.range(-0.01, 0.01));
+        }
+        assert!(!del.is_at(&pts));
+        del.move_points(&pts, &moved).expect("a local repair");
+        assert!(del.is_at(&pts));
+        let repaired = sorted(&del);
+        assert_ne!(repaired, built);
+        del.rebuild(&pts);
+        assert_eq!(sorted(&del), repaired);
+        // One bit off, or a duplicate without a vertex of its own: not at them.
+        pts[5].y = f64::from_bits(pts[5].y.to_bits() + 1);
+        assert!(!del.is_at(&pts));
+        pts.push(pts[0]);
+        assert!(!Delaunay::new(&pts).is_at(&pts));
     }
 
     /// The hint grid built in parallel is the one a single pass in vertex order builds: each
