@@ -7,6 +7,7 @@ use rayon::prelude::*;
 use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::OnceLock;
 
 /// A rebuild by flips gives up (and triangulates afresh) beyond this many flips per triangle.
 const MAX_FLIP_FRACTION: usize = 8;
@@ -39,8 +40,11 @@ pub struct Delaunay {
     pub(crate) vertex_of_point: Vec<u32>,
     /// Position of each spade vertex (a compact copy for cache-friendly passes).
     pub(crate) pos: Vec<DVec2>,
-    /// Start vertices for nearest-point walks.
-    hints: HintGrid,
+    /// Start vertices for nearest-point walks, built by the first walk after a build or a
+    /// repair by flips (and kept through local moves, whose vertices are still good starts):
+    /// most runs never walk (only corners and embedded points are placed that way), and the
+    /// grid costs a pass over every vertex.
+    hints: OnceLock<HintGrid>,
     /// Hilbert keys of a fresh build (freed after it: most rebuilds repair).
     keys: Vec<u64>,
     /// A bit per vertex, set while `move_points` moves it with many others (all clear
@@ -87,7 +91,7 @@ impl Delaunay {
             point_of_vertex: Vec::new(),
             vertex_of_point: Vec::new(),
             pos: Vec::new(),
-            hints: HintGrid::new(&[]),
+            hints: OnceLock::new(),
             keys: Vec::new(),
             moving: Vec::new(),
             frame_box: None,
@@ -391,7 +395,7 @@ impl Delaunay {
         if !done {
             return false;
         }
-        self.hints = HintGrid::new(&self.pos[..nv]);
+        self.hints = OnceLock::new();
         self.flippable = true;
         true
     }
@@ -561,7 +565,7 @@ impl Delaunay {
     /// Hints, rings and whether the next rebuild may flip, once `topo` and `pos` are set.
     fn finish(&mut self, n_points: usize) {
         let nv = self.point_of_vertex.len();
-        self.hints = HintGrid::new(&self.pos[..nv]);
+        self.hints = OnceLock::new();
         let mut rings = std::mem::take(&mut self.rings);
         self.topo.rings(nv, &self.key(), &mut rings);
         self.rings = rings;
@@ -723,7 +727,7 @@ impl Delaunay {
         self.topo.index_vertices(self.pos.len());
         if self.topo.tri.is_empty() {
             // No triangles (fewer than three vertices, or all collinear): spade's edges.
-            self.hints = HintGrid::new(&self.pos[..nv]);
+            self.hints = OnceLock::new();
             let out_edges = |v: usize| dt.vertex(FixedVertexHandle::from_index(v)).out_edges();
             self.rings.fill(
                 |v| out_edges(v).count(),
@@ -824,7 +828,9 @@ impl Delaunay {
         if !p.is_finite() || self.num_vertices() == 0 {
             return None;
         }
-        let mut v = self.hints.start(p) as usize;
+        let nv = self.point_of_vertex.len();
+        let hints = self.hints.get_or_init(|| HintGrid::new(&self.pos[..nv]));
+        let mut v = hints.start(p) as usize;
         let dist = |u: usize| self.pos[u].distance_squared(p);
         let mut d = dist(v);
         loop {
@@ -1052,6 +1058,44 @@ mod tests {
             }
             for p in pts.iter_mut() {
                 *p += DVec2::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1)) * h;
+            }
+        }
+    }
+
+    /// Builds and repairs leave the hint grid to the first nearest-point walk, which builds it
+    /// from the positions of the moment and finds the nearest point, as after local moves.
+    #[test]
+    fn the_hint_grid_waits_for_the_first_walk() {
+        let mut rng = Rng::new(9);
+        let mut pts: Vec<DVec2> = (0..3000)
+            .map(|_| DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
+            .collect();
+        let brute = |pts: &[DVec2], q: DVec2| {
+            (0..pts.len())
+                .min_by(|&a, &b| pts[a].distance(q).total_cmp(&pts[b].distance(q)))
+                .unwrap()
+        };
+        let mut del = Delaunay::framed(DVec2::splat(-0.5), DVec2::splat(1.5));
+        for round in 0..3 {
+            del.rebuild(&pts);
+            assert!(
+                del.hints.get().is_none(),
+                "round {round}: built before a walk"
+            );
+            let q = DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+            assert_eq!(del.nearest(q), brute(&pts, q));
+            assert!(del.hints.get().is_some());
+            let moved: Vec<u32> = (0..40).map(|i| i * 61).collect();
+            for &i in &moved {
+                pts[i as usize] += DVec2::new(rng.range(-0.02, 0.02), rng.range(-0.02, 0.02));
+            }
+            del.move_points(&pts, &moved).expect("a local repair");
+            for _ in 0..50 {
+                let q = DVec2::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
+                assert_eq!(del.nearest(q), brute(&pts, q));
+            }
+            for p in pts.iter_mut() {
+                *p += DVec2::new(rng.range(-0.002, 0.002), rng.range(-0.002, 0.002));
             }
         }
     }
