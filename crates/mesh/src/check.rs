@@ -1,5 +1,5 @@
 //! The conformity check every method's mesh must pass (and every test asserts).
-use crate::types::{maybe_below, smallest_angle_cosines};
+use crate::types::{maybe_below, rows_by_vertex, smallest_angle_cosines};
 use crate::Mesh;
 use geometry::Region;
 use rayon::prelude::*;
@@ -197,24 +197,9 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
     // Each vertex's outgoing edges in compressed rows, sorted by head: (head, position
     // 3·triangle + side). Sorting keeps a vertex of huge degree from costing its degree squared.
     let nv = mesh.points.len();
-    let mut start = vec![0usize; nv + 1];
-    for tri in &mesh.triangles {
-        for &v in tri {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..nv {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut out = vec![(0u32, 0u32); 3 * mesh.triangles.len()];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let a = tri[k] as usize;
-            out[fill[a]] = (tri[(k + 1) % 3], (3 * t + k) as u32);
-            fill[a] += 1;
-        }
-    }
+    let (start, mut out) = rows_by_vertex(&mesh.triangles, nv, |t, k| {
+        (mesh.triangles[t][(k + 1) % 3], (3 * t + k) as u32)
+    });
     // Rows sorted in parallel, over runs of whole rows.
     {
         let mut runs = Vec::with_capacity(nv / ROWS + 1);

@@ -19,7 +19,9 @@
 //! Cost: one pass over the triangles and one over the vertices' cells, O(K̃), one pass over the
 //! triangles per sweep, plus a bounded search per vertex moved (O(log K) more per move that
 //! changes the smallest or largest cell).
-use crate::types::{smallest_angle_cos, triangle_min_angle_deg, Mesh, VertexMarker};
+use crate::types::{
+    rows_by_vertex, smallest_angle_cos, triangle_min_angle_deg, Mesh, VertexMarker,
+};
 use geometry::predicates::circumcenter;
 use geometry::{DVec2, Region};
 use rayon::prelude::*;
@@ -403,34 +405,18 @@ pub fn looks_graded(mesh: &Mesh) -> bool {
 
 /// The triangles around each vertex, in compressed rows.
 struct Stars {
-    start: Vec<u32>,
+    start: Vec<usize>,
     tris: Vec<u32>,
 }
 
 impl Stars {
     fn new(mesh: &Mesh) -> Stars {
-        let mut start = vec![0u32; mesh.num_vertices() + 1];
-        for t in &mesh.triangles {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..mesh.num_vertices() {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut tris = vec![0u32; start[mesh.num_vertices()] as usize];
-        for (k, t) in mesh.triangles.iter().enumerate() {
-            for &v in t {
-                tris[fill[v as usize] as usize] = k as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        let (start, tris) = rows_by_vertex(&mesh.triangles, mesh.num_vertices(), |t, _| t as u32);
         Stars { start, tris }
     }
 
     fn of(&self, v: usize) -> &[u32] {
-        &self.tris[self.start[v] as usize..self.start[v + 1] as usize]
+        &self.tris[self.start[v]..self.start[v + 1]]
     }
 
     /// The vertex across edge (a, b) from triangle `t`: the third vertex of the other triangle

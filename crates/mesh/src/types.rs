@@ -268,30 +268,13 @@ impl Mesh {
 /// matter. Per-vertex lists of outgoing edges (a few entries each) make this linear, where
 /// hashing or sorting every edge would dominate on million-vertex meshes.
 pub(crate) fn single_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let directed = || {
-        triangles
-            .iter()
-            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-    };
     let n = triangles
-        .iter()
+        .par_iter()
         .flatten()
         .map(|&v| v as usize + 1)
         .max()
         .unwrap_or(0);
-    let mut start = vec![0usize; n + 1];
-    for (a, _) in directed() {
-        start[a as usize + 1] += 1;
-    }
-    for v in 0..n {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut targets = vec![0u32; start[n]];
-    for (a, b) in directed() {
-        targets[fill[a as usize]] = b;
-        fill[a as usize] += 1;
-    }
+    let (start, targets) = rows_by_vertex(triangles, n, |t, k| triangles[t][(k + 1) % 3]);
     let count = |a: u32, b: u32| {
         targets[start[a as usize]..start[a as usize + 1]]
             .iter()
@@ -304,6 +287,78 @@ pub(crate) fn single_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
         .flat_map_iter(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
         .filter(|&(a, b)| count(a, b) + count(b, a) == 1)
         .collect()
+}
+
+/// Vertices per run of [`rows_by_vertex`]: below it, one run (one thread).
+const ROWS_PER_RUN: usize = 50_000;
+
+/// `item(t, k)` for every corner `k` of every triangle `t`, filed in the row of the corner's
+/// vertex: row `v` is `entries[start[v]..start[v + 1]]`, in triangle order. Corners at vertices
+/// from `n` on are left out. The vertices are split into runs, one per thread, and each run reads
+/// every triangle and fills only its own rows: no row depends on the number of threads.
+pub(crate) fn rows_by_vertex<T: Copy + Default + Send>(
+    triangles: &[[u32; 3]],
+    n: usize,
+    item: impl Fn(usize, usize) -> T + Sync,
+) -> (Vec<usize>, Vec<T>) {
+    let runs = rayon::current_num_threads()
+        .min(n.div_ceil(ROWS_PER_RUN))
+        .max(1);
+    let bounds: Vec<usize> = (0..=runs).map(|r| r * n / runs).collect();
+    let counts: Vec<Vec<u32>> = (0..runs)
+        .into_par_iter()
+        .map(|r| {
+            let mut count = vec![0u32; bounds[r + 1] - bounds[r]];
+            corners_of_run(triangles, bounds[r]..bounds[r + 1], |_, _, v| count[v] += 1);
+            count
+        })
+        .collect();
+    let mut start = Vec::with_capacity(n + 1);
+    start.push(0);
+    let mut total = 0;
+    for &c in counts.iter().flatten() {
+        total += c as usize;
+        start.push(total);
+    }
+    let mut entries = vec![T::default(); total];
+    let mut parts = Vec::with_capacity(runs);
+    let mut rest = entries.as_mut_slice();
+    for r in 0..runs {
+        let (part, tail) = rest.split_at_mut(start[bounds[r + 1]] - start[bounds[r]]);
+        parts.push((r, part));
+        rest = tail;
+    }
+    parts.into_par_iter().for_each(|(r, part)| {
+        let base = start[bounds[r]];
+        let mut fill: Vec<usize> = start[bounds[r]..bounds[r + 1]]
+            .iter()
+            .map(|s| s - base)
+            .collect();
+        corners_of_run(triangles, bounds[r]..bounds[r + 1], |t, k, v| {
+            part[fill[v]] = item(t, k);
+            fill[v] += 1;
+        });
+    });
+    (start, entries)
+}
+
+/// `each(t, k, v − run.start)` for every corner `k` of every triangle `t` whose vertex `v` lies
+/// in `run`, in triangle order.
+#[inline]
+fn corners_of_run(
+    triangles: &[[u32; 3]],
+    run: std::ops::Range<usize>,
+    mut each: impl FnMut(usize, usize, usize),
+) {
+    let len = run.end - run.start;
+    for (t, tri) in triangles.iter().enumerate() {
+        for (k, &v) in tri.iter().enumerate() {
+            let v = (v as usize).wrapping_sub(run.start);
+            if v < len {
+                each(t, k, v);
+            }
+        }
+    }
 }
 
 /// The cosine of the smallest angle of triangle `q` (opposite its shortest side), by the law
@@ -387,4 +442,42 @@ pub(crate) fn corner_angle_deg(p: [DVec2; 3], i: usize) -> f64 {
         .angle_to(p[(i + 2) % 3] - p[i])
         .abs()
         .to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rows are those of filing the corners one by one, on any number of threads and
+    /// whatever the runs, with the corners at vertices from `n` on left out.
+    #[test]
+    fn rows_by_vertex_are_the_corners_filed_one_by_one() {
+        let mut rng = geometry::Rng::new(4);
+        for (triangles, n) in [(10usize, 40usize), (30_000, 120_000), (60_000, 110_000)] {
+            // Vertices up to 5 % beyond n, so that some corners are left out.
+            let tris: Vec<[u32; 3]> = (0..triangles)
+                .map(|_| [0; 3].map(|_| rng.below(n + n / 20 + 1) as u32))
+                .collect();
+            let mut rows: Vec<Vec<(u32, u32)>> = vec![Vec::new(); n];
+            for (t, tri) in tris.iter().enumerate() {
+                for (k, &v) in tri.iter().enumerate() {
+                    if (v as usize) < n {
+                        rows[v as usize].push((t as u32, k as u32));
+                    }
+                }
+            }
+            for threads in [1, 2, 3, 8] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let (start, entries) =
+                    pool.install(|| rows_by_vertex(&tris, n, |t, k| (t as u32, k as u32)));
+                assert_eq!(start.len(), n + 1);
+                for (v, row) in rows.iter().enumerate() {
+                    assert_eq!(&entries[start[v]..start[v + 1]], &row[..], "{threads} threads");
+                }
+            }
+        }
+    }
 }
