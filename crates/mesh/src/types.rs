@@ -475,7 +475,11 @@ mod tests {
                     pool.install(|| rows_by_vertex(&tris, n, |t, k| (t as u32, k as u32)));
                 assert_eq!(start.len(), n + 1);
                 for (v, row) in rows.iter().enumerate() {
-                    assert_eq!(&entries[start[v]..start[v + 1]], &row[..], "{threads} threads");
+                    assert_eq!(
+                        &entries[start[v]..start[v + 1]],
+                        &row[..],
+                        "{threads} threads"
+                    );
                 }
             }
         }

@@ -422,3 +422,48 @@ proptest::proptest! {
         proptest::prop_assert!(check_conforming(&mesh, &square).is_err(), "mutation {}", kind);
     }
 }
+
+/// From 20 000 vertices the deep ones take a bound on their depth from a grid instead of a
+/// distance query of their own: the check reports what exact distances report, a deep vertex
+/// moved outside, a deep vertex marked as a boundary one (with its exact distance) and a deep
+/// triangle turned over.
+#[test]
+fn a_large_mesh_is_checked_as_exactly_in_its_depths() {
+    let m = 160;
+    let (square, mesh) = unit_square_mesh(m);
+    assert!(mesh.points.len() >= 25_000);
+    check_conforming(&mesh, &square).unwrap();
+    let centre = (m / 2) * m + m / 2;
+
+    let mut outside = mesh.clone();
+    outside.points[centre] = DVec2::new(1.5, 0.5);
+    match check_conforming(&outside, &square) {
+        Err(ConformityError::VertexOutside(i, ..)) => assert_eq!(i, centre),
+        other => panic!("{other:?}"),
+    }
+
+    let mut marked = mesh.clone();
+    marked.markers[centre] = VertexMarker::on_piece(&square, DVec2::new(1.0, 0.5), 1);
+    match check_conforming(&marked, &square) {
+        Err(ConformityError::MarkerOffBoundary(i, d)) => {
+            assert_eq!(i, centre);
+            let p = mesh.points[centre];
+            let exact = p.x.min(p.y).min(1.0 - p.x).min(1.0 - p.y);
+            assert!((d - exact).abs() < 1e-12, "the exact distance {exact}, {d}");
+        }
+        other => panic!("{other:?}"),
+    }
+
+    // A deep triangle flipped over: degenerate (negative area), found whatever the bounds.
+    let mut flipped = mesh.clone();
+    let t = flipped
+        .triangles
+        .iter()
+        .position(|t| t.contains(&(centre as u32)))
+        .unwrap();
+    flipped.triangles[t].swap(0, 1);
+    assert!(matches!(
+        check_conforming(&flipped, &square),
+        Err(ConformityError::Degenerate(i, _)) if i == t
+    ));
+}
