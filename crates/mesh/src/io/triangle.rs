@@ -105,7 +105,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
     let write_node: Producer = Box::new(|w: &mut dyn Write| {
         writeln!(w, "{SIGNATURE}: {} vertices.", nodes.points.len())?;
         let (nattr, last) = match walls {
-            None => (3, "| boundary marker (loop index + 1, 0 interior)"),
+            None => (3, " | boundary marker (loop index + 1, 0 interior)"),
             Some(_) => (4, ", loop index + 1 (0 interior) | boundary marker (the region's wall number, 0 interior)"),
         };
         writeln!(
@@ -772,6 +772,14 @@ mod tests {
         let m = square_with_hole();
         write_triangle(&m, &dir.path("sq")).unwrap();
         assert_eq!(dir.files(), ["sq.ele", "sq.node", "sq.poly"]);
+        // The header names the columns, the marker after the attributes.
+        let text = std::fs::read_to_string(dir.path("sq.node")).unwrap();
+        assert!(
+            text.lines().nth(1).unwrap().ends_with(
+                "loop arc-length parameter (-1 unknown) | boundary marker (loop index + 1, 0 interior)"
+            ),
+            "{text}"
+        );
         let r = read_triangle(&dir.path("sq.node")).unwrap();
         assert_eq!(r, m);
         for (a, b) in r.points.iter().zip(&m.points) {
