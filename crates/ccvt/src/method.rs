@@ -84,13 +84,15 @@ pub struct Ccvt {
     /// [`Ccvt::graded_multilevel_from`] instead.
     pub multilevel_from: usize,
     /// [`Ccvt::multilevel_from`] for a non-uniform density (a size field): from this many
-    /// generators on (75 000 by default), the graded start is a coarser graded CCVT of about a
+    /// generators on (20 000 by default), the graded start is a coarser graded CCVT of about a
     /// quarter of K, every edge of its mesh split, its boundary laid out again at CCVT's
-    /// boundary spacing. On four graded cases the solve took 0.79 of the single level's time on
-    /// average at 10⁵ (three seeds each; 0.50–0.89, but 1.07–1.22 on the lake), 0.91 at
-    /// 7.5·10⁴ and 1.11 at 5·10⁴, with the edges following the field more closely in every
-    /// run (`docs/design-notes.md`, "Multilevel start"). Neither kind of run takes levels where
-    /// more than [`Ccvt::levels_max_boundary_share`] of its generators would lie on ∂Ω.
+    /// boundary spacing; the coarser level takes levels of its own by the same rule (10⁵ →
+    /// 25 000 → 6 250). The circle's point source and the L-shape's corner of the graded
+    /// comparison took 0.56–0.92 and 0.71–0.89 of the time with one level less at 2.5·10⁴–10⁵
+    /// (seeds 1–3 or 1–5), with the edges following the field more closely in every run; at
+    /// 10⁴ the L-shape was slower (`docs/design-notes.md`, "Multilevel start"). Neither kind of
+    /// run takes levels where more than [`Ccvt::levels_max_boundary_share`] of its generators
+    /// would lie on ∂Ω.
     pub graded_multilevel_from: usize,
     /// No levels ([`Ccvt::multilevel_from`], [`Ccvt::graded_multilevel_from`]) where more than
     /// this share of the generators would lie on ∂Ω (∫_∂Ω ds/h over K; 0.03 by default, a
@@ -143,7 +145,7 @@ impl Default for Ccvt {
             active_from: 3_000,
             eps_start: 0.0,
             multilevel_from: usize::MAX,
-            graded_multilevel_from: 75_000,
+            graded_multilevel_from: 20_000,
             levels_max_boundary_share: 0.03,
             graded_start: true,
             row_from: 3_000,

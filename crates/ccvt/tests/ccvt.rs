@@ -130,7 +130,7 @@ fn constructors_have_their_documented_settings() {
     assert_eq!(d.name(), "ccvt");
     assert_eq!(Ccvt::fast(), d);
     assert!(d.graded_start && d.multilevel_from == usize::MAX && d.row_from == 3_000);
-    assert_eq!(d.graded_multilevel_from, 75_000);
+    assert_eq!(d.graded_multilevel_from, 20_000);
     assert_eq!(d.levels_max_boundary_share, 0.03);
     for (m, algorithm, solver, name) in [
         (Ccvt::algorithm1(), Algorithm::One, Solver::Lloyd, "ccvt1"),

@@ -227,6 +227,22 @@ fn graded_runs_take_levels_from_their_own_threshold() {
     let r = ccvt.mesh(&region, &request, &mut |_| {}).unwrap();
     assert!(levels(&r.notes), "{:?}", r.notes);
     assert!(r.converged);
+    // A coarser level takes levels of its own by the same rule: K → K/4 → K/16 when the
+    // threshold lies below K/4.
+    let nested = Ccvt {
+        graded_multilevel_from: k / 8,
+        ..ccvt.clone()
+    };
+    let n = nested.mesh(&region, &request, &mut |_| {}).unwrap();
+    let starts = n
+        .notes
+        .iter()
+        .filter(|n| n.contains("every edge of its mesh split"))
+        .count();
+    assert_eq!(starts, 2, "{:?}", n.notes);
+    assert!(n.converged);
+    assert_eq!(n.mesh.num_vertices(), k);
+    check_conforming(&n.mesh, &region).unwrap();
     assert_eq!(r.mesh.num_vertices(), k);
     check_conforming(&r.mesh, &region).unwrap();
     let c = size_conformity(&r.mesh, &field, &region).unwrap();
@@ -332,7 +348,7 @@ fn a_cycling_graded_run_stops_with_a_note_well_before_the_cap() {
 
 /// A run from a coarser level that cycles is solved again without levels. The robustness
 /// sweep's comb of twenty teeth refined toward its outline at K = 20 000, seed 2, its levels
-/// forced from 5000 generators on (by default a graded run takes them from 75 000, and not
+/// forced from 5000 generators on (by default a graded run takes them from 20 000, but not
 /// at the comb's boundary share): the relaxation from the coarser levels stops unconverged
 /// (no new low in the work of 300 evaluations), and the single level, solved again, converges
 /// (3383 evaluations in all); the default run, one level, converges in fewer. About 60 s in
