@@ -359,6 +359,50 @@ fn loose_epsilon_phases_leave_the_final_tolerance_alone() {
         .any(|&(_, mv)| mv >= 1e-4));
 }
 
+/// From the boundary row start (from `row_from` generators) the ε-phases stop at three times
+/// `eps_phase_tol`, each at its first move below that; the lattice path's at `eps_phase_tol`.
+#[test]
+fn the_row_starts_epsilon_phases_stop_at_three_times_their_tolerance() {
+    let region = Region::builtin("circle").unwrap();
+    let req = MeshRequest::points(4000).seed(1);
+    let phases = |m: &Ccvt| {
+        let mut moves: Vec<Vec<f64>> = Vec::new();
+        let g = m
+            .generators(&region, &req, &mut |p| {
+                if p.iteration == 1 {
+                    moves.push(Vec::new());
+                }
+                moves.last_mut().unwrap().push(p.max_move);
+            })
+            .unwrap();
+        assert!(g.converged);
+        assert!(moves.len() >= 2, "{moves:?}");
+        moves.pop();
+        moves
+    };
+    let d = Ccvt::default();
+    assert!(4000 >= d.row_from);
+    for (m, tol) in [
+        (d.clone(), 3.0 * d.eps_phase_tol),
+        (
+            Ccvt {
+                row_from: usize::MAX,
+                ..d.clone()
+            },
+            d.eps_phase_tol,
+        ),
+    ] {
+        for phase in phases(&m) {
+            let (&last, before) = phase.split_last().unwrap();
+            assert!(last < tol, "ended at {last:e}, tolerance {tol:e}");
+            assert!(
+                before.iter().all(|&mv| mv >= tol),
+                "went on below {tol:e}: {phase:?}"
+            );
+        }
+    }
+}
+
 /// At the reflex corners of square_two_hex's hexagonal holes, a boundary cell's centroid can
 /// project onto the corner itself, on top of the corner's generator; it must be kept off the
 /// corner so that no generator is dropped from the mesh.
