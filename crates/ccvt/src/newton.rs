@@ -113,12 +113,10 @@ const CURVATURE_STEP: f64 = 0.1;
 /// global step; more patience lets active-set steps alone spread a smooth residual that one
 /// global step removes.
 // Circle 10⁶, seeds 1–3: 31.4 / 36.7 / 31.0 s with 3, 37.6 / 42.0 / 38.2 s with 0; 10 took
-// 43 s on seed 1 (all before the row start). With the row start's looser ε-phases
-// (2026-12-06): `solve` probe at 10⁵, seeds 1–8, 6 against 3: circle 11.32 → 10.75 s, lake
-// 17.67 → 16.79 s (1: 12.34 / 17.39 s); circle 10⁶ seeds 1–2 14.4 / 15.4 → 12.8 / 15.5 s;
-// whole command, seeds 1–6: circle 10.12 → 9.65 s, lake 14.41 → 13.32 s, the means of λ, γ,
-// β, q and p within 1.7 %; the four graded cases at 10⁴ (seeds 1–3) 21.6 → 21.3 s.
-const CLEANUP_PATIENCE: usize = 6;
+// 43 s on seed 1 (before the row start). Six, after the row start's looser ε-phases: 0.95 of
+// the time over seeds (circle and lake 10⁵) but seed 1's circle took 81 evaluations against 70
+// at 10⁵ and 183 against 146 at 10⁶ (docs/performance.md, "Toward 10× Triangle").
+const CLEANUP_PATIENCE: usize = 3;
 
 /// What a generator may do in the Newton step (8 bytes: at 10⁶ generators a copy of the
 /// tangent data in every entry would be 40 MB more at the peak).
