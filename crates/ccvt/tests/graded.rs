@@ -205,7 +205,8 @@ fn a_prolongated_coarse_level_gives_a_converged_mesh_of_exactly_k() {
 
 /// `graded_multilevel_from` decides the levels of a graded run and `multilevel_from` those of a
 /// uniform one: the same settings give a graded mesh from a coarser level that follows its
-/// field, a uniform mesh without one, and a graded mesh below the threshold without one.
+/// field (from two, the coarser taking its own, when the threshold lies below K/4), a uniform
+/// mesh without one, and a graded mesh below the threshold without one.
 #[test]
 fn graded_runs_take_levels_from_their_own_threshold() {
     let region = Region::builtin("circle").unwrap();
@@ -227,6 +228,12 @@ fn graded_runs_take_levels_from_their_own_threshold() {
     let r = ccvt.mesh(&region, &request, &mut |_| {}).unwrap();
     assert!(levels(&r.notes), "{:?}", r.notes);
     assert!(r.converged);
+    assert_eq!(r.mesh.num_vertices(), k);
+    check_conforming(&r.mesh, &region).unwrap();
+    let c = size_conformity(&r.mesh, &field, &region).unwrap();
+    assert!(c.unit_share >= 0.95 && c.efficiency >= 0.9, "{c:?}");
+    let ratio = boundary_to_interior(&r.mesh, &field);
+    assert!(ratio >= 0.9, "{ratio}");
     // A coarser level takes levels of its own by the same rule: K → K/4 → K/16 when the
     // threshold lies below K/4.
     let nested = Ccvt {
@@ -243,12 +250,6 @@ fn graded_runs_take_levels_from_their_own_threshold() {
     assert!(n.converged);
     assert_eq!(n.mesh.num_vertices(), k);
     check_conforming(&n.mesh, &region).unwrap();
-    assert_eq!(r.mesh.num_vertices(), k);
-    check_conforming(&r.mesh, &region).unwrap();
-    let c = size_conformity(&r.mesh, &field, &region).unwrap();
-    assert!(c.unit_share >= 0.95 && c.efficiency >= 0.9, "{c:?}");
-    let ratio = boundary_to_interior(&r.mesh, &field);
-    assert!(ratio >= 0.9, "{ratio}");
     let uniform = ccvt
         .mesh(&region, &MeshRequest::points(k), &mut |_| {})
         .unwrap();
