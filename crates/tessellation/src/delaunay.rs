@@ -1067,9 +1067,7 @@ mod tests {
     #[test]
     fn the_hint_grid_waits_for_the_first_walk() {
         let mut rng = Rng::new(9);
-        let mut pts: Vec<DVec2> = (0..3000)
-            .map(|_| DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
-            .collect();
+        let mut pts = crate::unit_square_points(&mut rng, 3000);
         let brute = |pts: &[DVec2], q: DVec2| {
             (0..pts.len())
                 .min_by(|&a, &b| pts[a].distance(q).total_cmp(&pts[b].distance(q)))
@@ -1105,9 +1103,7 @@ mod tests {
     #[test]
     fn is_at_holds_exactly_where_a_rebuild_would_change_nothing() {
         let mut rng = Rng::new(3);
-        let mut pts: Vec<DVec2> = (0..2000)
-            .map(|_| DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
-            .collect();
+        let mut pts = crate::unit_square_points(&mut rng, 2000);
         let mut del = Delaunay::framed(DVec2::splat(-0.5), DVec2::splat(1.5));
         del.rebuild(&pts);
         assert!(del.is_at(&pts));

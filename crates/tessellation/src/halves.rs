@@ -439,9 +439,7 @@ mod tests {
     #[test]
     fn duplicates_and_a_degenerate_split_are_left_to_the_caller() {
         let mut rng = Rng::new(4);
-        let mut points: Vec<DVec2> = (0..3000)
-            .map(|_| DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
-            .collect();
+        let mut points = crate::unit_square_points(&mut rng, 3000);
         points.push(points[17]);
         let m = points.len();
         assert!(triangulate_in_halves(&framed(points), m).is_none());

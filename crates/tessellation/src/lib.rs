@@ -38,3 +38,11 @@ pub use delaunay::{hilbert_order, Delaunay};
 pub use hessian::{energy_hessian, energy_hessian_on, energy_hessian_rows};
 pub use odt::{odt_boundary_triangles, odt_energy, odt_targets};
 pub use sparse::{dot, BlockMatrix, DOT_CHUNK};
+
+/// `n` points drawn uniformly in the unit square, x then y from `rng` for each (tests).
+#[cfg(test)]
+pub(crate) fn unit_square_points(rng: &mut geometry::Rng, n: usize) -> Vec<geometry::DVec2> {
+    (0..n)
+        .map(|_| geometry::DVec2::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0)))
+        .collect()
+}
