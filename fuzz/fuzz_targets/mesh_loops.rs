@@ -10,8 +10,11 @@
 //! and the range covers them as well as the single Lloyd step of a cap of 1.
 #![no_main]
 use cvtmesh::{check_conforming, MeshRequest, Method};
-use geometry::{DVec2, LoopRole, Region};
+use geometry::Region;
 use libfuzzer_sys::fuzz_target;
+
+#[path = "common/loops.rs"]
+mod loops;
 
 fuzz_target!(
     init: {
@@ -22,23 +25,7 @@ fuzz_target!(
         let [head, cap, rest @ ..] = data else {
             return;
         };
-        // Loops of 3 to 10 points, from byte pairs on a 16 × 16 grid.
-        let mut loops = Vec::new();
-        let mut bytes = rest;
-        while bytes.len() >= 6 && loops.len() < 4 {
-            let n = (3 + bytes[0] as usize % 8).min((bytes.len() - 1) / 2);
-            let pts: Vec<DVec2> = bytes[1..1 + 2 * n]
-                .chunks(2)
-                .map(|c| DVec2::new((c[0] % 16) as f64, (c[1] % 16) as f64))
-                .collect();
-            let role = if loops.is_empty() || bytes[0] & 0x80 == 0 {
-                LoopRole::Outer
-            } else {
-                LoopRole::Hole
-            };
-            loops.push((role, pts));
-            bytes = &bytes[1 + 2 * n..];
-        }
+        let loops = loops::loops_from(rest);
         let Ok(region) = Region::from_loops("fuzz", loops) else {
             return;
         };
