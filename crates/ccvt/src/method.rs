@@ -171,6 +171,14 @@ const COARSE_TOL: f64 = 1e-3;
 // 1–4) where 3 gave 0.86.
 const ROW_EPS_PHASE_FACTOR: f64 = 3.0;
 
+/// Largest ε of Algorithm 2, in spacings. Where every cell of the CVT of Ω_ε reaches ∂Ω_ε (a
+/// part of a region that gets only its corners' worth of generators), their mean farthest
+/// distance grows with ε itself and has no fixed point: ε ran to thousands of spacings, and
+/// each ε-phase on so large an Ω_ε took seconds (a sliver part holding 3 of 16 generators of a
+/// graded mesh ran for over ten minutes). Settled values lie at 0.68–0.75 spacings from 10³
+/// generators on and reach 5 spacings only for a handful of generators in a sliver.
+const EPS_MAX: f64 = 10.0;
+
 impl Ccvt {
     /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol`,
     /// `eps_start` and `levels_max_boundary_share` finite and non-negative
@@ -561,7 +569,8 @@ impl Ccvt {
                 if eps > 0.0 {
                     domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
-                let mut settled = false;
+                let (mut settled, mut held) = (false, false);
+                let eps_max = EPS_MAX * spacing;
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
                     let r = tally.run(
@@ -592,10 +601,14 @@ impl Ccvt {
                         settled = true;
                         break;
                     }
+                    if eps_new > eps_max && eps >= eps_max {
+                        held = true;
+                        break;
+                    }
                     if request.out_of_time() {
                         break;
                     }
-                    eps = eps_new;
+                    eps = eps_new.min(eps_max);
                     domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 tally.converged &= settled;
@@ -609,7 +622,14 @@ impl Ccvt {
                 notes.push(format!(
                     "epsilon = {eps:.6e} ({:.4} of the spacing){}",
                     eps / spacing,
-                    if settled { "" } else { ", not settled" }
+                    if settled {
+                        ""
+                    } else if held {
+                        ", not settled: held at its largest, every cell reaching the boundary \
+                         (too few generators for Algorithm 2's estimate)"
+                    } else {
+                        ", not settled"
+                    }
                 ));
                 domain
             }

@@ -549,6 +549,43 @@ fn settled_epsilon(notes: &[String]) -> f64 {
     rel.parse().unwrap()
 }
 
+/// Where every cell of the CVT of Ω_ε reaches ∂Ω_ε (three generators on a sliver's three
+/// corners), Algorithm 2's ε has no fixed point: it grew with Ω_ε itself (to 14.6 spacings
+/// here, to thousands where a graded field made the sliver coarse), each ε-phase on a larger
+/// domain than the last. It is held at ten spacings, and the note says why.
+#[test]
+fn an_epsilon_without_a_fixed_point_is_held_at_ten_spacings() {
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 12.0)].map(|(x, y)| geometry::DVec2::new(x, y));
+    let sliver = Region::from_loops(
+        "sliver",
+        vec![(geometry::LoopRole::Outer, corners.to_vec())],
+    )
+    .unwrap()
+    .with_default_corners();
+    let req = MeshRequest::points(3).tol(1e-4).max_iter(200);
+    let r = Ccvt::algorithm2()
+        .mesh(&sliver, &req, &mut |_| {})
+        .expect("mesh");
+    let note = r
+        .notes
+        .iter()
+        .find(|n| n.starts_with("epsilon = "))
+        .expect("an epsilon note");
+    assert!(note.contains("held at its largest"), "{note}");
+    let rel: f64 = note
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((rel - 10.0).abs() < 1e-9, "{note}");
+    assert!(!r.converged, "an ε that did not settle is not converged");
+    check_conforming(&r.mesh, &sliver).unwrap();
+}
+
 /// Starting ε near its settled value (`Ccvt::eps_start`) skips the lattice path's CVT of Ω
 /// itself: fewer phases, the same settled ε within a few tolerances, and an energy as low.
 #[test]

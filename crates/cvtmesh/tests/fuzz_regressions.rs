@@ -1,6 +1,6 @@
 //! Inputs the fuzz targets in `fuzz/` found, each named after what it caught.
-use cvtmesh::geometry::LoopRole;
-use cvtmesh::{check_conforming, DVec2, MeshRequest, Method, Region};
+use cvtmesh::geometry::{LoopRole, Threshold, Toward};
+use cvtmesh::{check_conforming, DVec2, MeshRequest, Method, Region, SizeField};
 
 /// `mesh_loops`: two needles joined at the top, 1e-4 wide at their tips, with a 19° bend that
 /// the default corners drop; CCVT at K = 20 returned a triangle outside the region. Since the
@@ -28,4 +28,52 @@ fn a_needle_far_thinner_than_the_spacing_is_never_meshed_outside() {
             check_conforming(&r.mesh, &raw).unwrap_or_else(|e| panic!("{m}: {e}"));
         }
     }
+}
+
+/// `mesh_graded`: a 1 × 12 sliver and a small triangle, the field toward a side of the small
+/// one growing 27×, K = 16 by Algorithm 2 (Lloyd): the sliver's part gets only its three
+/// corners, Algorithm 2's ε grew without a fixed point to 5 230 spacings, and each ε-phase on
+/// that domain took longer than the last (over ten minutes in all without an iteration cap).
+/// ε is held at ten spacings now, and the part's note says so.
+#[test]
+fn a_part_that_gets_only_its_corners_holds_algorithm_2s_epsilon() {
+    let at = |pts: &[(f64, f64)]| pts.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+    let region = Region::from_loops(
+        "fuzz",
+        vec![
+            (LoopRole::Outer, at(&[(0.0, 0.0), (0.0, 12.0), (1.0, 0.0)])),
+            (LoopRole::Outer, at(&[(10.0, 2.0), (10.0, 1.0), (8.0, 4.0)])),
+        ],
+    )
+    .unwrap()
+    .with_default_corners();
+    let threshold = Threshold {
+        size_min: 1.0,
+        size_max: 27.0,
+        dist_min: 1.25,
+        dist_max: 2.0,
+    };
+    let field = SizeField::threshold(&region, &[Toward::Piece(3)], threshold).unwrap();
+    let request = MeshRequest::size_field(&field, &region, Some(16))
+        .unwrap()
+        .tol(1e-2)
+        .max_iter(8);
+    let r = Method::Ccvt2.run(&region, &request).unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let sliver = r
+        .notes
+        .iter()
+        .find(|n| n.starts_with("part 0: epsilon = "))
+        .expect("the sliver's epsilon note");
+    assert!(sliver.contains("held at its largest"), "{sliver}");
+    let rel: f64 = sliver
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(rel <= 10.0 + 1e-9, "{sliver}");
 }
