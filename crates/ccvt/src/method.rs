@@ -171,14 +171,6 @@ const COARSE_TOL: f64 = 1e-3;
 // 1–4) where 3 gave 0.86.
 const ROW_EPS_PHASE_FACTOR: f64 = 3.0;
 
-/// Largest ε of Algorithm 2, in spacings. Where every cell of the CVT of Ω_ε reaches ∂Ω_ε (a
-/// part of a region that gets only its corners' worth of generators), their mean farthest
-/// distance grows with ε itself and has no fixed point: ε ran to thousands of spacings, and
-/// each ε-phase on so large an Ω_ε took seconds (a sliver part holding 3 of 16 generators of a
-/// graded mesh ran for over ten minutes). Settled values lie at 0.68–0.75 spacings from 10³
-/// generators on and reach 5 spacings only for a handful of generators in a sliver.
-const EPS_MAX: f64 = 10.0;
-
 impl Ccvt {
     /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol`,
     /// `eps_start` and `levels_max_boundary_share` finite and non-negative
@@ -570,7 +562,6 @@ impl Ccvt {
                     domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 let (mut settled, mut held) = (false, false);
-                let eps_max = EPS_MAX * spacing;
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
                     let r = tally.run(
@@ -601,14 +592,24 @@ impl Ccvt {
                         settled = true;
                         break;
                     }
-                    if eps_new > eps_max && eps >= eps_max {
+                    // Every cell reaches ∂Ω_ε (a part that gets little more than its corners'
+                    // generators): the mean farthest distance grows with ε itself and has no
+                    // fixed point. It ran to thousands of spacings, each ε-phase on a larger
+                    // Ω_ε than the last, where a graded field's values outside Ω pulled the
+                    // generators away (over ten minutes for 16 generators). ε stays where it
+                    // is, or takes the first estimate if there is none yet.
+                    if boundary.len() == work.cells.cells.len() {
                         held = true;
+                        if eps == 0.0 {
+                            eps = eps_new;
+                            domain = expanded(region, &mut eps, tol_poly, &mut closing);
+                        }
                         break;
                     }
                     if request.out_of_time() {
                         break;
                     }
-                    eps = eps_new.min(eps_max);
+                    eps = eps_new;
                     domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 tally.converged &= settled;
@@ -625,8 +626,8 @@ impl Ccvt {
                     if settled {
                         ""
                     } else if held {
-                        ", not settled: held at its largest, every cell reaching the boundary \
-                         (too few generators for Algorithm 2's estimate)"
+                        ", not settled: held where every cell reaches the boundary (too few \
+                         generators for Algorithm 2's estimate)"
                     } else {
                         ", not settled"
                     }

@@ -551,10 +551,11 @@ fn settled_epsilon(notes: &[String]) -> f64 {
 
 /// Where every cell of the CVT of Ω_ε reaches ∂Ω_ε (three generators on a sliver's three
 /// corners), Algorithm 2's ε has no fixed point: it grew with Ω_ε itself (to 14.6 spacings
-/// here, to thousands where a graded field made the sliver coarse), each ε-phase on a larger
-/// domain than the last. It is held at ten spacings, and the note says why.
+/// here in 30 updates, to thousands where a graded field made the sliver coarse), each
+/// ε-phase on a larger domain than the last. It keeps its first estimate, and the note says
+/// why it did not settle.
 #[test]
-fn an_epsilon_without_a_fixed_point_is_held_at_ten_spacings() {
+fn an_epsilon_without_a_fixed_point_keeps_its_first_estimate() {
     let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 12.0)].map(|(x, y)| geometry::DVec2::new(x, y));
     let sliver = Region::from_loops(
         "sliver",
@@ -571,7 +572,10 @@ fn an_epsilon_without_a_fixed_point_is_held_at_ten_spacings() {
         .iter()
         .find(|n| n.starts_with("epsilon = "))
         .expect("an epsilon note");
-    assert!(note.contains("held at its largest"), "{note}");
+    assert!(
+        note.contains("held where every cell reaches the boundary"),
+        "{note}"
+    );
     let rel: f64 = note
         .split('(')
         .nth(1)
@@ -581,7 +585,9 @@ fn an_epsilon_without_a_fixed_point_is_held_at_ten_spacings() {
         .unwrap()
         .parse()
         .unwrap();
-    assert!((rel - 10.0).abs() < 1e-9, "{note}");
+    // The mean farthest distance in the CVT of the sliver itself: its three cells about four
+    // units long, 1.5 spacings apart.
+    assert!(rel > 1.0 && rel < 2.0, "{note}");
     assert!(!r.converged, "an ε that did not settle is not converged");
     check_conforming(&r.mesh, &sliver).unwrap();
 }
