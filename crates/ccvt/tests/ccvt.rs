@@ -538,15 +538,21 @@ fn active_set_steps_converge_to_a_mesh_as_good() {
     }
 }
 
-/// ε settled by Algorithm 2 (relative to the spacing), from the run's notes.
-fn settled_epsilon(notes: &[String]) -> f64 {
+/// Algorithm 2's ε (relative to the spacing) and its note, from the run's notes.
+fn epsilon_note(notes: &[String]) -> (f64, &String) {
     let note = notes
         .iter()
         .find(|n| n.starts_with("epsilon = "))
         .expect("an epsilon note");
-    assert!(!note.contains("not settled"), "{note}");
     let rel = note.split('(').nth(1).unwrap().split(' ').next().unwrap();
-    rel.parse().unwrap()
+    (rel.parse().unwrap(), note)
+}
+
+/// ε settled by Algorithm 2 (relative to the spacing), from the run's notes.
+fn settled_epsilon(notes: &[String]) -> f64 {
+    let (rel, note) = epsilon_note(notes);
+    assert!(!note.contains("not settled"), "{note}");
+    rel
 }
 
 /// Where every cell of the CVT of Ω_ε reaches ∂Ω_ε (three generators on a sliver's three
@@ -567,24 +573,11 @@ fn an_epsilon_without_a_fixed_point_keeps_its_first_estimate() {
     let r = Ccvt::algorithm2()
         .mesh(&sliver, &req, &mut |_| {})
         .expect("mesh");
-    let note = r
-        .notes
-        .iter()
-        .find(|n| n.starts_with("epsilon = "))
-        .expect("an epsilon note");
+    let (rel, note) = epsilon_note(&r.notes);
     assert!(
         note.contains("held where every cell reaches the boundary"),
         "{note}"
     );
-    let rel: f64 = note
-        .split('(')
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
     // The mean farthest distance in the CVT of the sliver itself: its three cells about four
     // units long, 1.5 spacings apart.
     assert!(rel > 1.0 && rel < 2.0, "{note}");
