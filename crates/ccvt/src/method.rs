@@ -594,10 +594,11 @@ impl Ccvt {
                     }
                     // Every cell reaches ∂Ω_ε (a part that gets little more than its corners'
                     // generators): the mean farthest distance grows with ε itself and has no
-                    // fixed point. It ran to thousands of spacings, each ε-phase on a larger
-                    // Ω_ε than the last, where a graded field's values outside Ω pulled the
-                    // generators away (over ten minutes for 16 generators). ε stays where it
-                    // is, or takes the first estimate if there is none yet.
+                    // fixed point. Followed, Ω_ε grows without end, each ε-phase costs more
+                    // than the last, and a size field's values far outside Ω (an extension,
+                    // not the field) draw the generators away (docs/design-notes.md,
+                    // "Algorithm 2's edge cases"). So ε stays where it is, or takes the first
+                    // estimate if there is none yet.
                     if boundary.len() == work.cells.cells.len() {
                         held = true;
                         if eps == 0.0 {
