@@ -13,19 +13,16 @@ use cvtmesh::{check_conforming, MeshRequest, Method};
 use geometry::{DVec2, Region, SizeField, Threshold, Toward};
 use libfuzzer_sys::fuzz_target;
 
-#[path = "common/loops.rs"]
-mod loops;
+#[path = "common/meshing.rs"]
+mod meshing;
 
 fuzz_target!(
-    init: {
-        // One fuzzing process is one core: rayon would otherwise start a worker per core.
-        let _ = rayon::ThreadPoolBuilder::new().num_threads(1).build_global();
-    },
+    init: meshing::one_core(),
     |data: &[u8]| {
         let [head, flags, ratio, dists, target, rest @ ..] = data else {
             return;
         };
-        let Ok(region) = Region::from_loops("fuzz", loops::loops_from(rest)) else {
+        let Ok(region) = Region::from_loops("fuzz", meshing::loops_from(rest)) else {
             return;
         };
         let region = region.with_default_corners();

@@ -1,5 +1,5 @@
-//! Loops from fuzzed bytes, shared by the meshing targets: small integer coordinates make
-//! collinear, touching and crossing loops common.
+//! What the meshing targets share: loops from fuzzed bytes (small integer coordinates make
+//! collinear, touching and crossing loops common), and one core per fuzzing process.
 
 use geometry::{DVec2, LoopRole};
 
@@ -23,4 +23,10 @@ pub fn loops_from(mut bytes: &[u8]) -> Vec<(LoopRole, Vec<DVec2>)> {
         bytes = &bytes[1 + 2 * n..];
     }
     loops
+}
+
+/// Rayon on one thread: one fuzzing process is one core (rayon would otherwise start a worker
+/// per core).
+pub fn one_core() {
+    let _ = rayon::ThreadPoolBuilder::new().num_threads(1).build_global();
 }
