@@ -28,5 +28,7 @@ pub fn loops_from(mut bytes: &[u8]) -> Vec<(LoopRole, Vec<DVec2>)> {
 /// Rayon on one thread: one fuzzing process is one core (rayon would otherwise start a worker
 /// per core).
 pub fn one_core() {
-    let _ = rayon::ThreadPoolBuilder::new().num_threads(1).build_global();
+    let _ = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build_global();
 }
