@@ -562,6 +562,8 @@ impl Ccvt {
                     domain = expanded(region, &mut eps, tol_poly, &mut closing);
                 }
                 let (mut settled, mut held) = (false, false);
+                // The estimate ε settled below, where a larger ε closes a hole.
+                let mut capped: Option<f64> = None;
                 for _ in 0..self.max_eps_updates {
                     work.retarget(&domain);
                     let r = tally.run(
@@ -610,27 +612,46 @@ impl Ccvt {
                     if request.out_of_time() {
                         break;
                     }
-                    eps = eps_new;
-                    domain = expanded(region, &mut eps, tol_poly, &mut closing);
+                    let mut next = eps_new;
+                    let next_domain = expanded(region, &mut next, tol_poly, &mut closing);
+                    // A larger ε would close a hole, and the reduced one is the ε just used:
+                    // the estimate has no fixed point Ω_ε can reach, and followed it would
+                    // come back to this ε in every update (each one expanding Ω_ε several
+                    // times). ε settles at the largest value that keeps every hole.
+                    if next < eps_new && (next - eps).abs() < self.eps_tol * spacing {
+                        settled = true;
+                        capped = Some(eps_new);
+                        break;
+                    }
+                    eps = next;
+                    domain = next_domain;
                 }
                 tally.converged &= settled;
                 if let Some(widest) = closing.iter().copied().reduce(f64::max) {
                     notes.push(format!(
-                        "epsilon reduced by a fifth {} times where Omega_epsilon closed a hole \
+                        "epsilon reduced by a fifth {} where Omega_epsilon closed a hole \
                          (the largest that did: {widest:.4e})",
-                        closing.len()
+                        match closing.len() {
+                            1 => "once".to_string(),
+                            n => format!("{n} times"),
+                        }
                     ));
                 }
                 notes.push(format!(
                     "epsilon = {eps:.6e} ({:.4} of the spacing){}",
                     eps / spacing,
-                    if settled {
-                        ""
+                    if let Some(estimate) = capped {
+                        format!(
+                            ", held below its estimate {estimate:.4e}, which would close a hole"
+                        )
+                    } else if settled {
+                        String::new()
                     } else if held {
                         ", not settled: held where every cell reaches the boundary (too few \
                          generators for Algorithm 2's estimate)"
+                            .to_string()
                     } else {
-                        ", not settled"
+                        ", not settled".to_string()
                     }
                 ));
                 domain
@@ -819,8 +840,15 @@ impl Mesher for Ccvt {
 }
 
 /// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
-/// meshed); each ε that closed one is pushed to `closing`, for a note.
+/// meshed); each ε that closed one is pushed to `closing`, for a note. An ε at or above the
+/// smallest that closed a hole so far starts a fifth below that one, so that every estimate
+/// beyond a hole's limit comes to the same ε (which is how the ε loop sees it settle there).
 fn expanded(region: &Region, eps: &mut f64, tol: f64, closing: &mut Vec<f64>) -> geometry::Polygon {
+    if let Some(closes) = closing.iter().copied().reduce(f64::min) {
+        if *eps >= closes {
+            *eps = 0.8 * closes;
+        }
+    }
     loop {
         let poly = region.expand(*eps, tol);
         if poly.rings.len() == region.loops().len() {

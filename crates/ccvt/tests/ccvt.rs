@@ -585,6 +585,62 @@ fn an_epsilon_without_a_fixed_point_keeps_its_first_estimate() {
     check_conforming(&r.mesh, &sliver).unwrap();
 }
 
+/// A hole that Ω_ε closes beyond some ε caps Algorithm 2's ε below its estimate. Each update
+/// used to reduce the new estimate by fifths until the hole stayed open, landing somewhere
+/// else below the cap every time, so ε never settled (here 30 updates, 195 reductions, each one
+/// an expansion of Ω_ε). Every estimate past the cap now lands on the same ε, which settles
+/// there, the largest value of the reductions that keeps the hole.
+#[test]
+fn an_epsilon_capped_by_a_hole_settles_below_its_estimate() {
+    let square = |corner: f64, side: f64| {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .map(|(i, j)| geometry::DVec2::new(corner + side * i, corner + side * j))
+            .to_vec()
+    };
+    // The hole's sides are 1.5 apart: Ω_ε closes it for every ε ≥ 0.75.
+    let region = Region::from_loops(
+        "small hole",
+        vec![
+            (geometry::LoopRole::Outer, square(0.0, 16.0)),
+            (geometry::LoopRole::Hole, square(7.0, 1.5)),
+        ],
+    )
+    .unwrap()
+    .with_default_corners();
+    let req = MeshRequest::points(20).seed(1).tol(1e-4).max_iter(1000);
+    for ccvt in [Ccvt::default(), Ccvt::algorithm2()] {
+        let r = ccvt.mesh(&region, &req, &mut |_| {}).expect("mesh");
+        let (_, note) = epsilon_note(&r.notes);
+        assert!(note.contains("held below its estimate"), "{note}");
+        let eps: f64 = note["epsilon = ".len()..]
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        // The first of the fifths below the cap.
+        assert!((0.6..0.75).contains(&eps), "{note}");
+        let reductions = r
+            .notes
+            .iter()
+            .find(|n| n.starts_with("epsilon reduced by a fifth"))
+            .expect("a note on the reductions");
+        assert!(
+            !reductions.contains(" times")
+                || reductions
+                    .split(' ')
+                    .nth(5)
+                    .unwrap()
+                    .parse::<usize>()
+                    .unwrap()
+                    <= 10,
+            "{reductions}"
+        );
+        assert!(r.converged, "{:?}", r.notes);
+        check_conforming(&r.mesh, &region).unwrap();
+    }
+}
+
 /// Starting ε near its settled value (`Ccvt::eps_start`) skips the lattice path's CVT of Ω
 /// itself: fewer phases, the same settled ε within a few tolerances, and an energy as low.
 #[test]
