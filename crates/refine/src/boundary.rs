@@ -256,7 +256,11 @@ fn split_at(
                 .chain(wrap)
                 .all(|i| segment_distance(dense[i], a, b) <= 0.25 * len)
         });
-        if ok || n > 1 << 16 {
+        // A chain's chords are followed to its bends by `follow_bends`, at its own vertices.
+        // Doubling cannot serve a chain with a sharp turn inside it (a corner dropped by the
+        // corner angle): no equal steps put a point on the turn, so the count ran to 2¹⁷ and
+        // the refinement of a handful of triangles took minutes.
+        if ok || n > 1 << 16 || matches!(piece, Piece::Chain(_)) {
             return pts;
         }
         n *= 2;

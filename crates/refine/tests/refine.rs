@@ -370,3 +370,32 @@ fn holes_a_hair_apart_at_a_small_k_are_refused_with_the_budget_named() {
         "{e}"
     );
 }
+
+/// A chain with a cusp inside it (two arcs meeting almost head-on, their corner dropped by a
+/// corner angle of 180°): no equal steps along the chain put a point on the cusp, so the
+/// chord over it always strayed more than a quarter of its length, and the curve's split was
+/// doubled to 2¹⁷ points. At K = 17 every area bound of the search built a boundary of 131 075
+/// vertices (over two minutes in release). A chain's bends are followed at its own vertices
+/// instead, and the search reaches K.
+#[test]
+fn a_chain_with_a_cusp_is_split_at_its_bends_not_doubled_to_the_cap() {
+    let region = Region::from_json_str(
+        r#"{"loops": [{"segments": [
+            {"kind": "polyline", "points": [[7, 7], [10, 10]]},
+            {"kind": "arc", "center": [9.295249570449217, 5.0], "radius": 5.049423052978629,
+             "from_deg": 81.9770071061092, "to_deg": -81.9770071061092},
+            {"kind": "arc", "center": [5.0, -1.5680693154002652], "radius": 5.240118450750885,
+             "from_deg": 17.412147932935145, "to_deg": -197.41214793293517},
+            {"kind": "polyline", "points": [[0, 0], [0, 12], [7, 7]]}]}]}"#,
+        "cusp",
+    )
+    .unwrap()
+    .with_corner_angle(180.0);
+    let r = Refine::default()
+        .mesh(&region, &MeshRequest::points(17), &mut |_| {})
+        .unwrap();
+    assert!(r.converged, "{:?}", r.notes);
+    let k = r.mesh.num_vertices();
+    assert!((12..=24).contains(&k), "{k} vertices for K = 17");
+    check_conforming(&r.mesh, &region).unwrap();
+}
