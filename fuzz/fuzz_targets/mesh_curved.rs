@@ -10,12 +10,12 @@
 //! a super-ellipse; bits 2–4: the point count; the high bit makes any loop but the first a
 //! hole) and its bytes (see [`loops_from`]).
 #![no_main]
-use cvtmesh::{check_conforming, MeshRequest, Method};
+use cvtmesh::{MeshRequest, Method};
 use geometry::{DVec2, LoopRole, Piece, Region};
 use libfuzzer_sys::fuzz_target;
 use std::f64::consts::PI;
 
-// Only its one-core init: the straight loops' decoder is the other targets'.
+// Not its straight loops' decoder, which the other targets use.
 #[allow(dead_code)]
 #[path = "common/meshing.rs"]
 mod meshing;
@@ -136,14 +136,7 @@ fuzz_target!(
         let max_iter = 1 + *cap as usize % 8;
         let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
         if let Ok(result) = method.run(&region, &request) {
-            if let Err(e) = check_conforming(&result.mesh, &region) {
-                panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");
-            }
-            if let Some(s) = cvtmesh::slivers(&result.mesh) {
-                assert!(s.count > 0 && s.count <= s.triangles, "{s:?}");
-                let _ = s.to_string();
-            }
-            let _ = cvtmesh::short_coverage(&result.mesh, &region).map(|s| s.to_string());
+            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
         }
     }
 );

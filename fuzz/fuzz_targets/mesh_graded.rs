@@ -9,7 +9,7 @@
 //! it grows (low and high nibble, in grid steps); the loop, piece or point it is toward; then
 //! the loops. The field's smallest size is one grid step, its scale set by K.
 #![no_main]
-use cvtmesh::{check_conforming, MeshRequest, Method};
+use cvtmesh::{MeshRequest, Method};
 use geometry::{DVec2, Region, SizeField, Threshold, Toward};
 use libfuzzer_sys::fuzz_target;
 
@@ -60,9 +60,7 @@ fuzz_target!(
         };
         let request = request.tol(1e-2).max_iter(max_iter);
         if let Ok(result) = method.run(&region, &request) {
-            if let Err(e) = check_conforming(&result.mesh, &region) {
-                panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");
-            }
+            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
             if let Ok(c) = cvtmesh::metrics::size_conformity(&result.mesh, &field, &region) {
                 assert!((0.0..=1.0).contains(&c.unit_share), "{c:?}");
                 assert!(c.efficiency > 0.0 && c.efficiency <= 1.0, "{c:?}");

@@ -9,7 +9,7 @@
 //! applies the cap per phase: a Newton step needs a cap of 3 or more, an active-set step 4,
 //! and the range covers them as well as the single Lloyd step of a cap of 1.
 #![no_main]
-use cvtmesh::{check_conforming, MeshRequest, Method};
+use cvtmesh::{MeshRequest, Method};
 use geometry::Region;
 use libfuzzer_sys::fuzz_target;
 
@@ -42,15 +42,7 @@ fuzz_target!(
             region
         };
         if let Ok(result) = method.run(&region.with_default_corners(), &request) {
-            if let Err(e) = check_conforming(&result.mesh, &region) {
-                panic!("{method} K={k} max_iter={max_iter}: a mesh that does not conform: {e}");
-            }
-            // What the command line reports on every mesh it writes.
-            if let Some(s) = cvtmesh::slivers(&result.mesh) {
-                assert!(s.count > 0 && s.count <= s.triangles, "{s:?}");
-                let _ = s.to_string();
-            }
-            let _ = cvtmesh::short_coverage(&result.mesh, &region).map(|s| s.to_string());
+            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
         }
     }
 );

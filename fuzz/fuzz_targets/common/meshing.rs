@@ -1,7 +1,9 @@
 //! What the meshing targets share: loops from fuzzed bytes (small integer coordinates make
-//! collinear, touching and crossing loops common), and one core per fuzzing process.
+//! collinear, touching and crossing loops common), one core per fuzzing process, and what is
+//! asked of every mesh a method hands back.
 
-use geometry::{DVec2, LoopRole};
+use cvtmesh::{check_conforming, Mesh};
+use geometry::{DVec2, LoopRole, Region};
 
 /// Up to four loops of 3 to 10 points on a 16 × 16 grid: per loop a byte for the point count
 /// (3 + value mod 8; its high bit makes any loop but the first a hole), then a byte pair per
@@ -31,4 +33,18 @@ pub fn one_core() {
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build_global();
+}
+
+/// A mesh a method returned conforms to the region (else a crash naming the run), and what the
+/// command line reports on every mesh it writes (slivers, short coverage) neither panics nor
+/// miscounts.
+pub fn check_mesh(mesh: &Mesh, region: &Region, run: &str) {
+    if let Err(e) = check_conforming(mesh, region) {
+        panic!("{run}: a mesh that does not conform: {e}");
+    }
+    if let Some(s) = cvtmesh::slivers(mesh) {
+        assert!(s.count > 0 && s.count <= s.triangles, "{s:?}");
+        let _ = s.to_string();
+    }
+    let _ = cvtmesh::short_coverage(mesh, region).map(|s| s.to_string());
 }
