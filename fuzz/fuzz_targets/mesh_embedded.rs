@@ -1,0 +1,57 @@
+//! Regions built from fuzzed loops with points embedded in them (sources, probes: vertices
+//! every mesh must keep), meshed at small K by every method: a conforming mesh that has each
+//! embedded point as a vertex at exactly its coordinates, or an error, never a panic.
+//!
+//! Bytes: the method and K (8–39) as in `mesh_loops`; the iteration cap (1–8); the count of
+//! embedded points (1–4, from the low two bits); two bytes per point, each a coordinate on a
+//! quarter of the loops' grid step (0 to 15.75), so points fall on edges, at vertices and
+//! beside them; then the loops, as `mesh_loops` reads them.
+#![no_main]
+use cvtmesh::{MeshRequest, Method};
+use geometry::{DVec2, Region};
+use libfuzzer_sys::fuzz_target;
+
+#[path = "common/meshing.rs"]
+mod meshing;
+
+fuzz_target!(
+    init: meshing::one_core(),
+    |data: &[u8]| {
+        let [head, cap, count, rest @ ..] = data else {
+            return;
+        };
+        let n = 1 + (*count & 3) as usize;
+        if rest.len() < 2 * n {
+            return;
+        }
+        let (coords, rest) = rest.split_at(2 * n);
+        let quarter = |b: u8| (b % 64) as f64 * 0.25;
+        let points: Vec<(DVec2, i64)> = coords
+            .chunks(2)
+            .enumerate()
+            .map(|(i, c)| (DVec2::new(quarter(c[0]), quarter(c[1])), i as i64 + 1))
+            .collect();
+        let Ok(region) = Region::from_loops("fuzz", meshing::loops_from(rest)) else {
+            return;
+        };
+        let Ok(region) = region.with_default_corners().with_embedded_points(points) else {
+            return;
+        };
+        let method = Method::ALL[*head as usize % Method::ALL.len()];
+        let k = 8 + (*head as usize / 8) % 32;
+        let max_iter = 1 + *cap as usize % 8;
+        let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
+        if let Ok(result) = method.run(&region, &request) {
+            let run = format!("{method} K={k} max_iter={max_iter}");
+            meshing::check_mesh(&result.mesh, &region, &run);
+            for &(p, _) in region.embedded_points() {
+                assert!(
+                    result.mesh.points.contains(&p),
+                    "{run}: the embedded point ({}, {}) is not a vertex",
+                    p.x,
+                    p.y
+                );
+            }
+        }
+    }
+);
