@@ -4,15 +4,18 @@
 //! size conformity of what comes back is measured without a panic, its shares in [0, 1].
 //!
 //! Bytes: the method and K (8–39) as in `mesh_loops`; the iteration cap (1–8), what the field
-//! is toward (bits 3–4: a loop, a piece, a point, a loop and a point) and a gradation limit of
-//! 0.3 (bit 5); the ratio of the largest size to the smallest (1–40); the distances over which
-//! it grows (low and high nibble, in grid steps); the loop, piece or point it is toward; then
-//! the loops. The field's smallest size is one grid step, its scale set by K.
+//! is toward (bits 3–4: a loop, a piece, a point, a loop and a point), a gradation limit of
+//! 0.3 (bit 5) and curved loops (bit 6: read as `mesh_curved` reads them); the ratio of the
+//! largest size to the smallest (1–40); the distances over which it grows (low and high
+//! nibble, in grid steps); the loop, piece or point it is toward; then the loops. The field's
+//! smallest size is one grid step, its scale set by K.
 #![no_main]
 use cvtmesh::{MeshRequest, Method};
 use geometry::{DVec2, Region, SizeField, Threshold, Toward};
 use libfuzzer_sys::fuzz_target;
 
+#[path = "common/curves.rs"]
+mod curves;
 #[path = "common/meshing.rs"]
 mod meshing;
 
@@ -22,7 +25,12 @@ fuzz_target!(
         let [head, flags, ratio, dists, target, rest @ ..] = data else {
             return;
         };
-        let Ok(region) = Region::from_loops("fuzz", meshing::loops_from(rest)) else {
+        let region = if flags & 0x40 != 0 {
+            Region::new("fuzz", curves::loops_from(rest), None)
+        } else {
+            Region::from_loops("fuzz", meshing::loops_from(rest))
+        };
+        let Ok(region) = region else {
             return;
         };
         let region = region.with_default_corners();
