@@ -556,10 +556,9 @@ impl Ccvt {
             Run::Paper(Algorithm::Two) | Run::FromRow => {
                 // Steps 1–3: ordinary CVTs of Ω_ε with ε updated until it settles.
                 let (mut eps, mut domain) = (self.eps_start * spacing, omega);
-                // Each ε that closed a hole, for one note.
-                let mut closing: Vec<f64> = Vec::new();
+                let mut holes = HoleLimit::new(region, tol_poly);
                 if eps > 0.0 {
-                    domain = expanded(region, &mut eps, tol_poly, &mut closing);
+                    domain = holes.expand(region, &mut eps, tol_poly);
                 }
                 let (mut settled, mut held) = (false, false);
                 // The estimate ε settled below, where a larger ε closes a hole.
@@ -605,7 +604,7 @@ impl Ccvt {
                         held = true;
                         if eps == 0.0 {
                             eps = eps_new;
-                            domain = expanded(region, &mut eps, tol_poly, &mut closing);
+                            domain = holes.expand(region, &mut eps, tol_poly);
                         }
                         break;
                     }
@@ -613,7 +612,7 @@ impl Ccvt {
                         break;
                     }
                     let mut next = eps_new;
-                    let next_domain = expanded(region, &mut next, tol_poly, &mut closing);
+                    let next_domain = holes.expand(region, &mut next, tol_poly);
                     // A larger ε would close a hole, and the reduced one is the ε just used:
                     // the estimate has no fixed point Ω_ε can reach, and followed it would
                     // come back to this ε in every update (each one expanding Ω_ε several
@@ -627,11 +626,11 @@ impl Ccvt {
                     domain = next_domain;
                 }
                 tally.converged &= settled;
-                if let Some(widest) = closing.iter().copied().reduce(f64::max) {
+                if let Some(widest) = holes.closing.iter().copied().reduce(f64::max) {
                     notes.push(format!(
                         "epsilon reduced by a fifth {} where Omega_epsilon closed a hole \
                          (the largest that did: {widest:.4e})",
-                        match closing.len() {
+                        match holes.closing.len() {
                             1 => "once".to_string(),
                             n => format!("{n} times"),
                         }
@@ -839,23 +838,63 @@ impl Mesher for Ccvt {
     }
 }
 
-/// Ω_ε, with ε reduced until no hole vanishes (a hole without boundary generators could not be
-/// meshed); each ε that closed one is pushed to `closing`, for a note. An ε at or above the
-/// smallest that closed a hole so far starts a fifth below that one, so that every estimate
-/// beyond a hole's limit comes to the same ε (which is how the ε loop sees it settle there).
-fn expanded(region: &Region, eps: &mut f64, tol: f64, closing: &mut Vec<f64>) -> geometry::Polygon {
-    if let Some(closes) = closing.iter().copied().reduce(f64::min) {
-        if *eps >= closes {
-            *eps = 0.8 * closes;
+/// What Algorithm 2's ε loop knows of the limit the holes set on ε: every ε that closed a hole
+/// (for a note), the largest that kept them all, and an ε above which one surely closes.
+struct HoleLimit {
+    closing: Vec<f64>,
+    keeps: f64,
+    /// The smallest hole's radius of equal area, plus the polygon's tolerance: no disc wider
+    /// than that fits in the hole, so Ω_ε covers it for any larger ε. Expanding there is
+    /// wasted, and dearest just past a round hole's radius, where the offsets of all its
+    /// edges cross one another.
+    surely_closes: f64,
+}
+
+impl HoleLimit {
+    fn new(region: &Region, tol: f64) -> HoleLimit {
+        let smallest = region
+            .loops()
+            .iter()
+            .filter(|l| l.role == geometry::LoopRole::Hole)
+            .map(|l| {
+                let area: f64 = l
+                    .pieces
+                    .iter()
+                    .map(|&p| region.pieces()[p].area_integral())
+                    .sum();
+                (area.abs() / std::f64::consts::PI).sqrt()
+            })
+            .fold(f64::INFINITY, f64::min);
+        HoleLimit {
+            closing: Vec::new(),
+            keeps: 0.0,
+            surely_closes: smallest + tol,
         }
     }
-    loop {
-        let poly = region.expand(*eps, tol);
-        if poly.rings.len() == region.loops().len() {
-            return poly;
+
+    /// Ω_ε, with ε reduced by fifths until no hole vanishes (a hole without boundary generators
+    /// could not be meshed), but never below the largest ε that kept every hole; an ε at or
+    /// above the smallest that closed one starts a fifth below that one. Once the limit is
+    /// bracketed, every estimate past it comes to the same ε, which is how the ε loop sees ε
+    /// settle there instead of alternating between an estimate that keeps the holes and one
+    /// that does not.
+    fn expand(&mut self, region: &Region, eps: &mut f64, tol: f64) -> geometry::Polygon {
+        if let Some(closes) = self.closing.iter().copied().reduce(f64::min) {
+            if *eps >= closes {
+                *eps = (0.8 * closes).max(self.keeps);
+            }
         }
-        closing.push(*eps);
-        *eps *= 0.8;
+        loop {
+            if *eps <= self.surely_closes {
+                let poly = region.expand(*eps, tol);
+                if poly.rings.len() == region.loops().len() {
+                    self.keeps = self.keeps.max(*eps);
+                    return poly;
+                }
+            }
+            self.closing.push(*eps);
+            *eps = (0.8 * *eps).max(self.keeps);
+        }
     }
 }
 
