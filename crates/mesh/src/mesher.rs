@@ -278,8 +278,9 @@ impl MeshRequest {
     /// is not a positive finite number ([`MeshError::InvalidTolerance`]); an iteration cap of 0
     /// ([`MeshError::ZeroMaxIter`]); a polish threshold outside 0–60°
     /// ([`MeshError::InvalidPolish`]); a density that is negative or not finite
-    /// ([`MeshError::InvalidDensity`]) or zero ([`MeshError::ZeroDensity`]) at every point of a
-    /// 201 × 201 grid over the region's bounding box that lies in the region; a region of
+    /// ([`MeshError::InvalidDensity`], naming the first such point in the order of
+    /// [`Region::inside_grid`]) or zero ([`MeshError::ZeroDensity`]) at every centre of the
+    /// region's inside grid ([`geometry::INSIDE_GRID`]² cells over its bounding box); a region of
     /// several parts ([`MeshError::SeveralParts`]: [`Mesher::mesh_parts`] meshes those). Every
     /// method calls this first.
     pub fn validate(&self, region: &Region) -> Result<usize, MeshError> {
@@ -503,26 +504,14 @@ fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
     if density.is_uniform() {
         return Ok(());
     }
-    const N: usize = 200;
-    let (lo, hi) = region.bbox();
-    // The inside tests (signed-distance queries) in parallel; the bad value named is the
-    // first by x, then y, as a scan of the grid column by column would meet it.
-    let at = |k: usize| {
-        let (i, j) = (k / (N + 1), k % (N + 1));
-        lo + (hi - lo) * DVec2::new(i as f64 / N as f64, j as f64 / N as f64)
-    };
-    let values: Vec<Option<f64>> = (0..(N + 1) * (N + 1))
-        .into_par_iter()
-        .map(|k| {
-            let p = at(k);
-            region.contains(p).then(|| density.at(p))
-        })
-        .collect();
+    // The region's own inside grid: its inside tests are made once per region, where a grid
+    // of this check's own made them again at every validation (a method's, a part's, a
+    // level's), 40 000 signed distances each time.
+    let (centres, _) = region.inside_grid();
+    let values: Vec<f64> = centres.par_iter().map(|&p| density.at(p)).collect();
     let mut positive = false;
-    for (k, value) in values.into_iter().enumerate() {
-        let Some(value) = value else { continue };
+    for (&p, &value) in centres.iter().zip(&values) {
         if !value.is_finite() || value < 0.0 {
-            let p = at(k);
             return Err(MeshError::InvalidDensity {
                 x: p.x,
                 y: p.y,
