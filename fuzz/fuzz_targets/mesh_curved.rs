@@ -10,7 +10,7 @@
 //! a super-ellipse; bits 2–4: the point count; the high bit makes any loop but the first a
 //! hole) and its bytes (see `curves::loops_from`).
 #![no_main]
-use cvtmesh::{MeshRequest, Method};
+use cvtmesh::MeshRequest;
 use geometry::Region;
 use libfuzzer_sys::fuzz_target;
 
@@ -40,12 +40,10 @@ fuzz_target!(
         } else {
             region.with_default_corners()
         };
-        let method = Method::ALL[*head as usize % Method::ALL.len()];
-        let k = 8 + (*head as usize / 8) % 32;
-        let max_iter = 1 + *cap as usize % 8;
-        let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
-        if let Ok(result) = method.run(&region, &request) {
-            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
+        let run = meshing::Run::new(*head, *cap);
+        let request = run.capped(MeshRequest::points(run.k));
+        if let Ok(result) = run.method.run(&region, &request) {
+            meshing::check_mesh(&result.mesh, &region, &run.to_string());
         }
     }
 );

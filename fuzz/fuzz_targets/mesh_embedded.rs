@@ -7,7 +7,7 @@
 //! quarter of the loops' grid step (0 to 15.75), so points fall on edges, at vertices and
 //! beside them; then the loops, as `mesh_loops` reads them.
 #![no_main]
-use cvtmesh::{MeshRequest, Method};
+use cvtmesh::MeshRequest;
 use geometry::{DVec2, Region};
 use libfuzzer_sys::fuzz_target;
 
@@ -37,13 +37,10 @@ fuzz_target!(
         let Ok(region) = region.with_default_corners().with_embedded_points(points) else {
             return;
         };
-        let method = Method::ALL[*head as usize % Method::ALL.len()];
-        let k = 8 + (*head as usize / 8) % 32;
-        let max_iter = 1 + *cap as usize % 8;
-        let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
-        if let Ok(result) = method.run(&region, &request) {
-            let run = format!("{method} K={k} max_iter={max_iter}");
-            meshing::check_mesh(&result.mesh, &region, &run);
+        let run = meshing::Run::new(*head, *cap);
+        let request = run.capped(MeshRequest::points(run.k));
+        if let Ok(result) = run.method.run(&region, &request) {
+            meshing::check_mesh(&result.mesh, &region, &run.to_string());
             for &(p, _) in region.embedded_points() {
                 assert!(
                     result.mesh.points.contains(&p),

@@ -10,7 +10,7 @@
 //! nibble, in grid steps); the loop, piece or point it is toward; then the loops. The field's
 //! smallest size is one grid step, its scale set by K.
 #![no_main]
-use cvtmesh::{MeshRequest, Method};
+use cvtmesh::MeshRequest;
 use geometry::{DVec2, Region, SizeField, Threshold, Toward};
 use libfuzzer_sys::fuzz_target;
 
@@ -60,15 +60,13 @@ fuzz_target!(
         } else {
             field
         };
-        let method = Method::ALL[*head as usize % Method::ALL.len()];
-        let k = 8 + (*head as usize / 8) % 32;
-        let max_iter = 1 + *flags as usize % 8;
-        let Ok(request) = MeshRequest::size_field(&field, &region, Some(k)) else {
+        let run = meshing::Run::new(*head, *flags);
+        let Ok(request) = MeshRequest::size_field(&field, &region, Some(run.k)) else {
             return;
         };
-        let request = request.tol(1e-2).max_iter(max_iter);
-        if let Ok(result) = method.run(&region, &request) {
-            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
+        let request = run.capped(request);
+        if let Ok(result) = run.method.run(&region, &request) {
+            meshing::check_mesh(&result.mesh, &region, &run.to_string());
             if let Ok(c) = cvtmesh::metrics::size_conformity(&result.mesh, &field, &region) {
                 assert!((0.0..=1.0).contains(&c.unit_share), "{c:?}");
                 assert!(c.efficiency > 0.0 && c.efficiency <= 1.0, "{c:?}");

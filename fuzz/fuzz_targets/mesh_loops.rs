@@ -9,7 +9,7 @@
 //! applies the cap per phase: a Newton step needs a cap of 3 or more, an active-set step 4,
 //! and the range covers them as well as the single Lloyd step of a cap of 1.
 #![no_main]
-use cvtmesh::{MeshRequest, Method};
+use cvtmesh::MeshRequest;
 use geometry::Region;
 use libfuzzer_sys::fuzz_target;
 
@@ -26,10 +26,8 @@ fuzz_target!(
         let Ok(region) = Region::from_loops("fuzz", loops) else {
             return;
         };
-        let method = Method::ALL[*head as usize % Method::ALL.len()];
-        let k = 8 + (*head as usize / 8) % 32;
-        let max_iter = 1 + *cap as usize % 8;
-        let request = MeshRequest::points(k).tol(1e-2).max_iter(max_iter);
+        let run = meshing::Run::new(*head, *cap);
+        let request = run.capped(MeshRequest::points(run.k));
         // The high bit simplifies the loops first, at 0 to 7.5 grid steps.
         let region = if cap & 0x80 != 0 {
             let tol = ((cap >> 3) & 0x0f) as f64 * 0.5;
@@ -41,8 +39,8 @@ fuzz_target!(
         } else {
             region
         };
-        if let Ok(result) = method.run(&region.with_default_corners(), &request) {
-            meshing::check_mesh(&result.mesh, &region, &format!("{method} K={k} max_iter={max_iter}"));
+        if let Ok(result) = run.method.run(&region.with_default_corners(), &request) {
+            meshing::check_mesh(&result.mesh, &region, &run.to_string());
         }
     }
 );

@@ -548,6 +548,16 @@ fn epsilon_note(notes: &[String]) -> (f64, &String) {
     (rel.parse().unwrap(), note)
 }
 
+/// ε itself, in the region's units, from its note (`epsilon = 1.2e0 (0.69 of the spacing)…`).
+fn absolute_epsilon(note: &str) -> f64 {
+    note["epsilon = ".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
 /// ε settled by Algorithm 2 (relative to the spacing), from the run's notes.
 fn settled_epsilon(notes: &[String]) -> f64 {
     let (rel, note) = epsilon_note(notes);
@@ -612,12 +622,7 @@ fn an_epsilon_capped_by_a_hole_settles_below_its_estimate() {
         let r = ccvt.mesh(&region, &req, &mut |_| {}).expect("mesh");
         let (_, note) = epsilon_note(&r.notes);
         assert!(note.contains("held below its estimate"), "{note}");
-        let eps: f64 = note["epsilon = ".len()..]
-            .split(' ')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
+        let eps = absolute_epsilon(note);
         // The first of the fifths below the cap.
         assert!((0.6..0.75).contains(&eps), "{note}");
         let reductions = r
@@ -662,12 +667,7 @@ fn an_epsilon_alternating_about_a_round_holes_limit_settles() {
         .unwrap();
     let (_, note) = epsilon_note(&g.notes);
     assert!(note.contains("held below its estimate"), "{note}");
-    let eps: f64 = note["epsilon = ".len()..]
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let eps = absolute_epsilon(note);
     assert!(eps < 1.5, "{note}");
 }
 

@@ -2,8 +2,9 @@
 //! collinear, touching and crossing loops common), one core per fuzzing process, and what is
 //! asked of every mesh a method hands back.
 
-use cvtmesh::{check_conforming, Mesh};
+use cvtmesh::{check_conforming, Mesh, MeshRequest, Method};
 use geometry::{DVec2, LoopRole, Region};
+use std::fmt;
 
 /// Up to four loops of 3 to 10 points on a 16 × 16 grid: per loop a byte for the point count
 /// (3 + value mod 8; its high bit makes any loop but the first a hole), then a byte pair per
@@ -33,6 +34,36 @@ pub fn one_core() {
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build_global();
+}
+
+/// The run a target's first two bytes ask for: the method and K (8–39) from the first, the
+/// iteration cap (1–8) from the low three bits of the second.
+pub struct Run {
+    pub method: Method,
+    pub k: usize,
+    pub max_iter: usize,
+}
+
+impl Run {
+    pub fn new(head: u8, cap: u8) -> Run {
+        Run {
+            method: Method::ALL[head as usize % Method::ALL.len()],
+            k: 8 + (head as usize / 8) % 32,
+            max_iter: 1 + cap as usize % 8,
+        }
+    }
+
+    /// `request` at a loose tolerance and the run's cap: robustness, not convergence, is
+    /// under test.
+    pub fn capped(&self, request: MeshRequest) -> MeshRequest {
+        request.tol(1e-2).max_iter(self.max_iter)
+    }
+}
+
+impl fmt::Display for Run {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} K={} max_iter={}", self.method, self.k, self.max_iter)
+    }
 }
 
 /// A mesh a method returned conforms to the region (else a crash naming the run), and what the
