@@ -504,9 +504,8 @@ fn check_density(density: &Density, region: &Region) -> Result<(), MeshError> {
     if density.is_uniform() {
         return Ok(());
     }
-    // The region's own inside grid: its inside tests are made once per region, where a grid
-    // of this check's own made them again at every validation (a method's, a part's, a
-    // level's), 40 000 signed distances each time.
+    // The region's own inside grid: its inside tests are made once per region and shared by
+    // every validation (the command's, a method's, each part's and level's).
     let (centres, _) = region.inside_grid();
     let values: Vec<f64> = centres.par_iter().map(|&p| density.at(p)).collect();
     let mut positive = false;

@@ -258,8 +258,8 @@ fn split_at(
         });
         // A chain's chords are followed to its bends by `follow_bends`, at its own vertices.
         // Doubling cannot serve a chain with a sharp turn inside it (a corner dropped by the
-        // corner angle): no equal steps put a point on the turn, so the count ran to 2¹⁷ and
-        // the refinement of a handful of triangles took minutes.
+        // corner angle): no equal steps put a point on the turn, and the count would run to
+        // the cap whatever the spacing.
         if ok || n > 1 << 16 || matches!(piece, Piece::Chain(_)) {
             return pts;
         }
