@@ -17,8 +17,6 @@ use libfuzzer_sys::fuzz_target;
 #[path = "common/curves.rs"]
 mod curves;
 
-// Not its straight loops' decoder, which the other targets use.
-#[allow(dead_code)]
 #[path = "common/meshing.rs"]
 mod meshing;
 

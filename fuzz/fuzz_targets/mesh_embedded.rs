@@ -11,6 +11,8 @@ use cvtmesh::MeshRequest;
 use geometry::{DVec2, Region};
 use libfuzzer_sys::fuzz_target;
 
+#[path = "common/loops.rs"]
+mod loops;
 #[path = "common/meshing.rs"]
 mod meshing;
 
@@ -31,7 +33,7 @@ fuzz_target!(
             .enumerate()
             .map(|(i, c)| (DVec2::new(quarter(c[0]), quarter(c[1])), i as i64 + 1))
             .collect();
-        let Ok(region) = Region::from_loops("fuzz", meshing::loops_from(rest)) else {
+        let Ok(region) = Region::from_loops("fuzz", loops::loops_from(rest)) else {
             return;
         };
         let Ok(region) = region.with_default_corners().with_embedded_points(points) else {

@@ -16,6 +16,8 @@ use libfuzzer_sys::fuzz_target;
 
 #[path = "common/curves.rs"]
 mod curves;
+#[path = "common/loops.rs"]
+mod loops;
 #[path = "common/meshing.rs"]
 mod meshing;
 
@@ -28,7 +30,7 @@ fuzz_target!(
         let region = if flags & 0x40 != 0 {
             Region::new("fuzz", curves::loops_from(rest), None)
         } else {
-            Region::from_loops("fuzz", meshing::loops_from(rest))
+            Region::from_loops("fuzz", loops::loops_from(rest))
         };
         let Ok(region) = region else {
             return;

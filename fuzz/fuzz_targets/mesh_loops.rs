@@ -13,6 +13,8 @@ use cvtmesh::MeshRequest;
 use geometry::Region;
 use libfuzzer_sys::fuzz_target;
 
+#[path = "common/loops.rs"]
+mod loops;
 #[path = "common/meshing.rs"]
 mod meshing;
 
@@ -22,7 +24,7 @@ fuzz_target!(
         let [head, cap, rest @ ..] = data else {
             return;
         };
-        let loops = meshing::loops_from(rest);
+        let loops = loops::loops_from(rest);
         let Ok(region) = Region::from_loops("fuzz", loops) else {
             return;
         };
