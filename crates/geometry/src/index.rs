@@ -3,8 +3,9 @@
 //! loop order with their neighbours and end tangents, and searched with a bounding-volume
 //! hierarchy (branch and bound on box distances).
 use crate::numeric::box_dist2;
-use crate::piece::{FootAt, Piece};
+use crate::piece::{Foot, FootAt, Piece};
 use crate::predicates::closest_on_segment;
+use crate::se::{Samples, SuperEllipse};
 use glam::DVec2;
 
 /// One boundary element.
@@ -203,8 +204,19 @@ pub(crate) struct Index {
     piece_bvh: Vec<Option<Bvh>>,
     /// Cumulative arc length at the start of each chain segment element (0 otherwise).
     pub s0: Vec<f64>,
-    /// Octant lengths of each super-ellipse piece (for fast arc-length parameters).
-    se_lengths: Vec<(f64, f64)>,
+    /// What each super-ellipse piece's queries share, made once.
+    curves: Vec<Option<CurveQueries>>,
+}
+
+/// A super-ellipse piece with what every query on it would otherwise remake: its
+/// closest-point samples, its octant lengths (arc-length parameters) and the outer radius of
+/// the annulus holding it (the nearest-element search's lower bound).
+#[derive(Clone, Debug)]
+struct CurveQueries {
+    curve: SuperEllipse,
+    samples: Samples,
+    lengths: (f64, f64),
+    outer: f64,
 }
 
 impl Index {
@@ -283,9 +295,17 @@ impl Index {
             .iter()
             .map(|&(a, b)| (b - a > 16).then(|| Bvh::build(&boxes, (a..b).collect())))
             .collect();
-        let se_lengths = pieces
+        let curves = pieces
             .iter()
-            .map(|p| p.superellipse().map_or((0.0, 0.0), |s| s.octant_lengths()))
+            .map(|p| {
+                p.superellipse().map(|curve| CurveQueries {
+                    curve,
+                    samples: curve.samples(),
+                    lengths: curve.octant_lengths(),
+                    // The curve lies within max(a,b)·2^{1/2−1/n} of its centre.
+                    outer: curve.a.max(curve.b) * 2f64.powf(0.5 - 1.0 / curve.n),
+                })
+            })
             .collect();
         Index {
             elems,
@@ -293,7 +313,7 @@ impl Index {
             piece_elems,
             piece_bvh,
             s0,
-            se_lengths,
+            curves,
         }
     }
 
@@ -323,20 +343,24 @@ impl Index {
             }
             None => {
                 let piece = &pieces[el.piece as usize];
-                if let Piece::SuperEllipse {
-                    center, a, b, n, ..
-                } = piece
-                {
-                    // The curve lies in the annulus min(a,b) ≤ |x − c| ≤ max(a,b)·2^{1/2−1/n}.
-                    let r = p.distance(*center);
-                    let lb = (r - a.max(*b) * 2f64.powf(0.5 - 1.0 / n))
-                        .max(a.min(*b) - r)
-                        .max(0.0);
-                    if lb * lb >= best {
-                        return f64::INFINITY;
+                let f = match &self.curves[el.piece as usize] {
+                    Some(c) => {
+                        // The curve lies in the annulus min(a,b) ≤ |x − c| ≤ outer.
+                        let r = p.distance(c.curve.c);
+                        let lb = (r - c.outer).max(c.curve.a.min(c.curve.b) - r).max(0.0);
+                        if lb * lb >= best {
+                            return f64::INFINITY;
+                        }
+                        let (point, d2, t) = c.curve.closest_sampled(p, &c.samples);
+                        Foot {
+                            point,
+                            d2,
+                            aux: t,
+                            end: FootAt::Interior,
+                        }
                     }
-                }
-                let f = piece.foot(p);
+                    None => piece.foot(p),
+                };
                 if f.d2 < best {
                     *out = Hit {
                         elem: e,
@@ -395,13 +419,10 @@ impl Index {
         let el = &self.elems[hit.elem as usize];
         match el.seg {
             Some((a, b)) => self.s0[hit.elem as usize] + (hit.aux - el.sub as f64) * a.distance(b),
-            None => {
-                let piece = &pieces[el.piece as usize];
-                match piece.superellipse() {
-                    Some(s) => s.arc_length_with(hit.aux, self.se_lengths[el.piece as usize]),
-                    None => piece.arc_length_at(hit.aux),
-                }
-            }
+            None => match &self.curves[el.piece as usize] {
+                Some(c) => c.curve.arc_length_with(hit.aux, c.lengths),
+                None => pieces[el.piece as usize].arc_length_at(hit.aux),
+            },
         }
     }
 

@@ -40,6 +40,10 @@ const OCTANTS: [(usize, bool, f64, f64); 8] = [
 /// Samples per canonical octant for the global stage of the closest-point search.
 const SAMPLES: usize = 8;
 
+/// The closest-point search's sample points of one curve ([`SuperEllipse::samples`]).
+#[derive(Clone, Debug)]
+pub(crate) struct Samples([DVec2; 2 * SAMPLES + 2]);
+
 impl SuperEllipse {
     pub fn new(c: DVec2, a: f64, b: f64, n: f64, ccw: bool) -> Self {
         let ni = (n.fract() == 0.0 && (2.0..=64.0).contains(&n)).then_some(n as i32);
@@ -202,8 +206,26 @@ impl SuperEllipse {
         (r.x / self.a).abs().powf(self.n) + (r.y / self.b).abs().powf(self.n) - 1.0
     }
 
+    /// The points of the closest-point search's global stage: both canonical octants of the
+    /// first quadrant at u = i / SAMPLES.
+    pub fn samples(&self) -> Samples {
+        let mut s = [DVec2::ZERO; 2 * SAMPLES + 2];
+        for o in 0..2 {
+            for i in 0..=SAMPLES {
+                s[o * (SAMPLES + 1) + i] = self.canon(o, i as f64 / SAMPLES as f64);
+            }
+        }
+        Samples(s)
+    }
+
     /// Nearest point to p: (point, squared distance, loop parameter t).
     pub fn closest(&self, p: DVec2) -> (DVec2, f64, f64) {
+        self.closest_sampled(p, &self.samples())
+    }
+
+    /// [`closest`](Self::closest) with the curve's `samples()` made beforehand: a curve
+    /// queried many times makes them once (each costs two powers at a non-integer exponent).
+    pub fn closest_sampled(&self, p: DVec2, samples: &Samples) -> (DVec2, f64, f64) {
         let mut r = p - self.c;
         if !self.ccw {
             r.y = -r.y;
@@ -212,13 +234,7 @@ impl SuperEllipse {
         let q = r.abs();
         // Global stage: samples along both canonical octants of the first quadrant (the
         // nearest point of a point in the closed first quadrant lies in it, by symmetry).
-        let mut d = [0.0f64; 2 * SAMPLES + 2];
-        for o in 0..2 {
-            for i in 0..=SAMPLES {
-                let u = i as f64 / SAMPLES as f64;
-                d[o * (SAMPLES + 1) + i] = (self.canon(o, u) - q).length_squared();
-            }
-        }
+        let d = samples.0.map(|s| (s - q).length_squared());
         // Local minima of the sampled squared distance, best first (up to three).
         let nseq = d.len();
         let mut minima: Vec<usize> = (0..nseq)
@@ -273,10 +289,13 @@ impl SuperEllipse {
     /// Returns (u, point, squared distance).
     fn refine(&self, o: usize, lo: f64, mid: f64, hi: f64, q: DVec2) -> (f64, DVec2, f64) {
         let (mut a, mut b, mut x) = (lo, hi, mid);
-        let mut px = self.canon(o, x);
-        let mut fx = (px - q).length_squared();
+        // The point and its derivatives at x, kept until x moves: each evaluation costs two
+        // powers at a non-integer exponent.
+        let mut at_x = self.canon3(o, x);
+        let mut fx = (at_x.0 - q).length_squared();
+        let (mut tried_lo, mut tried_hi) = (false, false);
         for _ in 0..100 {
-            let (p, d1, d2) = self.canon3(o, x);
+            let (p, d1, d2) = at_x;
             let r = p - q;
             let (f1, f2) = (r.dot(d1), d1.length_squared() + r.dot(d2));
             // At an end of the octant with the distance growing inwards: that end is it.
@@ -287,6 +306,15 @@ impl SuperEllipse {
             let newton_ok = newton > a && newton < b;
             let trial = if newton_ok {
                 newton
+            } else if f1 < 0.0 && b == hi && !tried_hi {
+                // The distance falls toward an end of the octant past Newton's reach: try the
+                // end itself once (a nearest point at the diagonal point or on an axis is
+                // common, and golden sections would only creep toward it).
+                tried_hi = true;
+                hi
+            } else if f1 > 0.0 && a == lo && !tried_lo {
+                tried_lo = true;
+                lo
             } else if x - a > b - x {
                 x - 0.381_966_011_250_105 * (x - a)
             } else {
@@ -295,8 +323,8 @@ impl SuperEllipse {
             if trial == x || b - a <= 1e-15 {
                 break;
             }
-            let pt = self.canon(o, trial);
-            let ft = (pt - q).length_squared();
+            let at_trial = self.canon3(o, trial);
+            let ft = (at_trial.0 - q).length_squared();
             let tiny = newton_ok && (trial - x).abs() < 1e-14;
             if ft <= fx {
                 if trial < x {
@@ -304,7 +332,13 @@ impl SuperEllipse {
                 } else {
                     a = x;
                 }
-                (x, px, fx) = (trial, pt, ft);
+                (x, at_x, fx) = (trial, at_trial, ft);
+            } else if newton_ok && (trial - x).abs() < 1e-6 {
+                // Newton's steps shrink quadratically, and one this short changes the squared
+                // distance by less than its rounding: the comparison says nothing, the step
+                // is the more accurate point, and the next would be below resolution.
+                (x, at_x, fx) = (trial, at_trial, ft);
+                break;
             } else if trial < x {
                 a = trial;
             } else {
@@ -314,7 +348,7 @@ impl SuperEllipse {
                 break;
             }
         }
-        (x, px, fx)
+        (x, at_x.0, fx)
     }
 
     /// Points from the start round to the start (inclusive) with chord error ≤ tol.
@@ -360,7 +394,6 @@ impl SuperEllipse {
 #[cfg(test)]
 mod tests {
     use super::*;
-
     #[test]
     fn points_lie_on_the_curve_and_octants_join() {
         for &(a, b, n) in &[
@@ -436,6 +469,75 @@ mod tests {
             let tan = s.point(t + h) - s.point((t - h).max(0.0));
             if p.distance(q) > 1e-6 {
                 assert!(((p - q).normalize().dot(tan.normalize())).abs() < 1e-6);
+            }
+        }
+    }
+
+    /// The nearest point to q (first quadrant, centre at the origin, counter-clockwise) by
+    /// brute force: every sign change of the distance's derivative along both octants,
+    /// bisected to the last bit, and both ends.
+    fn nearest_by_bisection(s: &SuperEllipse, q: DVec2) -> DVec2 {
+        let slope = |o: usize, u: f64| {
+            let (p, d1, _) = s.canon3(o, u);
+            (p - q).dot(d1)
+        };
+        let mut best = (f64::INFINITY, DVec2::ZERO);
+        let mut keep = |p: DVec2| {
+            if p.distance_squared(q) < best.0 {
+                best = (p.distance_squared(q), p);
+            }
+        };
+        const N: usize = 4000;
+        for o in 0..2 {
+            keep(s.canon(o, 0.0));
+            keep(s.canon(o, 1.0));
+            for i in 0..N {
+                let (mut a, mut b) = (i as f64 / N as f64, (i + 1) as f64 / N as f64);
+                if !(slope(o, a) < 0.0 && slope(o, b) >= 0.0) {
+                    continue;
+                }
+                for _ in 0..200 {
+                    let m = 0.5 * (a + b);
+                    if m <= a || m >= b {
+                        break;
+                    }
+                    if slope(o, m) < 0.0 {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                keep(s.canon(o, a));
+            }
+        }
+        best.1
+    }
+
+    #[test]
+    fn closest_point_is_the_stationary_point_to_rounding() {
+        // Near the minimum the squared distance is flat below its rounding, so a search that
+        // compares values alone stalls up to ~1e-8 along the curve from the true foot.
+        for &(a, b, n) in &[
+            (1.0, 0.7, 4.5),
+            (1.0, 1.0, 4.0),
+            (0.5, 0.5, 2.5),
+            (1.0, 0.6, 9.75),
+        ] {
+            let s = SuperEllipse::new(DVec2::ZERO, a, b, n, true);
+            let samples = s.samples();
+            for i in 0..=24 {
+                for j in 0..=24 {
+                    let p = DVec2::new(a * i as f64 / 16.0, b * j as f64 / 16.0);
+                    let (q, d2, _) = s.closest_sampled(p, &samples);
+                    let r = nearest_by_bisection(&s, p);
+                    // Off the diagonal's ties (two feet as near), the same foot to rounding.
+                    let tie = q.distance(r) > 1e-6 && d2 <= r.distance_squared(p) + 1e-15;
+                    assert!(
+                        q.distance(r) < 1e-12 || tie,
+                        "{a} {b} {n} {p}: {q} against {r} ({:e})",
+                        q.distance(r)
+                    );
+                }
             }
         }
     }
