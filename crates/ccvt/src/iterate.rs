@@ -96,7 +96,7 @@ fn constrain(phase: &Phase, roles: &[Role], targets: &[DVec2], mixed: &mut [DVec
         .for_each(|(p, (role, target))| {
             *p = match *role {
                 Role::Corner(_) | Role::Embedded(_) => *target,
-                Role::Boundary(j) if p.is_finite() => phase.region.project_onto_piece(*p, j).point,
+                Role::Boundary(j) if p.is_finite() => phase.region.project_point_onto_piece(*p, j),
                 Role::Boundary(_) => *target,
                 Role::Interior => {
                     if phase.inside.contains(*p) {

@@ -380,9 +380,7 @@ fn off_corner(
         .length()
         .clamp(0.1 * spacing, 0.5 * spacing)
         .min(0.5 * p.length());
-    region
-        .project_onto_piece(c.pos + into_piece * d, piece)
-        .point
+    region.project_point_onto_piece(c.pos + into_piece * d, piece)
 }
 
 /// Rings of Delaunay neighbours searched for a free generator when a corner's nearest one is

@@ -180,8 +180,8 @@ impl Dof {
 pub fn piece_tangent(region: &Region, z: DVec2, j: PieceId, spacing: f64) -> (DVec2, DVec2) {
     let along = |d: f64, e: DVec2| {
         (
-            region.project_onto_piece(z + e * d, j).point,
-            region.project_onto_piece(z - e * d, j).point,
+            region.project_point_onto_piece(z + e * d, j),
+            region.project_point_onto_piece(z - e * d, j),
         )
     };
     let d = 1e-3 * spacing;
@@ -455,7 +455,7 @@ fn moved_to(
         // Along the piece, but not past a bend of a sampled piece (see `newton_move`).
         Dof::Tangent(n) if p.is_finite() => {
             let piece = tan[n as usize].piece;
-            let q = phase.region.project_onto_piece(p, piece).point;
+            let q = phase.region.project_point_onto_piece(p, piece);
             phase.region.chain_vertex_between(z, q, piece).unwrap_or(q)
         }
         Dof::Tangent(..) => target,

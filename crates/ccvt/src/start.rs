@@ -152,7 +152,7 @@ fn with_boundary_laid_out(
                 let (p, q) = (at(&vs, start + k), at(&vs, start + k + 1));
                 let x = p.1 + (q.1 - p.1) * f;
                 let point = match p.2.or(q.2) {
-                    Some(piece) => region.project_onto_piece(x, piece).point,
+                    Some(piece) => region.project_point_onto_piece(x, piece),
                     None => region.project(x).point,
                 };
                 seeds.points.push(point);
@@ -245,7 +245,7 @@ pub(crate) fn prolongate(region: &Region, mesh: &Mesh) -> Seeds {
                     _ => None,
                 });
                 match piece {
-                    Some(j) => region.project_onto_piece(mid, j).point,
+                    Some(j) => region.project_point_onto_piece(mid, j),
                     None => region.project(mid).point,
                 }
             } else {

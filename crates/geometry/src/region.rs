@@ -554,6 +554,25 @@ impl Region {
         let hit = self.index.nearest_on_piece(&self.pieces, p, piece);
         self.boundary_point(p, &hit, Some(piece))
     }
+    /// `project_onto_piece(p, piece).point` alone: the point without its loop parameter, which
+    /// on a super-ellipse is an arc length by quadrature, several times the projection's own
+    /// cost. The same point, a corner within 1e-12·diameter reported exactly.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, Region};
+    /// let r = Region::builtin("superellipse")?;
+    /// let p = DVec2::new(0.9, 0.8);
+    /// assert_eq!(r.project_point_onto_piece(p, 0), r.project_onto_piece(p, 0).point);
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    ///
+    /// # Panics
+    /// If `piece` is not a valid piece id.
+    pub fn project_point_onto_piece(&self, p: DVec2, piece: PieceId) -> DVec2 {
+        let hit = self.index.nearest_on_piece(&self.pieces, p, piece);
+        self.corner_at(piece, hit.point)
+            .map_or(hit.point, |c| self.corners[c].pos)
+    }
     /// The first interior vertex of a sampled piece (`Piece::Chain`) met going along piece
     /// `piece` from the nearest point of `a` to that of `b`, a vertex at `a`'s own nearest point
     /// included. The piece bends there, so the energy along it has a kink: a generator moved
@@ -609,6 +628,15 @@ impl Region {
         Polygon { rings }
     }
 
+    /// The corner at an end of `piece` within 1e-12·diameter of its point `q`, if any.
+    fn corner_at(&self, piece: PieceId, q: DVec2) -> Option<usize> {
+        let tol = 1e-12 * self.diameter();
+        [self.corner_at_start[piece], self.corner_at_end[piece]]
+            .into_iter()
+            .flatten()
+            .find(|&c| self.corners[c].pos.distance(q) <= tol)
+    }
+
     fn boundary_point(&self, p: DVec2, hit: &Hit, keep_piece: Option<PieceId>) -> BoundaryPoint {
         let el = &self.index.elems[hit.elem as usize];
         let mut piece = el.piece as usize;
@@ -616,11 +644,7 @@ impl Region {
         let length = self.loops[loop_index].length;
         let mut point = hit.point;
         let mut loop_param = self.piece_offset[piece] + self.index.piece_param(&self.pieces, hit);
-        let tol = 1e-12 * self.diameter();
-        let corner = [self.corner_at_start[piece], self.corner_at_end[piece]]
-            .into_iter()
-            .flatten()
-            .find(|&c| self.corners[c].pos.distance(hit.point) <= tol);
+        let corner = self.corner_at(piece, hit.point);
         if let Some(c) = corner {
             let c = &self.corners[c];
             point = c.pos;

@@ -127,6 +127,25 @@ fn sign_agrees_with_the_polygonization_and_projection_is_exact() {
             let own = r.project_onto_piece(p, b.piece);
             assert!((own.distance - b.distance).abs() <= 1e-12 * d, "{name}");
         }
+        // The point alone is the whole projection's point on every piece, a corner met within
+        // 1e-12·diameter reported exactly by both.
+        let near_corners = r.corners().iter().map(|c| c.pos + DVec2::splat(1e-14 * d));
+        let mut some = Vec::new();
+        for _ in 0..50 {
+            some.push(DVec2::new(
+                rng.range(lo.x - 0.1 * d, hi.x + 0.1 * d),
+                rng.range(lo.y - 0.1 * d, hi.y + 0.1 * d),
+            ));
+        }
+        for p in some.into_iter().chain(near_corners) {
+            for piece in 0..r.pieces().len() {
+                assert_eq!(
+                    r.project_point_onto_piece(p, piece),
+                    r.project_onto_piece(p, piece).point,
+                    "{name}: {p} onto piece {piece}"
+                );
+            }
+        }
     }
 }
 

@@ -234,7 +234,7 @@ fn split_at(
                 0.0
             };
             let q = dense[j].lerp(dense[j + 1], t.clamp(0.0, 1.0));
-            pts.push(region.project_onto_piece(q, pid).point);
+            pts.push(region.project_point_onto_piece(q, pid));
             seg.push(j);
         }
         // Dense samples strictly after point k's own segment start, up to and including the

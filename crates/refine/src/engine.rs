@@ -768,8 +768,7 @@ impl Engine<'_> {
             pa.lerp(pb, split)
         } else if split == 0.5 {
             self.region
-                .project_onto_piece(pa.lerp(pb, 0.5), s.piece)
-                .point
+                .project_point_onto_piece(pa.lerp(pb, 0.5), s.piece)
         } else {
             // On the curve at the shell's Euclidean distance from the shell's centre end.
             let (centre, other, r) = if acute_b {
@@ -782,8 +781,7 @@ impl Engine<'_> {
                 let mid = 0.5 * (lo + hi);
                 let q = self
                     .region
-                    .project_onto_piece(centre.lerp(other, mid), s.piece)
-                    .point;
+                    .project_point_onto_piece(centre.lerp(other, mid), s.piece);
                 if (q - centre).length() < r {
                     lo = mid;
                 } else {
@@ -791,8 +789,7 @@ impl Engine<'_> {
                 }
             }
             self.region
-                .project_onto_piece(centre.lerp(other, 0.5 * (lo + hi)), s.piece)
-                .point
+                .project_point_onto_piece(centre.lerp(other, 0.5 * (lo + hi)), s.piece)
         };
         let (dm_a, dm_b) = ((m - pa).length(), (m - pb).length());
         if !m.is_finite() || dm_a < 0.05 * len || dm_b < 0.05 * len {
