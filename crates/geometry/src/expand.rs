@@ -43,6 +43,41 @@ struct RawSeg {
     piece: usize,
 }
 
+/// The inward offset by ε of a convex ring whose inside lies to the right of its edges (a
+/// hole of Ω): the ring cut by each edge's half-plane {x : (x − pᵢ)·nᵢ ≥ ε}, as vertices each
+/// with the ring edge that the offset edge from it lies along; empty when nothing is left.
+fn offset_convex_ring(
+    pts: &[DVec2],
+    eps: f64,
+    normal: impl Fn(usize) -> DVec2,
+) -> Vec<(DVec2, usize)> {
+    let mut cur: Vec<(DVec2, usize)> = pts.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+    let mut next = Vec::with_capacity(cur.len() + 1);
+    for (i, &p) in pts.iter().enumerate() {
+        let ni = normal(i);
+        let f = |x: DVec2| (x - p).dot(ni) - eps;
+        next.clear();
+        for k in 0..cur.len() {
+            let ((a, tag), (b, _)) = (cur[k], cur[(k + 1) % cur.len()]);
+            let (fa, fb) = (f(a), f(b));
+            if fa >= 0.0 {
+                next.push((a, tag));
+            }
+            if (fa >= 0.0) != (fb >= 0.0) {
+                // Leaving the half-plane, the edge from the crossing runs along edge i's
+                // offset; entering it, along the rest of a's edge.
+                let x = a + (b - a) * (fa / (fa - fb));
+                next.push((x, if fa >= 0.0 { i } else { tag }));
+            }
+        }
+        std::mem::swap(&mut cur, &mut next);
+        if cur.len() < 3 {
+            return Vec::new();
+        }
+    }
+    cur
+}
+
 /// Union–find over arrangement nodes (crossings that coincide with segment ends).
 fn find(parent: &mut [usize], mut x: usize) -> usize {
     while parent[x] != x {
@@ -139,6 +174,8 @@ fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
             }
         }
         let edge_len = |i: usize| pts[i].distance(pts[(i + 1) % n]);
+        let convex_hole = ring.hole && trim.iter().all(Option::is_some);
+        let mut swallowed = false;
         loop {
             let mut changed = false;
             for i in 0..n {
@@ -150,12 +187,25 @@ fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
                     changed = true;
                 }
             }
+            swallowed |= changed;
             if !changed {
                 break;
             }
         }
         let mut cyc: Vec<(DVec2, Source, usize)> = Vec::new();
-        for i in 0..n {
+        // An edge of a convex hole swallowed by its neighbours' crossing: the trims above
+        // are dropped and the untrimmed offsets, near the hole's closing each an edge long
+        // around a remnant far smaller, cross one another by the thousand. The hole's offset
+        // is its polygon cut by every edge's offset half-plane instead (empty once it closes).
+        let exact = if convex_hole && swallowed {
+            offset_convex_ring(pts, eps, normal)
+        } else {
+            Vec::new()
+        };
+        for &(q, i) in &exact {
+            cyc.push((q, Source::Edge(edge_base + i), ring.pieces[i]));
+        }
+        for i in (0..n).filter(|_| !(convex_hole && swallowed)) {
             let j = (i + 1) % n;
             let v = pts[j];
             let (ni, nj) = (normal(i), normal(j));

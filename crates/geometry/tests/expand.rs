@@ -212,3 +212,39 @@ fn every_builtin_expands_to_a_simple_polygon() {
         assert_eq!(r.expand(0.0, 1e-3 * d), r.polygonize(1e-3 * d));
     }
 }
+
+#[test]
+fn a_convex_hole_whose_short_edge_is_swallowed_shrinks_to_its_offset_then_closes() {
+    // A triangular hole with its apex cut off by an edge 0.024 long: from ε ≈ 0.021 on, that
+    // edge's offset lies beyond its neighbours' crossing, and the hole is the triangle's own
+    // inward offset, similar to it with inradius r − ε.
+    let xc = 0.02 / 1.7;
+    let outer = polyline(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)]);
+    let hole = polyline(&[(-xc, 0.98), (xc, 0.98), (1.0, -0.7), (-1.0, -0.7)]);
+    let r = Region::new(
+        "cut triangle",
+        vec![(LoopRole::Outer, outer), (LoopRole::Hole, hole)],
+        None,
+    )
+    .unwrap();
+    let (area, inradius) = (1.7, 3.4 / (2.0 + 2.0 * 3.89f64.sqrt()));
+    let tol = 1e-6;
+    for eps in [0.03, 0.2, 0.5, 0.57] {
+        let p = r.expand(eps, tol);
+        assert_eq!(p.rings.len(), 2, "ε {eps}");
+        let hole = -ring_signed_area(&p.rings[1].points);
+        let exact = area * ((inradius - eps) / inradius).powi(2);
+        assert!(
+            (hole - exact).abs() <= 1e-9,
+            "ε {eps}: hole {hole} against {exact}"
+        );
+        assert!(p.rings[1].pieces.iter().all(|&k| r.piece_loop(k) == 1));
+        assert_simple(&p, "cut triangle");
+        assert_distance_property(&r, &p, eps, tol, 6);
+    }
+    for eps in [inradius * (1.0 + 1e-9), 0.6] {
+        let p = r.expand(eps, tol);
+        assert_eq!(p.rings.len(), 1, "ε {eps}: the hole has closed");
+        assert_simple(&p, "cut triangle, closed");
+    }
+}
