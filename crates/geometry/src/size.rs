@@ -420,6 +420,7 @@ impl Grid {
     /// out there as inside, and a distance field has a kink on the loop it measures to.
     fn extend_outside(&mut self, inside: Vec<bool>) {
         let (nx, ny) = (self.nx, self.ny);
+        let outside: Vec<bool> = inside.iter().map(|&i| !i).collect();
         let mut set = inside;
         if !set.iter().any(|&s| s) {
             return;
@@ -437,8 +438,10 @@ impl Grid {
                 .filter(move |&(a, b)| a >= 0 && b >= 0 && a < nx as isize && b < ny as isize)
                 .map(move |(a, b)| b as usize * nx + a as usize)
         };
+        // Only the nodes outside take values: an inside node's sample stays as it is, for
+        // the field's check to refuse.
         let mut front: Vec<usize> = (0..nx * ny)
-            .filter(|&k| !set[k] && neighbours(k).any(|u| set[u]))
+            .filter(|&k| outside[k] && neighbours(k).any(|u| set[u]))
             .collect();
         // A layer's values come from the layers before it only, so the order within a layer
         // does not matter: the next one is collected unsorted, each node once (`queued`).
@@ -459,7 +462,7 @@ impl Grid {
             let mut next = Vec::with_capacity(front.len() + 8);
             for &k in &front {
                 for u in neighbours(k) {
-                    if !set[u] && !queued[u] {
+                    if outside[u] && !set[u] && !queued[u] {
                         queued[u] = true;
                         next.push(u);
                     }
@@ -946,7 +949,32 @@ impl SizeField {
         region: &Region,
         mut sample: impl FnMut(&[DVec2]) -> Result<Vec<f64>, E>,
     ) -> Result<Result<SizeField, E>, SizeFieldError> {
-        let coarse = match SizeField::from_inside_samples(region, 256, &mut sample)? {
+        // A value that is no size at a node inside the region is refused there, named with
+        // its node: between the check's points the B-spline could mix it with its neighbours
+        // out of sight.
+        enum Stop<E> {
+            Sample(E),
+            Bad(SizeFieldError),
+        }
+        let mut checked = |nodes: &[DVec2]| {
+            let values = sample(nodes).map_err(Stop::Sample)?;
+            // (All the nodes are sampled when none lies inside: those outside are free.)
+            let refused = |&(p, &v): &(&DVec2, &f64)| !usable(v) && region.contains(*p);
+            match nodes.iter().zip(&values).find(refused) {
+                Some((p, &value)) => Err(Stop::Bad(SizeFieldError::NotPositive {
+                    value,
+                    x: p.x,
+                    y: p.y,
+                })),
+                None => Ok(values),
+            }
+        };
+        let mut grid = |n: usize| match SizeField::from_inside_samples(region, n, &mut checked)? {
+            Ok(field) => Ok(Ok(field)),
+            Err(Stop::Sample(e)) => Ok(Err(e)),
+            Err(Stop::Bad(e)) => Err(e),
+        };
+        let coarse = match grid(256)? {
             Ok(field) => field,
             Err(e) => return Ok(Err(e)),
         };
@@ -954,13 +982,9 @@ impl SizeField {
             Kind::Grid(g) => g.values.iter().copied().fold(f64::INFINITY, f64::min),
             _ => f64::NAN,
         };
-        // A field that is not positive and finite somewhere is the check's to refuse.
-        if !(smallest > 0.0 && smallest.is_finite()) {
-            return Ok(Ok(coarse));
-        }
         match grid_side(region, smallest, 2048) {
             n if n <= 256 => Ok(Ok(coarse)),
-            n => SizeField::from_inside_samples(region, n, sample),
+            n => grid(n),
         }
     }
 
@@ -1629,6 +1653,50 @@ mod tests {
                 .unwrap_err(),
             "no"
         );
+    }
+
+    #[test]
+    fn a_sampled_size_that_is_no_size_somewhere_inside_is_refused_there() {
+        let r = Region::builtin("square_hole").unwrap();
+        // Zero on the right half, negative everywhere, NaN at one spot, a hair below zero on
+        // a sliver: each named with a node where it is so.
+        let cases: [(&str, fn(DVec2) -> f64); 4] = [
+            ("zero right", |p| if p.x > 0.5 { 0.0 } else { 0.1 }),
+            ("negative", |_| -1.0),
+            ("one NaN", |p| {
+                if (p - DVec2::new(0.7, 0.7)).length() < 0.01 {
+                    f64::NAN
+                } else {
+                    0.1
+                }
+            }),
+            ("sliver", |p| if p.y > 0.99 { -1e-12 } else { 0.05 }),
+        ];
+        for (what, h) in cases {
+            let e = SizeField::from_sampler(&r, |nodes| {
+                Ok::<_, ()>(nodes.iter().map(|&p| h(p)).collect())
+            })
+            .unwrap_err();
+            let SizeFieldError::NotPositive { value, x, y } = e else {
+                panic!("{what}: {e}");
+            };
+            let p = DVec2::new(x, y);
+            assert!(r.contains(p), "{what}: {p} is outside");
+            assert_eq!(value.to_bits(), h(p).to_bits(), "{what} at {p}");
+        }
+        // A density may be zero: its zeros inside stay zeros, not its neighbours' values.
+        let rho = SizeField::from_samples(&r, 128, |nodes| {
+            Ok::<_, ()>(
+                nodes
+                    .iter()
+                    .map(|p| if p.x > 0.5 { 0.0 } else { 1.0 })
+                    .collect(),
+            )
+        })
+        .unwrap()
+        .unwrap();
+        assert_eq!(rho.at(DVec2::new(0.8, 0.0)), 0.0);
+        assert_eq!(rho.at(DVec2::new(-0.8, 0.0)), 1.0);
     }
 
     #[test]

@@ -179,6 +179,14 @@ def test_size_conformity_scores_a_graded_mesh_against_any_form_of_its_field():
         cvtmesh.size_conformity(m.points, m.triangles, "circle", "x")
 
 
+def test_a_callable_size_that_is_no_size_somewhere_is_refused_with_its_value():
+    # Zero on half the square: refused, not filled in from the other half.
+    with pytest.raises(MeshError, match=r"size field is 0 at \((0\.[5-9]|1)"):
+        cvtmesh.mesh("square_hole", size=lambda xy: np.where(xy[:, 0] > 0.5, 0.0, 0.1), n=300)
+    with pytest.raises(MeshError, match="size field is -1 at"):
+        cvtmesh.mesh("square_hole", size=lambda xy: -np.ones(len(xy)), n=300)
+
+
 def test_size_expression_with_n_keeps_the_shape_and_hits_n():
     m = cvtmesh.mesh("circle", size="0.03 + 0.12*sqrt(x^2+y^2)", n=500, tol=1e-3)
     assert len(m.points) == 500
