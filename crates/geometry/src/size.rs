@@ -1660,7 +1660,8 @@ mod tests {
         let r = Region::builtin("square_hole").unwrap();
         // Zero on the right half, negative everywhere, NaN at one spot, a hair below zero on
         // a sliver: each named with a node where it is so.
-        let cases: [(&str, fn(DVec2) -> f64); 4] = [
+        type Field = fn(DVec2) -> f64;
+        let cases: [(&str, Field); 4] = [
             ("zero right", |p| if p.x > 0.5 { 0.0 } else { 0.1 }),
             ("negative", |_| -1.0),
             ("one NaN", |p| {
