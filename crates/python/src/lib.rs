@@ -35,6 +35,26 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     MeshError::new_err(e.to_string())
 }
 
+/// `a` as an int64 array, refused (naming `what`) where a value is not a whole number: numpy
+/// would truncate 2.5 to vertex 2 without a word (an index array read with `loadtxt` is
+/// floats, and whole floats are taken).
+fn whole_numbers<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    let np = a.py().import("numpy")?;
+    let a = np.call_method1("asarray", (a,))?;
+    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
+    if kind == "f" || kind == "c" {
+        let whole: bool = np
+            .call_method1("array_equal", (&a, np.call_method1("trunc", (&a,))?))?
+            .extract()?;
+        if !whole {
+            return Err(err(format!(
+                "{what} must hold whole numbers (vertex indices, markers), got a value with a fraction, NaN or infinity"
+            )));
+        }
+    }
+    np.call_method1("asarray", (a, "int64"))
+}
+
 /// Triangles of an (m, 3) integer array of 0-based vertex numbers below `n`.
 fn triangles_of(triangles: &PyReadonlyArray2<'_, i64>, n: usize) -> PyResult<Vec<[u32; 3]>> {
     if triangles.shape()[1] != 3 {
@@ -60,13 +80,10 @@ fn triangles_of(triangles: &PyReadonlyArray2<'_, i64>, n: usize) -> PyResult<Vec
     Ok(tris)
 }
 
-/// A mesh of (n, 2) points and (m, 3) 0-based triangles, its boundary read off its topology.
-fn mesh_of(
-    points: &PyReadonlyArray2<'_, f64>,
-    triangles: &PyReadonlyArray2<'_, i64>,
-) -> PyResult<Mesh> {
-    let points = points_of(points, "points")?;
-    let triangles = triangles_of(triangles, points.len())?;
+/// A mesh of any array-likes of points and 0-based triangles ([`mesh_arrays`]), its vertices'
+/// markers read from its triangles.
+fn any_mesh(points: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>, what: &str) -> PyResult<Mesh> {
+    let (points, triangles) = mesh_arrays(points, triangles, what)?;
     Ok(Mesh {
         markers: cvtmesh::io::markers_from_topology(&points, &triangles),
         points,
@@ -87,7 +104,7 @@ fn mesh_arrays(
     let points: PyReadonlyArray2<'_, f64> = points
         .extract()
         .map_err(|_| err(format!("{what}: the mesh's points must be an (n, 2) array")))?;
-    let triangles = np.call_method1("asarray", (triangles, "int64"))?;
+    let triangles = whole_numbers(triangles, "triangles")?;
     let triangles: PyReadonlyArray2<'_, i64> = triangles.extract().map_err(|_| {
         err(format!(
             "{what}: the mesh's triangles must be an (m, 3) array"
@@ -105,14 +122,11 @@ fn walls_of(
     markers: &Bound<'_, PyAny>,
     n: usize,
 ) -> PyResult<Vec<([u32; 2], i64)>> {
-    let np = edges.py().import("numpy")?;
     let bad = || err("walls must be (edges, markers): an (e, 2) integer array and e integers");
-    let edges: PyReadonlyArray2<'_, i64> = np
-        .call_method1("asarray", (edges, "int64"))?
+    let edges: PyReadonlyArray2<'_, i64> = whole_numbers(edges, "walls")?
         .extract()
         .map_err(|_| bad())?;
-    let markers: PyReadonlyArray1<'_, i64> = np
-        .call_method1("asarray", (markers, "int64"))?
+    let markers: PyReadonlyArray1<'_, i64> = whole_numbers(markers, "walls")?
         .call_method0("ravel")?
         .extract()
         .map_err(|_| bad())?;
@@ -147,11 +161,9 @@ fn pinned_of(
     markers: &Bound<'_, PyAny>,
     n: usize,
 ) -> PyResult<Vec<(u32, i64)>> {
-    let np = vertices.py().import("numpy")?;
     let bad = || err("pinned must be (vertices, markers): k vertex indices and k integers");
     let as_ints = |a: &Bound<'_, PyAny>| -> PyResult<Vec<i64>> {
-        let a: PyReadonlyArray1<'_, i64> = np
-            .call_method1("asarray", (a, "int64"))?
+        let a: PyReadonlyArray1<'_, i64> = whole_numbers(a, "pinned")?
             .call_method0("ravel")?
             .extract()
             .map_err(|_| bad())?;
@@ -601,11 +613,16 @@ impl PyMesh {
 
     /// The six-node mesh, its boundary nodes on `region` if given, else on the region the
     /// mesh was made for, else (a mesh read from a file) at its boundary edges' midpoints.
-    fn quadratic_mesh(&self, py: Python<'_>, region: Option<&PyRegion>) -> cvtmesh::Quadratic {
-        let region = region
-            .map(|r| r.inner.clone())
-            .or_else(|| self.region.clone());
-        py.detach(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref()))
+    fn quadratic_mesh(
+        &self,
+        py: Python<'_>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<cvtmesh::Quadratic> {
+        let region = match (region, &self.region) {
+            (None, None) => None,
+            _ => Some(self.conforming_region_or(py, region, "quadratic")?),
+        };
+        Ok(py.detach(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref())))
     }
 
     /// `region` if given, else the region the mesh was made for; a mesh read from a file
@@ -618,6 +635,32 @@ impl PyMesh {
                 "this mesh was read from a file: pass the region, mesh.{call}(region)"
             ))),
         }
+    }
+
+    /// [`PyMesh::region_or`], a `region` passed in checked against the mesh first: boundary
+    /// pieces, markers or six-node boundary nodes read off a region the mesh does not mesh
+    /// would be numbers without meaning.
+    fn conforming_region_or(
+        &self,
+        py: Python<'_>,
+        region: Option<&PyRegion>,
+        call: &str,
+    ) -> PyResult<Arc<Region>> {
+        let checked = self.region_or(region, call)?;
+        if region.is_some() {
+            let mut mesh = self.mesh.clone();
+            py.detach(|| {
+                cvtmesh::io::restore_markers(&mut mesh, &checked);
+                cvtmesh::check_conforming(&mesh, &checked)
+            })
+            .map_err(|e| {
+                err(format!(
+                    "the mesh does not conform to region '{}' ({e})",
+                    checked.name()
+                ))
+            })?;
+        }
+        Ok(checked)
     }
 
     fn new(
@@ -678,7 +721,7 @@ impl PyMesh {
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
         if order == 2 {
-            let q = self.quadratic_mesh(py, None);
+            let q = self.quadratic_mesh(py, None)?;
             return py
                 .detach(|| cvtmesh::io::write_quadratic(&q, &path))
                 .map_err(err);
@@ -722,7 +765,7 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<QuadraticArrays<'py>> {
-        let q = self.quadratic_mesh(py, region);
+        let q = self.quadratic_mesh(py, region)?;
         let points = xy_array(py, &q.points)?;
         let flat: Vec<i64> = q.triangles.iter().flatten().map(|&v| v as i64).collect();
         let triangles = PyArray1::from_vec(py, flat).reshape([q.triangles.len(), 6])?;
@@ -740,7 +783,7 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let region = self.region_or(region, "boundary_pieces")?;
+        let region = self.conforming_region_or(py, region, "boundary_pieces")?;
         self.by_boundary_edge(py, &region, |p| p as i64)
     }
 
@@ -753,7 +796,7 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let region = self.region_or(region, "boundary_markers")?;
+        let region = self.conforming_region_or(py, region, "boundary_markers")?;
         let Some(markers) = region.piece_markers() else {
             return Err(no_walls(
                 &region,
@@ -774,7 +817,7 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let region = self.region_or(region, "vertex_markers")?;
+        let region = self.conforming_region_or(py, region, "vertex_markers")?;
         let markers = py.detach(|| {
             let mut mesh = self.mesh.clone();
             cvtmesh::io::restore_markers(&mut mesh, &region);
@@ -1160,11 +1203,11 @@ fn density_of(field: SizeField) -> Density {
 #[pyfunction]
 fn measures<'py>(
     py: Python<'py>,
-    points: PyReadonlyArray2<'_, f64>,
-    triangles: PyReadonlyArray2<'_, i64>,
+    points: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
     region: &PyRegion,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mesh = mesh_of(&points, &triangles)?;
+    let mesh = any_mesh(points, triangles, "measures")?;
     let region = region.inner.clone();
     let m = py
         .detach(|| cvtmesh::measures(&mesh, &region))
@@ -1179,12 +1222,12 @@ fn measures<'py>(
 #[pyfunction]
 fn size_conformity<'py>(
     py: Python<'py>,
-    points: PyReadonlyArray2<'_, f64>,
-    triangles: PyReadonlyArray2<'_, i64>,
+    points: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
     region: &PyRegion,
     size: &Bound<'_, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mesh = mesh_of(&points, &triangles)?;
+    let mesh = any_mesh(points, triangles, "size_conformity")?;
     let region = region.inner.clone();
     let field = scalar_field(py, &region, size, "size")?;
     field

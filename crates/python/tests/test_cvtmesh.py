@@ -414,6 +414,10 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     again = read.to_meshio(region=Region.from_loops(SQUARE, [HOLE]))
     for j in range(8):
         assert len(again.cell_sets[f"piece_{j}"][1]) == len(mm.cell_sets[f"piece_{j}"][1])
+    # Against a region the mesh does not mesh, pieces and boundary nodes would mean nothing.
+    for ask in (read.boundary_pieces, m.boundary_pieces, m.quadratic):
+        with pytest.raises(MeshError, match="does not conform to region 'lake'"):
+            ask(region=Region.builtin("lake"))
 
 
 MARKED_CHANNEL = (
@@ -837,6 +841,14 @@ def test_a_mesh_names_the_region_its_triangles_cover(tmp_path):
         Region.from_triangles(SQUARE, [[0, 1, 2], [0, 2, 1]])
     with pytest.raises(MeshError, match=r"triangles must be an \(m, 3\) array"):
         Region.from_triangles(SQUARE, [0, 1, 2])
+    # Vertex numbers as floats (as loadtxt reads them) are taken when whole, refused when not.
+    whole = Region.from_triangles(SQUARE, np.array([[0, 1, 2], [0, 2, 3]], dtype=float))
+    assert whole.area == pytest.approx(1.0)
+    for frac in ([[0, 1, 2.5], [0, 2, 3]], [[0, 1, np.nan], [0, 2, 3]]):
+        with pytest.raises(MeshError, match="whole numbers"):
+            Region.from_triangles(SQUARE, np.array(frac))
+        with pytest.raises(MeshError, match="whole numbers"):
+            cvtmesh.measures(SQUARE, np.array(frac), "circle")
 
 
 def test_quadratic_triangles_put_boundary_nodes_on_the_exact_boundary(tmp_path):

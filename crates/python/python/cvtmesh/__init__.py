@@ -191,17 +191,6 @@ def mesh(
     )
 
 
-def _mesh_arrays(points: Any, triangles: Any) -> Tuple[np.ndarray, np.ndarray]:
-    """``points`` as contiguous ``(n, 2)`` float64 and ``triangles`` as ``(m, 3)`` int64."""
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    tri = np.ascontiguousarray(triangles, dtype=np.int64)
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise MeshError(f"points must be an array of shape (n, 2), got {pts.shape}")
-    if tri.ndim != 2 or tri.shape[1] != 3:
-        raise MeshError(f"triangles must be an array of shape (m, 3), got {tri.shape}")
-    return pts, tri
-
-
 def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     """The 12 quality measures of the paper's Section 3 for any triangle mesh of ``region``.
 
@@ -209,9 +198,7 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     ``lambda, gamma, h, mu, chi, nu, tau, d, alpha, beta, q, p`` to floats (lower is better, 0
     on an ideal hexagonal lattice), and the counts ``K`` and ``Ktilde`` to ints.
     """
-    r = _region(region, None, None)
-    pts, tri = _mesh_arrays(points, triangles)
-    return _measures(pts, tri, r)
+    return _measures(points, triangles, _region(region, None, None))
 
 
 def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) -> dict:
@@ -230,9 +217,7 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
         >>> cvtmesh.size_conformity(m.points, m.triangles, "circle", "0.05 + 0.1*sqrt(x^2+y^2)")["unit_share"] > 0.95
         True
     """
-    r = _region(region, None, None)
-    pts, tri = _mesh_arrays(points, triangles)
-    return _size_conformity(pts, tri, r, size)
+    return _size_conformity(points, triangles, _region(region, None, None), size)
 
 
 def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> Any:
