@@ -96,6 +96,17 @@ pub enum MeshError {
     /// A size field that cannot be used on the region.
     #[error(transparent)]
     SizeField(#[from] geometry::SizeFieldError),
+    /// A size field that asks for more than [`MAX_POINTS`](crate::MAX_POINTS) vertices
+    /// (N ≈ (2/√3) ∫ h⁻² dx, with no K given).
+    #[error("the size field asks for about {predicted:.3e} vertices (its smallest size {smallest:.3e}), more than cvtmesh meshes ({max} would need about 45 GiB); use larger sizes or give the number of points")]
+    FieldTooFine {
+        /// The vertex count the field asks for (may be infinite).
+        predicted: f64,
+        /// The field's smallest value on the region.
+        smallest: f64,
+        /// The limit.
+        max: usize,
+    },
     /// K is more than [`MAX_POINTS`](crate::MAX_POINTS).
     #[error("K = {requested} is more than cvtmesh meshes ({max} vertices would need about 45 GiB); use a larger size or fewer points")]
     TooManyPoints {
@@ -241,6 +252,7 @@ impl MeshError {
             self,
             MeshError::TooFewPoints { .. }
                 | MeshError::TooManyPoints { .. }
+                | MeshError::FieldTooFine { .. }
                 | MeshError::TooMuchMemory { .. }
                 | MeshError::InvalidTolerance(_)
                 | MeshError::ZeroMaxIter

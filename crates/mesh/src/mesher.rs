@@ -119,7 +119,7 @@ impl MeshRequest {
     /// ρ = (h_min / h)⁴ (uniform for a constant field), and `points` vertices, or when `None`
     /// the count the field asks for, (2/√3) ∫_Ω h⁻² dx. The field is checked first: positive
     /// and finite on the region ([`MeshError::SizeField`]), and asking for no more than
-    /// [`MAX_POINTS`] vertices ([`MeshError::TooManyPoints`]). The field is used as given: the
+    /// [`MAX_POINTS`] vertices ([`MeshError::FieldTooFine`]). The field is used as given: the
     /// command line and Python limit its gradient to 0.3 first unless told otherwise, which
     /// here is [`SizeField::bounded`](geometry::SizeField::bounded)'s to do.
     ///
@@ -139,6 +139,11 @@ impl MeshRequest {
     /// // A field that is not positive on the region is refused before any work.
     /// let bad = SizeField::from_expr("x")?;
     /// assert!(matches!(MeshRequest::size_field(&bad, &circle, None), Err(MeshError::SizeField(_))));
+    /// // So is one asking for more vertices than fit in memory, with the count it asks for.
+    /// let fine = SizeField::constant(1e-12);
+    /// let e = MeshRequest::size_field(&fine, &circle, None).unwrap_err();
+    /// assert!(matches!(e, MeshError::FieldTooFine { predicted, .. } if predicted > 3.6e24));
+    /// assert!(e.to_string().contains("asks for about 3.628e24 vertices"), "{e}");
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn size_field(
@@ -152,12 +157,9 @@ impl MeshRequest {
             None => {
                 let predicted = field.predicted_points(region);
                 if !(predicted.is_finite() && predicted <= MAX_POINTS as f64) {
-                    return Err(MeshError::TooManyPoints {
-                        requested: if predicted.is_finite() {
-                            predicted as usize
-                        } else {
-                            usize::MAX
-                        },
+                    return Err(MeshError::FieldTooFine {
+                        predicted,
+                        smallest: range.min,
                         max: MAX_POINTS,
                     });
                 }
