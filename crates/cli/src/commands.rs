@@ -6,7 +6,7 @@ use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 const DEFAULT_TOL: f64 = 1e-4;
 /// The default gradation limit of size fields: mmg's default ratio of 1.3 between adjacent
@@ -256,8 +256,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         );
     }
     let request = match a.time_limit {
-        Some(s) if s.is_finite() && s >= 0.0 => request.time_limit(Duration::from_secs_f64(s)),
-        Some(s) => bail!("--time-limit needs a number of seconds (0 or more), got {s}"),
+        Some(s) => request.time_limit_secs(s)?,
         None => request,
     };
     let bar = if a.quiet {

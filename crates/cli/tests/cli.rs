@@ -522,13 +522,19 @@ fn a_time_limit_writes_the_mesh_reached_marked_not_converged() {
     let mesh = cvtmesh::io::read_mesh(&out).unwrap();
     cvtmesh::check_conforming(&mesh, &cvtmesh::Region::builtin("lake").unwrap()).unwrap();
     std::fs::remove_file(&out).unwrap();
-    let o = run("-1");
-    assert!(!o.status.success() && !out.exists());
-    assert!(
-        text(&o).contains("--time-limit needs a number of seconds"),
-        "{}",
-        text(&o)
-    );
+    for bad in ["-1", "NaN"] {
+        let o = run(bad);
+        assert!(!o.status.success() && !out.exists());
+        assert!(
+            text(&o).contains("must be a number of seconds, 0 or more"),
+            "{}",
+            text(&o)
+        );
+    }
+    // A limit beyond any clock is none (it panicked converting to a Duration).
+    let o = run("1e308");
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.exists());
 }
 
 /// Bad input: clear message naming the problem, non-zero exit, no output file.

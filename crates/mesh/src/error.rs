@@ -46,6 +46,11 @@ pub enum MeshError {
     /// The convergence tolerance is not a positive finite number.
     #[error("the tolerance (tol, --tol) must be a positive finite number, got {0}")]
     InvalidTolerance(f64),
+    /// The time limit is NaN or negative.
+    #[error(
+        "the time limit (time_limit, --time-limit) must be a number of seconds, 0 or more, got {0}"
+    )]
+    InvalidTimeLimit(f64),
     /// The polish threshold is not an angle from 0 to 60 degrees.
     #[error("the polish threshold (polish, --polish) must be an angle from 0 to 60 degrees (0: no polish), got {0}")]
     InvalidPolish(f64),
@@ -255,6 +260,7 @@ impl MeshError {
                 | MeshError::FieldTooFine { .. }
                 | MeshError::TooMuchMemory { .. }
                 | MeshError::InvalidTolerance(_)
+                | MeshError::InvalidTimeLimit(_)
                 | MeshError::ZeroMaxIter
                 | MeshError::InvalidPolish(_)
                 | MeshError::InvalidEdgeLength(_)

@@ -249,6 +249,29 @@ impl MeshRequest {
         self.deadline = Instant::now().checked_add(limit);
         self
     }
+    /// Builder: stop after `seconds` of wall time, as [`MeshRequest::time_limit`] does; a
+    /// limit beyond any clock (1e308, infinity) is no limit. NaN or a negative number is
+    /// [`MeshError::InvalidTimeLimit`].
+    ///
+    /// ```
+    /// use cvtmesh::{MeshError, MeshRequest};
+    /// assert!(MeshRequest::points(100).time_limit_secs(0.0)?.out_of_time());
+    /// assert!(!MeshRequest::points(100).time_limit_secs(1e308)?.out_of_time());
+    /// assert!(matches!(
+    ///     MeshRequest::points(100).time_limit_secs(f64::NAN),
+    ///     Err(MeshError::InvalidTimeLimit(_))
+    /// ));
+    /// # Ok::<(), MeshError>(())
+    /// ```
+    pub fn time_limit_secs(self, seconds: f64) -> Result<Self, MeshError> {
+        if !(seconds >= 0.0) {
+            return Err(MeshError::InvalidTimeLimit(seconds));
+        }
+        Ok(match Duration::try_from_secs_f64(seconds) {
+            Ok(limit) => self.time_limit(limit),
+            Err(_) => self,
+        })
+    }
     /// True once the deadline has passed.
     pub fn out_of_time(&self) -> bool {
         self.deadline.is_some_and(|d| Instant::now() >= d)

@@ -19,7 +19,6 @@ use pyo3::types::{PyDict, PyString};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Duration;
 
 create_exception!(
     _cvtmesh,
@@ -1114,12 +1113,7 @@ fn mesh(
         .cancel_flag(cancel.clone());
     let request = match time_limit {
         None => request,
-        Some(s) if s.is_finite() && s >= 0.0 => request.time_limit(Duration::from_secs_f64(s)),
-        Some(s) => {
-            return Err(err(format!(
-                "time_limit must be a number of seconds (0 or more), got {s}"
-            )))
-        }
+        Some(s) => request.time_limit_secs(s).map_err(err)?,
     };
     let mut stopped: Option<PyErr> = None;
     let result = {

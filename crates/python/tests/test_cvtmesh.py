@@ -739,6 +739,8 @@ def test_a_time_limit_returns_the_mesh_reached_not_converged():
     assert not m.converged and m.iterations <= 2
     assert "stopped at the time limit before converging" in m.notes
     assert len(m.points) == 3000
+    # A limit beyond any clock is none.
+    assert cvtmesh.mesh("circle", n=100, time_limit=1e308).converged
 
 
 def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
