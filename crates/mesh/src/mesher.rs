@@ -264,7 +264,7 @@ impl MeshRequest {
     /// # Ok::<(), MeshError>(())
     /// ```
     pub fn time_limit_secs(self, seconds: f64) -> Result<Self, MeshError> {
-        if !(seconds >= 0.0) {
+        if seconds.is_nan() || seconds < 0.0 {
             return Err(MeshError::InvalidTimeLimit(seconds));
         }
         Ok(match Duration::try_from_secs_f64(seconds) {
