@@ -197,46 +197,45 @@ fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
         // are dropped and the untrimmed offsets, near the hole's closing each an edge long
         // around a remnant far smaller, cross one another by the thousand. The hole's offset
         // is its polygon cut by every edge's offset half-plane instead (empty once it closes).
-        let exact = if convex_hole && swallowed {
-            offset_convex_ring(pts, eps, normal)
-        } else {
-            Vec::new()
-        };
-        for &(q, i) in &exact {
-            cyc.push((q, Source::Edge(edge_base + i), ring.pieces[i]));
-        }
-        for i in (0..n).filter(|_| !(convex_hole && swallowed)) {
-            let j = (i + 1) % n;
-            let v = pts[j];
-            let (ni, nj) = (normal(i), normal(j));
-            let start = trim[i].map_or(pts[i] + eps * ni, |t| t.0);
-            cyc.push((start, Source::Edge(edge_base + i), ring.pieces[i]));
-            if trim[j].is_some() {
-                continue;
+        if convex_hole && swallowed {
+            for (q, i) in offset_convex_ring(pts, eps, normal) {
+                cyc.push((q, Source::Edge(edge_base + i), ring.pieces[i]));
             }
-            // Joint at v: an arc of radius ε at a convex vertex, a straight connector at a
-            // reflex one. Its first half belongs to the incoming piece, the rest to the outgoing.
-            let turn = dir(i).perp_dot(dir(j));
-            let sweep = ni.perp_dot(nj).atan2(ni.dot(nj));
-            let m = if turn > 0.0 && step > 0.0 {
-                ((sweep / step).ceil() as usize).max(1)
-            } else {
-                1
-            };
-            let a0 = ni.y.atan2(ni.x);
-            for k in 0..m {
-                let q = if k == 0 {
-                    v + eps * ni
+        } else {
+            for i in 0..n {
+                let j = (i + 1) % n;
+                let v = pts[j];
+                let (ni, nj) = (normal(i), normal(j));
+                let start = trim[i].map_or(pts[i] + eps * ni, |t| t.0);
+                cyc.push((start, Source::Edge(edge_base + i), ring.pieces[i]));
+                if trim[j].is_some() {
+                    continue;
+                }
+                // Joint at v: an arc of radius ε at a convex vertex, a straight connector at
+                // a reflex one. Its first half belongs to the incoming piece, the rest to the
+                // outgoing.
+                let turn = dir(i).perp_dot(dir(j));
+                let sweep = ni.perp_dot(nj).atan2(ni.dot(nj));
+                let m = if turn > 0.0 && step > 0.0 {
+                    ((sweep / step).ceil() as usize).max(1)
                 } else {
-                    let th = a0 + sweep * k as f64 / m as f64;
-                    v + eps * DVec2::new(th.cos(), th.sin())
+                    1
                 };
-                let piece = if 2 * k < m {
-                    ring.pieces[i]
-                } else {
-                    ring.pieces[j]
-                };
-                cyc.push((q, Source::Vertex(v), piece));
+                let a0 = ni.y.atan2(ni.x);
+                for k in 0..m {
+                    let q = if k == 0 {
+                        v + eps * ni
+                    } else {
+                        let th = a0 + sweep * k as f64 / m as f64;
+                        v + eps * DVec2::new(th.cos(), th.sin())
+                    };
+                    let piece = if 2 * k < m {
+                        ring.pieces[i]
+                    } else {
+                        ring.pieces[j]
+                    };
+                    cyc.push((q, Source::Vertex(v), piece));
+                }
             }
         }
         // Merge coincident consecutive points (zero-length segments).

@@ -285,8 +285,9 @@ impl SuperEllipse {
 
     /// Minimises |P(u) − q|² near the sample `mid` in canonical octant o, where
     /// d(mid) ≤ d(lo) and d(mid) ≤ d(hi), so [lo, hi] holds a local minimum. Safeguarded
-    /// Newton on the derivative, falling back to golden-section steps, keeps that bracket.
-    /// Returns (u, point, squared distance).
+    /// Newton on the derivative, falling back to the octant's end (once) or golden-section
+    /// steps, keeps that bracket; a short Newton step is taken even where rounding hides its
+    /// gain. Returns (u, point, squared distance).
     fn refine(&self, o: usize, lo: f64, mid: f64, hi: f64, q: DVec2) -> (f64, DVec2, f64) {
         let (mut a, mut b, mut x) = (lo, hi, mid);
         // The point and its derivatives at x, kept until x moves: each evaluation costs two
@@ -394,6 +395,7 @@ impl SuperEllipse {
 #[cfg(test)]
 mod tests {
     use super::*;
+
     #[test]
     fn points_lie_on_the_curve_and_octants_join() {
         for &(a, b, n) in &[
