@@ -54,6 +54,14 @@ fn whole_numbers<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, 
     np.call_method1("asarray", (a, "int64"))
 }
 
+/// What a mesh checked against a region it does not mesh is told.
+fn not_conforming(region: &Region, e: cvtmesh::ConformityError) -> String {
+    format!(
+        "the mesh does not conform to region '{}' ({e})",
+        region.name()
+    )
+}
+
 /// Triangles of an (m, 3) integer array of 0-based vertex numbers below `n`.
 fn triangles_of(triangles: &PyReadonlyArray2<'_, i64>, n: usize) -> PyResult<Vec<[u32; 3]>> {
     if triangles.shape()[1] != 3 {
@@ -652,12 +660,7 @@ impl PyMesh {
                 cvtmesh::io::restore_markers(&mut mesh, &checked);
                 cvtmesh::check_conforming(&mesh, &checked)
             })
-            .map_err(|e| {
-                err(format!(
-                    "the mesh does not conform to region '{}' ({e})",
-                    checked.name()
-                ))
-            })?;
+            .map_err(|e| err(not_conforming(&checked, e)))?;
         }
         Ok(checked)
     }
@@ -862,12 +865,7 @@ impl PyMesh {
         let note = py.detach(|| {
             cvtmesh::polish_restored(&mut mesh, &region, below)
                 .map(|report| report.to_string())
-                .map_err(|e| {
-                    format!(
-                        "the mesh does not conform to region '{}' ({e})",
-                        region.name()
-                    )
-                })
+                .map_err(|e| not_conforming(&region, e))
         });
         let note = note.map_err(err)?;
         let mut notes = self.notes.clone();
