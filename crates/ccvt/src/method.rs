@@ -171,6 +171,16 @@ const COARSE_TOL: f64 = 1e-3;
 // 1–4) where 3 gave 0.86.
 const ROW_EPS_PHASE_FACTOR: f64 = 3.0;
 
+/// Where every cell of the CVT of Ω_ε reaches ∂Ω_ε, Algorithm 2's ε is followed only while
+/// each of its steps is at most this share of the one before (a contraction toward a fixed
+/// point). Steps measured in spacings: a ring 0.65 spacings wide (the robustness sweep's thin
+/// annulus at K = 3000) 0.75, 0.52, 0.35, 0.07, 0.02, settling at 1.70 (ratios 0.69, 0.67,
+/// 0.19, 0.27), and the small triangle of a two-part region at K = 16 0.83, 0.41, 0.21, 0.09,
+/// 0.04 (about 0.5 each); three generators on a 1 × 12 sliver 1.58, 0.91, 0.86, 0.85, 0.86, …
+/// (0.58, then 0.95 and above, to 14.6 spacings in 30 updates), and on such a sliver under a
+/// coarse size field 1.64, 0.90, 1.94, 3.5, 6.4, … (to 5 230 spacings).
+const EPS_HOLD_RATIO: f64 = 0.8;
+
 impl Ccvt {
     /// Check the settings: `polygon_tol` and `eps_tol` positive and finite, `eps_phase_tol`,
     /// `eps_start` and `levels_max_boundary_share` finite and non-negative
@@ -561,6 +571,8 @@ impl Ccvt {
                     domain = holes.expand(region, &mut eps, tol_poly);
                 }
                 let (mut settled, mut held) = (false, false);
+                // The size of ε's last step.
+                let mut last_change: Option<f64> = None;
                 // The estimate ε settled below, where a larger ε closes a hole.
                 let mut capped: Option<f64> = None;
                 for _ in 0..self.max_eps_updates {
@@ -593,20 +605,25 @@ impl Ccvt {
                         settled = true;
                         break;
                     }
-                    // Every cell reaches ∂Ω_ε (a part that gets little more than its corners'
-                    // generators): the mean farthest distance grows with ε itself and has no
-                    // fixed point. Followed, Ω_ε grows without end, each ε-phase costs more
-                    // than the last, and a size field's values far outside Ω (an extension,
-                    // not the field) draw the generators away (docs/design-notes.md,
-                    // "Algorithm 2's edge cases"). So ε stays where it is, or takes the first
-                    // estimate if there is none yet.
-                    if boundary.len() == work.cells.cells.len() {
+                    // Every cell reaches ∂Ω_ε: the mean farthest distance grows with ε
+                    // itself, and may have no fixed point (a part that gets little more than
+                    // its corners' generators). Followed then, Ω_ε grows without end, each
+                    // ε-phase costs more than the last, and a size field's values far outside
+                    // Ω (an extension, not the field) draw the generators away
+                    // (docs/design-notes.md, "Algorithm 2's edge cases"). A ring thinner than
+                    // the spacing has one all the same, reached by steps that shrink. So ε is
+                    // followed while its steps shrink, and stays where it is once they do not.
+                    let change = (eps_new - eps).abs();
+                    if boundary.len() == work.cells.cells.len()
+                        && last_change.is_some_and(|last| change > EPS_HOLD_RATIO * last)
+                    {
                         held = true;
-                        if eps == 0.0 {
-                            eps = eps_new;
-                            domain = holes.expand(region, &mut eps, tol_poly);
-                        }
                         break;
+                    }
+                    // The first estimate, from Ω itself, is where the iteration starts, not
+                    // one of its steps.
+                    if eps > 0.0 {
+                        last_change = Some(change);
                     }
                     if request.out_of_time() {
                         break;
@@ -646,8 +663,9 @@ impl Ccvt {
                     } else if settled {
                         String::new()
                     } else if held {
-                        ", not settled: held where every cell reaches the boundary (too few \
-                         generators for Algorithm 2's estimate)"
+                        ", not settled: held where every cell reaches the boundary and its \
+                         estimate does not converge (too few generators for Algorithm 2's \
+                         estimate)"
                             .to_string()
                     } else {
                         ", not settled".to_string()
