@@ -62,6 +62,10 @@ fuzz_target!(
         } else {
             field
         };
+        // Where the field outgrows its grid, if anywhere: a node inside, a real rise.
+        if let Some(u) = field.unresolved(&region) {
+            assert!(u.neighbour > 2.0 * u.size && u.size > 0.0 && u.step > 0.0, "{u}");
+        }
         let run = meshing::Run::new(*head, *flags);
         let Ok(request) = MeshRequest::size_field(&field, &region, Some(run.k)) else {
             return;

@@ -166,11 +166,14 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
         Some(field) => {
             let field = field.bounded(region, a.size_min, a.size_max, Some(a.gradation))?;
             let r = MeshRequest::size_field(&field, region, a.points)?;
-            let line = format!(
+            let mut line = format!(
                 "size field: K = {} ({:.0} asked for by the field)",
                 r.size.points(region),
                 field.predicted_points(region)
             );
+            if let Some(u) = field.unresolved(region) {
+                line.push_str(&format!("\nwarning: {u}"));
+            }
             (r, Some(line))
         }
         None => {

@@ -826,6 +826,40 @@ fn mesh_circle_by(field: &str, out: &std::path::Path) -> Output {
     o
 }
 
+/// A point source asking for sizes far below its background grid's step is followed only as
+/// finely as the grid: the command says where; a field the grid follows says nothing.
+#[test]
+fn a_size_field_finer_than_its_background_grid_is_named_in_a_warning() {
+    let dir = scratch("unresolved_field");
+    let out = dir.join("graded.node");
+    let run = |size_min: &str| {
+        let threshold = format!("{size_min},0.1,0,1");
+        let o = cvtmesh(&[
+            "mesh",
+            "circle",
+            "--size-toward",
+            "point:0.3,0.2",
+            "--size-threshold",
+            &threshold,
+            "--points",
+            "500",
+            "--max-iter",
+            "1",
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        text(&o)
+    };
+    let said = run("1e-5");
+    assert!(
+        said.contains("warning: size field: near (0.30") && said.contains("over one step"),
+        "{said}"
+    );
+    assert!(!run("1e-2").contains("warning"));
+}
+
 #[test]
 fn a_size_field_grades_the_mesh_and_measure_reports_how_well() {
     let dir = scratch("size_field");

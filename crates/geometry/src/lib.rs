@@ -41,7 +41,8 @@ pub use region::{Part, Region, INSIDE_GRID};
 pub use rng::Rng;
 pub use simplify::Simplified;
 pub use size::{
-    SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward, MAX_GRID_SIDE,
+    SampledDensity, SizeField, SizeFieldError, SizeRange, Threshold, Toward, Unresolved,
+    MAX_GRID_SIDE,
 };
 pub use spacing_corners::{SpacingCorners, BEND_TOLERANCE, CHORDS, GAP_SPACINGS};
 pub use types::{BoundaryPoint, Corner, Loop, LoopRole, PieceId};

@@ -374,6 +374,71 @@ impl Grid {
     /// Which nodes lie inside `region`, row by row: the crossings of each row's line with the
     /// boundary polygon, sorted, bound the inside stretches (even–odd rule). O(nodes + edges ×
     /// rows they span).
+    /// The node inside `region` whose value a neighbour inside exceeds by the largest factor,
+    /// with that neighbour's value; `None` without two such nodes with positive values. Each
+    /// pair of neighbours is looked at once, from its first node in row order.
+    fn steepest_rise(&self, region: &Region) -> Option<Unresolved> {
+        let (nx, ny) = (self.nx, self.ny);
+        let inside = self.inside(region);
+        let value = |k: usize| {
+            let v = self.values[k];
+            if inside[k] && v.is_finite() && v > 0.0 {
+                v
+            } else {
+                f64::NAN
+            }
+        };
+        // (factor, node, neighbour's value), the larger factor first, then the earlier node.
+        let better = |a: (f64, usize, f64), b: (f64, usize, f64)| {
+            if b.0 > a.0 || (b.0 == a.0 && b.1 < a.1) {
+                b
+            } else {
+                a
+            }
+        };
+        let none = (0.0, usize::MAX, 0.0);
+        let best = (0..ny)
+            .into_par_iter()
+            .map(|j| {
+                let mut best = none;
+                for i in 0..nx {
+                    let k = j * nx + i;
+                    let v = value(k);
+                    if v.is_nan() {
+                        continue;
+                    }
+                    // The neighbours after (i, j) in row order: east, then the row above.
+                    let east = (i + 1 < nx).then_some(k + 1);
+                    let above = (j + 1 < ny).then_some(k + nx);
+                    let north_west = (i > 0 && j + 1 < ny).then(|| k + nx - 1);
+                    let north_east = (i + 1 < nx && j + 1 < ny).then(|| k + nx + 1);
+                    for m in [east, north_west, above, north_east].into_iter().flatten() {
+                        let w = value(m);
+                        if w.is_nan() {
+                            continue;
+                        }
+                        best = if w >= v {
+                            better(best, (w / v, k, w))
+                        } else {
+                            better(best, (v / w, m, v))
+                        };
+                    }
+                }
+                best
+            })
+            .reduce(|| none, better);
+        (best.1 != usize::MAX).then(|| {
+            let k = best.1;
+            Unresolved {
+                at: self.lo + self.step * DVec2::new((k % nx) as f64, (k / nx) as f64),
+                size: self.values[k],
+                neighbour: best.2,
+                step: self.step.max_element(),
+                side: nx.max(ny),
+            }
+        })
+    }
+
     fn inside(&self, region: &Region) -> Vec<bool> {
         let (nx, ny) = (self.nx, self.ny);
         let poly = region.polygonize(0.05 * self.step.min_element());
@@ -754,6 +819,47 @@ pub struct SizeRange {
     /// Largest h found.
     pub max: f64,
 }
+
+/// Where a size field changes faster than its background grid can follow
+/// ([`SizeField::unresolved`]): the grid node inside the region from which the field grows
+/// most, relative to itself, to a neighbouring node. The B-spline that interpolates the grid
+/// smooths such a rise over a few steps, so the mesh's edges there come out longer than the
+/// field asks: a grid of at most 2048 nodes a side cannot follow a point source asking for
+/// 10⁻⁵ on a region 2 wide.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unresolved {
+    /// The grid node.
+    pub at: DVec2,
+    /// The field's size there.
+    pub size: f64,
+    /// The largest size at a neighbouring node inside the region.
+    pub neighbour: f64,
+    /// The grid's step (the larger of its two).
+    pub step: f64,
+    /// The grid's nodes per side (the larger of its two counts).
+    pub side: usize,
+}
+
+impl std::fmt::Display for Unresolved {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "size field: near ({:.6}, {:.6}) it grows from {:.3e} to {:.3e} over one step \
+             ({:.3e}) of its background grid ({} nodes a side), which smooths it there: the \
+             mesh's edges near that point come out longer than the field asks",
+            self.at.x, self.at.y, self.size, self.neighbour, self.step, self.side
+        )
+    }
+}
+
+/// [`SizeField::unresolved`] reports a field that grows by more than this factor from one grid
+/// node to a neighbour. A field limited to a gradient g grows by at most 1 + 1.08·g·step/h,
+/// so under the default g = 0.3 this is where h < 0.32 steps. The circle, a point source at
+/// (0.3, 0.2), sizes from `h_min` to 0.1 over distance 0–1 on a grid of step 1.96·10⁻³: for
+/// `h_min` = 10⁻³ / 3·10⁻⁴ / 10⁻⁴ / 10⁻⁵ the factor is below 1.5 / 1.68 / 2.36 / 3.43, the unit
+/// share 1.000 / 1.000 / 0.998 / 0.844, and the ring of vertices nearest the source lies 1.1·10⁻³
+/// / 4·10⁻⁴ / 2·10⁻⁴ / 10⁻⁴ from it (at 3·10⁻⁴ its edges are about 1.2 times the size asked).
+const UNRESOLVED_GROWTH: f64 = 2.0;
 
 impl SizeField {
     /// h ≡ `h` everywhere. Its density is uniform.
@@ -1170,6 +1276,38 @@ impl SizeField {
     /// True for a constant field (its density is uniform, which the methods treat exactly).
     pub fn is_constant(&self) -> bool {
         matches!(self.kind, Kind::Constant(_))
+    }
+
+    /// Where the field grows faster than the background grid it is meshed from can follow
+    /// ([`Unresolved`]): the node inside `region` whose size a neighbour exceeds by the largest
+    /// factor, if that factor is over 2. An expression is looked at on the grid
+    /// [`SizeField::on_grid`] samples it onto for its smallest size on `region`; a constant
+    /// field, or one that fails [`SizeField::check`], has nothing to report. O(n²) for a grid
+    /// of n nodes a side.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, Region, SizeField, Threshold, Toward};
+    /// let circle = Region::builtin("circle")?;
+    /// let toward = [Toward::Point(DVec2::new(0.3, 0.2))];
+    /// let t = |size_min| Threshold { size_min, size_max: 0.1, dist_min: 0.0, dist_max: 1.0 };
+    /// // Sizes from 10⁻² are followed; from 10⁻⁵ (200 times below the grid's step) they are not.
+    /// assert!(SizeField::threshold(&circle, &toward, t(1e-2))?.unresolved(&circle).is_none());
+    /// let u = SizeField::threshold(&circle, &toward, t(1e-5))?.unresolved(&circle).unwrap();
+    /// assert!((u.at - DVec2::new(0.3, 0.2)).length() < 2.0 * u.step);
+    /// assert!(u.neighbour > 2.0 * u.size);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn unresolved(&self, region: &Region) -> Option<Unresolved> {
+        let grid = match &self.kind {
+            Kind::Constant(_) => return None,
+            Kind::Grid(g) => g.clone(),
+            Kind::Expr(_) => match self.on_grid(region, self.check(region).ok()?.min).kind {
+                Kind::Grid(g) => g,
+                Kind::Constant(_) | Kind::Expr(_) => return None,
+            },
+        };
+        grid.steepest_rise(region)
+            .filter(|u| u.neighbour > UNRESOLVED_GROWTH * u.size)
     }
 
     /// Check that h is positive and finite on `region` (at the centres of a 256×256 grid over
@@ -2024,5 +2162,56 @@ mod tests {
         let exact = 2.0 / 3f64.sqrt() * 2.0 * std::f64::consts::PI / 0.0025 * (2f64.ln() - 0.5);
         let n = h.predicted_points(&r);
         assert!((n - exact).abs() < 5e-3 * exact, "{n} vs {exact}");
+    }
+
+    /// A point source's rise is reported at the source, under gradation limiting and from an
+    /// expression as well; fields the grid follows (the graded comparison's, a steep but
+    /// gradation-limited one) are not, nor is a constant one.
+    #[test]
+    fn a_rise_too_steep_for_the_grid_is_reported_where_it_is() {
+        let circle = Region::builtin("circle").unwrap();
+        let source = DVec2::new(0.3, 0.2);
+        let toward = [Toward::Point(source)];
+        let t = |size_min| Threshold {
+            size_min,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 1.0,
+        };
+        let fine = SizeField::threshold(&circle, &toward, t(1e-5)).unwrap();
+        let graded = fine.bounded(&circle, None, None, Some(0.3)).unwrap();
+        let expr = SizeField::from_expr("1e-5 + 0.1 * sqrt((x - 0.3)^2 + (y - 0.2)^2)").unwrap();
+        for (name, h) in [
+            ("threshold", &fine),
+            ("bounded", &graded),
+            ("expression", &expr),
+        ] {
+            let u = h
+                .unresolved(&circle)
+                .unwrap_or_else(|| panic!("{name}: nothing reported"));
+            assert!((u.at - source).length() < 2.0 * u.step, "{name}: {u}");
+            assert!(u.neighbour > 2.0 * u.size && u.size < 1e-3, "{name}: {u}");
+            assert!(u.to_string().contains("over one step"), "{name}: {u}");
+        }
+        let square_hole = Region::builtin("square_hole").unwrap();
+        let hole = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.02,
+            dist_max: 0.6,
+        };
+        let followed = [
+            SizeField::threshold(&circle, &toward, t(1e-2)).unwrap(),
+            SizeField::threshold(&square_hole, &[Toward::Loop(1)], hole).unwrap(),
+            SizeField::from_expr("0.002 + 10 * x^2")
+                .unwrap()
+                .bounded(&circle, None, None, Some(0.3))
+                .unwrap(),
+            SizeField::constant(1e-9),
+        ];
+        assert!(followed[0].unresolved(&circle).is_none());
+        assert!(followed[1].unresolved(&square_hole).is_none());
+        assert!(followed[2].unresolved(&circle).is_none());
+        assert!(followed[3].unresolved(&circle).is_none());
     }
 }

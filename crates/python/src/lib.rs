@@ -1073,7 +1073,15 @@ fn mesh(
             let field = field
                 .bounded(&region, size_min, size_max, gradation)
                 .map_err(err)?;
-            MeshRequest::size_field(&field, &region, n).map_err(err)?
+            let request = MeshRequest::size_field(&field, &region, n).map_err(err)?;
+            // Sizes that change faster than the field's background grid follows: say where,
+            // as the command line does.
+            if let Some(u) = field.unresolved(&region) {
+                let warnings = py.import("warnings")?;
+                let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                warnings.call_method1("warn", (u.to_string(), category))?;
+            }
+            request
         }
         (None, Some(d)) => {
             let field = scalar_field(py, &region, d, "density")?;

@@ -7,6 +7,8 @@ from pathlib import Path
 import threading
 
 import numpy as np
+import warnings
+
 import pytest
 
 import cvtmesh
@@ -747,6 +749,16 @@ def test_a_channel_thinner_than_the_spacing_warns_with_the_k_that_resolves_it():
     channel = np.array([[0, 0], [10, 0], [10, 0.001], [0, 0.001]], dtype=float)
     with pytest.warns(RuntimeWarning, match=r"1\.000e-3 wide near .*K ≥ 11\d{3} .*one edge across"):
         cvtmesh.mesh(channel, n=300)
+
+
+def test_a_size_field_finer_than_its_background_grid_warns_where():
+    # A point source asking for 1e-5 on the unit circle: the grid's step is about 2e-3.
+    kw = dict(n=500, max_iter=1, polish=0, size_toward=["point:0.3,0.2"])
+    with pytest.warns(RuntimeWarning, match=r"near \(0\.30\d*, 0\.20\d*\) it grows from .* over one step"):
+        cvtmesh.mesh("circle", size_threshold=(1e-5, 0.1, 0, 1), **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cvtmesh.mesh("circle", size_threshold=(1e-2, 0.1, 0, 1), **kw)
 
 
 def test_slivers_are_named_in_a_warning():
