@@ -371,9 +371,6 @@ impl Grid {
         .sealed()
     }
 
-    /// Which nodes lie inside `region`, row by row: the crossings of each row's line with the
-    /// boundary polygon, sorted, bound the inside stretches (even–odd rule). O(nodes + edges ×
-    /// rows they span).
     /// The node inside `region` whose value a neighbour inside exceeds by the largest factor,
     /// with that neighbour's value; `None` without two such nodes with positive values. Each
     /// pair of neighbours is looked at once, from its first node in row order.
@@ -439,6 +436,9 @@ impl Grid {
         })
     }
 
+    /// Which nodes lie inside `region`, row by row: the crossings of each row's line with the
+    /// boundary polygon, sorted, bound the inside stretches (even–odd rule). O(nodes + edges ×
+    /// rows they span).
     fn inside(&self, region: &Region) -> Vec<bool> {
         let (nx, ny) = (self.nx, self.ny);
         let poly = region.polygonize(0.05 * self.step.min_element());
