@@ -172,7 +172,10 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
                 field.predicted_points(region)
             );
             if let Some(u) = field.unresolved(region) {
-                line.push_str(&format!("\nwarning: {u}"));
+                line.push_str(&format!(
+                    "\nwarning: {u}: the mesh's edges near that point come out longer than \
+                     the field asks"
+                ));
             }
             (r, Some(line))
         }
@@ -552,6 +555,15 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let conformity = match &field {
         Some(field) => {
             field.check(&region).map_err(cvtmesh::MeshError::from)?;
+            // A distance field is sampled on a grid (an expression is evaluated where asked).
+            if !a.size_toward.is_empty() {
+                if let Some(u) = field.unresolved(&region) {
+                    eprintln!(
+                        "warning: {u}: edges near that point are measured against the smoothed \
+                         sizes"
+                    );
+                }
+            }
             Some(cvtmesh::metrics::size_conformity(&mesh, field, &region)?)
         }
         None => None,

@@ -854,10 +854,30 @@ fn a_size_field_finer_than_its_background_grid_is_named_in_a_warning() {
     };
     let said = run("1e-5");
     assert!(
-        said.contains("warning: size field: near (0.30") && said.contains("over one step"),
+        said.contains("warning: size field: near (0.30")
+            && said.contains("over one step")
+            && said.contains("come out longer than the field asks"),
         "{said}"
     );
+    // Measured against the same field, the sizes there are the grid's.
+    let measured = |size_min: &str| {
+        let threshold = format!("{size_min},0.1,0,1");
+        let o = cvtmesh(&[
+            "measure",
+            s(&out),
+            "--region",
+            "circle",
+            "--size-toward",
+            "point:0.3,0.2",
+            "--size-threshold",
+            &threshold,
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        text(&o)
+    };
+    assert!(measured("1e-5").contains("measured against the smoothed sizes"));
     assert!(!run("1e-2").contains("warning"));
+    assert!(!measured("1e-2").contains("warning"));
 }
 
 #[test]

@@ -845,8 +845,7 @@ impl std::fmt::Display for Unresolved {
         write!(
             f,
             "size field: near ({:.6}, {:.6}) it grows from {:.3e} to {:.3e} over one step \
-             ({:.3e}) of its background grid ({} nodes a side), which smooths it there: the \
-             mesh's edges near that point come out longer than the field asks",
+             ({:.3e}) of its background grid ({} nodes a side), which smooths it there",
             self.at.x, self.at.y, self.size, self.neighbour, self.step, self.side
         )
     }
@@ -2193,16 +2192,10 @@ mod tests {
             assert!(u.neighbour > 2.0 * u.size && u.size < 1e-3, "{name}: {u}");
             assert!(u.to_string().contains("over one step"), "{name}: {u}");
         }
-        let square_hole = Region::builtin("square_hole").unwrap();
-        let hole = Threshold {
-            size_min: 0.01,
-            size_max: 0.1,
-            dist_min: 0.02,
-            dist_max: 0.6,
-        };
+        let (square_hole, _, toward_hole) = toward_the_hole();
         let followed = [
             SizeField::threshold(&circle, &toward, t(1e-2)).unwrap(),
-            SizeField::threshold(&square_hole, &[Toward::Loop(1)], hole).unwrap(),
+            toward_hole,
             SizeField::from_expr("0.002 + 10 * x^2")
                 .unwrap()
                 .bounded(&circle, None, None, Some(0.3))

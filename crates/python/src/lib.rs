@@ -1079,7 +1079,10 @@ fn mesh(
             if let Some(u) = field.unresolved(&region) {
                 let warnings = py.import("warnings")?;
                 let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-                warnings.call_method1("warn", (u.to_string(), category))?;
+                let said = format!(
+                    "{u}: the mesh's edges near that point come out longer than the field asks"
+                );
+                warnings.call_method1("warn", (said, category))?;
             }
             request
         }
