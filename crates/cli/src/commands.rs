@@ -172,10 +172,7 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
                 field.predicted_points(region)
             );
             if let Some(u) = field.unresolved(region) {
-                line.push_str(&format!(
-                    "\nwarning: {u}: the mesh's edges near that point come out longer than \
-                     the field asks"
-                ));
+                line.push_str(&format!("\nwarning: {}", u.for_mesh()));
             }
             (r, Some(line))
         }
@@ -555,8 +552,9 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
     let conformity = match &field {
         Some(field) => {
             field.check(&region).map_err(cvtmesh::MeshError::from)?;
-            // A distance field is sampled on a grid (an expression is evaluated where asked).
-            if !a.size_toward.is_empty() {
+            // Sizes are read where the edges are: off the grid of a sampled field, from an
+            // expression itself.
+            if field.is_sampled() {
                 if let Some(u) = field.unresolved(&region) {
                     eprintln!(
                         "warning: {u}: edges near that point are measured against the smoothed \

@@ -840,6 +840,13 @@ pub struct Unresolved {
     pub side: usize,
 }
 
+impl Unresolved {
+    /// The report with what it means for a mesh made from the field.
+    pub fn for_mesh(&self) -> String {
+        format!("{self}: the mesh's edges near that point come out longer than the field asks")
+    }
+}
+
 impl std::fmt::Display for Unresolved {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -1275,6 +1282,13 @@ impl SizeField {
     /// True for a constant field (its density is uniform, which the methods treat exactly).
     pub fn is_constant(&self) -> bool {
         matches!(self.kind, Kind::Constant(_))
+    }
+
+    /// True for a field read from values on a background grid (a distance field, sizes on a
+    /// mesh or from a callable, a gradation-limited or combined field); false for a constant or
+    /// an expression, which [`SizeField::at`] evaluates where asked.
+    pub fn is_sampled(&self) -> bool {
+        matches!(self.kind, Kind::Grid(_))
     }
 
     /// Where the field grows faster than the background grid it is meshed from can follow
@@ -2191,7 +2205,12 @@ mod tests {
             assert!((u.at - source).length() < 2.0 * u.step, "{name}: {u}");
             assert!(u.neighbour > 2.0 * u.size && u.size < 1e-3, "{name}: {u}");
             assert!(u.to_string().contains("over one step"), "{name}: {u}");
+            assert!(u.for_mesh().starts_with(&u.to_string()), "{name}: {u}");
         }
+        // Where the sizes are read off a grid at all (`cvtmesh measure` reads an expression
+        // where the edges are).
+        assert!(fine.is_sampled() && graded.is_sampled());
+        assert!(!expr.is_sampled() && !SizeField::constant(0.1).is_sampled());
         let (square_hole, _, toward_hole) = toward_the_hole();
         let followed = [
             SizeField::threshold(&circle, &toward, t(1e-2)).unwrap(),

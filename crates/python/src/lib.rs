@@ -1079,10 +1079,7 @@ fn mesh(
             if let Some(u) = field.unresolved(&region) {
                 let warnings = py.import("warnings")?;
                 let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-                let said = format!(
-                    "{u}: the mesh's edges near that point come out longer than the field asks"
-                );
-                warnings.call_method1("warn", (said, category))?;
+                warnings.call_method1("warn", (u.for_mesh(), category))?;
             }
             request
         }
