@@ -165,6 +165,9 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
     let (request, line) = match graded {
         Some(field) => {
             let field = field.bounded(region, a.size_min, a.size_max, Some(a.gradation))?;
+            // The grid the methods mesh from, sampled once for the request and the check of
+            // what it resolves.
+            let field = field.on_grid(region, field.check(region)?.min);
             let r = MeshRequest::size_field(&field, region, a.points)?;
             let mut line = format!(
                 "size field: K = {} ({:.0} asked for by the field)",
