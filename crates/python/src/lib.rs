@@ -653,16 +653,30 @@ impl PyMesh {
         region: Option<&PyRegion>,
         call: &str,
     ) -> PyResult<Arc<Region>> {
+        Ok(self.conforming_mesh_or(py, region, call)?.0)
+    }
+
+    /// [`PyMesh::conforming_region_or`] with the mesh its boundary vertices are read from:
+    /// against a `region` passed in, a copy whose markers were projected onto it for the
+    /// check (a mesh read from a file knows no pieces); else none, the mesh's own markers
+    /// being the region's.
+    fn conforming_mesh_or(
+        &self,
+        py: Python<'_>,
+        region: Option<&PyRegion>,
+        call: &str,
+    ) -> PyResult<(Arc<Region>, Option<Mesh>)> {
         let checked = self.region_or(region, call)?;
-        if region.is_some() {
-            let mut mesh = self.mesh.clone();
-            py.detach(|| {
-                cvtmesh::io::restore_markers(&mut mesh, &checked);
-                cvtmesh::check_conforming(&mesh, &checked)
-            })
-            .map_err(|e| err(not_conforming(&checked, e)))?;
+        if region.is_none() {
+            return Ok((checked, None));
         }
-        Ok(checked)
+        let mut mesh = self.mesh.clone();
+        py.detach(|| {
+            cvtmesh::io::restore_markers(&mut mesh, &checked);
+            cvtmesh::check_conforming(&mesh, &checked)
+        })
+        .map_err(|e| err(not_conforming(&checked, e)))?;
+        Ok((checked, Some(mesh)))
     }
 
     fn new(
@@ -819,12 +833,9 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let region = self.conforming_region_or(py, region, "vertex_markers")?;
-        let markers = py.detach(|| {
-            let mut mesh = self.mesh.clone();
-            cvtmesh::io::restore_markers(&mut mesh, &region);
-            cvtmesh::io::vertex_markers(&mesh, &region)
-        });
+        let (region, restored) = self.conforming_mesh_or(py, region, "vertex_markers")?;
+        let mesh = restored.as_ref().unwrap_or(&self.mesh);
+        let markers = py.detach(|| cvtmesh::io::vertex_markers(mesh, &region));
         let Some(markers) = markers else {
             return Err(no_walls(&region, ""));
         };

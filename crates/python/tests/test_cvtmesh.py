@@ -511,6 +511,8 @@ def test_a_vertex_marked_on_its_own_is_a_vertex_of_every_mesh(tmp_path):
     m = cvtmesh.mesh(region, n=400)
     marks = m.vertex_markers()
     assert marks.shape == (len(m.points),)
+    # The mesh's own markers and the ones projected onto the region handed in agree.
+    assert (m.vertex_markers(region) == marks).all()
     assert m.points[marks == 7].tolist() == [[1.5, 0.0]]
     # Boundary vertices carry their wall's number, interior ones 0.
     inside = region.signed_distance(m.points) < -1e-9
@@ -554,6 +556,7 @@ def test_embedded_points_are_vertices_of_every_mesh(tmp_path):
             assert ((m.points[:, 0] == x) & (m.points[:, 1] == y)).sum() == 1, method
         marks = m.vertex_markers()
         assert m.points[marks == 5].tolist() == [[0.3, 0.1]], method
+        assert (m.vertex_markers(region) == marks).all(), method
     with pytest.raises(MeshError, match="embeds 2 points"):
         cvtmesh.mesh(region, n=300, method="meshgen")
     with pytest.raises(MeshError, match="outside the region"):
