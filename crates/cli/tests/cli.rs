@@ -699,6 +699,23 @@ fn bad_input_is_refused_with_a_clear_message() {
             "{ this is not json",
             "garbage.json: invalid JSON",
         ),
+        // Coordinates whose squares and fourth powers overflow or underflow, or a region so
+        // far from the origin that its coordinates keep few digits of it.
+        (
+            "huge.txt",
+            "0 0\n1e150 0\n1e150 1e150\n0 1e150\n",
+            "scale its coordinates",
+        ),
+        (
+            "tiny.txt",
+            "0 0\n1e-160 0\n1e-160 1e-160\n0 1e-160\n",
+            "scale its coordinates",
+        ),
+        (
+            "far.txt",
+            "1e11 1e11\n100000000001 1e11\n100000000001 100000000001\n1e11 100000000001\n",
+            "translate its coordinates",
+        ),
     ] {
         let p = d.join(name);
         std::fs::write(&p, body).unwrap();

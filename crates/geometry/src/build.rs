@@ -16,6 +16,17 @@ pub(crate) const SNAP: f64 = 1e-9;
 const TOUCH: f64 = 1e-11;
 /// Relative chord tolerance (× diameter) of the polygonization used for validation.
 const CHECK_TOL: f64 = 1e-6;
+/// The region's diameter must lie within [1 / `EXTENT_LIMIT`, `EXTENT_LIMIT`]: the methods
+/// square lengths and take their fourth powers (cell moments, CVT energies, Hessians), and
+/// inside this range a region scaled by a power of two gives the same mesh scaled, bit for
+/// bit; far outside it they overflow, underflow or leave the Delaunay triangulation's
+/// coordinate range.
+pub const EXTENT_LIMIT: f64 = 1e14;
+/// The region's bounding box may lie at most this many diameters from the origin: a
+/// coordinate's last bit is its magnitude × 1.1e-16, and beyond this offset that is more
+/// than 1e-10 of the region, where Voronoi vertices and moments (differences of nearby
+/// coordinates) lose the digits convergence is judged by.
+pub const OFFSET_LIMIT: f64 = 1e6;
 /// Turning angle (degrees) above which [`Region::with_default_corners`] keeps a computed
 /// corner: the boundary's direction changes by more than 30° there (an interior angle below
 /// 150° or above 210°). A square's, a hexagon's and an octagon's vertices stay corners; the
@@ -227,6 +238,25 @@ pub(crate) fn new_region(
     let diam = (hi - lo).length();
     if !(diam > 0.0 && diam.is_finite()) {
         return Err(err("the boundary has zero or non-finite extent".into()));
+    }
+    if !(1.0 / EXTENT_LIMIT..=EXTENT_LIMIT).contains(&diam) {
+        return Err(err(format!(
+            "the region's diameter {diam:e} is outside [{:e}, {EXTENT_LIMIT:e}]: \
+             scale its coordinates (a change of units) into that range",
+            1.0 / EXTENT_LIMIT
+        )));
+    }
+    let centre = 0.5 * (lo + hi);
+    if centre.length() > OFFSET_LIMIT * diam {
+        return Err(err(format!(
+            "the region lies {:e} from the origin, {:e} times its diameter {diam:e} \
+             (at most {OFFSET_LIMIT:e}): at that offset double precision keeps too few \
+             digits of the region; translate its coordinates, e.g. subtract ({}, {})",
+            centre.length(),
+            centre.length() / diam,
+            centre.x,
+            centre.y
+        )));
     }
     let snap = SNAP * diam;
 

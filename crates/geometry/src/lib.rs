@@ -30,7 +30,7 @@ mod spacing_corners;
 mod triangulated;
 mod types;
 
-pub use build::DEFAULT_CORNER_ANGLE;
+pub use build::{DEFAULT_CORNER_ANGLE, EXTENT_LIMIT, OFFSET_LIMIT};
 pub use density::Density;
 pub use error::GeometryError;
 pub use glam::DVec2;
