@@ -17,7 +17,7 @@
 use crate::build::new_region;
 use crate::error::GeometryError;
 use crate::piece::Piece;
-use crate::predicates::{point_in_ring, ring_signed_area};
+use crate::predicates::{point_in_ring, ring_signed_area, segment_distance};
 use crate::region::Region;
 use crate::types::LoopRole;
 use glam::DVec2;
@@ -286,17 +286,34 @@ pub(crate) fn marked_polygon_region(
 /// lie in a part that is meshed (Triangle would eat that part). Segment markers become the
 /// pieces' markers, and every vertex where the marker changes a corner (a mesh vertex), so that
 /// no mesh edge straddles two walls.
-fn poly_region(name: &str, label: &str, poly: Poly) -> Result<Region, GeometryError> {
-    let region = marked_polygon_region(
-        name,
-        label,
-        poly.loops,
-        poly.segment_markers,
-        &poly.vertex_markers,
-    )?;
+fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, GeometryError> {
+    let build = |poly: &Poly| {
+        marked_polygon_region(
+            name,
+            label,
+            poly.loops.clone(),
+            poly.segment_markers.clone(),
+            &poly.vertex_markers,
+        )
+    };
+    let mut region = build(&poly)?;
+    let off = 1e-9 * region.diameter();
+    // A vertex on no segment's ends that lies on one splits it, as Triangle splits a segment
+    // through a vertex: with a marker of its own it is then a corner that keeps it.
+    let on_boundary: Vec<DVec2> = poly
+        .embedded
+        .iter()
+        .map(|&(p, _)| p)
+        .filter(|&p| region.signed_distance(p).abs() <= off)
+        .collect();
+    if !on_boundary.is_empty() {
+        for p in on_boundary {
+            split_segment_at(&mut poly, p, off);
+        }
+        region = build(&poly)?;
+    }
     // One outside Ω or in a hole is in no triangle of Triangle's mesh either (the triangles
     // there are eaten): not kept.
-    let off = 1e-9 * region.diameter();
     let inside: Vec<(DVec2, i64)> = poly
         .embedded
         .iter()
@@ -886,6 +903,29 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
     })
 }
 
+/// Insert `p` into the loop segment within `off` of it (the first found), the two halves
+/// keeping the segment's marker; nothing if `p` is one of that segment's ends.
+fn split_segment_at(poly: &mut Poly, p: DVec2, off: f64) {
+    for (_, pts) in poly.loops.iter_mut() {
+        let n = pts.len();
+        let Some(i) = (0..n).find(|&i| segment_distance(p, pts[i], pts[(i + 1) % n]) <= off) else {
+            continue;
+        };
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        if a.distance(p) <= off || b.distance(p) <= off {
+            return;
+        }
+        pts.insert(i + 1, p);
+        if let Some(markers) = poly.segment_markers.as_mut() {
+            if let Some(m) = markers.remove(&segment_key(a, b)) {
+                markers.insert(segment_key(a, p), m);
+                markers.insert(segment_key(p, b), m);
+            }
+        }
+        return;
+    }
+}
+
 fn parse_geojson(text: &str, label: &str) -> Result<Loops, GeometryError> {
     let v: Value = serde_json::from_str(text).map_err(|e| GeometryError::Parse {
         path: label.to_string(),
@@ -1196,6 +1236,33 @@ mod tests {
             "6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 5\n5 5 6\n6 6 1\n"
         };
         format!("6 2 1 1\n1 0 0 0.5 1\n2 1.5 0 0.5 {v2}\n3 2.5 0 0.5 {v3}\n4 4 0 0.5 1\n5 4 1 0.5 1\n6 0 1 0.5 1\n{seg}0\n")
+    }
+
+    #[test]
+    fn a_poly_vertex_lying_on_a_segment_splits_it_as_triangle_does() {
+        let at = |x: f64, y: f64| DVec2::new(x, y);
+        // The channel's bottom wall is one segment 1 → 4 (marker 1); vertices 2 and 3 lie on
+        // it, ends of no segment: 2 marked 7 (a probe on the wall), 3 marked 0.
+        let seg = "4 1\n1 1 4 1\n2 4 5 3\n3 5 6 1\n4 6 1 2\n";
+        let text = pinned_channel(7, 0, true).replacen(
+            "6 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 5 3\n5 5 6 1\n6 6 1 2\n",
+            seg,
+            1,
+        );
+        let r = poly(&text).unwrap();
+        assert_eq!(r.vertex_markers(), &[(at(1.5, 0.0), 7)]);
+        assert!(r.embedded_points().is_empty(), "{:?}", r.embedded_points());
+        let k = r.corners().iter().position(|c| c.pos == at(1.5, 0.0));
+        assert_eq!(k.and_then(|k| r.corner_marker(k)), Some(7));
+        // The halves keep the wall's marker; the unmarked vertex is the wall's.
+        let m = r.piece_markers().unwrap();
+        assert_eq!(m.iter().filter(|&&m| m == 1).count(), m.len() - 2);
+        assert!((r.area() - 4.0).abs() < 1e-12);
+        // Unsplit (no vertex on the wall) the probe is no corner at all.
+        let plain = text.replacen("2 1.5 0 0.5 7", "2 1.5 0.5 0.5 7", 1);
+        let r = poly(&plain).unwrap();
+        assert!(r.corners().iter().all(|c| c.pos != at(1.5, 0.0)));
+        assert_eq!(r.embedded_points().len(), 1);
     }
 
     #[test]
