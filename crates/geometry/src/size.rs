@@ -148,6 +148,26 @@ pub enum SizeFieldError {
     /// Sizes given on a mesh without triangles.
     #[error("size field: the mesh has no triangles to interpolate the sizes on")]
     EmptyMesh,
+    /// Sizes given on a mesh that leaves part of the region far from any of its triangles.
+    #[error(
+        "size field: the mesh of sizes does not cover the region: ({x}, {y}) in the region lies \
+         {gap:e} from its nearest triangle, {:.0} % of the region's diameter (sizes are carried \
+         to the region from the mesh's nearest point only up to {:.0} %, where a mesh of a \
+         polygon inscribed in a curved boundary leaves slivers); is it the mesh of this \
+         region, in the same units?",
+        100.0 * gap / diameter,
+        100.0 * crate::background::COVER_GAP
+    )]
+    MeshMissesRegion {
+        /// The region's point farthest from the mesh (a centre of its inside grid).
+        x: f64,
+        /// Its ordinate.
+        y: f64,
+        /// Its distance to the mesh.
+        gap: f64,
+        /// The region's diameter.
+        diameter: f64,
+    },
 }
 
 /// Most nodes per side of a background grid ([`SizeField::from_samples`]): 8192² values take
