@@ -151,7 +151,7 @@ pub enum SizeFieldError {
     /// Sizes given on a mesh that leaves part of the region far from any of its triangles.
     #[error(
         "size field: the mesh of sizes does not cover the region: ({x}, {y}) in the region lies \
-         {gap:e} from its nearest triangle, {:.0} % of the region's diameter (sizes are carried \
+         {gap:.3e} from its nearest triangle, {:.0} % of the region's diameter (sizes are carried \
          to the region from the mesh's nearest point only up to {:.0} %, where a mesh of a \
          polygon inscribed in a curved boundary leaves slivers); is it the mesh of this \
          region, in the same units?",
