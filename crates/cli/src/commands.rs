@@ -255,11 +255,15 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         }
         eprintln!("warning: {thin}");
     }
-    if matches!(method.name(), "distmesh" | "refine") && a.tol != DEFAULT_TOL {
-        eprintln!(
-            "note: --tol does not apply to {}: DistMesh stops at its original dptol = 1e-3·h0, refinement is not iterative",
-            method.name()
-        );
+    if a.tol != DEFAULT_TOL {
+        let why = match method.name() {
+            "distmesh" => "DistMesh stops at its original dptol = 1e-3·h0",
+            "refine" => "refinement is not iterative",
+            _ => "",
+        };
+        if !why.is_empty() {
+            eprintln!("note: --tol does not apply to {}: {why}", method.name());
+        }
     }
     let request = match a.time_limit {
         Some(s) => request.time_limit_secs(s)?,

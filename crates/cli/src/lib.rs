@@ -54,8 +54,10 @@ enum Command {
     /// triangles move (boundary ones along the region's boundary, corners fixed), the triangles
     /// stay.
     ///
-    /// No triangle or cell becomes worse in shape than the worst there was, nor, unless the
-    /// mesh is graded, larger or smaller than the extremes there were.
+    /// No triangle or cell becomes worse in shape than the worst there was; unless the mesh is
+    /// graded, no triangle becomes larger (in area or circumcircle) than the largest there was,
+    /// and the cells' areas, reaches and shortest edges spread no wider (largest over
+    /// smallest). A small triangle may get smaller within that spread.
     #[command(
         after_help = "Examples:\n  cvtmesh polish gmsh_mesh.msh --region lake -o lake_polished.msh\n  cvtmesh polish out.node --region my_region.json --below 35 -o polished.vtu"
     )]

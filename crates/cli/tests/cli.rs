@@ -2421,3 +2421,37 @@ fn a_gmsh_users_physical_curves_survive_meshing_again() {
     );
     assert!(outlet > 4.0 * inlet, "inlet {inlet}, outlet {outlet}");
 }
+
+#[test]
+fn a_tolerance_a_method_does_not_use_is_named_for_that_method() {
+    let d = scratch("tol_note");
+    for (method, why, not) in [
+        ("refine", "refinement is not iterative", "DistMesh"),
+        (
+            "distmesh",
+            "DistMesh stops at its original dptol",
+            "refinement",
+        ),
+    ] {
+        let out = d.join(format!("{method}.node"));
+        let o = cvtmesh(&[
+            "mesh",
+            "circle",
+            "-n",
+            "100",
+            "-m",
+            method,
+            "--tol",
+            "0.5",
+            "-o",
+            s(&out),
+        ]);
+        let t = text(&o);
+        assert!(o.status.success(), "{t}");
+        let note = t.lines().find(|l| l.contains("--tol")).unwrap_or_default();
+        assert!(
+            note.contains(why) && !note.contains(not),
+            "{method}: {note}"
+        );
+    }
+}
