@@ -129,8 +129,8 @@ pub struct MeshArgs {
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
-    /// Output file; the format follows the extension (.svg and .png pictures are 1200 px
-    /// across).
+    /// Output file; the format follows the extension (.svg and .png pictures draw the region
+    /// 1200 px along the longer side of its bounding box, with a margin and a title around).
     #[arg(long, short)]
     output: PathBuf,
 }
@@ -640,7 +640,8 @@ pub struct ShowArgs {
     /// Colour triangles by: min-angle, q (circle ratio R/2r), area [default: none, uniform tint].
     #[arg(long)]
     colour: Option<String>,
-    /// Pixels spanned by the longer side of the drawing.
+    /// Pixels spanned by the longer side of the drawing's bounding box (the picture adds a
+    /// margin and a title around it).
     #[arg(long, default_value_t = inputs::PICTURE_PX, value_parser = clap::value_parser!(u32).range(100..=20_000))]
     px: u32,
     /// Output picture (.png or .svg).

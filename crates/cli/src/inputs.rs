@@ -248,7 +248,9 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
     })
 }
 
-/// Refuse an output whose directory does not exist before any work, rather than after it.
+/// Refuse an output whose directory does not exist, or takes no new file, before any work
+/// rather than after it: a file is created there (as the writers create their temporary files
+/// beside the output) and removed.
 pub fn check_directory(output: &Path) -> Result<()> {
     let dir = match output.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -260,6 +262,22 @@ pub fn check_directory(output: &Path) -> Result<()> {
             output.display(),
             dir.display()
         );
+    }
+    let probe = dir.join(format!(".cvtmesh-probe.{}.tmp", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+        Err(e) => bail!(
+            "cannot write '{}': the directory '{}' takes no new file ({e}); nothing written",
+            output.display(),
+            dir.display()
+        ),
     }
     Ok(())
 }

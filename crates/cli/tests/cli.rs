@@ -644,6 +644,17 @@ fn bad_input_is_refused_with_a_clear_message() {
         &picture_to,
         "no directory",
     );
+    // A directory that takes no file (even for root), also named before any work (after
+    // it, the writer's error would name the temporary file instead).
+    #[cfg(target_os = "linux")]
+    {
+        let proc_out = std::path::Path::new("/proc/cvtmesh_out.msh");
+        assert_refused(
+            &["mesh", "lake", "--points", "100000", "-o", s(proc_out)],
+            proc_out,
+            "takes no new file",
+        );
+    }
     // An unknown region format names the mesh formats too, which also give regions.
     assert_refused(
         &["mesh", s(&d.join("r.xyz")), "--points", "50", "-o", o],
