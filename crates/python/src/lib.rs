@@ -54,6 +54,38 @@ fn whole_numbers<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, 
     np.call_method1("asarray", (a, "int64"))
 }
 
+/// Refuses to measure `mesh` against a region it is no mesh of (covering an area more than
+/// half off the region's: its α would be below 0, its ν inf), and warns where it only nearly
+/// conforms (a file's rounded coordinates, a polygon inscribed in a curve), as `cvtmesh
+/// measure` does. Its boundary vertices are placed on the region first: a mesh read from a
+/// file knows no loops of the region's.
+fn fit_to_measure(py: Python<'_>, mesh: &Mesh, region: &Region) -> PyResult<()> {
+    let mut placed = mesh.clone();
+    let checked = py.detach(|| {
+        cvtmesh::io::restore_markers(&mut placed, region);
+        cvtmesh::check_conforming(&placed, region)
+    });
+    let Err(e) = checked else {
+        return Ok(());
+    };
+    let (covered, whole) = (mesh.area(), region.area());
+    if (covered - whole).abs() > 0.5 * whole {
+        return Err(err(format!(
+            "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
+             of that region ({e})",
+            region.name()
+        )));
+    }
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+    let note = format!(
+        "the mesh does not conform to region '{}': {e}",
+        region.name()
+    );
+    warnings.call_method1("warn", (note, category))?;
+    Ok(())
+}
+
 /// What a mesh checked against a region it does not mesh is told.
 fn not_conforming(region: &Region, e: cvtmesh::ConformityError) -> String {
     format!(
@@ -233,6 +265,57 @@ fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> 
     Ok(pts)
 }
 
+/// Points of any array-like numpy converts to an (n, 2) float64 array: lists, integer and
+/// float32 arrays as well as float64 ones.
+fn xy_of(a: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<DVec2>> {
+    let np = a.py().import("numpy")?;
+    let arr = np
+        .call_method1("asarray", (a, "float64"))
+        .map_err(|e| err(format!("{what} must be an (n, 2) array of numbers ({e})")))?;
+    let ndim: usize = arr.getattr("ndim")?.extract()?;
+    let shape = arr.getattr("shape")?;
+    if ndim != 2 || shape.get_item(1)?.extract::<usize>()? != 2 {
+        return Err(err(format!(
+            "{what} must be an array of shape (n, 2), got {}",
+            shape.repr()?
+        )));
+    }
+    let arr: PyReadonlyArray2<'_, f64> = arr.extract()?;
+    points_of(&arr, what)
+}
+
+/// The hole loops of `holes`, a list of (m, 2) array-likes (or one (h, m, 2) array); `what`
+/// prefixes each hole's name in errors. Hole points, as Triangle takes them (one (h, 2) array
+/// or a list of (x, y) pairs), are refused by name: here a hole is its boundary loop.
+fn hole_loops(holes: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<DVec2>>> {
+    let np = holes.py().import("numpy")?;
+    let as_points = |got: String| {
+        err(format!(
+            "holes must be a list of (m, 2) arrays, one boundary loop per hole, got {got}; a \
+             hole is given by its boundary loop, not by a point inside it as Triangle's holes are"
+        ))
+    };
+    let is_array = holes.is_instance(&np.getattr("ndarray")?)?;
+    if is_array && holes.getattr("ndim")?.extract::<usize>()? != 3 {
+        let shape = holes.getattr("shape")?.repr()?;
+        return Err(as_points(format!("one array of shape {shape}")));
+    }
+    let list: Vec<Bound<'_, PyAny>> = holes
+        .extract()
+        .map_err(|_| err("holes must be a list of (m, 2) arrays, one boundary loop per hole"))?;
+    let points = list
+        .iter()
+        .map(|h| np.call_method1("ndim", (h,))?.extract::<usize>())
+        .collect::<PyResult<Vec<_>>>();
+    if !list.is_empty() && points.is_ok_and(|d| d.iter().all(|&d| d == 1)) {
+        return Err(as_points(format!("{} points", list.len())));
+    }
+    list.iter()
+        .enumerate()
+        .map(|(i, h)| xy_of(h, &format!("{what}hole {i}")))
+        .collect()
+}
+
 fn xy_array<'py>(py: Python<'py>, pts: &[DVec2]) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
     PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
@@ -267,28 +350,37 @@ impl PyRegion {
         })
     }
 
-    /// A file path (a region file, or a mesh file: .node/.ele, .msh, .obj, whose region is
-    /// what its triangles cover), or a built-in name when no such file exists.
+    /// A file path (a str or `os.PathLike`: a region file, or a mesh file: .node/.ele, .msh,
+    /// .obj, whose region is what its triangles cover), or a built-in name when no such file
+    /// exists.
     #[staticmethod]
-    fn load(spec: &str) -> PyResult<PyRegion> {
+    fn load(spec: PathBuf) -> PyResult<PyRegion> {
+        let text = spec
+            .to_str()
+            .ok_or_else(|| err(format!("{}: the path is not valid UTF-8", spec.display())))?;
         Ok(PyRegion {
-            inner: Arc::new(cvtmesh::load_region(spec).map_err(err)?),
+            inner: Arc::new(cvtmesh::load_region(text).map_err(err)?),
         })
     }
 
     /// A polygon with polygonal holes: `outer` is (k, 2), each hole (m, 2). Every vertex is a
     /// corner of this region; `cvtmesh.mesh` keeps those turning by more than its
     /// `corner_angle` (30° by default), as `with_corner_angle` does.
+    /// Any array-likes of numbers are taken (lists, integer arrays).
     #[staticmethod]
-    #[pyo3(signature = (outer, holes = Vec::new(), name = "region"))]
+    #[pyo3(signature = (outer, holes = None, name = "region"))]
     fn from_loops(
-        outer: PyReadonlyArray2<'_, f64>,
-        holes: Vec<PyReadonlyArray2<'_, f64>>,
+        outer: &Bound<'_, PyAny>,
+        holes: Option<&Bound<'_, PyAny>>,
         name: &str,
     ) -> PyResult<PyRegion> {
-        let mut loops = vec![(LoopRole::Outer, points_of(&outer, "outer")?)];
-        for (i, h) in holes.iter().enumerate() {
-            loops.push((LoopRole::Hole, points_of(h, &format!("hole {i}"))?));
+        let mut loops = vec![(LoopRole::Outer, xy_of(outer, "outer")?)];
+        if let Some(holes) = holes {
+            loops.extend(
+                hole_loops(holes, "")?
+                    .into_iter()
+                    .map(|h| (LoopRole::Hole, h)),
+            );
         }
         Ok(PyRegion {
             inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
@@ -342,23 +434,22 @@ impl PyRegion {
     /// is a list of `(outer, [hole, ...])`. Loops are numbered part by part, outer loop first.
     #[staticmethod]
     #[pyo3(signature = (parts, name = "region"))]
-    #[allow(clippy::type_complexity)]
-    fn from_parts(
-        parts: Vec<(PyReadonlyArray2<'_, f64>, Vec<PyReadonlyArray2<'_, f64>>)>,
-        name: &str,
-    ) -> PyResult<PyRegion> {
+    fn from_parts(parts: Vec<Bound<'_, PyAny>>, name: &str) -> PyResult<PyRegion> {
         if parts.is_empty() {
             return Err(err("from_parts needs at least one (outer, holes) part"));
         }
         let mut loops = Vec::new();
-        for (p, (outer, holes)) in parts.iter().enumerate() {
-            loops.push((
-                LoopRole::Outer,
-                points_of(outer, &format!("part {p} outer"))?,
-            ));
-            for (i, h) in holes.iter().enumerate() {
-                loops.push((LoopRole::Hole, points_of(h, &format!("part {p} hole {i}"))?));
-            }
+        for (p, part) in parts.iter().enumerate() {
+            let pair: Vec<Bound<'_, PyAny>> = part.extract().unwrap_or_default();
+            let [outer, holes] = pair.as_slice() else {
+                return Err(err(format!("part {p} must be a pair (outer, [hole, ...])")));
+            };
+            loops.push((LoopRole::Outer, xy_of(outer, &format!("part {p} outer"))?));
+            loops.extend(
+                hole_loops(holes, &format!("part {p} "))?
+                    .into_iter()
+                    .map(|h| (LoopRole::Hole, h)),
+            );
         }
         Ok(PyRegion {
             inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
@@ -543,24 +634,26 @@ impl PyRegion {
         poly.rings.iter().map(|r| xy_array(py, &r.points)).collect()
     }
 
-    /// True for each of the (n, 2) points that lies inside the region.
+    /// True for each of the (n, 2) points (any array-like of numbers) that lies inside the
+    /// region.
     fn contains<'py>(
         &self,
         py: Python<'py>,
-        xy: PyReadonlyArray2<'_, f64>,
+        xy: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let pts = points_of(&xy, "xy")?;
+        let pts = xy_of(xy, "xy")?;
         let inside: Vec<bool> = py.detach(|| pts.iter().map(|&p| self.inner.contains(p)).collect());
         Ok(PyArray1::from_vec(py, inside))
     }
 
-    /// Signed distance to the boundary of each of the (n, 2) points (negative inside).
+    /// Signed distance to the boundary of each of the (n, 2) points (any array-like of
+    /// numbers; negative inside).
     fn signed_distance<'py>(
         &self,
         py: Python<'py>,
-        xy: PyReadonlyArray2<'_, f64>,
+        xy: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let pts = points_of(&xy, "xy")?;
+        let pts = xy_of(xy, "xy")?;
         let d: Vec<f64> =
             py.detach(|| pts.iter().map(|&p| self.inner.signed_distance(p)).collect());
         Ok(PyArray1::from_vec(py, d))
@@ -583,22 +676,84 @@ impl PyRegion {
 struct PyMesh {
     mesh: Mesh,
     region: Option<Arc<Region>>,
+    /// Row `i` of `boundary_edges` is edge `edge_order[i]` of `mesh.boundary_edges()`, whose
+    /// order a mesh read from a file (no arc-length positions) does not chain.
+    edge_order: Vec<usize>,
+    /// The vertices, (N, 2) float64.
     #[pyo3(get)]
     points: Py<PyArray2<f64>>,
+    /// The triangles, (M, 3) int64: 0-based vertex indices, counter-clockwise.
     #[pyo3(get)]
     triangles: Py<PyArray2<i64>>,
+    /// The edges of exactly one triangle, (B, 2) int64, each running with the mesh on its
+    /// left: grouped by loop, and in order along it (each edge starts where the last ended).
     #[pyo3(get)]
     boundary_edges: Py<PyArray2<i64>>,
+    /// The loop of each row of `boundary_edges`, (B,) int64: 0 the outer loop, then its holes,
+    /// then the next part's outer loop and holes.
     #[pyo3(get)]
     boundary_loop: Py<PyArray1<i64>>,
+    /// Whether the run met its tolerance (False when stopped by `max_iter` or `time_limit`).
     #[pyo3(get)]
     converged: bool,
+    /// Iterations the run took (for `refine`, search steps on the area bound).
     #[pyo3(get)]
     iterations: usize,
+    /// What the run reports beyond the arrays: the vertex count reached, polishing, ...
     #[pyo3(get)]
     notes: Vec<String>,
+    /// The CVT energy after each iteration, (iterations,) float64 (empty for methods that
+    /// minimise none).
     #[pyo3(get)]
     energy_history: Py<PyArray1<f64>>,
+}
+
+/// The order that chains `edges` (grouped by loop, as `Mesh::boundary_edges` gives them) along
+/// each loop: from the group's first edge, each next edge starts where the last ended. A loop
+/// that does not close into one chain (it touches itself at a vertex) goes on with a new chain
+/// from its first edge not yet taken.
+fn chained(edges: &[cvtmesh::BoundaryEdge]) -> Vec<usize> {
+    let mut order = Vec::with_capacity(edges.len());
+    let mut start = 0;
+    while start < edges.len() {
+        let loop_index = edges[start].loop_index;
+        let end = start
+            + edges[start..]
+                .iter()
+                .take_while(|e| e.loop_index == loop_index)
+                .count();
+        let mut leaving: std::collections::HashMap<u32, Vec<usize>> =
+            std::collections::HashMap::new();
+        for i in (start..end).rev() {
+            leaving.entry(edges[i].a).or_default().push(i);
+        }
+        let mut taken = vec![false; end - start];
+        for first in start..end {
+            if taken[first - start] {
+                continue;
+            }
+            let mut i = first;
+            loop {
+                taken[i - start] = true;
+                order.push(i);
+                let next = leaving.get_mut(&edges[i].b).and_then(|out| {
+                    while let Some(&j) = out.last() {
+                        if !taken[j - start] {
+                            return Some(j);
+                        }
+                        out.pop();
+                    }
+                    None
+                });
+                match next {
+                    Some(j) => i = j,
+                    None => break,
+                }
+            }
+        }
+        start = end;
+    }
+    order
 }
 
 /// Points (n, 2) and six-node triangles (m, 6) as numpy arrays.
@@ -613,7 +768,10 @@ impl PyMesh {
         label: impl Fn(usize) -> i64,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let pieces = py.detach(|| self.mesh.boundary_pieces(region));
-        let a = PyArray1::from_vec(py, pieces.into_iter().map(label).collect());
+        let a = PyArray1::from_vec(
+            py,
+            self.edge_order.iter().map(|&i| label(pieces[i])).collect(),
+        );
         read_only(&a)?;
         Ok(a)
     }
@@ -696,6 +854,8 @@ impl PyMesh {
             .collect();
         let triangles = PyArray1::from_vec(py, tri).reshape([mesh.triangles.len(), 3])?;
         let edges = mesh.boundary_edges();
+        let edge_order = chained(&edges);
+        let edges: Vec<_> = edge_order.iter().map(|&i| &edges[i]).collect();
         let flat: Vec<i64> = edges
             .iter()
             .flat_map(|e| [i64::from(e.a), i64::from(e.b)])
@@ -712,6 +872,7 @@ impl PyMesh {
         Ok(PyMesh {
             mesh,
             region,
+            edge_order,
             points: points.unbind(),
             triangles: triangles.unbind(),
             boundary_edges: boundary_edges.unbind(),
@@ -845,13 +1006,17 @@ impl PyMesh {
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the
-    /// mesh was made for, or `region` if given.
+    /// mesh was made for, or `region` if given: a `MeshError` where the mesh covers an area
+    /// more than half off the region's, a `RuntimeWarning` where it only nearly conforms.
     #[pyo3(signature = (region = None))]
     fn measures<'py>(
         &self,
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        if let Some(r) = region {
+            fit_to_measure(py, &self.mesh, &r.inner)?;
+        }
         let region = self.region_or(region, "measures")?;
         let m = py
             .detach(|| cvtmesh::measures(&self.mesh, &region))
@@ -864,7 +1029,8 @@ impl PyMesh {
     /// corners fixed, the triangles kept, no triangle or cell taken past the mesh's extremes),
     /// against the region the mesh was made for or `region` (needed for a mesh read from a
     /// file). Its notes say how many moved.
-    #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG))]
+    #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG),
+        text_signature = "(self, region=None, below=40.0)")]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
         let region = self.region_or(region, "polished")?;
         if !(0.0..=60.0).contains(&below) {
@@ -1028,6 +1194,13 @@ fn scalar_field(
             "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array"
         ))
     })?;
+    // Checked here, as given: bounding the field clamps a constant below at 0, so a later
+    // check would report 0, not the number given.
+    if what == "size" && !(h.is_finite() && h > 0.0) {
+        return Err(err(format!(
+            "{what} is {h}: an edge length must be positive and finite"
+        )));
+    }
     Ok(SizeField::constant(h))
 }
 
@@ -1035,19 +1208,19 @@ fn scalar_field(
 /// and stopping at Ctrl-C.
 #[allow(clippy::too_many_arguments)]
 #[pyfunction]
-#[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = 1, tol = 1e-4,
-    max_iter = 10_000, density = None, progress = None, size_min = None, size_max = None,
+#[pyo3(signature = (region, *, n = None, size = None, method = "ccvt", seed = None, tol = 1e-4,
+    max_iter = None, density = None, progress = None, size_min = None, size_max = None,
     gradation = 0.3, size_toward = Vec::new(), size_threshold = None, simplify = None,
     time_limit = None, polish = cvtmesh::POLISH_BELOW_DEG))]
 fn mesh(
     py: Python<'_>,
     region: &PyRegion,
-    n: Option<usize>,
+    n: Option<&Bound<'_, PyAny>>,
     size: Option<&Bound<'_, PyAny>>,
     method: &str,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
     tol: f64,
-    max_iter: usize,
+    max_iter: Option<&Bound<'_, PyAny>>,
     density: Option<&Bound<'_, PyAny>>,
     progress: Option<Py<PyAny>>,
     size_min: Option<f64>,
@@ -1059,6 +1232,15 @@ fn mesh(
     time_limit: Option<f64>,
     polish: f64,
 ) -> PyResult<PyMesh> {
+    let n = n
+        .map(|n| whole_count(n, "n", "a number of vertices, a positive integer"))
+        .transpose()?;
+    let seed = seed.map_or(Ok(1), |s| {
+        whole_count(s, "seed", "an integer from 0 to 2**64 - 1")
+    })?;
+    let max_iter = max_iter.map_or(Ok(10_000), |m| {
+        whole_count(m, "max_iter", "an iteration cap, a positive integer")
+    })?;
     let method: Method = method.parse().map_err(err)?;
     let region = region.inner.clone();
     if size.is_some() && density.is_some() {
@@ -1185,6 +1367,24 @@ fn mesh(
     )
 }
 
+/// A count or seed argument `name` as an unsigned integer: Python integers (and numpy's)
+/// from 0 on. A negative or too large one is a `MeshError` naming the argument, `what` it
+/// must be and its value, which the conversion's `OverflowError` would not.
+fn whole_count<T: TryFrom<u64>>(v: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<T> {
+    if let Ok(k) = v.extract::<u64>() {
+        if let Ok(k) = T::try_from(k) {
+            return Ok(k);
+        }
+    }
+    let Ok(int) = v.call_method0("__index__") else {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{name} must be an integer, got {}",
+            v.repr()?
+        )));
+    };
+    Err(err(format!("{name} must be {what}, got {}", int.repr()?)))
+}
+
 /// The tolerance `simplify=` asks for: a positive number, or `"auto"` for the request's own.
 fn simplify_tolerance(
     s: &Bound<'_, PyAny>,
@@ -1213,7 +1413,8 @@ fn density_of(field: SizeField) -> Density {
     Density::Function(Arc::new(move |p| field.at(p)))
 }
 
-/// The 12 measures of any mesh of `region`: `points` (N, 2), `triangles` (M, 3), 0-based.
+/// The 12 measures of any mesh of `region`: `points` (N, 2), `triangles` (M, 3), 0-based;
+/// refused or warned about where the mesh does not conform to `region` (`Mesh.measures`).
 #[pyfunction]
 fn measures<'py>(
     py: Python<'py>,
@@ -1223,6 +1424,7 @@ fn measures<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = any_mesh(points, triangles, "measures")?;
     let region = region.inner.clone();
+    fit_to_measure(py, &mesh, &region)?;
     let m = py
         .detach(|| cvtmesh::measures(&mesh, &region))
         .map_err(err)?;

@@ -339,6 +339,19 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, polish=float("nan")), "polish threshold"),
         (dict(region="circle", n=100, tol=0.0), "tolerance (tol,"),
         (dict(region="circle", n=100, max_iter=0), "(max_iter,"),
+        (dict(region="circle", n=-5), "n must be a number of vertices, a positive integer"),
+        (dict(region="circle", n=-5), "got -5"),
+        (dict(region="circle", n=2**70), "got 1180591620717411303424"),
+        (dict(region="circle", n=100, seed=-1), "seed must be an integer from 0 to 2**64 - 1"),
+        (dict(region="circle", n=100, seed=2**64), "got 18446744073709551616"),
+        (dict(region="circle", n=100, seed=-1), "got -1"),
+        (dict(region="circle", n=100, max_iter=-1), "max_iter must be an iteration cap, a positive"),
+        (dict(region="circle", n=100, max_iter=np.int64(-3)), "got -3"),
+        (dict(region="circle", size=-0.1), "size is -0.1"),
+        (dict(region="circle", n=100, size=-1), "size is -1"),
+        (dict(region=SQUARE, n=100, holes=np.array([[0.5, 0.5]])), "not by a point inside it"),
+        (dict(region=SQUARE, n=100, holes=[(0.5, 0.5)]), "not by a point inside it"),
+        (dict(region=SQUARE, n=100, holes=[np.zeros((3, 3))]), "hole 0 must be an array of shape (n, 2), got (3, 3)"),
         (dict(region="square_hole", n=3), "(corner_angle,"),
     ],
 )
@@ -384,9 +397,10 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     mm = m.to_meshio()
     assert isinstance(mm, meshio.Mesh)
     assert mm.cells_dict["triangle"].shape == m.triangles.shape
-    assert mm.cells_dict["line"].shape == m.boundary_edges.shape
+    # The line blocks, concatenated, are the boundary edges; cell sets index them so.
+    np.testing.assert_array_equal(mm.cells_dict["line"], m.boundary_edges)
     assert set(mm.cell_sets) >= {"boundary_0", "boundary_1", "domain"}
-    hole_edges = mm.cell_sets["boundary_1"][1]
+    hole_edges = mm.cell_sets_dict["boundary_1"]["line"]
     assert (m.boundary_loop[hole_edges] == 1).all()
     # And each piece (wall): the square's four sides and the hole's four, each edge on its own.
     pieces = m.boundary_pieces()
@@ -394,7 +408,7 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     assert set(np.unique(pieces)) == set(range(8))
     sides = {p["piece"]: p for p in Region.from_loops(SQUARE, [HOLE]).pieces}
     for j in range(8):
-        edges = mm.cell_sets[f"piece_{j}"][1]
+        edges = mm.cell_sets_dict[f"piece_{j}"]["line"]
         assert (pieces[edges] == j).all() and len(edges) > 0
         a, b = np.array(sides[j]["start"]), np.array(sides[j]["end"])
         ends = m.points[m.boundary_edges[edges].ravel()]
@@ -407,7 +421,7 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     line_block = [k for k, c in enumerate(back.cells) if c.type == "line"]
     for j in range(8):
         in_file = sum(len(back.cell_sets[f"piece{j}"][k]) for k in line_block)
-        assert in_file == len(mm.cell_sets[f"piece_{j}"][1])
+        assert in_file == len(mm.cell_sets_dict[f"piece_{j}"]["line"])
     # A mesh read from a file needs the region for its pieces, and to_meshio takes it too.
     read = cvtmesh.Mesh.read(tmp_path / "m.msh")
     with pytest.raises(MeshError, match="pass the region"):
@@ -415,7 +429,9 @@ def test_to_meshio_names_each_boundary_loop_and_piece(tmp_path):
     assert not any(k.startswith("piece_") for k in read.to_meshio().cell_sets)
     again = read.to_meshio(region=Region.from_loops(SQUARE, [HOLE]))
     for j in range(8):
-        assert len(again.cell_sets[f"piece_{j}"][1]) == len(mm.cell_sets[f"piece_{j}"][1])
+        assert len(again.cell_sets_dict[f"piece_{j}"]["line"]) == len(
+            mm.cell_sets_dict[f"piece_{j}"]["line"]
+        )
     # Against a region the mesh does not mesh, pieces and boundary nodes would mean nothing.
     for ask in (read.boundary_pieces, m.boundary_pieces, m.quadratic):
         with pytest.raises(MeshError, match="does not conform to region 'lake'"):
@@ -448,12 +464,13 @@ def test_a_poly_s_segment_markers_name_the_walls(tmp_path):
     meshio = pytest.importorskip("meshio")
     mm = m.to_meshio()
     for k in (1, 2, 3, 4):
-        assert (markers[mm.cell_sets[f"marker_{k}"][1]] == k).all()
+        assert (markers[mm.cell_sets_dict[f"marker_{k}"]["line"]] == k).all()
     # The same numbers as cell data, which files keep where they drop cell sets (VTU here).
-    assert (mm.cell_data["marker"][1] == markers).all() and not mm.cell_data["marker"][0].any()
+    assert (mm.cell_data_dict["marker"]["line"] == markers).all()
+    assert not mm.cell_data_dict["marker"]["triangle"].any()
     mm.write(tmp_path / "m.vtu")
     back = meshio.read(tmp_path / "m.vtu")
-    assert (back.cell_data["marker"][1] == markers).all()
+    assert (back.cell_data_dict["marker"]["line"] == markers).all()
     # A region that numbers no walls says so.
     with pytest.raises(MeshError, match="numbers no walls"):
         cvtmesh.mesh("circle", n=100).boundary_markers()
@@ -913,3 +930,171 @@ def test_quadratic_triangles_put_boundary_nodes_on_the_exact_boundary(tmp_path):
     np.testing.assert_array_equal(back.triangles, m.triangles)
     with pytest.raises(MeshError, match="order must be 1 or 2"):
         m.write(tmp_path / "c.msh", order=3)
+
+
+def assert_chained(m):
+    """Each loop's rows of boundary_edges: each edge starts where the last ended, and the last
+    ends where the first starts."""
+    loops = m.boundary_loop
+    assert (np.diff(loops) >= 0).all(), "rows grouped by loop"
+    for k in np.unique(loops):
+        e = m.boundary_edges[loops == k]
+        np.testing.assert_array_equal(e[1:, 0], e[:-1, 1], err_msg=f"loop {k}")
+        assert e[-1, 1] == e[0, 0], k
+
+
+def edge_set(points, edges):
+    return {tuple(sorted((tuple(points[a][:2]), tuple(points[b][:2])))) for a, b in edges}
+
+
+def test_boundary_edges_read_from_any_file_are_in_order_along_each_loop(tmp_path):
+    region = Region.from_loops(SQUARE, [HOLE])
+    m = cvtmesh.mesh(region, n=200)
+    assert_chained(m)
+    assert_chained(cvtmesh.mesh("annulus", n=303))
+    sides = {p["piece"]: (np.array(p["start"]), np.array(p["end"])) for p in region.pieces}
+    for ext in ["msh", "obj", "node"]:
+        m.write(tmp_path / f"m.{ext}")
+        read = cvtmesh.Mesh.read(tmp_path / f"m.{ext}")
+        assert_chained(read)
+        assert edge_set(read.points, read.boundary_edges) == edge_set(m.points, m.boundary_edges)
+        # The pieces follow the rows: each edge lies on the side its piece names.
+        for (a, b), j in zip(read.boundary_edges, read.boundary_pieces(region)):
+            s0, s1 = sides[j]
+            for v in (read.points[a], read.points[b]):
+                (dx, dy), (ex, ey) = s1 - s0, v - s0
+                assert abs(dx * ey - dy * ex) < 1e-9, (ext, j)
+
+
+def test_regions_take_any_array_like_of_numbers():
+    want = Region.from_loops(SQUARE, [HOLE])
+    for outer, hole in [
+        (SQUARE.tolist(), HOLE.tolist()),
+        ((SQUARE * 10).astype(np.int32), (HOLE * 10).astype(np.int64)),
+        (SQUARE.astype(np.float32), HOLE.astype(np.float32)),
+    ]:
+        got = Region.from_loops(outer, [hole])
+        scale = 10.0 if np.asarray(outer).dtype.kind == "i" else 1.0
+        assert got.area == pytest.approx(want.area * scale**2)
+        parts = Region.from_parts([[outer, [hole]], (np.asarray(outer) + 3 * scale, [])])
+        assert parts.num_parts == 2 and parts.area == pytest.approx(got.area + scale**2)
+    # Several holes of one size as one (h, m, 2) array are several loops.
+    assert Region.from_loops(SQUARE, np.array([HOLE])).area == pytest.approx(want.area)
+    xy = [[-1, 0], [1, 2], [0.5, 0.1]]
+    assert want.contains(xy).tolist() == [False, False, True]
+    np.testing.assert_allclose(
+        want.signed_distance(np.array(xy, dtype=np.int64)[:2]), want.signed_distance(np.array(xy, float)[:2])
+    )
+    np.testing.assert_allclose(
+        want.signed_distance(np.array(xy, dtype=np.float32)), want.signed_distance(xy), atol=1e-7
+    )
+    for bad, words in [
+        ([0.5, 0.5], "xy must be an array of shape (n, 2), got (2,)"),
+        ([["a", "b"]], "xy must be an (n, 2) array of numbers"),
+    ]:
+        with pytest.raises(MeshError) as e:
+            want.contains(bad)
+        assert words in str(e.value)
+    with pytest.raises(MeshError, match="not by a point inside it"):
+        Region.from_loops(SQUARE, np.array([[0.5, 0.5]]))
+    with pytest.raises(MeshError, match="part 0 must be a pair"):
+        Region.from_parts([SQUARE])
+
+
+def test_counts_that_are_no_integers_are_type_errors():
+    for name, kwargs in [("n", dict(n=100.5)), ("seed", dict(n=100, seed="1")), ("max_iter", dict(n=100, max_iter=1e3))]:
+        with pytest.raises(TypeError, match=f"{name} must be an integer"):
+            cvtmesh.mesh("circle", **kwargs)
+    # numpy's integers are integers.
+    assert len(cvtmesh.mesh("circle", n=np.int32(50), seed=np.uint8(3)).points) == 50
+
+
+def test_measures_refuse_a_region_the_mesh_is_no_mesh_of_and_warn_where_it_nearly_is(tmp_path):
+    m = cvtmesh.mesh(SQUARE, n=300)
+    circle = Region.builtin("circle")
+    with pytest.raises(MeshError, match="not a mesh of that region"):
+        m.measures(circle)
+    with pytest.raises(MeshError, match="region 'circle'"):
+        cvtmesh.measures(m.points, m.triangles, "circle")
+    m.write(tmp_path / "sq.msh")
+    with pytest.raises(MeshError, match="not a mesh of that region"):
+        cvtmesh.Mesh.read(tmp_path / "sq.msh").measures(circle)
+    # Coordinates a little off, as a foreign file's rounding leaves them: measured, with a
+    # warning.
+    rounded = np.round(m.points + 1e-6 * (m.points - 0.5), 7)
+    with pytest.warns(RuntimeWarning, match="does not conform to region 'square'"):
+        near = cvtmesh.measures(rounded, m.triangles, Region.from_loops(SQUARE, name="square"))
+    assert near["K"] == 300 and near["alpha"] == pytest.approx(m.measures()["alpha"], abs=1e-3)
+    # The mesh's own region raises nothing.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cvtmesh.measures(m.points, m.triangles, SQUARE)
+        m.measures(Region.from_loops(SQUARE))
+
+
+def test_to_meshio_writes_gmsh_files_with_the_boundary_groups(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    path = tmp_path / "channel.poly"
+    path.write_text(MARKED_CHANNEL)
+    cases = [
+        (cvtmesh.mesh(SQUARE, holes=[HOLE], n=300), "boundary_{}", None),
+        (cvtmesh.mesh(Region.load(path), n=600), "marker_{}", None),
+    ]
+    cases.append((cvtmesh.Mesh.read(_written(cases[0][0], tmp_path / "sq.node")), "boundary_{}", None))
+    cases.append((cases[1][0], "marker_{}", 2))
+    for m, names, order in cases:
+        mm = m.to_meshio() if order is None else m.to_meshio(order=order)
+        line = "line" if order is None else "line3"
+        groups = m.boundary_markers() if names == "marker_{}" else m.boundary_loop
+        # meshio 5.3's Gmsh 2.2 reader fails on files with element data (the markers) and more
+        # than two triangles, so that format is read back without them.
+        for fmt in ("gmsh", "gmsh22") if names == "boundary_{}" else ("gmsh",):
+            out = tmp_path / f"{fmt}.msh"
+            mm.write(out, file_format=fmt)
+            back = meshio.read(out)
+            tri = "triangle" if order is None else "triangle6"
+            assert triangle_set(back.points[:, :2], back.cells_dict[tri][:, :3]) == triangle_set(
+                m.points, m.triangles
+            )
+            tags = back.cell_data_dict["gmsh:physical"][line]
+            want_tags = groups if names == "marker_{}" else groups + 1
+            # Each group's lines, by their ends' coordinates, come back under its tag, which
+            # the file names as the cell set, and (meshio reads Gmsh 4.1's names so) in it.
+            for g in np.unique(groups):
+                edges = m.boundary_edges[groups == g]
+                name = names.format(g)
+                tag = want_tags[groups == g][0]
+                assert back.field_data[name].tolist() == [tag, 1]
+                tagged = back.cells_dict[line][tags == tag][:, :2]
+                assert edge_set(back.points, tagged) == edge_set(m.points, edges), (fmt, name)
+                if fmt == "gmsh":
+                    got = back.cells_dict[line][back.cell_sets_dict[name][line]][:, :2]
+                    assert edge_set(back.points, got) == edge_set(m.points, edges), name
+            assert back.field_data["domain"].tolist() == [1, 2]
+            assert (back.cell_data_dict["gmsh:physical"][tri] == 1).all()
+
+
+def _written(m, path):
+    m.write(path)
+    return path
+
+
+def test_refine_says_which_vertex_count_it_reached():
+    m = cvtmesh.mesh(SQUARE, n=100, method="refine")
+    assert f"K reached {len(m.points)} (requested 100" in m.notes[1]
+
+
+def test_small_conveniences():
+    # One size_toward target as a bare string is that target, not its letters.
+    kw = dict(n=150, size_threshold=(0.02, 0.2, 0.05, 0.5))
+    one = cvtmesh.mesh("square_hole", size_toward="loop:1", **kw)
+    np.testing.assert_array_equal(one.points, cvtmesh.mesh("square_hole", size_toward=["loop:1"], **kw).points)
+    # Region.load takes a pathlib.Path as mesh() and from_file do.
+    assert Region.load(Path("circle")).name == "circle"
+    # help() shows the real defaults, not Ellipsis.
+    import inspect
+
+    assert inspect.signature(cvtmesh.Mesh.polished).parameters["below"].default == 40.0
+    assert inspect.signature(Region.from_loops).parameters["holes"].default is None
+    for name in ["points", "triangles", "boundary_edges", "boundary_loop", "converged", "iterations", "notes", "energy_history"]:
+        assert getattr(cvtmesh.Mesh, name).__doc__, name

@@ -41,21 +41,22 @@ RegionLike = Union[str, "os.PathLike[str]", Region, Any]
 
 
 def _region(region: RegionLike, holes: Optional[Sequence[Any]], corner_angle: Optional[float]) -> Region:
+    # len(), not truth: holes may be a numpy array, whose truth value numpy refuses.
+    has_holes = holes is not None and len(holes) > 0
     if isinstance(region, Region):
-        if holes:
+        if has_holes:
             raise MeshError("holes= goes with an outer loop given as an array, not with a Region")
         r = region
     elif isinstance(region, (str, os.PathLike)):
-        if holes:
+        if has_holes:
             raise MeshError("holes= goes with an outer loop given as an array, not with a file or name")
-        r = Region.load(os.fspath(region))
+        r = Region.load(region)
     else:
         outer = np.ascontiguousarray(region, dtype=np.float64)
-        hs = [np.ascontiguousarray(h, dtype=np.float64) for h in (holes or [])]
-        for name, a in [("region", outer)] + [(f"hole {i}", h) for i, h in enumerate(hs)]:
-            if a.ndim != 2 or a.shape[1] != 2:
-                raise MeshError(f"{name} must be an array of shape (k, 2), got {a.shape}")
-        r = Region.from_loops(outer, hs)
+        if outer.ndim != 2 or outer.shape[1] != 2:
+            raise MeshError(f"region must be an array of shape (k, 2), got {outer.shape}")
+        # Region.from_loops checks each hole, and names hole points given for loops.
+        r = Region.from_loops(outer, holes if holes is not None else [])
     if corner_angle is not None:
         r = r.with_corner_angle(float(corner_angle))
     else:
@@ -79,7 +80,7 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
-    size_toward: Sequence[str] = (),
+    size_toward: Union[str, Sequence[str]] = (),
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,
@@ -92,12 +93,17 @@ def mesh(
     region
         A built-in name, a region file's path, a mesh file's path (the region its triangles
         cover, to mesh again), a :class:`Region`, or the outer loop as a ``(k, 2)`` array
-        (then ``holes`` lists ``(m, 2)`` arrays). A region of several parts
+        (then ``holes`` lists ``(m, 2)`` arrays, each a hole's boundary loop, not a point
+        inside it as Triangle takes holes). A region of several parts
         (a GeoJSON MultiPolygon, a loop list of disjoint loops) has every part meshed, with
         the vertices shared by area.
     n
         The number of vertices. With ``size`` as well, the size field's shape is kept and
-        scaled so that the mesh has exactly ``n`` vertices.
+        scaled so that the mesh has exactly ``n`` vertices. For ``method="refine"`` it is a
+        target: Delaunay refinement has no direct control of the count, so the area bound is
+        searched and the mesh has the reachable count nearest ``n`` (``notes[1]`` says which).
+        Where every triangle refines at the same bound, as on a square, that count jumps (81
+        or 145 vertices about 100 on the unit square) and can be far from ``n``.
     size
         The target edge length h: a number, an expression in ``x`` and ``y``
         (``"0.01 + 0.1*sqrt(x^2+y^2)"``), a vectorized callable ``f(xy) -> h`` that
@@ -135,7 +141,7 @@ def mesh(
         Refine toward boundary loops, pieces or points, as Gmsh's Distance + Threshold fields
         do: ``size_toward=["loop:1", "piece:0", "point:0.5,0.5"]`` (loop 0 is the outer
         boundary, then the holes; pieces are numbered as ``cvtmesh regions REGION`` lists
-        them; ``"marker:4"`` is every wall a ``.poly`` marks 4) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
+        them; ``"marker:4"`` is every wall a ``.poly`` marks 4; one target may be a bare string) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
         to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
         well, the smaller of the two is used.
     simplify
@@ -182,7 +188,8 @@ def mesh(
         progress=progress,
         size_min=size_min,
         size_max=size_max,
-        size_toward=list(size_toward),
+        # One target may be given as a bare string, which list() would split into letters.
+        size_toward=[size_toward] if isinstance(size_toward, str) else list(size_toward),
         size_threshold=size_threshold,
         gradation=gradation,
         simplify=simplify,
@@ -221,7 +228,7 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
 
 
 def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> Any:
-    """The mesh as a ``meshio.Mesh``: a ``triangle`` block, a ``line`` block of boundary
+    """The mesh as a ``meshio.Mesh``: a ``triangle`` block, ``line`` blocks of boundary
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
     made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
     the region file numbers its walls (a ``.poly``'s segment markers, a Gmsh mesh's physical
@@ -231,32 +238,31 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
     reading meshio see as named boundaries. ``order=2`` gives
     ``triangle6`` and ``line3`` blocks instead (:meth:`Mesh.quadratic`: the boundary nodes on
     the region's exact boundary). A mesh read from a file knows no region: pass ``region`` for
-    its pieces, markers and exact boundary."""
+    its pieces, markers and exact boundary.
+
+    The lines, concatenated (``cells_dict["line"]``), are the rows of ``boundary_edges``;
+    there is one block per run of them along one piece (one loop where the pieces are not
+    known), so that ``write(path, file_format="gmsh")`` writes each block as a Gmsh curve:
+    cell data ``gmsh:geometrical`` numbers the curves, ``gmsh:physical`` gives each line its
+    wall's marker (its loop + 1 where the region numbers no walls) and the triangles 1, point
+    data ``gmsh:dim_tags`` puts each node on its curve or the surface, and ``field_data``
+    names the physical groups as the cell sets (``marker_4`` or ``boundary_0``, and
+    ``domain``), which meshio reads back as cell sets."""
     import meshio
 
     loops = np.asarray(self.boundary_loop)
-    cell_sets = {
-        f"boundary_{k}": [np.empty(0, dtype=np.int64), np.flatnonzero(loops == k)]
-        for k in np.unique(loops)
-    }
-    cell_sets["domain"] = [np.arange(len(self.triangles)), np.empty(0, dtype=np.int64)]
     try:
         pieces = np.asarray(self.boundary_pieces(region))
     except MeshError:  # read from a file: its pieces need the region
         pieces = np.empty(0, dtype=np.int64)
-    for j in np.unique(pieces):
-        cell_sets[f"piece_{j}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(pieces == j)]
     try:
         markers = np.asarray(self.boundary_markers(region))
     except MeshError:  # no region, or one that numbers no walls
         markers = np.empty(0, dtype=np.int64)
-    for m in np.unique(markers):
-        cell_sets[f"marker_{m}"] = [np.empty(0, dtype=np.int64), np.flatnonzero(markers == m)]
     if order == 1:
-        points, cells = np.array(self.points), [
-            ("triangle", np.array(self.triangles)),
-            ("line", np.array(self.boundary_edges)),
-        ]
+        points, tris = np.array(self.points), np.array(self.triangles)
+        lines = np.array(self.boundary_edges)
+        kinds = ("triangle", "line")
     elif order == 2:
         points, tri6 = self.quadratic(region)
         # Each edge's node, by the edge's sorted ends: the triangles hold every edge.
@@ -265,15 +271,53 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
         node_of = dict(zip(map(tuple, np.sort(ends, axis=1).tolist()), nodes.tolist()))
         edges = np.array(self.boundary_edges)
         mids = [node_of[tuple(e)] for e in np.sort(edges, axis=1).tolist()]
-        line3 = np.column_stack([edges, np.array(mids, dtype=np.int64).reshape(-1)])
-        points, cells = np.array(points), [("triangle6", np.array(tri6)), ("line3", line3)]
+        lines = np.column_stack([edges, np.array(mids, dtype=np.int64).reshape(-1)])
+        points, tris = np.array(points), np.array(tri6)
+        kinds = ("triangle6", "line3")
     else:
         raise MeshError(f"order must be 1 or 2, got {order}")
-    # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
-    # finite-element codes read facet tags from, keep cell data, not cell sets.
-    cell_data, point_data = {}, {}
+
+    # Gmsh curves: runs of consecutive lines on one loop and piece. Gmsh (and meshio's
+    # writer) give a curve one physical tag, so a curve must not straddle two walls.
+    keys = np.column_stack([loops, pieces]) if len(pieces) else loops[:, None]
+    cuts = np.flatnonzero(np.any(keys[1:] != keys[:-1], axis=1)) + 1
+    bounds = np.concatenate([[0], cuts, [len(lines)]]).astype(np.int64)
+    runs = list(zip(bounds[:-1].tolist(), bounds[1:].tolist()))
+    group = markers if len(markers) else loops + 1
+
+    cells = [(kinds[0], tris)] + [(kinds[1], lines[a:b]) for a, b in runs]
+
+    def per_block(rows: np.ndarray) -> list:
+        """Line rows (indices into boundary_edges) as meshio's per-block lists."""
+        return [np.empty(0, dtype=np.int64)] + [rows[(rows >= a) & (rows < b)] - a for a, b in runs]
+
+    cell_sets = {f"boundary_{k}": per_block(np.flatnonzero(loops == k)) for k in np.unique(loops)}
+    cell_sets["domain"] = [np.arange(len(tris))] + [np.empty(0, dtype=np.int64) for _ in runs]
+    for j in np.unique(pieces):
+        cell_sets[f"piece_{j}"] = per_block(np.flatnonzero(pieces == j))
+    for m in np.unique(markers):
+        cell_sets[f"marker_{m}"] = per_block(np.flatnonzero(markers == m))
+
+    cell_data = {
+        "gmsh:physical": [np.ones(len(tris), dtype=np.int64)]
+        + [np.full(b - a, group[a], dtype=np.int64) for a, b in runs],
+        "gmsh:geometrical": [np.ones(len(tris), dtype=np.int64)]
+        + [np.full(b - a, r + 1, dtype=np.int64) for r, (a, b) in enumerate(runs)],
+    }
+    names = "marker_{}" if len(markers) else "boundary_{}"
+    field_data = {"domain": np.array([1, 2])}
+    for g in np.unique(group):
+        field_data[names.format(g if len(markers) else g - 1)] = np.array([g, 1])
+    # Every node on the surface but the lines' own: each line's first node (and its edge
+    # node) on its curve, so each curve holds a node, as Gmsh's entities list them.
+    dim_tags = np.tile(np.array([2, 1], dtype=np.int64), (len(points), 1))
+    for r, (a, b) in enumerate(runs):
+        dim_tags[lines[a:b, [0] + list(range(2, lines.shape[1]))].ravel()] = [1, r + 1]
+    point_data = {"gmsh:dim_tags": dim_tags}
     if len(markers):
-        cell_data["marker"] = [np.zeros(len(cells[0][1]), dtype=np.int64), markers]
+        # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
+        # finite-element codes read facet tags from, keep cell data, not cell sets.
+        cell_data["marker"] = [np.zeros(len(tris), dtype=np.int64)] + [markers[a:b] for a, b in runs]
         # Each vertex's as a Triangle .node gives it (a point the region marks on its own
         # keeps its marker); the edge nodes of order 2 take 0.
         marks = np.zeros(len(points), dtype=np.int64)
@@ -281,7 +325,12 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
         marks[: len(own)] = own
         point_data["marker"] = marks
     return meshio.Mesh(
-        points, cells, cell_sets=cell_sets, cell_data=cell_data, point_data=point_data
+        points,
+        cells,
+        cell_sets=cell_sets,
+        cell_data=cell_data,
+        point_data=point_data,
+        field_data=field_data,
     )
 
 

@@ -29,7 +29,7 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
-    size_toward: Sequence[str] = ...,
+    size_toward: Union[str, Sequence[str]] = (),
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,

@@ -19,7 +19,7 @@ class Region:
     @staticmethod
     def builtin(name: str) -> Region: ...
     @staticmethod
-    def load(spec: str) -> Region: ...
+    def load(spec: Union[str, PathLike[str]]) -> Region: ...
     @staticmethod
     def from_triangles(
         points: npt.ArrayLike,
@@ -31,7 +31,7 @@ class Region:
     ) -> Region: ...
     @staticmethod
     def from_loops(
-        outer: npt.ArrayLike, holes: Sequence[npt.ArrayLike] = ..., name: str = "region"
+        outer: npt.ArrayLike, holes: Optional[Sequence[npt.ArrayLike]] = None, name: str = "region"
     ) -> Region: ...
     @staticmethod
     def from_parts(
@@ -103,7 +103,7 @@ def mesh(
     size_min: Optional[float] = None,
     size_max: Optional[float] = None,
     gradation: Optional[float] = 0.3,
-    size_toward: Sequence[str] = ...,
+    size_toward: Sequence[str] = (),
     size_threshold: Optional[Tuple[float, float, float, float]] = None,
     simplify: Union[None, float, str] = None,
     time_limit: Optional[float] = None,
