@@ -31,7 +31,9 @@ pub const OFFSET_LIMIT: f64 = 1e6;
 /// corner: the boundary's direction changes by more than 30° there (an interior angle below
 /// 150° or above 210°). A square's, a hexagon's and an octagon's vertices stay corners; the
 /// small turns of a digitized curve do not. It is the feature angle of VTK's feature-edge
-/// filter, and the paper's regions list their corners, so they are not affected.
+/// filter, and the paper's regions list their corners, so they are not affected. A turn within
+/// 10⁻⁹ of the threshold counts as above it, so that rounding treats a regular polygon's
+/// vertices alike: a dodecagon's 30° turns are all corners.
 pub const DEFAULT_CORNER_ANGLE: f64 = 30.0;
 /// Turning angle (radians) above which a junction is a corner when none are listed.
 pub(crate) const CORNER_ANGLE: f64 = 1e-6;
@@ -75,8 +77,9 @@ impl Region {
         new_region(name, loops, corners)
     }
 
-    /// The same region with only the corners whose turning angle exceeds `degrees`; pieces
-    /// joined at the dropped corners merge into `Piece::Chain`s.
+    /// The same region with only the corners whose turning angle exceeds `degrees` (or lies
+    /// within 10⁻⁹ of it: a regular polygon's turns all at once); pieces joined at the dropped
+    /// corners merge into `Piece::Chain`s.
     ///
     /// The turning angle of a corner is the angle between the incoming and outgoing
     /// tangents (0° = straight on, 180° = turning back). Runs of pieces between kept corners
@@ -87,7 +90,8 @@ impl Region {
     /// is recorded in `corner_threshold`, and a NaN threshold counts as 0.
     pub fn with_corner_angle(&self, degrees: f64) -> Region {
         let degrees = if degrees.is_nan() { 0.0 } else { degrees };
-        let threshold = degrees.to_radians();
+        // The turns of a regular polygon differ by rounding: one rule for all of them.
+        let threshold = degrees.to_radians() * (1.0 - 1e-9);
         let arc_tol = 1e-7 * self.diameter();
         let mut lps = Vec::with_capacity(self.loops.len());
         let mut flags = Vec::with_capacity(self.loops.len());

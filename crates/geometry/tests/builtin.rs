@@ -319,3 +319,25 @@ fn paper_k_lists_the_twelve_tables_in_order() {
     assert_eq!(cases[11], ("lake", 1109));
     assert!(Region::paper_k("triangle").is_empty());
 }
+
+#[test]
+fn a_regular_polygon_keeps_all_its_corners_or_none_whatever_the_rounding() {
+    use cvtmesh_geometry::LoopRole;
+    // Turns of 30° (a dodecagon) meet the default threshold and stay corners, all twelve;
+    // turns of 15° (a 24-gon) do not, none. Rotated and scaled so that the turns computed
+    // from the rounded vertices straddle the exact angle.
+    for (n, kept) in [(12, 12), (24, 0), (6, 6)] {
+        for (phase, radius) in [(0.0, 1.0), (0.1, 3.7), (0.377, 0.013), (1.3, 250.0)] {
+            let pts: Vec<DVec2> = (0..n)
+                .map(|i| {
+                    let t = phase + std::f64::consts::TAU * i as f64 / n as f64;
+                    DVec2::new(radius * t.cos() + 0.3, radius * t.sin() - 0.2)
+                })
+                .collect();
+            let r = Region::from_loops("ngon", vec![(LoopRole::Outer, pts)])
+                .unwrap()
+                .with_default_corners();
+            assert_eq!(r.corners().len(), kept, "{n}-gon at {phase}, {radius}");
+        }
+    }
+}
