@@ -152,8 +152,10 @@ impl Mesh {
     }
 
     /// The edges of exactly one triangle, grouped by boundary loop and, within a loop, in
-    /// order of their first vertex's arc-length position (then by vertex index, for meshes
-    /// read from files that do not record positions). Triangles may have either orientation.
+    /// order along it, each edge starting where the last ended: from the edge whose first
+    /// vertex has the least arc-length position (for a mesh read from a file, which records
+    /// none, the least vertex index). A loop that touches itself at a vertex goes on with a
+    /// new chain from its next edge not yet taken. Triangles may have either orientation.
     /// O(M) to find them, O(B log B) to order the B found.
     ///
     /// ```
@@ -192,8 +194,57 @@ impl Mesh {
                 .then(param(x.a).total_cmp(&param(y.a)))
                 .then((x.a, x.b).cmp(&(y.a, y.b)))
         });
-        edges
+        // Sorted by position they already follow one another; sorted by index they do not.
+        chained(&edges).into_iter().map(|i| edges[i]).collect()
     }
+}
+
+/// The order that chains `edges` (grouped by loop) along
+/// each loop: from the group's first edge, each next edge starts where the last ended. A loop
+/// that does not close into one chain (it touches itself at a vertex) goes on with a new chain
+/// from its first edge not yet taken.
+fn chained(edges: &[BoundaryEdge]) -> Vec<usize> {
+    let mut order = Vec::with_capacity(edges.len());
+    let mut start = 0;
+    while start < edges.len() {
+        let loop_index = edges[start].loop_index;
+        let end = start
+            + edges[start..]
+                .iter()
+                .take_while(|e| e.loop_index == loop_index)
+                .count();
+        let mut leaving: std::collections::HashMap<u32, Vec<usize>> =
+            std::collections::HashMap::new();
+        for i in (start..end).rev() {
+            leaving.entry(edges[i].a).or_default().push(i);
+        }
+        let mut taken = vec![false; end - start];
+        for first in start..end {
+            if taken[first - start] {
+                continue;
+            }
+            let mut i = first;
+            loop {
+                taken[i - start] = true;
+                order.push(i);
+                let next = leaving.get_mut(&edges[i].b).and_then(|out| {
+                    while let Some(&j) = out.last() {
+                        if !taken[j - start] {
+                            return Some(j);
+                        }
+                        out.pop();
+                    }
+                    None
+                });
+                match next {
+                    Some(j) => i = j,
+                    None => break,
+                }
+            }
+        }
+        start = end;
+    }
+    order
 }
 
 impl Mesh {
@@ -447,6 +498,56 @@ pub(crate) fn corner_angle_deg(p: [DVec2; 3], i: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A mesh read from a file knows no positions along its loops: its boundary edges still
+    /// follow one another, loop by loop, whatever the vertices' numbering.
+    #[test]
+    fn boundary_edges_of_a_mesh_without_positions_follow_one_another() {
+        // The square [0, 3]² minus [1, 2]², its eight corners numbered out of order.
+        let at = [
+            (2.0, 1.0),
+            (0.0, 3.0),
+            (3.0, 0.0),
+            (1.0, 2.0),
+            (0.0, 0.0),
+            (2.0, 2.0),
+            (3.0, 3.0),
+            (1.0, 1.0),
+        ];
+        let points: Vec<DVec2> = at.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+        // Outer 4 → 2 → 6 → 1 → 4, inner 7 → 3 → 5 → 0 → 7 (clockwise); the ring between.
+        let triangles = vec![
+            [4, 2, 0],
+            [4, 0, 7],
+            [2, 6, 5],
+            [2, 5, 0],
+            [6, 1, 3],
+            [6, 3, 5],
+            [1, 4, 7],
+            [1, 7, 3],
+        ];
+        for markers in [
+            vec![VertexMarker::Interior; 8],
+            crate::io::markers_from_topology(&points, &triangles),
+        ] {
+            let mesh = Mesh {
+                points: points.clone(),
+                triangles: triangles.clone(),
+                markers,
+            };
+            let edges = mesh.boundary_edges();
+            assert_eq!(edges.len(), 8);
+            let chains = edges.windows(2).filter(|w| w[0].b != w[1].a).count();
+            // One break: from the end of the first loop to the start of the second.
+            assert_eq!(chains, 1, "{edges:?}");
+            let outer: Vec<u32> = edges
+                .iter()
+                .filter(|e| e.loop_index == edges[0].loop_index)
+                .map(|e| e.a)
+                .collect();
+            assert!(outer.len() == 8 || outer.len() == 4, "{edges:?}");
+        }
+    }
 
     /// The rows are those of filing the corners one by one, on any number of threads and
     /// whatever the runs, with the corners at vertices from `n` on left out.

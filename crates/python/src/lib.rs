@@ -676,9 +676,6 @@ impl PyRegion {
 struct PyMesh {
     mesh: Mesh,
     region: Option<Arc<Region>>,
-    /// Row `i` of `boundary_edges` is edge `edge_order[i]` of `mesh.boundary_edges()`, whose
-    /// order a mesh read from a file (no arc-length positions) does not chain.
-    edge_order: Vec<usize>,
     /// The vertices, (N, 2) float64.
     #[pyo3(get)]
     points: Py<PyArray2<f64>>,
@@ -708,54 +705,6 @@ struct PyMesh {
     energy_history: Py<PyArray1<f64>>,
 }
 
-/// The order that chains `edges` (grouped by loop, as `Mesh::boundary_edges` gives them) along
-/// each loop: from the group's first edge, each next edge starts where the last ended. A loop
-/// that does not close into one chain (it touches itself at a vertex) goes on with a new chain
-/// from its first edge not yet taken.
-fn chained(edges: &[cvtmesh::BoundaryEdge]) -> Vec<usize> {
-    let mut order = Vec::with_capacity(edges.len());
-    let mut start = 0;
-    while start < edges.len() {
-        let loop_index = edges[start].loop_index;
-        let end = start
-            + edges[start..]
-                .iter()
-                .take_while(|e| e.loop_index == loop_index)
-                .count();
-        let mut leaving: std::collections::HashMap<u32, Vec<usize>> =
-            std::collections::HashMap::new();
-        for i in (start..end).rev() {
-            leaving.entry(edges[i].a).or_default().push(i);
-        }
-        let mut taken = vec![false; end - start];
-        for first in start..end {
-            if taken[first - start] {
-                continue;
-            }
-            let mut i = first;
-            loop {
-                taken[i - start] = true;
-                order.push(i);
-                let next = leaving.get_mut(&edges[i].b).and_then(|out| {
-                    while let Some(&j) = out.last() {
-                        if !taken[j - start] {
-                            return Some(j);
-                        }
-                        out.pop();
-                    }
-                    None
-                });
-                match next {
-                    Some(j) => i = j,
-                    None => break,
-                }
-            }
-        }
-        start = end;
-    }
-    order
-}
-
 /// Points (n, 2) and six-node triangles (m, 6) as numpy arrays.
 type QuadraticArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 
@@ -768,10 +717,7 @@ impl PyMesh {
         label: impl Fn(usize) -> i64,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let pieces = py.detach(|| self.mesh.boundary_pieces(region));
-        let a = PyArray1::from_vec(
-            py,
-            self.edge_order.iter().map(|&i| label(pieces[i])).collect(),
-        );
+        let a = PyArray1::from_vec(py, pieces.into_iter().map(label).collect());
         read_only(&a)?;
         Ok(a)
     }
@@ -854,8 +800,6 @@ impl PyMesh {
             .collect();
         let triangles = PyArray1::from_vec(py, tri).reshape([mesh.triangles.len(), 3])?;
         let edges = mesh.boundary_edges();
-        let edge_order = chained(&edges);
-        let edges: Vec<_> = edge_order.iter().map(|&i| &edges[i]).collect();
         let flat: Vec<i64> = edges
             .iter()
             .flat_map(|e| [i64::from(e.a), i64::from(e.b)])
@@ -872,7 +816,6 @@ impl PyMesh {
         Ok(PyMesh {
             mesh,
             region,
-            edge_order,
             points: points.unbind(),
             triangles: triangles.unbind(),
             boundary_edges: boundary_edges.unbind(),
