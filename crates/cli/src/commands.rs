@@ -338,11 +338,17 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         a.output.display()
     );
     if a.strict && !result.converged {
+        let why = if result.iterations >= a.max_iter {
+            format!("the iteration cap {} reached", a.max_iter)
+        } else if request.out_of_time() {
+            "the time limit reached".to_string()
+        } else {
+            "see the notes".to_string()
+        };
         bail!(
-            "--strict: {} did not converge ({} iterations, cap {}; see the notes; mesh written anyway)",
+            "--strict: {} did not converge ({} iterations, {why}; mesh written anyway)",
             method.name(),
             result.iterations,
-            a.max_iter
         );
     }
     Ok(())

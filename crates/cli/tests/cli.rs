@@ -502,7 +502,11 @@ fn strict_turns_a_capped_run_into_an_error_but_keeps_the_mesh() {
         s(&out),
     ]);
     assert!(!o.status.success());
-    assert!(text(&o).contains("did not converge"), "{}", text(&o));
+    assert!(
+        text(&o).contains("did not converge (2 iterations, the iteration cap 2 reached"),
+        "{}",
+        text(&o)
+    );
     assert!(out.exists());
 }
 
@@ -521,6 +525,11 @@ fn a_time_limit_writes_the_mesh_reached_marked_not_converged() {
     );
     let mesh = cvtmesh::io::read_mesh(&out).unwrap();
     cvtmesh::check_conforming(&mesh, &cvtmesh::Region::builtin("lake").unwrap()).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    // Under --strict the refusal names the time limit, not the iteration cap.
+    let o = quiet_mesh("lake", "3000", &["--time-limit", "0", "--strict"], &out);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("the time limit reached"), "{}", text(&o));
     std::fs::remove_file(&out).unwrap();
     for bad in ["-1", "NaN"] {
         let o = run(bad);
@@ -2465,4 +2474,29 @@ fn a_tolerance_a_method_does_not_use_is_named_for_that_method() {
             "{method}: {note}"
         );
     }
+}
+
+#[test]
+fn a_file_named_like_a_built_in_region_does_not_hide_it() {
+    let d = scratch("shadow");
+    std::fs::write(d.join("lake"), "not a region").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_cvtmesh"))
+        .args(["mesh", "lake", "-n", "300", "-q", "-o", "m.node"])
+        .current_dir(&*d)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(d.join("m.node").exists());
+    // `./lake` names the file, which is in no format.
+    let o = Command::new(env!("CARGO_BIN_EXE_cvtmesh"))
+        .args(["regions", "./lake"])
+        .current_dir(&*d)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("unknown region file extension"),
+        "{}",
+        text(&o)
+    );
 }

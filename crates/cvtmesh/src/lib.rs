@@ -150,9 +150,10 @@ pub fn region_of_mesh(
 /// [`Region::from_file`] reads; the path of a mesh ([`io::read_mesh`]: Triangle `.node`/`.ele`,
 /// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
 /// ([`Region::from_triangles`]), so a mesh can be meshed again, polished or measured with no
-/// region file; or, when no such file exists and the text looks like no path (no `.` or
-/// `/`), the name of a built-in region. As read: a polygon file's every turning vertex is a
-/// corner ([`Region::with_default_corners`] keeps the command line's).
+/// region file; or, when the text looks like no path (no `.` or `/`), the name of a built-in
+/// region, even where a file of that name lies in the working directory (a file without an
+/// extension is in no format; `./lake` names the file). As read: a polygon file's every
+/// turning vertex is a corner ([`Region::with_default_corners`] keeps the command line's).
 ///
 /// ```
 /// let lake = cvtmesh::load_region("lake")?;
@@ -180,7 +181,11 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
         })?;
         return region_of_mesh(&mesh, &walls, path);
     }
-    if path.exists() || spec.contains('.') || spec.contains('/') {
+    let plain = !spec.contains('.') && !spec.contains('/');
+    if plain && Region::builtin_names().contains(&spec) {
+        return Region::builtin(spec);
+    }
+    if path.exists() || !plain {
         Region::from_file(path).map_err(|e| match e {
             // Here a mesh file is a region too: say so beside the region formats.
             GeometryError::UnknownFormat { ref path, .. } => GeometryError::Parse {
