@@ -95,6 +95,28 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
             });
         }
     }
+    // A mesh over less than half the region whose boundary vertices bunch on part of a loop
+    // is not a mesh of it, whatever the method's own test of convergence said (MESHGEN and
+    // VTM at K = 6 on the disc can end with every boundary vertex on one arc, 1.8 % of the
+    // disc covered). Spread vertices too few for a curve (a triangle in the disc) are a
+    // coarse mesh, which `short_coverage` names.
+    let share = result.mesh.area() / region.area();
+    if share < MIN_SHARE {
+        if let Some((l, span)) = widest_boundary_edge(&result.mesh, region).filter(|w| w.1 > 0.5) {
+            return Err(MeshError::Failed {
+                method: mesher.name().to_string(),
+                message: format!(
+                    "the mesh covers {:.1} % of the region's area, its boundary vertices \
+                     bunched on part of loop {l} (one boundary edge cuts across {:.0} % of \
+                     it): at K = {} this method gives no mesh of the region; ask for more \
+                     points or use another method",
+                    100.0 * share,
+                    100.0 * span,
+                    result.mesh.num_vertices()
+                ),
+            });
+        }
+    }
     // Every point the region embeds is a vertex, or the caller hears which is not: one closer
     // to a curved boundary than its chords at this spacing cannot be a vertex of the mesh.
     if !region.embedded_points().is_empty() {
@@ -121,6 +143,32 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         }
     }
     Ok(result)
+}
+
+/// Below this share of the region's area covered, [`Mesher::mesh_parts`] refuses a mesh whose
+/// boundary vertices bunch on part of a loop. The coarsest mesh of a disc with its boundary
+/// vertices spread, a triangle, covers 41 %; a square 64 %.
+const MIN_SHARE: f64 = 0.5;
+
+/// The boundary edge that spans the largest share of its loop's length, measured along the
+/// loop from its start to its end (the mesh on the edge's left, the region on the loop's):
+/// the loop and that share. An edge that follows its loop spans less than half of it, as a
+/// chord is no longer than the rest of the loop. None where the vertices know no positions.
+fn widest_boundary_edge(mesh: &Mesh, region: &Region) -> Option<(usize, f64)> {
+    let param = |v: u32| {
+        mesh.markers[v as usize]
+            .loop_param()
+            .filter(|s| s.is_finite())
+    };
+    mesh.boundary_edges()
+        .iter()
+        .filter_map(|e| {
+            let length = region.loops().get(e.loop_index)?.length;
+            let span = (param(e.b)? - param(e.a)?).rem_euclid(length) / length;
+            // A step back by rounding (an end a hair behind the start) is no span.
+            (span < 1.0 - 1e-9).then_some((e.loop_index, span))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// What [`with_spacing_corners`] found.
