@@ -65,8 +65,8 @@ fn regions_beyond_the_extent_limits_or_far_from_the_origin_are_refused_with_what
             "{s}: {e}"
         );
     }
-    // 1e7 diameters from the origin: refused, naming the translation; 1e5 is meshed as at 0.
-    let far = DVec2::new(1e7, -3e6);
+    // 1e9 diameters from the origin: refused, naming the translation; 1e5 is meshed as at 0.
+    let far = DVec2::new(1e9, -3e8);
     let e = notched(1.0, far).unwrap_err().to_string();
     assert!(
         e.contains("translate its coordinates") && e.contains("subtract"),

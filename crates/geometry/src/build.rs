@@ -23,10 +23,12 @@ const CHECK_TOL: f64 = 1e-6;
 /// coordinate range.
 pub const EXTENT_LIMIT: f64 = 1e14;
 /// The region's bounding box may lie at most this many diameters from the origin: a
-/// coordinate's last bit is its magnitude × 1.1e-16, and beyond this offset that is more
-/// than 1e-10 of the region, where Voronoi vertices and moments (differences of nearby
-/// coordinates) lose the digits convergence is judged by.
-pub const OFFSET_LIMIT: f64 = 1e6;
+/// coordinate's last bit is its magnitude × 1.1e-16, 1.1e-8 of the region at this offset,
+/// where Voronoi vertices and moments (differences of nearby coordinates) keep few of the
+/// digits convergence is judged by. A unit square 10⁸ from the origin at 2·10⁴ vertices
+/// takes ten times the evaluations it takes at the origin; at 10¹⁰ the default method's mesh
+/// is a fan of slivers.
+pub const OFFSET_LIMIT: f64 = 1e8;
 /// Turning angle (degrees) above which [`Region::with_default_corners`] keeps a computed
 /// corner: the boundary's direction changes by more than 30° there (an interior angle below
 /// 150° or above 210°). A square's, a hexagon's and an octagon's vertices stay corners; the
