@@ -638,6 +638,12 @@ fn bad_input_is_refused_with_a_clear_message() {
         &out,
         "unknown region",
     );
+    // Bounds on a size field without one: refused, not ignored.
+    assert_refused(
+        &["mesh", "circle", "-n", "200", "--size-min", "0.01", "-o", o],
+        &out,
+        "<--size-field <EXPR|MESH>|--size-toward",
+    );
     // An output directory that does not exist, named before any work.
     let (mesh_to, picture_to) = (
         d.join("no_such_dir").join("out.msh"),

@@ -1204,6 +1204,11 @@ fn mesh(
         (Some(a), Some(b)) => Some(a.min(&b, &region).map_err(err)?),
         (a, b) => a.or(b),
     };
+    if graded.is_none() && (size_min.is_some() || size_max.is_some()) {
+        return Err(err(
+            "size_min and size_max bound a size field: give size or size_toward as well",
+        ));
+    }
     let request = match (graded, density) {
         (Some(field), _) => {
             let field = field

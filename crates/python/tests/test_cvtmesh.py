@@ -1098,3 +1098,10 @@ def test_small_conveniences():
     assert inspect.signature(Region.from_loops).parameters["holes"].default is None
     for name in ["points", "triangles", "boundary_edges", "boundary_loop", "converged", "iterations", "notes", "energy_history"]:
         assert getattr(cvtmesh.Mesh, name).__doc__, name
+
+
+def test_size_bounds_without_a_size_field_are_refused_not_ignored():
+    with pytest.raises(MeshError, match="bound a size field"):
+        cvtmesh.mesh("circle", n=200, size_min=0.01)
+    with pytest.raises(MeshError, match="bound a size field"):
+        cvtmesh.mesh("circle", n=200, size_max=0.5)
