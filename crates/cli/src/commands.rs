@@ -611,6 +611,8 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
             None => outln!("{name:>8}  {}", shown(name, values[i])),
         }
     }
+    // What Triangle's and Gmsh's users read first; β is it in another form.
+    outln!("smallest angle {:.2}°", mesh.min_angle_deg());
     if let Some(c) = conformity {
         let toward = a.size_toward.join(" ");
         let threshold = a.size_threshold.as_deref().unwrap_or_default();

@@ -195,9 +195,17 @@ fn mesh_then_measure_csv_round_trip() {
     assert_eq!(v.len(), 14);
     assert_eq!(v[0], 88.0);
     assert!(v[2..].iter().all(|x| x.is_finite() && *x >= 0.0), "{v:?}");
-    // Readable table without --csv.
+    // Readable table without --csv, with the smallest angle that `mesh` printed.
     let o = cvtmesh(&["measure", s(&out), "--region", "circle"]);
     assert!(o.status.success() && text(&o).contains("lambda"));
+    let angle = |t: &str, key: &str, end: &str| {
+        let at = t.find(key).unwrap() + key.len();
+        t[at..].split(end).next().unwrap().to_string()
+    };
+    let made = cvtmesh(&["mesh", "circle", "--points", "88", "--quiet", "-o", s(&out)]);
+    let printed: f64 = angle(&text(&made), "min-angle=", "deg").parse().unwrap();
+    let measured: f64 = angle(&text(&o), "smallest angle ", "°").parse().unwrap();
+    assert!((printed - measured).abs() < 0.01, "{printed} {measured}");
     // Too few samples for the cells: the inf that follows is explained; enough: no note.
     for (n, note) in [("50", true), ("20000", false)] {
         let o = cvtmesh(&["measure", s(&out), "--region", "circle", "--sampled", n]);
