@@ -1105,3 +1105,8 @@ def test_size_bounds_without_a_size_field_are_refused_not_ignored():
         cvtmesh.mesh("circle", n=200, size_min=0.01)
     with pytest.raises(MeshError, match="bound a size field"):
         cvtmesh.mesh("circle", n=200, size_max=0.5)
+
+
+def test_no_region_is_a_type_error_naming_what_a_region_may_be():
+    with pytest.raises(TypeError, match="a Region or a"):
+        cvtmesh.mesh(None, n=100)

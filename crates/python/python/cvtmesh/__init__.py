@@ -51,6 +51,8 @@ def _region(region: RegionLike, holes: Optional[Sequence[Any]], corner_angle: Op
         if has_holes:
             raise MeshError("holes= goes with an outer loop given as an array, not with a file or name")
         r = Region.load(region)
+    elif region is None:
+        raise TypeError("region must be a built-in name, a file path, a Region or a (k, 2) array, not None")
     else:
         outer = np.ascontiguousarray(region, dtype=np.float64)
         if outer.ndim != 2 or outer.shape[1] != 2:
