@@ -199,10 +199,9 @@ impl Mesh {
     }
 }
 
-/// The order that chains `edges` (grouped by loop) along
-/// each loop: from the group's first edge, each next edge starts where the last ended. A loop
-/// that does not close into one chain (it touches itself at a vertex) goes on with a new chain
-/// from its first edge not yet taken.
+/// The order that chains `edges` (grouped by loop) along each loop: from the group's first
+/// edge, each next edge starts where the last ended. A loop that does not close into one chain
+/// (it touches itself at a vertex) goes on with a new chain from its first edge not yet taken.
 fn chained(edges: &[BoundaryEdge]) -> Vec<usize> {
     let mut order = Vec::with_capacity(edges.len());
     let mut start = 0;
