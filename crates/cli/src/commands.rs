@@ -1,6 +1,6 @@
 //! The four subcommands.
 use crate::inputs;
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 use clap::{ArgGroup, Args};
 use cvtmesh::geometry::Region;
 use cvtmesh::{MeshRequest, Method, Size};
@@ -508,18 +508,9 @@ pub struct MeasureArgs {
 pub fn measure(a: MeasureArgs) -> Result<()> {
     let (mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
     let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
-    if let Err(e) = cvtmesh::check_conforming(&mesh, &region) {
-        // A mesh of a polygon inscribed in a curved region conforms only nearly; one that
-        // misses half the region is of another (its α would be below 0, its ν inf).
-        let (covered, whole) = (mesh.area(), region.area());
-        let near = (covered - whole).abs() <= 0.5 * whole;
-        if !near {
-            bail!(
-                "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
-                 of that region ({e}); without --region the mesh's own is measured",
-                region.name()
-            );
-        }
+    let fit = cvtmesh::measurable(&mesh, &region)
+        .map_err(|e| anyhow!("{e}; without --region the mesh's own is measured"))?;
+    if let Some(e) = fit {
         eprintln!(
             "warning: the mesh does not conform to region '{}': {e}",
             region.name()

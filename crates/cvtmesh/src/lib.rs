@@ -59,12 +59,13 @@ pub use vtm;
 pub use ::mesh::io;
 
 pub use ::mesh::{
-    boundary_points_needed, check_conforming, looks_graded, memory_estimate, min_angle_and_slivers,
-    polish, polish_restored, polish_within, refuse_embedded, short_coverage, slivers, thin_feature,
-    total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError, Mesh, MeshError,
-    MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic, ShortCoverage,
-    Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT,
-    GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE, POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
+    boundary_points_needed, check_conforming, looks_graded, measurable, memory_estimate,
+    min_angle_and_slivers, polish, polish_restored, polish_within, refuse_embedded, short_coverage,
+    slivers, thin_feature, total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError,
+    Mesh, MeshError, MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic,
+    ShortCoverage, Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX,
+    CONFORMITY_CHECK_LIMIT, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE, POLISH_BELOW_DEG,
+    SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

@@ -1,6 +1,6 @@
 //! The conformity check every method's mesh must pass (and every test asserts).
 use crate::types::{maybe_below, rows_by_vertex, smallest_angle_cosines};
-use crate::Mesh;
+use crate::{Mesh, MeshError};
 use geometry::{DVec2, Region};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -459,6 +459,36 @@ fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
         at: 0.5 * (p[i] + p[(i + 1) % 3]),
         points: mesh.num_vertices(),
     })
+}
+
+/// How `mesh` stands against `region` for measuring it: `Ok(None)` where it conforms,
+/// `Ok(Some(e))` where it only nearly does (its area within half the region's: a file's rounded
+/// coordinates, a polygon inscribed in a curve), and [`MeshError::BadRequest`] where it is no
+/// mesh of the region (covering an area more than half off the region's: its α would be below
+/// 0, its ν inf).
+///
+/// ```
+/// use cvtmesh::{measurable, Region};
+/// let disc = Region::builtin("circle")?;
+/// let mesh = cvtmesh::mesh(&disc, 200)?.mesh;
+/// assert!(measurable(&mesh, &disc)?.is_none());
+/// let e = measurable(&mesh, &Region::builtin("lake")?).unwrap_err();
+/// assert!(e.to_string().contains("not a mesh of that region"), "{e}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn measurable(mesh: &Mesh, region: &Region) -> Result<Option<ConformityError>, MeshError> {
+    let Err(e) = check_conforming(mesh, region) else {
+        return Ok(None);
+    };
+    let (covered, whole) = (mesh.area(), region.area());
+    if (covered - whole).abs() > 0.5 * whole {
+        return Err(MeshError::BadRequest(format!(
+            "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
+             of that region ({e})",
+            region.name()
+        )));
+    }
+    Ok(Some(e))
 }
 
 /// Below this share of the region's area covered, [`short_coverage`] reports a mesh. The

@@ -15,7 +15,7 @@ mod thin;
 mod types;
 
 pub use check::{
-    check_conforming, min_angle_and_slivers, short_coverage, slivers, ConformityError,
+    check_conforming, measurable, min_angle_and_slivers, short_coverage, slivers, ConformityError,
     ShortCoverage, Slivers, MIN_COVERAGE, SLIVER_ANGLE_DEG,
 };
 pub use error::MeshError;

@@ -61,28 +61,21 @@ fn whole_numbers<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, 
 /// file knows no loops of the region's.
 fn fit_to_measure(py: Python<'_>, mesh: &Mesh, region: &Region) -> PyResult<()> {
     let mut placed = mesh.clone();
-    let checked = py.detach(|| {
-        cvtmesh::io::restore_markers(&mut placed, region);
-        cvtmesh::check_conforming(&placed, region)
-    });
-    let Err(e) = checked else {
-        return Ok(());
-    };
-    let (covered, whole) = (mesh.area(), region.area());
-    if (covered - whole).abs() > 0.5 * whole {
-        return Err(err(format!(
-            "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
-             of that region ({e})",
+    let fit = py
+        .detach(|| {
+            cvtmesh::io::restore_markers(&mut placed, region);
+            cvtmesh::measurable(&placed, region)
+        })
+        .map_err(err)?;
+    if let Some(e) = fit {
+        let warnings = py.import("warnings")?;
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        let note = format!(
+            "the mesh does not conform to region '{}': {e}",
             region.name()
-        )));
+        );
+        warnings.call_method1("warn", (note, category))?;
     }
-    let warnings = py.import("warnings")?;
-    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-    let note = format!(
-        "the mesh does not conform to region '{}': {e}",
-        region.name()
-    );
-    warnings.call_method1("warn", (note, category))?;
     Ok(())
 }
 
