@@ -296,7 +296,19 @@ fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, Geomet
             &poly.vertex_markers,
         )
     };
-    let mut region = build(&poly)?;
+    // Only a file with vertices on no segment can need a second build: the others hand their
+    // loops over.
+    let mut region = if poly.embedded.is_empty() {
+        marked_polygon_region(
+            name,
+            label,
+            std::mem::take(&mut poly.loops),
+            poly.segment_markers.take(),
+            &poly.vertex_markers,
+        )?
+    } else {
+        build(&poly)?
+    };
     let off = 1e-9 * region.diameter();
     // A vertex on no segment's ends that lies on one splits it, as Triangle splits a segment
     // through a vertex: with a marker of its own it is then a corner that keeps it.
