@@ -1,8 +1,8 @@
 //! The input PSLG handed to the refinement: the region's boundary loops as vertices and
 //! directed segments (domain on the left), with every curved piece pre-split into chords whose
 //! end points lie on the exact curve.
-use geometry::predicates::segment_distance;
-use geometry::{DVec2, Density, Piece, PieceId, Region};
+use geometry::predicates::{ring_signed_area, segment_distance};
+use geometry::{DVec2, Density, LoopRole, Piece, PieceId, Region};
 use mesh::MeshError;
 
 /// What a vertex is, as far as the refinement needs to know.
@@ -33,7 +33,10 @@ pub(crate) fn is_curved(piece: &Piece) -> bool {
 /// Build the PSLG: straight pieces enter as single segments (Triangle's input; the refinement
 /// splits them when encroached), curved pieces are pre-split into chords of length ≈ `spacing`
 /// (locally `spacing · ρ^(-1/4)`), every split point projected onto the exact curve; the
-/// region's embedded points are vertices inside.
+/// region's embedded points are vertices inside. `None` when the spacing is so coarse that a
+/// loop's polygon keeps fewer than three vertices or no area on the region's side (a thin
+/// triangle whose bent side is one chain, at a spacing longer than that chain), which the area
+/// bound's search counts as too coarse.
 /// `phases[i]` (a fraction of one chord, in [0, 1)) moves where the split of loop `i` starts
 /// when that loop is one closed curve (a circle, a super-ellipse), which has no corner to
 /// start from; missing entries are 0, a split from the piece's own start.
@@ -42,7 +45,7 @@ pub(crate) fn build(
     spacing: f64,
     density: &Density,
     phases: &[f64],
-) -> Result<Pslg, MeshError> {
+) -> Result<Option<Pslg>, MeshError> {
     let diam = region.diameter();
     let mut pslg = Pslg {
         points: Vec::new(),
@@ -86,11 +89,13 @@ pub(crate) fn build(
             }
         }
         let n = pslg.points.len() - first;
-        if n < 3 {
-            return Err(MeshError::Failed {
-                method: "refine".into(),
-                message: format!("boundary loop with only {n} vertices"),
-            });
+        // A chain cut to one chord can lie along the loop's other side (a thin triangle whose
+        // third corner was dropped as a bend): the loop's polygon must keep the region on its
+        // left with some area, or the refinement would mesh a sliver of zero area.
+        let area = ring_signed_area(&pslg.points[first..]);
+        let sign = if lp.role == LoopRole::Hole { -1.0 } else { 1.0 };
+        if n < 3 || sign * area <= 1e-9 * lp.length * lp.length {
+            return Ok(None);
         }
         for (i, &pid) in piece_of.iter().enumerate() {
             pslg.segments.push((first + i, first + (i + 1) % n, pid));
@@ -138,7 +143,7 @@ pub(crate) fn build(
         pslg.points.push(p);
         pslg.kinds.push(VKind::Interior);
     }
-    Ok(pslg)
+    Ok(Some(pslg))
 }
 
 /// `split` (a chain's interior split points, in order) with the chain's vertices added where
@@ -390,7 +395,7 @@ mod tests {
     fn curved_pieces_are_split_on_the_curve() {
         let region = Region::builtin("horn").unwrap();
         let h = 0.05;
-        let g = build(&region, h, &Density::Uniform, &[]).unwrap();
+        let g = build(&region, h, &Density::Uniform, &[]).unwrap().unwrap();
         assert_eq!(g.points.len(), g.segments.len());
         for p in &g.points {
             assert!(region.signed_distance(*p).abs() < 1e-12, "{p}");
@@ -428,7 +433,9 @@ mod tests {
     #[test]
     fn polygons_enter_unsplit() {
         let region = Region::builtin("square_two_hex").unwrap();
-        let g = build(&region, 0.01, &Density::Uniform, &[]).unwrap();
+        let g = build(&region, 0.01, &Density::Uniform, &[])
+            .unwrap()
+            .unwrap();
         assert_eq!(g.points.len(), region.corners().len());
         assert!(g.kinds.iter().all(|k| matches!(k, VKind::Corner(_))));
     }
@@ -437,8 +444,10 @@ mod tests {
     fn a_phase_turns_a_closed_curves_chords_and_nothing_else() {
         let region = Region::builtin("annulus").unwrap();
         let h = 0.1;
-        let plain = build(&region, h, &Density::Uniform, &[]).unwrap();
-        let turned = build(&region, h, &Density::Uniform, &[0.3, 0.75]).unwrap();
+        let plain = build(&region, h, &Density::Uniform, &[]).unwrap().unwrap();
+        let turned = build(&region, h, &Density::Uniform, &[0.3, 0.75])
+            .unwrap()
+            .unwrap();
         // The same number of chords per loop, every vertex on the circles, the same chord
         // length on each circle (equal steps of arc length), and no vertex at angle 0.
         assert_eq!(plain.points.len(), turned.points.len());
@@ -483,8 +492,12 @@ mod tests {
             .all(|p| p.y.abs() > 1e-3 || p.x.abs() < 0.3));
         // A polygon has no phase: its loops are the same for any.
         let square = Region::builtin("square_two_hex").unwrap();
-        let a = build(&square, 0.05, &Density::Uniform, &[]).unwrap();
-        let b = build(&square, 0.05, &Density::Uniform, &[0.5, 0.5, 0.5]).unwrap();
+        let a = build(&square, 0.05, &Density::Uniform, &[])
+            .unwrap()
+            .unwrap();
+        let b = build(&square, 0.05, &Density::Uniform, &[0.5, 0.5, 0.5])
+            .unwrap()
+            .unwrap();
         assert_eq!(a.points, b.points);
     }
 }

@@ -181,7 +181,7 @@ impl Refine {
     ///
     /// Refused with [`MeshError::Failed`] when the bound is so coarse that a chord of a curved
     /// piece, pre-split at the spacing it implies, crosses another piece of the boundary or
-    /// runs through one of its vertices.
+    /// runs through one of its vertices, or leaves a boundary loop no area.
     pub fn refine_with_area(
         &self,
         region: &Region,
@@ -209,7 +209,9 @@ impl Refine {
             )));
         }
         let spacing = BOUNDARY_FACTOR * (4.0 * max_area / 3f64.sqrt()).sqrt();
-        let pslg = boundary::build(region, spacing, density, phases)?;
+        let Some(pslg) = boundary::build(region, spacing, density, phases)? else {
+            return Ok(None);
+        };
         let bounds = engine::Bounds {
             min_angle_deg: self.min_angle_deg,
             max_area,
@@ -267,7 +269,8 @@ fn too_coarse(max_area: f64) -> MeshError {
         method: "refine".into(),
         message: format!(
             "area bound {max_area:.6e} too coarse: a boundary chord pre-split at its spacing \
-             crosses another piece of the boundary or runs through its vertex"
+             crosses another piece of the boundary or runs through its vertex, or leaves a \
+             boundary loop no area"
         ),
     }
 }
