@@ -409,13 +409,18 @@ fn read_text(path: &Path) -> Result<String, GeometryError> {
         path: label(path),
         source,
     })?;
-    String::from_utf8(bytes).map_err(|e| GeometryError::Parse {
+    let mut text = String::from_utf8(bytes).map_err(|e| GeometryError::Parse {
         path: label(path),
         message: format!(
             "not a text file (invalid UTF-8 at byte {})",
             e.utf8_error().valid_up_to()
         ),
-    })
+    })?;
+    // Editors on Windows start UTF-8 files with a byte-order mark, which no format here has.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    Ok(text)
 }
 
 fn parse_err(label: &str, line: usize, message: impl std::fmt::Display) -> GeometryError {
@@ -828,7 +833,9 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
                 label,
                 e[2].1,
                 format!(
-                    "vertex {} at {} is shared by {} segments; loops must be simple",
+                    "vertex {} at {} is shared by {} segments: internal segments (a material \
+                     interface, a crack, a line to keep in the mesh) are not supported; cvtmesh \
+                     meshes regions bounded by simple loops, one per outer boundary or hole",
                     v + base,
                     verts[v],
                     e.len()
@@ -1479,10 +1486,11 @@ mod tests {
         assert_eq!((r.num_parts(), r.area()), (2, 5.0));
         // A vertex shared by three segments.
         let bow = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 2 0\n5 2 1\n6 0\n1 1 2\n2 2 3\n3 3 1\n4 2 4\n5 4 5\n6 5 2\n0\n";
-        assert!(poly(bow)
-            .unwrap_err()
-            .to_string()
-            .contains("shared by 4 segments"));
+        let e = poly(bow).unwrap_err().to_string();
+        assert!(
+            e.contains("shared by 4 segments") && e.contains("internal segments"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -127,3 +127,20 @@ fn other_extensions_are_read_as_json_or_rejected() {
     let e = Region::from_file(&p).unwrap_err().to_string();
     assert!(e.contains("bad.txt") && e.contains("line 2"), "{e}");
 }
+
+/// A byte-order mark at the start (what editors on Windows write) is not part of the text: every
+/// format reads as without it.
+#[test]
+fn a_byte_order_mark_is_skipped() {
+    let dir = TempDir::new("bom");
+    for (name, text) in [
+        ("bom.json", PROJECT_JSON),
+        ("bom.geojson", GEOJSON),
+        ("bom.poly", POLY),
+        ("bom.txt", LOOPS),
+    ] {
+        let path = dir.write(name, &format!("\u{feff}{text}"));
+        let r = Region::from_file(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_square_with_hole(&r.with_default_corners(), name);
+    }
+}
