@@ -876,7 +876,7 @@ pub(crate) fn write_files(jobs: Vec<(PathBuf, Producer<'_>)>) -> Result<(), Mesh
 /// Read a whole text file, with the error naming it.
 pub(crate) fn read_text(path: &Path) -> Result<String, MeshError> {
     let bytes = fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    String::from_utf8(bytes).map_err(|e| {
+    let mut text = String::from_utf8(bytes).map_err(|e| {
         file_err(
             path,
             format!(
@@ -884,7 +884,12 @@ pub(crate) fn read_text(path: &Path) -> Result<String, MeshError> {
                 e.utf8_error().valid_up_to()
             ),
         )
-    })
+    })?;
+    // Editors on Windows start UTF-8 files with a byte-order mark, which no format here has.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    Ok(text)
 }
 
 /// The mesh a reader found: every triangle made counter-clockwise (files from other tools may
@@ -1220,6 +1225,25 @@ pub(crate) mod test_util {
 mod tests {
     use super::test_util::*;
     use super::*;
+
+    /// A byte-order mark at the start of a Triangle or Wavefront file (what editors on Windows
+    /// write) is skipped, not read as the first number.
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let dir = TempDir::new("bom");
+        let (node, ele) = ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n", "1 3 0\n1 1 2 3\n");
+        fs::write(dir.path("t.node"), format!("\u{feff}{node}")).unwrap();
+        fs::write(dir.path("t.ele"), format!("\u{feff}{ele}")).unwrap();
+        let m = read_mesh(&dir.path("t.node")).unwrap();
+        assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
+        fs::write(
+            dir.path("t.obj"),
+            "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+        let m = read_mesh(&dir.path("t.obj")).unwrap();
+        assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
+    }
 
     /// Integers are appended as `{}` writes them, at the extremes and signs too.
     #[test]

@@ -367,35 +367,35 @@ fn walls_of(
     if t.usize("the number of segment markers (0 or 1)")? == 0 {
         return Ok(Walls::default());
     }
+    let mut segments = Vec::with_capacity(nseg.min(1 << 20));
+    for _ in 0..nseg {
+        let line = t.line_no();
+        t.usize("a segment number")?;
+        let mut end = || -> Result<DVec2, MeshError> {
+            let v = t.usize("a segment end point")?;
+            v.checked_sub(first)
+                .and_then(|k| vertices.get(k))
+                .copied()
+                .ok_or_else(|| t.err_line(line, format!("segment end point {v} is not a vertex")))
+        };
+        let (a, b) = (end()?, end()?);
+        segments.push((a, b, t.i64("a segment marker")?));
+    }
+    let walls = match boundary_walls(mesh, &segments) {
+        Some(walls) => walls,
+        // Not this mesh's segments: the region Triangle was given (its `.poly` beside the mesh
+        // it made, which Triangle itself names `box.1.node`), or a file of another mesh.
+        None => return Ok(Walls::default()),
+    };
+    // The `.node`'s nonzero markers of boundary vertices: those that differ from the walls at
+    // their vertex are points of their own. Inside, Triangle marks the vertices of internal
+    // segments too, which are no points anyone placed: those are not read.
     let index: std::collections::HashMap<(u64, u64), u32> = mesh
         .points
         .iter()
         .enumerate()
         .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i as u32))
         .collect();
-    let mut walls = Vec::with_capacity(nseg.min(1 << 20));
-    for _ in 0..nseg {
-        let line = t.line_no();
-        t.usize("a segment number")?;
-        let mut end = || -> Result<Option<u32>, MeshError> {
-            let v = t.usize("a segment end point")?;
-            let p = v
-                .checked_sub(first)
-                .and_then(|k| vertices.get(k))
-                .ok_or_else(|| {
-                    t.err_line(line, format!("segment end point {v} is not a vertex"))
-                })?;
-            Ok(index.get(&(p.x.to_bits(), p.y.to_bits())).copied())
-        };
-        let (a, b) = (end()?, end()?);
-        let marker = t.i64("a segment marker")?;
-        if let (Some(a), Some(b)) = (a, b) {
-            walls.push(([a, b], marker));
-        }
-    }
-    // The `.node`'s nonzero markers of boundary vertices: those that differ from the walls at
-    // their vertex are points of their own. Inside, Triangle marks the vertices of internal
-    // segments too, which are no points anyone placed: those are not read.
     let nodes = given.points.as_ref().unwrap_or(&mesh.points);
     let points = nodes
         .iter()
@@ -409,6 +409,25 @@ fn walls_of(
         points,
         names: Default::default(),
     })
+}
+
+/// Each boundary edge of `mesh` with the marker of the `.poly` segment between its ends; `None`
+/// if some boundary edge is no segment: the segments are not of this mesh's boundary.
+fn boundary_walls(mesh: &Mesh, segments: &[(DVec2, DVec2, i64)]) -> Option<Vec<([u32; 2], i64)>> {
+    use std::collections::HashMap;
+    let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+    let exact: HashMap<_, i64> = segments
+        .iter()
+        .flat_map(|&(a, b, m)| [((key(a), key(b)), m), ((key(b), key(a)), m)])
+        .collect();
+    mesh.boundary_edges()
+        .iter()
+        .map(|e| {
+            let (u, v) = (mesh.points[e.a as usize], mesh.points[e.b as usize]);
+            let marker = exact.get(&(key(u), key(v))).copied()?;
+            Some(([e.a, e.b], marker))
+        })
+        .collect()
 }
 
 /// Read a Triangle mesh: `node_path` (the `.node` file) and the `.ele` file beside it.
@@ -808,6 +827,34 @@ mod tests {
                 assert!(loop_param.is_nan());
             }
         }
+    }
+
+    /// The region Triangle was given, beside the mesh it made under the same name: its
+    /// segments run from corner to corner across the mesh's boundary edges, so they are not
+    /// the mesh's walls and are not read as such (they had been applied to the mesh's
+    /// vertices by position, making every boundary edge a wall of its own).
+    #[test]
+    fn a_poly_of_other_segments_beside_a_mesh_is_not_its_walls() {
+        let dir = TempDir::new("pslg");
+        // The unit square with a vertex halfway along its bottom side.
+        fs::write(
+            dir.path("m.node"),
+            "5 2 0 1\n1 0 0 1\n2 0.5 0 1\n3 1 0 1\n4 1 1 1\n5 0 1 1\n",
+        )
+        .unwrap();
+        fs::write(dir.path("m.ele"), "3 3 0\n1 1 2 5\n2 2 4 5\n3 2 3 4\n").unwrap();
+        let pslg = "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 7\n2 2 3 8\n3 3 4 8\n4 4 1 8\n0\n";
+        fs::write(dir.path("m.poly"), pslg).unwrap();
+        let (mesh, walls) = read_triangle_with_walls(&dir.path("m.node")).unwrap();
+        assert_eq!(mesh.num_triangles(), 3);
+        assert_eq!(walls, Walls::default());
+        // The mesh's own segments, in Triangle's mesh `.poly` (no vertices of its own).
+        let own = "0 2 0 1\n5 1\n1 1 2 7\n2 2 3 7\n3 3 4 8\n4 4 5 8\n5 5 1 8\n0\n";
+        fs::write(dir.path("m.poly"), own).unwrap();
+        let (_, walls) = read_triangle_with_walls(&dir.path("m.node")).unwrap();
+        let mut markers: Vec<i64> = walls.edges.iter().map(|e| e.1).collect();
+        markers.sort_unstable();
+        assert_eq!(markers, [7, 7, 8, 8, 8]);
     }
 
     #[test]
