@@ -33,7 +33,11 @@ pub struct MeshArgs {
     points: Option<usize>,
     /// Target edge length h of a uniform mesh; K follows from the region's area (instead of
     /// --points; a graded mesh takes --size-field or --size-toward).
-    #[arg(long, conflicts_with_all = ["graded", "density"], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        conflicts_with_all = ["graded", "density", "size_threshold", "size_min", "size_max"],
+        allow_negative_numbers = true
+    )]
     size: Option<f64>,
     /// Target edge length for graded meshes: a function of x and y, e.g.
     /// '0.01 + 0.1*sqrt(x^2+y^2)', or a mesh with a size at each vertex (Triangle FILE.node
@@ -164,11 +168,14 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
     )?;
     let (request, line) = match graded {
         Some(field) => {
-            let field = field.bounded(region, a.size_min, a.size_max, Some(a.gradation))?;
-            // The grid the methods mesh from, sampled once for the request and the check of
-            // what it resolves.
-            let field = field.on_grid(region, field.check(region)?.min);
-            let r = MeshRequest::size_field(&field, region, a.points)?;
+            let (r, field) = MeshRequest::bounded_size_field(
+                &field,
+                region,
+                a.size_min,
+                a.size_max,
+                Some(a.gradation),
+                a.points,
+            )?;
             let mut line = format!(
                 "size field: K = {} ({:.0} asked for by the field)",
                 r.size.points(region),

@@ -652,6 +652,53 @@ fn bad_input_is_refused_with_a_clear_message() {
         &out,
         "<--size-field <EXPR|MESH>|--size-toward",
     );
+    // A threshold with a uniform size: refused, not ignored (it was, without a word).
+    assert_refused(
+        &[
+            "mesh",
+            "square_hole",
+            "--size",
+            "0.05",
+            "--size-threshold",
+            "0.001,0.01,0,0.5",
+            "-o",
+            o,
+        ],
+        &out,
+        "cannot be used with '--size-threshold",
+    );
+    // Bounds the mesh keeps, with K that scales the field: refused, naming the bound.
+    assert_refused(
+        &[
+            "mesh",
+            "square_hole",
+            "--size-field",
+            "0.01+0.1*abs(x)",
+            "--size-max",
+            "0.05",
+            "-n",
+            "300",
+            "-o",
+            o,
+        ],
+        &out,
+        "size_max (--size-max) is an edge length the mesh keeps",
+    );
+    // A bound at fault is the one named, not the other's default.
+    assert_refused(
+        &[
+            "mesh",
+            "square_hole",
+            "--size-field",
+            "0.02+0.1*abs(x)",
+            "--size-max",
+            "-1",
+            "-o",
+            o,
+        ],
+        &out,
+        "(size_max, --size-max) must be positive (inf bounds nothing), got -1",
+    );
     // An output directory that does not exist, named before any work.
     let (mesh_to, picture_to) = (
         d.join("no_such_dir").join("out.msh"),

@@ -29,7 +29,15 @@ pub enum SizeFieldError {
         source: ExprError,
     },
     /// The field is zero, negative, infinite or NaN somewhere on the region.
-    #[error("size field is {value} at ({x}, {y}): it must be positive and finite on the region")]
+    #[error(
+        "size field is {value} at ({x}, {y}){}: it must be positive and finite on the region",
+        if *.on_boundary {
+            " on the region's boundary, where an expression is evaluated too (rounding can put \
+             a boundary point a hair outside a curve: sqrt(max(0, ...)) keeps a root real there)"
+        } else {
+            ""
+        }
+    )]
     NotPositive {
         /// The offending value.
         value: f64,
@@ -37,6 +45,8 @@ pub enum SizeFieldError {
         x: f64,
         /// Where (y).
         y: f64,
+        /// The point is a vertex of the boundary's polygon.
+        on_boundary: bool,
     },
     /// Sampled values do not match the grid.
     #[error("size field: {got} samples returned for {expected} grid nodes")]
@@ -46,13 +56,14 @@ pub enum SizeFieldError {
         /// Grid nodes asked for.
         expected: usize,
     },
-    /// Size bounds that are not positive, finite and ordered.
-    #[error("size bounds must be positive and finite with min <= max, got min {min}, max {max}")]
+    /// Size bounds that are not edge lengths in order: the smallest finite and at least 0 (0
+    /// bounds nothing), the largest positive (∞ bounds nothing), the smallest no larger.
+    #[error("{}", bounds_message(*.min, *.max))]
     Bounds {
-        /// The lower bound given.
-        min: f64,
-        /// The upper bound given.
-        max: f64,
+        /// The lower bound given, if any.
+        min: Option<f64>,
+        /// The upper bound given, if any.
+        max: Option<f64>,
     },
     /// A gradation limit that is not a positive number.
     #[error("the gradation limit must be positive (or infinite to turn it off), got {0}")]
@@ -66,7 +77,7 @@ pub enum SizeFieldError {
         loops: usize,
     },
     /// A threshold whose sizes or distances are not positive, finite and ordered.
-    #[error("size threshold: need 0 < size_min <= size_max and 0 <= dist_min < dist_max, all finite; got sizes {size_min}, {size_max} and distances {dist_min}, {dist_max}")]
+    #[error("size threshold: need 0 < size_min <= size_max and 0 <= dist_min <= dist_max, all finite; got sizes {size_min}, {size_max} and distances {dist_min}, {dist_max}")]
     Threshold {
         /// Size within `dist_min`.
         size_min: f64,
@@ -168,6 +179,19 @@ pub enum SizeFieldError {
         /// The region's diameter.
         diameter: f64,
     },
+}
+
+/// What [`SizeFieldError::Bounds`] says: the first bound at fault, by the names Python and the
+/// command line give it.
+fn bounds_message(min: Option<f64>, max: Option<f64>) -> String {
+    let (lo, hi) = (min.unwrap_or(0.0), max.unwrap_or(f64::INFINITY));
+    if !(lo.is_finite() && lo >= 0.0) {
+        format!("the smallest edge length (size_min, --size-min) must be finite and at least 0 (0 bounds nothing), got {lo}")
+    } else if !(hi > 0.0) {
+        format!("the largest edge length (size_max, --size-max) must be positive (inf bounds nothing), got {hi}")
+    } else {
+        format!("the smallest edge length (size_min, --size-min) {lo} is larger than the largest (size_max, --size-max) {hi}")
+    }
 }
 
 /// Most nodes per side of a background grid ([`SizeField::from_samples`]): 8192² values take
@@ -764,7 +788,16 @@ impl std::str::FromStr for Toward {
 }
 
 /// Gmsh's Threshold: h = `size_min` within `dist_min` of the targets, `size_max` beyond
-/// `dist_max`, linear in the distance between.
+/// `dist_max`, linear in the distance between; with `dist_min` = `dist_max` a step there.
+///
+/// ```
+/// use cvtmesh::geometry::Threshold;
+/// let ramp = Threshold { size_min: 0.01, size_max: 0.1, dist_min: 0.2, dist_max: 0.4 };
+/// assert_eq!((ramp.at(0.1), ramp.at(1.0)), (0.01, 0.1));
+/// assert!((ramp.at(0.3) - 0.055).abs() < 1e-12);
+/// let step = Threshold { dist_min: 0.3, dist_max: 0.3, ..ramp };
+/// assert_eq!((step.at(0.3), step.at(0.300001)), (0.01, 0.1));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Threshold {
     /// Size within `dist_min`.
@@ -787,7 +820,7 @@ impl Threshold {
             && t.size_min > 0.0
             && t.size_min <= t.size_max
             && t.dist_min >= 0.0
-            && t.dist_min < t.dist_max
+            && t.dist_min <= t.dist_max
         {
             Ok(())
         } else {
@@ -802,6 +835,12 @@ impl Threshold {
 
     /// h at distance `d`.
     pub fn at(&self, d: f64) -> f64 {
+        if d <= self.dist_min {
+            return self.size_min;
+        }
+        if d >= self.dist_max {
+            return self.size_max;
+        }
         let t = ((d - self.dist_min) / (self.dist_max - self.dist_min)).clamp(0.0, 1.0);
         self.size_min + t * (self.size_max - self.size_min)
     }
@@ -1097,6 +1136,7 @@ impl SizeField {
                     value,
                     x: p.x,
                     y: p.y,
+                    on_boundary: false,
                 })),
                 None => Ok(values),
             }
@@ -1255,9 +1295,9 @@ impl SizeField {
         gradation: Option<f64>,
     ) -> Result<SizeField, SizeFieldError> {
         let (lo, hi) = (min.unwrap_or(0.0), max.unwrap_or(f64::INFINITY));
-        let valid = |b: Option<f64>| b.is_none_or(|m| m.is_finite() && m > 0.0);
-        if !valid(min) || !valid(max) || lo > hi {
-            return Err(SizeFieldError::Bounds { min: lo, max: hi });
+        // As Gmsh's Mesh.MeshSizeMin = 0 and MeshSizeMax = 1e22, 0 and ∞ bound nothing.
+        if !(lo.is_finite() && lo >= 0.0 && hi > 0.0 && lo <= hi) {
+            return Err(SizeFieldError::Bounds { min, max });
         }
         let g = gradation.unwrap_or(f64::INFINITY);
         if g.is_nan() || g <= 0.0 {
@@ -1352,15 +1392,19 @@ impl SizeField {
             max: 0.0,
         };
         let polygon = region.polygonize(1e-3 * region.diameter());
-        let boundary = polygon.rings.iter().flat_map(|r| r.points.iter().copied());
-        let inside = region.inside_grid().0.iter().copied();
-        for p in boundary.chain(inside) {
+        let boundary = polygon
+            .rings
+            .iter()
+            .flat_map(|r| r.points.iter().map(|&p| (p, true)));
+        let inside = region.inside_grid().0.iter().map(|&p| (p, false));
+        for (p, on_boundary) in boundary.chain(inside) {
             let h = self.at(p);
             if !(h.is_finite() && h > 0.0) {
                 return Err(SizeFieldError::NotPositive {
                     value: h,
                     x: p.x,
                     y: p.y,
+                    on_boundary,
                 });
             }
             range.min = range.min.min(h);
@@ -1849,7 +1893,7 @@ mod tests {
                 Ok::<_, ()>(nodes.iter().map(|&p| h(p)).collect())
             })
             .unwrap_err();
-            let SizeFieldError::NotPositive { value, x, y } = e else {
+            let SizeFieldError::NotPositive { value, x, y, .. } = e else {
                 panic!("{what}: {e}");
             };
             let p = DVec2::new(x, y);
@@ -2160,21 +2204,32 @@ mod tests {
     fn bad_bounds_and_gradations_are_refused() {
         let r = Region::builtin("circle").unwrap();
         let h = SizeField::constant(0.1);
-        for (min, max) in [
-            (Some(0.2), Some(0.1)),
-            (Some(0.0), None),
-            (None, Some(-1.0)),
-            (Some(f64::NAN), None),
-            (None, Some(f64::INFINITY)),
+        for (min, max, says) in [
+            (
+                Some(0.2),
+                Some(0.1),
+                "0.2 is larger than the largest (size_max, --size-max) 0.1",
+            ),
+            (
+                Some(-1.0),
+                None,
+                "(size_min, --size-min) must be finite and at least 0",
+            ),
+            (None, Some(-1.0), "(size_max, --size-max) must be positive"),
+            (Some(f64::NAN), None, "got NaN"),
+            (Some(f64::INFINITY), None, "got inf"),
+            (None, Some(0.0), "got 0"),
         ] {
+            let e = h.bounded(&r, min, max, None).unwrap_err();
             assert!(
-                matches!(
-                    h.bounded(&r, min, max, None),
-                    Err(SizeFieldError::Bounds { .. })
-                ),
+                matches!(e, SizeFieldError::Bounds { .. }),
                 "{min:?} {max:?}"
             );
+            assert!(e.to_string().contains(says), "{e}");
         }
+        // 0 and ∞ bound nothing, as Gmsh's defaults do.
+        let open = h.bounded(&r, Some(0.0), Some(f64::INFINITY), None).unwrap();
+        assert_eq!(open.at(DVec2::ZERO), 0.1);
         for g in [0.0, -1.0, f64::NAN] {
             assert!(
                 matches!(

@@ -170,6 +170,53 @@ impl MeshRequest {
         let field = field.on_grid(region, range.min);
         Ok(MeshRequest::points(k).density(field.density(range.min)))
     }
+    /// [`MeshRequest::size_field`] of `field` bounded as the command line and Python bound it
+    /// ([`SizeField::bounded`](geometry::SizeField::bounded): sizes clamped to `min` and
+    /// `max`, their gradient limited to `gradation`), and the bounded field sampled on the grid
+    /// the methods mesh from. `min` and `max` are edge lengths the mesh keeps, as Gmsh's
+    /// `Mesh.MeshSizeMin` and `Mesh.MeshSizeMax` are: with `points` given, which scales the
+    /// field to that many vertices and so would move them, they are refused.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{Region, SizeField};
+    /// use cvtmesh::MeshRequest;
+    ///
+    /// let circle = Region::builtin("circle")?;
+    /// let h = SizeField::from_expr("0.01 + 0.2 * abs(x)")?;
+    /// let (request, bounded) = MeshRequest::bounded_size_field(&h, &circle, Some(0.02), Some(0.1), Some(0.3), None)?;
+    /// assert!((bounded.at(cvtmesh::geometry::DVec2::ZERO) - 0.02).abs() < 1e-9);
+    /// assert_eq!(request.validate(&circle)?, bounded.predicted_points(&circle).round() as usize);
+    /// let e = MeshRequest::bounded_size_field(&h, &circle, None, Some(0.1), None, Some(500)).unwrap_err();
+    /// assert!(e.to_string().contains("--size-max"), "{e}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn bounded_size_field(
+        field: &SizeField,
+        region: &Region,
+        min: Option<f64>,
+        max: Option<f64>,
+        gradation: Option<f64>,
+        points: Option<usize>,
+    ) -> Result<(Self, SizeField), MeshError> {
+        if let (Some(k), true) = (points, min.is_some() || max.is_some()) {
+            let which = match (min, max) {
+                (Some(_), Some(_)) => {
+                    "size_min and size_max (--size-min, --size-max) are edge lengths"
+                }
+                (Some(_), None) => "size_min (--size-min) is an edge length",
+                _ => "size_max (--size-max) is an edge length",
+            };
+            return Err(MeshError::BadRequest(format!(
+                "{which} the mesh keeps, but with K = {k} vertices given the field is scaled to \
+                 K and would not keep it: give the bounds or K, not both"
+            )));
+        }
+        let field = field.bounded(region, min, max, gradation)?;
+        // The grid the methods mesh from, sampled once for the request and for the caller's
+        // check of what it resolves.
+        let field = field.on_grid(region, field.check(region)?.min);
+        Ok((Self::size_field(&field, region, points)?, field))
+    }
     /// Builder: seed.
     pub fn seed(mut self, seed: u64) -> Self {
         self.seed = seed;

@@ -1204,13 +1204,9 @@ fn mesh(
     }
     let request = match (graded, density) {
         (Some(field), _) => {
-            let field = field
-                .bounded(&region, size_min, size_max, gradation)
-                .map_err(err)?;
-            // The grid the methods mesh from, sampled once for the request and the check of
-            // what it resolves.
-            let field = field.on_grid(&region, field.check(&region).map_err(err)?.min);
-            let request = MeshRequest::size_field(&field, &region, n).map_err(err)?;
+            let (request, field) =
+                MeshRequest::bounded_size_field(&field, &region, size_min, size_max, gradation, n)
+                    .map_err(err)?;
             // Sizes that change faster than the field's background grid follows: say where,
             // as the command line does.
             if let Some(u) = field.unresolved(&region) {

@@ -1107,6 +1107,16 @@ def test_size_bounds_without_a_size_field_are_refused_not_ignored():
         cvtmesh.mesh("circle", n=200, size_max=0.5)
 
 
+def test_size_bounds_with_n_are_refused_as_they_would_not_hold():
+    # n scales the field to n vertices: absolute bounds would become relative ones.
+    with pytest.raises(MeshError, match=r"size_min \(--size-min\) is an edge length the mesh keeps"):
+        cvtmesh.mesh("square_hole", size="0.01 + 0.1*abs(x)", size_min=0.02, n=300)
+    # 0 and inf bound nothing, as Gmsh's defaults.
+    m = cvtmesh.mesh("square_hole", size="0.04 + 0.1*abs(x)", size_min=0.0, size_max=float("inf"))
+    g = cvtmesh.mesh("square_hole", size="0.04 + 0.1*abs(x)")
+    assert np.array_equal(m.points, g.points)
+
+
 def test_no_region_is_a_type_error_naming_what_a_region_may_be():
     with pytest.raises(TypeError, match="a Region or a"):
         cvtmesh.mesh(None, n=100)
