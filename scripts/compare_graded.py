@@ -121,7 +121,9 @@ def mesh_field_args(toward, hmin, ratio, dists):
 
 
 def measure(exe, mesh, region, fargs):
-    out = subprocess.run([exe, "measure", mesh, "--region", region, "--csv"] + fargs,
+    # Against the field as handed to both tools: `measure` limits its gradient as `mesh` does
+    # unless told not to.
+    out = subprocess.run([exe, "measure", mesh, "--region", region, "--csv", "--gradation", "inf"] + fargs,
                          capture_output=True, text=True)
     if out.returncode != 0:
         raise RuntimeError(out.stderr)

@@ -168,7 +168,7 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
     )?;
     let (request, line) = match graded {
         Some(field) => {
-            let (r, field) = MeshRequest::bounded_size_field(
+            let (r, field, note) = MeshRequest::bounded_size_field(
                 &field,
                 region,
                 a.size_min,
@@ -181,6 +181,9 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
                 r.size.points(region),
                 field.predicted_points(region)
             );
+            if let Some(note) = note {
+                line.push_str(&format!("\nnote: {note}"));
+            }
             if let Some(u) = field.unresolved(region) {
                 line.push_str(&format!("\nwarning: {}", u.for_mesh()));
             }
@@ -465,6 +468,7 @@ pub fn polish(a: PolishArgs) -> Result<()> {
 
 /// `cvtmesh measure`.
 #[derive(Args)]
+#[command(group(ArgGroup::new("graded").multiple(true).args(["size_field", "size_toward"])))]
 pub struct MeasureArgs {
     /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj.
     mesh: PathBuf,
@@ -509,6 +513,19 @@ pub struct MeasureArgs {
     /// [default: as `mesh` does].
     #[arg(long, requires = "size_toward", allow_negative_numbers = true)]
     corner_angle: Option<f64>,
+    /// As for `mesh`: the smallest edge length of the size field measured against
+    /// [default: none].
+    #[arg(long, requires = "graded", allow_negative_numbers = true)]
+    size_min: Option<f64>,
+    /// As for `mesh`: the largest edge length of the size field measured against
+    /// [default: none].
+    #[arg(long, requires = "graded", allow_negative_numbers = true)]
+    size_max: Option<f64>,
+    /// As for `mesh`: the largest gradient of the size field measured against, so that the
+    /// field `mesh` meshed with the same options is the one measured (`inf` measures against
+    /// the field as given).
+    #[arg(long, default_value_t = GRADATION, requires = "graded", allow_negative_numbers = true)]
+    gradation: f64,
 }
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
@@ -560,6 +577,9 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         a.size_threshold.as_deref(),
         &named,
     )?;
+    let field = field
+        .map(|f| f.bounded(&region, a.size_min, a.size_max, Some(a.gradation)))
+        .transpose()?;
     let conformity = match &field {
         Some(field) => {
             field.check(&region).map_err(cvtmesh::MeshError::from)?;

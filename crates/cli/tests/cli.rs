@@ -2561,3 +2561,44 @@ fn a_file_named_like_a_built_in_region_does_not_hide_it() {
         text(&o)
     );
 }
+
+/// A field steeper than the gradation limit: `mesh` says how many vertices the limit added,
+/// and `measure` with the same options measures against the limited field the mesh was made
+/// for (it had measured against the field as given, and called a good mesh poor).
+#[test]
+fn measure_limits_the_gradation_as_mesh_does() {
+    let dir = scratch("gradation_measure");
+    let out = dir.join("steep.node");
+    let field = "0.01+0.5*abs(x)";
+    let o = cvtmesh(&[
+        "mesh",
+        "square_hole",
+        "--size-field",
+        field,
+        "--tol",
+        "1e-3",
+        "--quiet",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("note: the gradation limit 0.3") && text(&o).contains("--gradation inf"),
+        "{}",
+        text(&o)
+    );
+    let same = size_conformity(&out, "square_hole", field);
+    let given = size_conformity_by(
+        &out,
+        "square_hole",
+        &["--size-field", field, "--gradation", "inf"],
+    );
+    assert!(same[1] > 0.99, "unit share {}", same[1]);
+    assert!(
+        given[1] < 0.9,
+        "unit share against the field as given {}",
+        given[1]
+    );
+    // The count the measured field asks for is the mesh's.
+    assert!((same[7] / same[6] - 1.0).abs() < 0.01, "{same:?}");
+}

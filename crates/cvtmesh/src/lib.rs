@@ -64,8 +64,8 @@ pub use ::mesh::{
     slivers, thin_feature, total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError,
     Mesh, MeshError, MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic,
     ShortCoverage, Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX,
-    CONFORMITY_CHECK_LIMIT, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE, POLISH_BELOW_DEG,
-    SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
+    CONFORMITY_CHECK_LIMIT, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE,
+    POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

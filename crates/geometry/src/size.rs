@@ -1294,6 +1294,43 @@ impl SizeField {
         max: Option<f64>,
         gradation: Option<f64>,
     ) -> Result<SizeField, SizeFieldError> {
+        Ok(self.bounding(region, min, max, gradation, false)?.0)
+    }
+
+    /// [`SizeField::bounded`], and the vertex count ([`SizeField::predicted_points`]) the
+    /// field asked for once clamped, before its gradient was limited: what the limit changed,
+    /// which a user is told when it adds many vertices. `None` without a limit or for a
+    /// constant field.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{Region, SizeField};
+    /// let square = Region::builtin("square_hole")?;
+    /// let steep = SizeField::from_expr("0.005 + 0.5*abs(x)")?;
+    /// let (limited, before) = steep.bounded_counted(&square, None, None, Some(0.3))?;
+    /// let before = before.unwrap();
+    /// assert!((before / steep.predicted_points(&square) - 1.0).abs() < 0.01);
+    /// // Sizes growing at most 0.3 per unit of distance ask for many more vertices.
+    /// assert!(limited.predicted_points(&square) > 1.5 * before);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn bounded_counted(
+        &self,
+        region: &Region,
+        min: Option<f64>,
+        max: Option<f64>,
+        gradation: Option<f64>,
+    ) -> Result<(SizeField, Option<f64>), SizeFieldError> {
+        self.bounding(region, min, max, gradation, true)
+    }
+
+    fn bounding(
+        &self,
+        region: &Region,
+        min: Option<f64>,
+        max: Option<f64>,
+        gradation: Option<f64>,
+        count: bool,
+    ) -> Result<(SizeField, Option<f64>), SizeFieldError> {
         let (lo, hi) = (min.unwrap_or(0.0), max.unwrap_or(f64::INFINITY));
         // As Gmsh's Mesh.MeshSizeMin = 0 and MeshSizeMax = 1e22, 0 and ∞ bound nothing.
         if !(lo.is_finite() && lo >= 0.0 && hi > 0.0 && lo <= hi) {
@@ -1304,7 +1341,7 @@ impl SizeField {
             return Err(SizeFieldError::Gradation(g));
         }
         if let Kind::Constant(h) = self.kind {
-            return Ok(SizeField::constant(h.clamp(lo, hi)));
+            return Ok((SizeField::constant(h.clamp(lo, hi)), None));
         }
         let smallest = self.check(region)?.min.max(lo);
         let Kind::Grid(grid) = self.on_grid(region, smallest).kind else {
@@ -1322,12 +1359,22 @@ impl SizeField {
                 *v = v.clamp(lo, hi);
             }
         }
+        let mut before = None;
         if g.is_finite() {
+            if count {
+                let clamped = SizeField {
+                    kind: Kind::Grid(Arc::new(grid.clone().sealed())),
+                };
+                before = Some(clamped.predicted_points(region));
+            }
             grid.limit_gradation(g);
         }
-        Ok(SizeField {
-            kind: Kind::Grid(Arc::new(grid.sealed())),
-        })
+        Ok((
+            SizeField {
+                kind: Kind::Grid(Arc::new(grid.sealed())),
+            },
+            before,
+        ))
     }
 
     /// h at `p`.

@@ -21,7 +21,8 @@ pub use check::{
 pub use error::MeshError;
 pub use mesher::{
     boundary_points_needed, memory_estimate, refuse_embedded, total_memory, MeshRequest,
-    MeshResult, Mesher, Progress, Size, BYTES_PER_VERTEX, MAX_POINTS, SIMPLIFY_SPACINGS,
+    MeshResult, Mesher, Progress, Size, BYTES_PER_VERTEX, GRADATION_NOTE, MAX_POINTS,
+    SIMPLIFY_SPACINGS,
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use polish::{

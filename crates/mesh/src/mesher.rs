@@ -93,6 +93,10 @@ pub struct MeshRequest {
     pub polish_below_deg: f64,
 }
 
+/// [`MeshRequest::bounded_size_field`] notes a gradation limit that raised the field's vertex
+/// count by more than this factor.
+pub const GRADATION_NOTE: f64 = 1.1;
+
 impl MeshRequest {
     /// A request for K points with the documented defaults.
     pub fn points(k: usize) -> Self {
@@ -173,9 +177,10 @@ impl MeshRequest {
     /// [`MeshRequest::size_field`] of `field` bounded as the command line and Python bound it
     /// ([`SizeField::bounded`](geometry::SizeField::bounded): sizes clamped to `min` and
     /// `max`, their gradient limited to `gradation`), and the bounded field sampled on the grid
-    /// the methods mesh from. `min` and `max` are edge lengths the mesh keeps, as Gmsh's
-    /// `Mesh.MeshSizeMin` and `Mesh.MeshSizeMax` are: with `points` given, which scales the
-    /// field to that many vertices and so would move them, they are refused.
+    /// the methods mesh from, and a note for the user where the gradation limit raised the
+    /// field's vertex count by more than 10 %. `min` and `max` are edge lengths the mesh keeps,
+    /// as Gmsh's `Mesh.MeshSizeMin` and `Mesh.MeshSizeMax` are: with `points` given, which
+    /// scales the field to that many vertices and so would move them, they are refused.
     ///
     /// ```
     /// use cvtmesh::geometry::{Region, SizeField};
@@ -183,9 +188,14 @@ impl MeshRequest {
     ///
     /// let circle = Region::builtin("circle")?;
     /// let h = SizeField::from_expr("0.01 + 0.2 * abs(x)")?;
-    /// let (request, bounded) = MeshRequest::bounded_size_field(&h, &circle, Some(0.02), Some(0.1), Some(0.3), None)?;
+    /// let (request, bounded, note) = MeshRequest::bounded_size_field(&h, &circle, Some(0.02), Some(0.1), Some(0.3), None)?;
     /// assert!((bounded.at(cvtmesh::geometry::DVec2::ZERO) - 0.02).abs() < 1e-9);
     /// assert_eq!(request.validate(&circle)?, bounded.predicted_points(&circle).round() as usize);
+    /// assert!(note.is_none());
+    /// // Sizes that grow by 0.5 per unit of distance, limited to 0.3: many more vertices.
+    /// let steep = SizeField::from_expr("0.005 + 0.5*abs(x)")?;
+    /// let (_, _, note) = MeshRequest::bounded_size_field(&steep, &circle, None, None, Some(0.3), None)?;
+    /// assert!(note.unwrap().contains("the gradation limit 0.3"));
     /// let e = MeshRequest::bounded_size_field(&h, &circle, None, Some(0.1), None, Some(500)).unwrap_err();
     /// assert!(e.to_string().contains("--size-max"), "{e}");
     /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -197,7 +207,7 @@ impl MeshRequest {
         max: Option<f64>,
         gradation: Option<f64>,
         points: Option<usize>,
-    ) -> Result<(Self, SizeField), MeshError> {
+    ) -> Result<(Self, SizeField, Option<String>), MeshError> {
         if let (Some(k), true) = (points, min.is_some() || max.is_some()) {
             let which = match (min, max) {
                 (Some(_), Some(_)) => {
@@ -211,11 +221,22 @@ impl MeshRequest {
                  K and would not keep it: give the bounds or K, not both"
             )));
         }
-        let field = field.bounded(region, min, max, gradation)?;
+        let (field, before) = field.bounded_counted(region, min, max, gradation)?;
         // The grid the methods mesh from, sampled once for the request and for the caller's
         // check of what it resolves.
         let field = field.on_grid(region, field.check(region)?.min);
-        Ok((Self::size_field(&field, region, points)?, field))
+        let after = field.predicted_points(region);
+        // A Gmsh user's field is taken as given there: say when the limit made it much finer.
+        let note = before.filter(|&b| after > GRADATION_NOTE * b).map(|b| {
+            format!(
+                "the gradation limit {} (sizes growing by at most that much per unit of \
+                 distance) raised the field's vertex count from {b:.0} to {after:.0} (+{:.0} %); \
+                 gradation inf (--gradation inf) takes the field as given",
+                gradation.unwrap_or(f64::INFINITY),
+                100.0 * (after / b - 1.0)
+            )
+        });
+        Ok((Self::size_field(&field, region, points)?, field, note))
     }
     /// Builder: seed.
     pub fn seed(mut self, seed: u64) -> Self {

@@ -1202,11 +1202,14 @@ fn mesh(
             "size_min and size_max bound a size field: give size or size_toward as well",
         ));
     }
+    // What bounding the field changed, for the result's notes.
+    let mut field_note = None;
     let request = match (graded, density) {
         (Some(field), _) => {
-            let (request, field) =
+            let (request, field, note) =
                 MeshRequest::bounded_size_field(&field, &region, size_min, size_max, gradation, n)
                     .map_err(err)?;
+            field_note = note;
             // Sizes that change faster than the field's background grid follows: say where,
             // as the command line does.
             if let Some(u) = field.unresolved(&region) {
@@ -1281,7 +1284,8 @@ fn mesh(
         return Err(e);
     }
     let mut r = result.map_err(err)?;
-    r.notes.splice(0..0, simplified);
+    r.notes
+        .splice(0..0, simplified.into_iter().chain(field_note));
     // As the command line does: a mesh that leaves out a band along a curved boundary, or
     // has triangles flatter than a degree, is named in a warning.
     let findings = [
@@ -1371,18 +1375,26 @@ fn measures<'py>(
 /// How well the edges of any mesh of `region` follow the size field `size` (any form `mesh`
 /// takes): the share of edges with length / h(midpoint) in [1/√2, √2], the efficiency index,
 /// the mean of that ratio, the smallest angle and its 1st percentile, the vertex count and
-/// the count the field asks for.
+/// the count the field asks for. The field is bounded as `mesh` bounds it (`size_min`,
+/// `size_max`, `gradation`), so that the field a mesh was made for is the one measured.
 #[pyfunction]
+#[pyo3(signature = (points, triangles, region, size, size_min = None, size_max = None, gradation = 0.3))]
+#[allow(clippy::too_many_arguments)]
 fn size_conformity<'py>(
     py: Python<'py>,
     points: &Bound<'_, PyAny>,
     triangles: &Bound<'_, PyAny>,
     region: &PyRegion,
     size: &Bound<'_, PyAny>,
+    size_min: Option<f64>,
+    size_max: Option<f64>,
+    gradation: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = any_mesh(points, triangles, "size_conformity")?;
     let region = region.inner.clone();
-    let field = scalar_field(py, &region, size, "size")?;
+    let field = scalar_field(py, &region, size, "size")?
+        .bounded(&region, size_min, size_max, gradation)
+        .map_err(err)?;
     field
         .check(&region)
         .map_err(|e| err(format!("size: {e}")))?;

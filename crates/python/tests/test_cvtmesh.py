@@ -1117,6 +1117,15 @@ def test_size_bounds_with_n_are_refused_as_they_would_not_hold():
     assert np.array_equal(m.points, g.points)
 
 
+def test_a_steep_field_notes_what_the_gradation_limit_added_and_is_measured_as_meshed():
+    field = "0.01 + 0.5*abs(x)"
+    m = cvtmesh.mesh("square_hole", size=field, tol=1e-3)
+    assert any("the gradation limit 0.3" in n for n in m.notes), m.notes
+    same = cvtmesh.size_conformity(m.points, m.triangles, "square_hole", field)
+    given = cvtmesh.size_conformity(m.points, m.triangles, "square_hole", field, gradation=None)
+    assert same["unit_share"] > 0.99 and given["unit_share"] < 0.9, (same, given)
+
+
 def test_no_region_is_a_type_error_naming_what_a_region_may_be():
     with pytest.raises(TypeError, match="a Region or a"):
         cvtmesh.mesh(None, n=100)

@@ -210,12 +210,22 @@ def measures(points: Any, triangles: Any, region: RegionLike) -> dict:
     return _measures(points, triangles, _region(region, None, None))
 
 
-def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) -> dict:
+def size_conformity(
+    points: Any,
+    triangles: Any,
+    region: RegionLike,
+    size: Any,
+    size_min: Optional[float] = None,
+    size_max: Optional[float] = None,
+    gradation: Optional[float] = 0.3,
+) -> dict:
     """How well the edges of any triangle mesh of ``region`` follow a size field.
 
     ``size`` takes every form :func:`mesh` takes (a number, an expression in ``x`` and ``y``, a
     vectorized callable, ``(points, triangles, h)`` arrays or a ``.node``/``.msh`` file of sizes
-    at a mesh's vertices). The result maps ``edges``, ``unit_share`` (the share of edges whose
+    at a mesh's vertices), bounded as :func:`mesh` bounds it (``size_min``, ``size_max``, and
+    ``gradation``, 0.3 by default as there; ``None`` measures against the field as given), so
+    that the same arguments measure the field a mesh was made for. The result maps ``edges``, ``unit_share`` (the share of edges whose
     length over h at their midpoint lies in [1/√2, √2]), ``efficiency`` (exp of the mean of
     l − 1 for l < 1 and 1/l − 1 otherwise; 1 is ideal), ``mean_length`` (of l),
     ``min_angle_deg``, ``min_angle_p1_deg`` (the 1st percentile of the triangles' smallest
@@ -226,7 +236,9 @@ def size_conformity(points: Any, triangles: Any, region: RegionLike, size: Any) 
         >>> cvtmesh.size_conformity(m.points, m.triangles, "circle", "0.05 + 0.1*sqrt(x^2+y^2)")["unit_share"] > 0.95
         True
     """
-    return _size_conformity(points, triangles, _region(region, None, None), size)
+    return _size_conformity(
+        points, triangles, _region(region, None, None), size, size_min, size_max, gradation
+    )
 
 
 def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> Any:
