@@ -530,7 +530,14 @@ pub struct MeasureArgs {
 
 /// `cvtmesh measure`: the 12 measures of Section 3.
 pub fn measure(a: MeasureArgs) -> Result<()> {
-    let (mesh, walls) = inputs::mesh_with_walls(&a.mesh)?;
+    let file = cvtmesh::io::read_mesh_file(&a.mesh)?;
+    if file.triangle_nodes > 3 {
+        eprintln!(
+            "note: {}-node triangles measured as the three-node mesh of their corners",
+            file.triangle_nodes
+        );
+    }
+    let (mesh, walls) = (file.mesh, file.walls);
     let region = inputs::region_of(a.region.as_deref(), &a.mesh, (&mesh, &walls))?;
     let fit = cvtmesh::measurable(&mesh, &region)
         .map_err(|e| anyhow!("{e}; without --region the mesh's own is measured"))?;

@@ -106,11 +106,6 @@ pub fn mesh(path: &Path) -> Result<Mesh> {
     Ok(cvtmesh::io::read_mesh(path)?)
 }
 
-/// A mesh as [`mesh`] reads it, and the walls its file numbers.
-pub fn mesh_with_walls(path: &Path) -> Result<(Mesh, Walls)> {
-    Ok(cvtmesh::io::read_mesh_with_walls(path)?)
-}
-
 /// The mesher behind a `--method` word.
 pub fn method(name: &str) -> Result<Box<dyn Mesher>> {
     Ok(name.parse::<Method>()?.mesher())

@@ -1925,12 +1925,19 @@ fn order_two_writes_six_node_triangles_on_the_exact_boundary() {
     // Read back by its corners: the same mesh as the linear run.
     let linear = dir.join("c1.msh");
     assert!(quiet_mesh("annulus", "300", &[], &linear).status.success());
-    let csv = |p: &Path| {
+    let measured = |p: &Path| {
         let o = cvtmesh(&["measure", s(p), "--region", "annulus", "--csv"]);
         assert!(o.status.success(), "measure {}: {}", p.display(), text(&o));
-        text(&o)
+        o
     };
+    let csv = |p: &Path| String::from_utf8_lossy(&measured(p).stdout).to_string();
     assert_eq!(csv(&msh), csv(&linear));
+    // Measured by its corners, and said so.
+    let said = String::from_utf8_lossy(&measured(&msh).stderr).to_string();
+    assert!(
+        said.contains("note: 6-node triangles measured as the three-node mesh of their corners"),
+        "{said}"
+    );
     // Polished, six-node triangles stay six-node triangles, on the same corners as the
     // polished linear mesh.
     let unpolished = dir.join("raw2.msh");

@@ -187,7 +187,7 @@ fn bounds_message(min: Option<f64>, max: Option<f64>) -> String {
     let (lo, hi) = (min.unwrap_or(0.0), max.unwrap_or(f64::INFINITY));
     if !(lo.is_finite() && lo >= 0.0) {
         format!("the smallest edge length (size_min, --size-min) must be finite and at least 0 (0 bounds nothing), got {lo}")
-    } else if !(hi > 0.0) {
+    } else if hi.is_nan() || hi <= 0.0 {
         format!("the largest edge length (size_max, --size-max) must be positive (inf bounds nothing), got {hi}")
     } else {
         format!("the smallest edge length (size_min, --size-min) {lo} is larger than the largest (size_max, --size-max) {hi}")

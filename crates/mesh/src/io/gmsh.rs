@@ -587,6 +587,14 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
                 }
                 expect_end(&mut t, "$EndElements")?;
             }
+            "$ParametricNodes" => {
+                return Err(t.err_line(
+                    line,
+                    "the nodes are in $ParametricNodes (saved with Mesh.SaveParametric = 1), \
+                     which this reader does not read; save the mesh without parametric \
+                     coordinates",
+                ))
+            }
             "$NodeData" if sizes && raw.node_data.is_none() => {
                 raw.node_data = Some(parse_node_data(&mut t)?);
                 expect_end(&mut t, "$EndNodeData")?;
@@ -916,7 +924,12 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         return Err(file_err(path, format!("node tag {} appears twice", w[0].0)));
     }
     if raw.triangles.is_empty() && !raw.nodes.is_empty() {
-        return Err(file_err(path, "the file has no triangle elements"));
+        return Err(file_err(
+            path,
+            "the file has no triangle elements (once a model has a physical group, Gmsh saves \
+             only the elements of physical groups: add a physical surface, or set \
+             Mesh.SaveAll = 1)",
+        ));
     }
     // Where the edge nodes were, before they go with the other nodes that are no corners.
     let edge_places: Vec<([u64; 2], DVec2)> = if raw.edge_nodes.is_empty() {
@@ -1159,7 +1172,8 @@ mod tests {
             (&format!("{head}$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n"), "line 7: quadrangle"),
             (&format!("{head}$Elements\n1 1 1 1\n2 1 99 1\n1 1 2 3\n$EndElements\n"), "line 7: element type 99"),
             (&format!("{head}$Nodes\n0 0 0 0\n$EndNodes\n$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n"), "refers to node 1"),
-            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0\n$EndNodes\n"), "no triangle elements"),
+            (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0\n$EndNodes\n"), "no triangle elements (once a model has a physical group"),
+            (&format!("{head}$ParametricNodes\n1 1 1 1\n$EndParametricNodes\n"), "line 4: the nodes are in $ParametricNodes"),
             (&format!("{head}$Foo\n1 2 3\n"), "section $Foo has no $EndFoo"),
             (&format!("{head}junk\n"), "line 4: expected a section"),
         ];
