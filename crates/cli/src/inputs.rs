@@ -74,6 +74,9 @@ pub fn positive(flag: &str, word: &str) -> Result<f64> {
 /// `corner_angle` keeps only corners turning more than that many degrees.
 pub fn region(spec: &str, corner_angle: Option<f64>) -> Result<Region> {
     let region = cvtmesh::load_region(spec)?;
+    for note in region.notes() {
+        eprintln!("warning: {note}");
+    }
     match corner_angle {
         Some(deg) => with_corner_angle(region, deg),
         None => Ok(region),

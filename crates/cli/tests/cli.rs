@@ -2609,3 +2609,26 @@ fn measure_limits_the_gradation_as_mesh_does() {
     // The count the measured field asks for is the mesh's.
     assert!((same[7] / same[6] - 1.0).abs() < 0.01, "{same:?}");
 }
+
+/// A `.poly`'s regional attributes and area constraints are not used (cvtmesh meshes one region
+/// from a size field): the user hears so, where they had been dropped without a word.
+#[test]
+fn a_poly_s_regional_area_constraints_are_named_as_not_used() {
+    let dir = scratch("regional");
+    let poly = dir.join("sq.poly");
+    std::fs::write(
+        &poly,
+        "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n\
+         2\n1 0.5 0.5 10 0.001\n2 0.2 0.2 20 0.1\n",
+    )
+    .unwrap();
+    let out = dir.join("sq.msh");
+    let o = cvtmesh(&["mesh", s(&poly), "-n", "100", "--quiet", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning:")
+            && text(&o).contains("its 2 regional attributes or area constraints are not used"),
+        "{}",
+        text(&o)
+    );
+}

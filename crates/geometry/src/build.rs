@@ -161,6 +161,7 @@ impl Region {
         merged.marker_names = self.marker_names.clone();
         merged.vertex_markers = self.vertex_markers.clone();
         merged.embedded = self.embedded.clone();
+        merged.notes = self.notes.clone();
         merged
     }
 
@@ -676,5 +677,6 @@ pub(crate) fn assemble(
         vertex_markers: Vec::new(),
         embedded: Vec::new(),
         inside_grid: Default::default(),
+        notes: Vec::new(),
     }
 }

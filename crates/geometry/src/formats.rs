@@ -332,7 +332,20 @@ fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, Geomet
         .copied()
         .filter(|&(p, _)| region.signed_distance(p) < -off)
         .collect();
-    let region = region.with_embedded_points(inside)?;
+    let mut region = region.with_embedded_points(inside)?;
+    if poly.regional > 0 {
+        region.notes.push(format!(
+            "{label}: its {} regional {} not used: cvtmesh meshes the region as one, its \
+             sizes from a size field (an area bound A is an edge length of about √(4A/√3): \
+             size, --size; size_field, --size-field for sizes that vary)",
+            poly.regional,
+            if poly.regional == 1 {
+                "attribute or area constraint is"
+            } else {
+                "attributes or area constraints are"
+            }
+        ));
+    }
     let holes = &poly.holes;
     for &(line, h) in holes {
         if region.contains(h) {
@@ -696,6 +709,8 @@ struct Poly {
     vertex_markers: VertexMarkers,
     /// The `.poly`'s own vertices on no segment, with their markers: points to keep inside.
     embedded: Vec<(DVec2, i64)>,
+    /// The number of regional attributes and area constraints after the holes.
+    regional: usize,
 }
 
 /// A `.poly`'s nonzero vertex markers, by the vertex's coordinates.
@@ -893,8 +908,13 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
             ),
         ));
     }
-    // Regional attributes may follow; they do not change the region. Which loops are holes
-    // is for nesting to decide and the hole points to confirm (`poly_region`).
+    // Regional attributes and area constraints may follow; they do not change the region (the
+    // user hears that they are not used). Which loops are holes is for nesting to decide and
+    // the hole points to confirm (`poly_region`).
+    let regional = recs
+        .next()
+        .and_then(|(_, t)| t.first().and_then(|n| n.parse::<usize>().ok()))
+        .unwrap_or(0);
     // A vertex repeated with equal coordinates keeps the first nonzero marker it is given.
     let mut vertex_markers = VertexMarkers::new();
     for (p, &m) in verts.iter().zip(&vertex_marks) {
@@ -919,6 +939,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         segment_markers: marked.then_some(markers),
         vertex_markers,
         embedded,
+        regional,
     })
 }
 

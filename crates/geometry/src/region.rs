@@ -89,6 +89,8 @@ pub struct Region {
     pub(crate) embedded: Vec<(DVec2, i64)>,
     /// [`Region::inside_grid`], made on first use (shared by clones, which have the same loops).
     pub(crate) inside_grid: Arc<InsideGrid>,
+    /// What the region's file held that the region does not use ([`Region::notes`]).
+    pub(crate) notes: Vec<String>,
 }
 
 /// Cells of the [`Region::inside_grid`] a side.
@@ -188,6 +190,22 @@ impl Region {
     /// ```
     pub fn embedded_points(&self) -> &[(DVec2, i64)] {
         &self.embedded
+    }
+
+    /// What the region's file held that the region does not use, for the user to hear (a
+    /// Triangle `.poly`'s regional attributes and area constraints); empty for most regions.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::formats::poly_from_str;
+    /// let square = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
+    /// assert!(poly_from_str(square, "sq.poly", "sq")?.notes().is_empty());
+    /// let with_area = format!("{square}1\n1 0.5 0.5 7 0.001\n");
+    /// let r = poly_from_str(&with_area, "sq.poly", "sq")?;
+    /// assert!(r.notes()[0].contains("1 regional attribute or area constraint"));
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     /// The same region with `points` embedded as well ([`Region::embedded_points`]), each

@@ -191,6 +191,7 @@ impl Region {
                     region.vertex_markers = self.vertex_markers.clone();
                 }
                 region.corners_computed = true;
+                region.notes = self.notes.clone();
                 // Embedded points stay where they are; one the simplified boundary no longer
                 // holds well inside is a reason to simplify less.
                 let embedded = region

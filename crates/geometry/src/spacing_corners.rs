@@ -196,6 +196,7 @@ impl Region {
         let mut region = assemble(self.name.clone(), lps, &flags, self.corner_threshold);
         region.corners_computed = self.corners_computed;
         region.embedded = self.embedded.clone();
+        region.notes = self.notes.clone();
         SpacingCorners {
             region,
             pieces: origin_piece,

@@ -346,13 +346,23 @@ impl PyRegion {
     /// A file path (a str or `os.PathLike`: a region file, or a mesh file: .node/.ele, .msh,
     /// .obj, whose region is what its triangles cover), or a built-in name when no such file
     /// exists.
+    /// What the file held that the region does not use (a `.poly`'s regional attributes and
+    /// area constraints) is said in a `RuntimeWarning`.
     #[staticmethod]
-    fn load(spec: PathBuf) -> PyResult<PyRegion> {
+    fn load(py: Python<'_>, spec: PathBuf) -> PyResult<PyRegion> {
         let text = spec
             .to_str()
             .ok_or_else(|| err(format!("{}: the path is not valid UTF-8", spec.display())))?;
+        let region = cvtmesh::load_region(text).map_err(err)?;
+        if !region.notes().is_empty() {
+            let warnings = py.import("warnings")?;
+            let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+            for note in region.notes() {
+                warnings.call_method1("warn", (note, &category))?;
+            }
+        }
         Ok(PyRegion {
-            inner: Arc::new(cvtmesh::load_region(text).map_err(err)?),
+            inner: Arc::new(region),
         })
     }
 
