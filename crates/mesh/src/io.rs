@@ -5,7 +5,7 @@
 //! |---|---|---|
 //! | `.node`, `.ele` (+ `.poly`) | [`write_triangle`] | [`read_triangle`] |
 //! | `.msh` | [`write_gmsh`] (4.1 ASCII) | [`read_gmsh`] (4.1 and 2.2 ASCII) |
-//! | `.vtu` | [`write_vtu`] (XML ASCII, with quality fields) | — |
+//! | `.vtu` | [`write_vtu`] (XML ASCII, with quality fields) | [`read_vtu`] (ASCII, binary, appended; zlib) |
 //! | `.obj` | [`write_obj`] | [`read_obj`] |
 //!
 //! Coordinates are written in Rust's shortest round-trip notation, so writing and reading back
@@ -38,7 +38,7 @@ pub use triangle::{
     read_triangle, read_triangle_sizes, read_triangle_with_walls, triangle_from_str,
     triangle_sizes_from_str, triangle_walls_from_str, write_triangle, write_triangle_on,
 };
-pub use vtu::{triangle_quality, write_vtu};
+pub use vtu::{read_vtu, triangle_quality, vtu_from_bytes, write_vtu};
 
 /// The `piece` of a boundary marker read from a file that does not record pieces.
 pub const UNKNOWN_PIECE: PieceId = usize::MAX;
@@ -46,7 +46,7 @@ pub const UNKNOWN_PIECE: PieceId = usize::MAX;
 /// Extensions [`write_mesh`] understands.
 pub const WRITE_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
 /// Extensions [`read_mesh`] understands.
-pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "obj"];
+pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
 
 /// Write `mesh` in the format named by the extension of `path`: `.node` or `.ele` (Triangle:
 /// writes `.node`, `.ele` and `.poly` beside each other), `.msh` (Gmsh 4.1), `.vtu` (VTK) or
@@ -357,12 +357,14 @@ pub fn files_written(path: &Path) -> Vec<std::path::PathBuf> {
 }
 
 /// Read a mesh, choosing the format by extension: `.node`/`.ele` (Triangle, reading both
-/// files), `.msh` (Gmsh 4.1 or 2.2 ASCII) or `.obj`. Triangles come back counter-clockwise.
-/// See [`write_mesh`] for a round trip.
+/// files), `.msh` (Gmsh 4.1 or 2.2 ASCII), `.vtu` (VTK XML unstructured grid, in any of the
+/// encodings VTK, ParaView and meshio write: [`read_vtu`]) or `.obj`. Triangles come back
+/// counter-clockwise. See [`write_mesh`] for a round trip.
 pub fn read_mesh(path: &Path) -> Result<Mesh, MeshError> {
     match extension(path).as_deref() {
         Some("node") | Some("ele") => read_triangle(&path.with_extension("node")),
         Some("msh") => read_gmsh(path),
+        Some("vtu") => read_vtu(path),
         Some("obj") => read_obj(path),
         _ => Err(unknown_extension(path, "read", READ_EXTENSIONS)),
     }
@@ -411,7 +413,9 @@ pub struct MeshFile {
     pub edge_nodes: Vec<([u32; 2], DVec2)>,
 }
 
-/// [`read_mesh_with_walls`], with the file's triangles' order and edge nodes.
+/// [`read_mesh_with_walls`], with the file's triangles' order and edge nodes. A `.vtu` carries
+/// no walls: its [`MeshFile::walls`] is empty (the `boundary_marker` and `wall_marker` point
+/// data [`write_mesh_on`] writes are not read back).
 ///
 /// ```
 /// use cvtmesh::io;
@@ -432,6 +436,7 @@ pub fn read_mesh_file(path: &Path) -> Result<MeshFile, MeshError> {
     match extension(path).as_deref() {
         Some("msh") => gmsh::read_gmsh_file(path),
         Some("node") | Some("ele") => triangle::read_triangle_file(&path.with_extension("node")),
+        Some("vtu") => vtu::read_vtu_file(path),
         _ => Ok(MeshFile {
             mesh: read_mesh(path)?,
             walls: Walls::default(),
@@ -1456,7 +1461,7 @@ mod tests {
             dir.files(),
             ["a.ele", "a.node", "a.poly", "b.ele", "b.node", "b.poly", "c.msh", "d.vtu", "e.OBJ"]
         );
-        for name in ["a.node", "b.ele", "c.msh", "e.OBJ"] {
+        for name in ["a.node", "b.ele", "c.msh", "d.vtu", "e.OBJ"] {
             let r = read_mesh(&dir.path(name)).unwrap();
             assert_eq!(r.points, m.points, "{name}");
             assert_eq!(r.triangles, m.triangles, "{name}");
@@ -1468,8 +1473,8 @@ mod tests {
         );
         let e = write_mesh(&m, &dir.path("noext")).unwrap_err().to_string();
         assert!(e.contains("no extension"), "{e}");
-        let e = read_mesh(&dir.path("d.vtu")).unwrap_err().to_string();
-        assert!(e.contains(".node, .ele, .msh, .obj"), "{e}");
+        let e = read_mesh(&dir.path("f.stl")).unwrap_err().to_string();
+        assert!(e.contains(".node, .ele, .msh, .vtu, .obj"), "{e}");
         assert_eq!(dir.files().len(), 9, "failed writes must create nothing");
     }
 
