@@ -201,7 +201,7 @@ def test_gradation_and_bounds_shape_the_size_field():
     assert len(limited.points) > 1.05 * len(free.points)
     capped = cvtmesh.mesh("circle", size=field, tol=1e-2, size_max=0.05)
     assert len(capped.points) > len(limited.points)
-    with pytest.raises(MeshError, match="size bounds"):
+    with pytest.raises(MeshError, match=r"size_min, --size-min\) 0.2 is larger than the largest"):
         cvtmesh.mesh("circle", size=0.1, size_min=0.2, size_max=0.1)
 
 
