@@ -403,7 +403,17 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         _ => mesh.points.clone(),
     };
     let start = Instant::now();
-    let report = match cvtmesh::polish_restored(&mut mesh, &region, a.below) {
+    // Lines the file keeps inside the mesh (a material interface) stay where they are.
+    let held = file.walls.inner_vertices();
+    if !held.is_empty() {
+        eprintln!(
+            "note: {} vertices held on the {} edges the file keeps inside the mesh (an \
+             interface, a line of its own)",
+            held.len(),
+            file.walls.inner.len()
+        );
+    }
+    let report = match cvtmesh::polish_restored_holding(&mut mesh, &region, a.below, &held) {
         Ok(report) => report,
         Err(e) => bail!(
             "the mesh does not conform to region '{}' ({e}): its boundary vertices cannot be placed on the region; nothing written",

@@ -2632,3 +2632,91 @@ fn a_poly_s_regional_area_constraints_are_named_as_not_used() {
         text(&o)
     );
 }
+
+/// A Triangle mesh of two materials (the `.ele`'s attribute 10 left of x = 1, 20 right of it):
+/// `polish` holds the vertices of the interface where they are (it had moved 14 of 17 off
+/// it), and meshing the region its triangles cover again, which would lose the interface, is
+/// refused by name.
+#[test]
+fn an_interface_between_materials_is_held_by_polish_and_not_meshed_away() {
+    let dir = scratch("interface");
+    // A 9 × 5 grid over [0, 2] × [0, 1], each square cut into two triangles, its interior
+    // vertices jittered (seeded) so that the polish has work everywhere, the interface too.
+    let (nx, ny) = (9usize, 5usize);
+    let mut rng = cvtmesh::geometry::Rng::new(1);
+    let mut node = format!("{} 2 0 0\n", nx * ny);
+    let mut xs = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let (mut x, mut y) = (2.0 * i as f64 / (nx - 1) as f64, j as f64 / (ny - 1) as f64);
+            if i > 0 && i < nx - 1 && j > 0 && j < ny - 1 {
+                // The interface's own vertices stay on it.
+                if i != nx / 2 {
+                    x += 0.1 * (rng.uniform() - 0.5);
+                }
+                y += 0.1 * (rng.uniform() - 0.5);
+            }
+            xs.push(x);
+            node.push_str(&format!("{} {x} {y}\n", j * nx + i + 1));
+        }
+    }
+    let mut tris = Vec::new();
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let v = |a: usize, b: usize| (j + b) * nx + i + a + 1;
+            let material = if i < nx / 2 { 10 } else { 20 };
+            tris.push((v(0, 0), v(1, 0), v(1, 1), material));
+            tris.push((v(0, 0), v(1, 1), v(0, 1), material));
+        }
+    }
+    let mut ele = format!("{} 3 1\n", tris.len());
+    for (k, (a, b, c, m)) in tris.iter().enumerate() {
+        ele.push_str(&format!("{} {a} {b} {c} {m}\n", k + 1));
+    }
+    std::fs::write(dir.join("two.node"), node).unwrap();
+    std::fs::write(dir.join("two.ele"), ele).unwrap();
+    let out = dir.join("polished.node");
+    let o = cvtmesh(&[
+        "polish",
+        s(&dir.join("two.node")),
+        "--below",
+        "60",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("note: 5 vertices held on the 4 edges"),
+        "{}",
+        text(&o)
+    );
+    let polished = cvtmesh::io::read_mesh(&out).unwrap();
+    let on_interface = polished.points.iter().filter(|p| p.x == 1.0).count();
+    assert_eq!(on_interface, ny);
+    let moved = polished
+        .points
+        .iter()
+        .zip(&xs)
+        .filter(|(p, &x)| p.x != x)
+        .count();
+    assert!(moved > 0, "no vertex moved");
+    // Not held, the polish takes interface vertices off x = 1.
+    let file = cvtmesh::io::read_mesh_file(&dir.join("two.node")).unwrap();
+    let mut free = file.mesh.clone();
+    let region = cvtmesh::region_of_mesh(&free, &file.walls, &dir.join("two.node")).unwrap();
+    cvtmesh::polish_restored(&mut free, &region, 60.0).unwrap();
+    assert!(free.points.iter().filter(|p| p.x == 1.0).count() < ny);
+    let again = dir.join("again.msh");
+    assert_refused(
+        &[
+            "mesh",
+            s(&dir.join("two.node")),
+            "-n",
+            "100",
+            "-o",
+            s(&again),
+        ],
+        &again,
+        "the mesh keeps 4 edges inside it as lines of their own",
+    );
+}

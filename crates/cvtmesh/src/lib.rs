@@ -60,12 +60,12 @@ pub use ::mesh::io;
 
 pub use ::mesh::{
     boundary_points_needed, check_conforming, looks_graded, measurable, memory_estimate,
-    min_angle_and_slivers, polish, polish_restored, polish_within, refuse_embedded, short_coverage,
-    slivers, thin_feature, total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError,
-    Mesh, MeshError, MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic,
-    ShortCoverage, Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX,
-    CONFORMITY_CHECK_LIMIT, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE,
-    POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
+    min_angle_and_slivers, polish, polish_restored, polish_restored_holding, polish_within,
+    refuse_embedded, short_coverage, slivers, thin_feature, total_memory, triangle_min_angle_deg,
+    BoundaryEdge, ConformityError, Mesh, MeshError, MeshRequest, MeshResult, Mesher, PolishReport,
+    Polished, Progress, Quadratic, ShortCoverage, Size, Slivers, ThinFeature, VertexMarker,
+    BYTES_PER_VERTEX, CONFORMITY_CHECK_LIMIT, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS,
+    MIN_COVERAGE, POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;
@@ -114,6 +114,7 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 ///     edges: vec![([0, 1], 3)],
 ///     points: vec![(2, 8)],
 ///     names: [(3, "heated".to_string())].into(),
+///     inner: Vec::new(),
 /// };
 /// let r = cvtmesh::region_of_mesh(&mesh, &walls, path)?.with_default_corners();
 /// assert_eq!(r.piece_markers().map(|m| m.contains(&3)), Some(true));
@@ -151,7 +152,8 @@ pub fn region_of_mesh(
 /// [`Region::from_file`] reads; the path of a mesh ([`io::read_mesh`]: Triangle `.node`/`.ele`,
 /// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
 /// ([`Region::from_triangles`]), so a mesh can be meshed again, polished or measured with no
-/// region file; or, when the text looks like no path (no `.` or `/`), the name of a built-in
+/// region file (refused where the file keeps lines inside the mesh, [`io::Walls::inner`],
+/// which a new mesh would lose); or, when the text looks like no path (no `.` or `/`), the name of a built-in
 /// region, even where a file of that name lies in the working directory (a file without an
 /// extension is in no format; `./lake` names the file). As read: a polygon file's every
 /// turning vertex is a corner ([`Region::with_default_corners`] keeps the command line's).
@@ -180,6 +182,20 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
             path: spec.to_string(),
             message: e.to_string(),
         })?;
+        // A new mesh of the region its triangles cover would have none of its inner lines.
+        if !walls.inner.is_empty() {
+            return Err(GeometryError::Invalid {
+                region: spec.to_string(),
+                message: format!(
+                    "the mesh keeps {} edges inside it as lines of their own (an interface \
+                     between materials or surfaces, a curve in the domain), which a new mesh \
+                     of the region its triangles cover would not have: cvtmesh meshes regions \
+                     without inner lines; `polish` (Mesh.polished) improves this mesh and \
+                     holds them",
+                    walls.inner.len()
+                ),
+            });
+        }
         return region_of_mesh(&mesh, &walls, path);
     }
     let plain = !spec.contains('.') && !spec.contains('/');

@@ -385,6 +385,63 @@ pub struct Walls {
     pub points: Vec<(u32, i64)>,
     /// The file's name for a marker, where it gives one (a Gmsh physical curve's name).
     pub names: BTreeMap<i64, String>,
+    /// Edges inside the mesh that the file keeps as lines of their own, each with its lower
+    /// vertex first, sorted: a Triangle `.poly`'s internal segments, Gmsh line elements off the
+    /// boundary, and the edges between triangles the file puts in different regions (a Triangle
+    /// `.ele`'s first attribute, Gmsh's physical surfaces, or its surfaces where it has no
+    /// physical ones): a material interface, a crack, a line a solver reads values on.
+    /// Polishing holds their vertices (`cvtmesh::polish_restored_holding`), and a mesh with
+    /// them is not taken as a region to mesh again (`cvtmesh::load_region`), which would lose
+    /// them.
+    pub inner: Vec<[u32; 2]>,
+}
+
+impl Walls {
+    /// The vertices of the [`Walls::inner`] edges, sorted: what polishing holds.
+    ///
+    /// ```
+    /// let walls = cvtmesh::io::Walls { inner: vec![[1, 4], [4, 7]], ..Default::default() };
+    /// assert_eq!(walls.inner_vertices(), [1, 4, 7]);
+    /// ```
+    pub fn inner_vertices(&self) -> Vec<u32> {
+        let mut v: Vec<u32> = self.inner.iter().flatten().copied().collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+}
+
+/// The [`Walls::inner`] edges of `mesh`: those between two triangles whose `regions` (one per
+/// triangle, empty for none) differ, and those of `lines` (edges the file lists) that two
+/// triangles share.
+pub(crate) fn inner_edges(mesh: &Mesh, regions: &[i64], lines: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    // Each edge, its lower vertex first, with the region of the first triangle met and whether
+    // a second triangle shares it (with which region).
+    let mut seen: std::collections::HashMap<[u32; 2], (i64, Option<i64>)> =
+        std::collections::HashMap::with_capacity(3 * mesh.triangles.len() / 2 + 1);
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let region = regions.get(t).copied().unwrap_or(0);
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            seen.entry([a.min(b), a.max(b)])
+                .and_modify(|e| e.1 = Some(region))
+                .or_insert((region, None));
+        }
+    }
+    let mut inner: Vec<[u32; 2]> = seen
+        .iter()
+        .filter(|(_, &(first, second))| second.is_some_and(|s| s != first))
+        .map(|(&e, _)| e)
+        .collect();
+    inner.extend(
+        lines
+            .iter()
+            .map(|&[a, b]| [a.min(b), a.max(b)])
+            .filter(|e| seen.get(e).is_some_and(|s| s.1.is_some())),
+    );
+    inner.sort_unstable();
+    inner.dedup();
+    inner
 }
 
 /// [`read_mesh`] of one mesh file, and the walls it numbers ([`Walls`]), each file read

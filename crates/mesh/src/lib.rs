@@ -26,8 +26,8 @@ pub use mesher::{
 };
 pub use parts::CONFORMITY_CHECK_LIMIT;
 pub use polish::{
-    looks_graded, polish, polish_restored, polish_within, PolishReport, Polished, GRADED_SPREAD,
-    POLISH_BELOW_DEG,
+    looks_graded, polish, polish_restored, polish_restored_holding, polish_within, PolishReport,
+    Polished, GRADED_SPREAD, POLISH_BELOW_DEG,
 };
 pub use quadratic::Quadratic;
 pub use thin::{thin_feature, ThinFeature};

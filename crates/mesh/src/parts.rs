@@ -59,8 +59,13 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         // A graded mesh's largest and smallest elements are its size field's: sizes are held for
         // a uniform density only, shapes always.
         let uniform = request.density.is_uniform();
-        let report =
-            crate::polish::within(&mut result.mesh, work, request.polish_below_deg, uniform);
+        let report = crate::polish::within(
+            &mut result.mesh,
+            work,
+            request.polish_below_deg,
+            uniform,
+            &[],
+        );
         checked = report.checked && bent.is_none();
         if report.polished.moved > 0 {
             result.notes.push(report.to_string());

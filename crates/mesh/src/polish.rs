@@ -110,7 +110,7 @@ impl Polished {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn polish(mesh: &mut Mesh, region: &Region, below_deg: f64) -> Polished {
-    polish_with(mesh, region, below_deg, true)
+    polish_with(mesh, region, below_deg, true, &[])
 }
 
 /// [`polish`], with the mesh's extremes of shape held ([`Bounds`]: the worst radius ratio and
@@ -124,6 +124,7 @@ pub(crate) fn polish_with(
     region: &Region,
     below_deg: f64,
     sized: bool,
+    held: &[u32],
 ) -> Polished {
     // Triangles are compared by the cosine of their smallest angle (larger is worse): no
     // inverse trigonometric function in the passes over all triangles or in the search.
@@ -141,6 +142,12 @@ pub(crate) fn polish_with(
         flag: vec![false; mesh.num_vertices()],
         before: Vec::new(),
     };
+    let mut hold = vec![false; mesh.num_vertices()];
+    for &v in held {
+        if let Some(h) = hold.get_mut(v as usize) {
+            *h = true;
+        }
+    }
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
         let mut bounds = Bounds::of(mesh, &stars, sized);
@@ -154,9 +161,8 @@ pub(crate) fn polish_with(
                     mesh,
                     region,
                     stars,
-                    &mut cosine,
-                    limit,
-                    &mut moved,
+                    (&mut cosine, limit),
+                    (&mut moved, &hold),
                     boundary,
                 )
             };
@@ -187,9 +193,8 @@ fn sweep(
     mesh: &mut Mesh,
     region: &Region,
     (stars, bounds): (&Stars, &mut Bounds),
-    cosine: &mut [f64],
-    limit: f64,
-    moved: &mut Moved,
+    (cosine, limit): (&mut [f64], f64),
+    (moved, hold): (&mut Moved, &[bool]),
     boundary: bool,
 ) -> bool {
     let mut bad: Vec<(f64, usize)> = cosine
@@ -217,12 +222,13 @@ fn sweep(
     for (_, t) in bad {
         for v in sorted(t) {
             let v = v as usize;
-            let movable = match mesh.markers[v] {
-                // A point the region embeds stays, as a corner does.
-                VertexMarker::Interior => !boundary && !embedded(mesh.points[v]),
-                VertexMarker::Boundary { .. } => boundary,
-                VertexMarker::Corner { .. } => false,
-            };
+            let movable = !hold[v]
+                && match mesh.markers[v] {
+                    // A point the region embeds stays, as a corner does.
+                    VertexMarker::Interior => !boundary && !embedded(mesh.points[v]),
+                    VertexMarker::Boundary { .. } => boundary,
+                    VertexMarker::Corner { .. } => false,
+                };
             if seen[v] || !movable {
                 continue;
             }
@@ -311,7 +317,7 @@ impl std::fmt::Display for PolishReport {
 /// [`check_conforming`]: crate::check_conforming
 /// [`CONFORMITY_CHECK_LIMIT`]: crate::CONFORMITY_CHECK_LIMIT
 pub fn polish_within(mesh: &mut Mesh, region: &Region, below_deg: f64) -> PolishReport {
-    within(mesh, region, below_deg, true)
+    within(mesh, region, below_deg, true, &[])
 }
 
 /// [`polish_within`] with [`polish_with`]'s choice of bounds.
@@ -320,8 +326,9 @@ pub(crate) fn within(
     region: &Region,
     below_deg: f64,
     sized: bool,
+    held: &[u32],
 ) -> PolishReport {
-    let polished = polish_with(mesh, region, below_deg, sized);
+    let polished = polish_with(mesh, region, below_deg, sized, held);
     let checks = polished.moved > 0 && mesh.num_vertices() <= crate::CONFORMITY_CHECK_LIMIT;
     let leaves = checks && crate::check_conforming(mesh, region).is_err();
     if leaves {
@@ -346,10 +353,41 @@ pub fn polish_restored(
     region: &Region,
     below_deg: f64,
 ) -> Result<PolishReport, crate::ConformityError> {
+    polish_restored_holding(mesh, region, below_deg, &[])
+}
+
+/// [`polish_restored`] with the vertices `held` where they are: the ends of the edges a file
+/// keeps inside the mesh ([`Walls::inner`](crate::io::Walls::inner): a material interface),
+/// which moving would take off their line. What `cvtmesh polish` and Python's
+/// `Mesh.polished` run on a mesh read from a file.
+///
+/// ```
+/// use cvtmesh::{polish_restored, polish_restored_holding, MeshRequest, Method, Region};
+/// let square = Region::builtin("square_hole")?;
+/// let request = MeshRequest::points(300).polish(0.0);
+/// let mesh = "distmesh".parse::<Method>()?.run(&square, &request)?.mesh;
+/// let (mut free, mut held) = (mesh.clone(), mesh.clone());
+/// polish_restored(&mut free, &square, 40.0)?;
+/// let moved: Vec<u32> = (0..mesh.num_vertices() as u32)
+///     .filter(|&v| free.points[v as usize] != mesh.points[v as usize])
+///     .collect();
+/// assert!(moved.len() > 1);
+/// // Held, the first of them stays; the polish goes on around it.
+/// polish_restored_holding(&mut held, &square, 40.0, &moved[..1])?;
+/// assert_eq!(held.points[moved[0] as usize], mesh.points[moved[0] as usize]);
+/// assert_ne!(held.points, mesh.points);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn polish_restored_holding(
+    mesh: &mut Mesh,
+    region: &Region,
+    below_deg: f64,
+    held: &[u32],
+) -> Result<PolishReport, crate::ConformityError> {
     crate::io::restore_markers(mesh, region);
     crate::check_conforming(mesh, region)?;
     let sized = !looks_graded(mesh);
-    Ok(within(mesh, region, below_deg, sized))
+    Ok(within(mesh, region, below_deg, sized, held))
 }
 
 /// Above this ratio of the 99th to the 1st percentile of the vertices' shortest edges a mesh

@@ -679,6 +679,9 @@ impl PyRegion {
 struct PyMesh {
     mesh: Mesh,
     region: Option<Arc<Region>>,
+    /// Vertices `polished` holds where they are: the ends of the edges the file it was read
+    /// from keeps inside it (a material interface).
+    held: Vec<u32>,
     /// The vertices, (N, 2) float64.
     #[pyo3(get)]
     points: Py<PyArray2<f64>>,
@@ -819,6 +822,7 @@ impl PyMesh {
         Ok(PyMesh {
             mesh,
             region,
+            held: Vec::new(),
             points: points.unbind(),
             triangles: triangles.unbind(),
             boundary_edges: boundary_edges.unbind(),
@@ -986,7 +990,7 @@ impl PyMesh {
         }
         let mut mesh = self.mesh.clone();
         let note = py.detach(|| {
-            cvtmesh::polish_restored(&mut mesh, &region, below)
+            cvtmesh::polish_restored_holding(&mut mesh, &region, below, &self.held)
                 .map(|report| report.to_string())
                 .map_err(|e| not_conforming(&region, e))
         });
@@ -994,7 +998,7 @@ impl PyMesh {
         let mut notes = self.notes.clone();
         notes.push(note);
         let history = self.energy_history.bind(py).to_vec()?;
-        PyMesh::new(
+        let mut polished = PyMesh::new(
             py,
             mesh,
             Some(region),
@@ -1002,7 +1006,9 @@ impl PyMesh {
             self.iterations,
             notes,
             history,
-        )
+        )?;
+        polished.held = self.held.clone();
+        Ok(polished)
     }
 
     /// Read a mesh file (.node/.ele, .msh, .obj). Higher-order triangles come back as the
@@ -1023,7 +1029,10 @@ impl PyMesh {
             );
             warnings.call_method1("warn", (note, category))?;
         }
-        PyMesh::new(py, file.mesh, None, true, 0, Vec::new(), Vec::new())
+        let held = file.walls.inner_vertices();
+        let mut mesh = PyMesh::new(py, file.mesh, None, true, 0, Vec::new(), Vec::new())?;
+        mesh.held = held;
+        Ok(mesh)
     }
 
     fn __repr__(&self) -> String {

@@ -1134,6 +1134,45 @@ def test_a_poly_s_area_constraints_are_named_as_not_used(tmp_path):
     assert len(m.points) == 100
 
 
+def _two_materials(tmp_path):
+    # A 9 x 5 grid over [0, 2] x [0, 1], materials 10 | 20 either side of x = 1, the interior
+    # vertices jittered (the interface's along it only).
+    rng = np.random.default_rng(1)
+    nx, ny = 9, 5
+    pts = []
+    for j in range(ny):
+        for i in range(nx):
+            x, y = 2 * i / (nx - 1), j / (ny - 1)
+            if 0 < i < nx - 1 and 0 < j < ny - 1:
+                if i != nx // 2:
+                    x += 0.1 * (rng.random() - 0.5)
+                y += 0.1 * (rng.random() - 0.5)
+            pts.append((x, y))
+    tris = []
+    for j in range(ny - 1):
+        for i in range(nx - 1):
+            v = lambda a, b: (j + b) * nx + i + a + 1
+            m = 10 if i < nx // 2 else 20
+            tris += [(v(0, 0), v(1, 0), v(1, 1), m), (v(0, 0), v(1, 1), v(0, 1), m)]
+    node = tmp_path / "two.node"
+    node.write_text(f"{len(pts)} 2 0 0\n" + "".join(f"{k + 1} {x!r} {y!r}\n" for k, (x, y) in enumerate(pts)))
+    (tmp_path / "two.ele").write_text(f"{len(tris)} 3 1\n" + "".join(f"{k + 1} {a} {b} {c} {m}\n" for k, (a, b, c, m) in enumerate(tris)))
+    return node
+
+
+def test_an_interface_between_materials_is_held_by_polished_and_not_meshed_away(tmp_path):
+    node = _two_materials(tmp_path)
+    m = cvtmesh.Mesh.read(str(node))
+    rectangle = Region.from_loops(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]))
+    p = m.polished(rectangle, below=60.0)
+    assert not np.array_equal(p.points, m.points)
+    assert np.count_nonzero(p.points[:, 0] == 1.0) == np.count_nonzero(m.points[:, 0] == 1.0) == 5
+    with pytest.raises(MeshError, match="lines of their own"):
+        cvtmesh.mesh(str(node), n=100)
+    with pytest.raises(MeshError, match="lines of their own"):
+        Region.load(str(node))
+
+
 def test_no_region_is_a_type_error_naming_what_a_region_may_be():
     with pytest.raises(TypeError, match="a Region or a"):
         cvtmesh.mesh(None, n=100)

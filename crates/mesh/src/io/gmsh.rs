@@ -511,6 +511,8 @@ struct Raw {
     node_data: Option<Vec<(u64, f64)>>,
     /// Six-node triangles' edge nodes: the edge's corner tags and the node's tag.
     edge_nodes: Vec<([u64; 2], u64)>,
+    /// Each triangle's region: its physical surface, or its surface where that has none.
+    triangle_regions: Vec<i64>,
     /// The most nodes a triangle element had (3, 6, 10, ...): above 3, the nodes that are no
     /// corners go.
     triangle_nodes: usize,
@@ -552,7 +554,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     t.rest_of_line();
     expect_end(&mut t, "$EndMeshFormat")?;
     let mut raw = Raw::default();
-    let mut curve_phys: HashMap<(usize, i64), CurveGroups> = HashMap::new();
+    let mut entities = Entities::default();
     while let Some(section) = t.peek() {
         let line = t.line_no();
         t.next("a section")?;
@@ -568,7 +570,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
                 expect_end(&mut t, "$EndPhysicalNames")?;
             }
             "$Entities" if !v2 => {
-                curve_phys = parse_entities(&mut t, &raw.names)?;
+                entities = parse_entities(&mut t, &raw.names)?;
                 expect_end(&mut t, "$EndEntities")?;
             }
             "$Nodes" => {
@@ -583,7 +585,7 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
                 if v2 {
                     parse_elements_v2(&mut t, &mut raw)?
                 } else {
-                    parse_elements_v4(&mut t, &mut raw, &curve_phys)?
+                    parse_elements_v4(&mut t, &mut raw, &entities)?
                 }
                 expect_end(&mut t, "$EndElements")?;
             }
@@ -731,7 +733,7 @@ struct CurveGroups {
 fn parse_entities(
     t: &mut Tokens,
     names: &HashMap<(i64, i64), String>,
-) -> Result<HashMap<(usize, i64), CurveGroups>, MeshError> {
+) -> Result<Entities, MeshError> {
     let counts = [
         t.usize("the number of point entities")?,
         t.usize("the number of curve entities")?,
@@ -739,6 +741,7 @@ fn parse_entities(
         t.usize("the number of volume entities")?,
     ];
     let mut curve_phys = HashMap::new();
+    let mut surface_phys = HashMap::new();
     for (dim, &count) in counts.iter().enumerate() {
         for _ in 0..count {
             let tag = t.i64("an entity tag")?;
@@ -754,6 +757,9 @@ fn parse_entities(
             if dim <= 1 && !phys.is_empty() {
                 curve_phys.insert((dim, tag), curve_groups(names, dim as i64, &phys));
             }
+            if let (2, Some(&first)) = (dim, phys.first()) {
+                surface_phys.insert(tag, first);
+            }
             if dim > 0 {
                 let nb = t.usize("the number of bounding entities")?;
                 for _ in 0..nb {
@@ -762,7 +768,18 @@ fn parse_entities(
             }
         }
     }
-    Ok(curve_phys)
+    Ok(Entities {
+        curve_phys,
+        surface_phys,
+    })
+}
+
+/// What 4.1's `$Entities` tells the elements: each point's and curve's groups
+/// ([`curve_groups`]), by (dimension, tag), and each surface's first physical tag.
+#[derive(Default)]
+struct Entities {
+    curve_phys: HashMap<(usize, i64), CurveGroups>,
+    surface_phys: HashMap<i64, i64>,
 }
 
 fn read_xyz(t: &mut Tokens) -> Result<DVec2, MeshError> {
@@ -818,6 +835,7 @@ fn add_element(
     line: usize,
     etype: i64,
     groups: &CurveGroups,
+    region: i64,
 ) -> Result<(), MeshError> {
     let Some((nn, kind)) = element_type(etype) else {
         return Err(t.err_line(line, format!("element type {etype} is not supported")));
@@ -857,6 +875,7 @@ fn add_element(
         }
         Kind::Triangle => {
             raw.triangles.push(nodes);
+            raw.triangle_regions.push(region);
             raw.triangle_nodes = raw.triangle_nodes.max(nn);
         }
         Kind::Point => {
@@ -872,11 +891,7 @@ fn add_element(
     Ok(())
 }
 
-fn parse_elements_v4(
-    t: &mut Tokens,
-    raw: &mut Raw,
-    curve_phys: &HashMap<(usize, i64), CurveGroups>,
-) -> Result<(), MeshError> {
+fn parse_elements_v4(t: &mut Tokens, raw: &mut Raw, entities: &Entities) -> Result<(), MeshError> {
     let nblocks = t.usize("the number of element blocks")?;
     t.usize("the number of elements")?;
     t.usize("the smallest element tag")?;
@@ -887,11 +902,15 @@ fn parse_elements_v4(
         let etype = t.i64("an element type")?;
         let count = t.usize("the number of elements in the block")?;
         let none = CurveGroups::default();
-        let groups = curve_phys.get(&(dim, entity)).unwrap_or(&none);
+        let groups = entities.curve_phys.get(&(dim, entity)).unwrap_or(&none);
+        let region = entities
+            .surface_phys
+            .get(&entity)
+            .map_or(entity, |&p| -p.abs() - 1);
         for _ in 0..count {
             let line = t.line_no();
             t.usize("an element tag")?;
-            add_element(t, raw, line, etype, groups)?;
+            add_element(t, raw, line, etype, groups, region)?;
         }
     }
     Ok(())
@@ -904,16 +923,24 @@ fn parse_elements_v2(t: &mut Tokens, raw: &mut Raw) -> Result<(), MeshError> {
         t.usize("an element tag")?;
         let etype = t.i64("an element type")?;
         let ntags = t.usize("the number of tags")?;
-        let mut phys = 0;
+        let (mut phys, mut elementary) = (0, 0);
         for k in 0..ntags {
             let v = t.i64("a tag")?;
-            if k == 0 {
-                phys = v;
+            match k {
+                0 => phys = v,
+                1 => elementary = v,
+                _ => {}
             }
         }
         let dim = if etype == 15 { 0 } else { 1 };
         let groups = curve_groups(&raw.names, dim, &[phys]);
-        add_element(t, raw, line, etype, &groups)?;
+        // The physical surface, else the surface (the two numberings kept apart).
+        let region = if phys != 0 {
+            -phys.abs() - 1
+        } else {
+            elementary
+        };
+        add_element(t, raw, line, etype, &groups, region)?;
     }
     Ok(())
 }
@@ -1056,9 +1083,18 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
             }
         }
     };
+    let mut lines = Vec::with_capacity(raw.lines.len());
+    for &(a, b, _) in &raw.lines {
+        lines.push([lookup(a)?, lookup(b)?]);
+    }
+    let inner = super::inner_edges(&mesh, &raw.triangle_regions, &lines);
     let mut edges = Vec::with_capacity(raw.walls.len());
     for &(a, b, w) in &raw.walls {
-        edges.push(([lookup(a)?, lookup(b)?], w));
+        let (a, b) = (lookup(a)?, lookup(b)?);
+        // A curve group inside the mesh (an interface) numbers no wall of the region.
+        if inner.binary_search(&[a.min(b), a.max(b)]).is_err() {
+            edges.push(([a, b], w));
+        }
     }
     let mut points = Vec::with_capacity(raw.pins.len());
     for &(a, m) in &raw.pins {
@@ -1068,6 +1104,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         edges,
         points,
         names: std::mem::take(&mut raw.wall_names),
+        inner,
     };
     let mut edge_nodes = Vec::with_capacity(edge_places.len());
     for (ends, p) in edge_places {
@@ -1157,6 +1194,38 @@ mod tests {
         assert_eq!(r.points, [DVec2::ZERO, DVec2::X, DVec2::Y]);
         assert_eq!(r.triangles, [[0, 1, 2]]);
         assert!(r.markers.iter().all(|m| m.loop_index() == Some(0)));
+    }
+
+    /// Two triangles of a square in different physical surfaces (2.2: each element's first
+    /// tag), or in different surfaces without physical ones (4.1's entity blocks), share
+    /// their diagonal as an interface; a line element inside the mesh is one too, and it
+    /// numbers no wall of the region.
+    #[test]
+    fn edges_between_surfaces_and_lines_inside_are_inner() {
+        let nodes = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";
+        let v2 = |tags: [&str; 2], line: &str| {
+            format!(
+                "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n{nodes}$Elements\n{}\n1 2 2 {} 1 2 3\n2 2 2 {} 1 3 4\n{line}$EndElements\n",
+                if line.is_empty() { 2 } else { 3 },
+                tags[0],
+                tags[1]
+            )
+        };
+        let inner = |text: &str| parse(text, Path::new("t.msh"), false).unwrap().walls.inner;
+        assert_eq!(inner(&v2(["10 1", "20 1"], "")), [[0, 2]]);
+        assert!(inner(&v2(["10 1", "10 1"], "")).is_empty());
+        assert_eq!(inner(&v2(["0 1", "0 2"], "")), [[0, 2]]);
+        let with_line = parse(
+            &v2(["10 1", "10 1"], "3 1 2 5 5 1 3\n"),
+            Path::new("t.msh"),
+            false,
+        )
+        .unwrap();
+        assert_eq!(with_line.walls.inner, [[0, 2]]);
+        assert!(with_line.walls.edges.is_empty());
+        let v4 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n\
+                  $Elements\n2 2 1 2\n2 1 2 1\n1 1 2 3\n2 2 2 1\n2 1 3 4\n$EndElements\n";
+        assert_eq!(inner(v4), [[0, 2]]);
     }
 
     #[test]

@@ -288,7 +288,10 @@ pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError
     let poly_path = node_path.with_extension("poly");
     let walls = match poly_path.is_file() {
         true => walls_of(&read_text(&poly_path)?, &poly_path, &given, &mesh)?,
-        false => Walls::default(),
+        false => Walls {
+            inner: super::inner_edges(&mesh, &given.regions, &[]),
+            ..Walls::default()
+        },
     };
     Ok(MeshFile {
         mesh,
@@ -328,6 +331,8 @@ struct GivenVertices {
     markers: Vec<i64>,
     /// A six-node mesh's edge nodes, by the edge's ends as the mesh numbers them.
     edge_nodes: Vec<([u32; 2], DVec2)>,
+    /// Each triangle's first `.ele` attribute, by its bits (empty without attributes).
+    regions: Vec<i64>,
 }
 
 /// The walls the `.poly` text `poly` numbers on `mesh`, whose `.node` listed `given`.
@@ -337,8 +342,13 @@ fn walls_of(
     given: &GivenVertices,
     mesh: &Mesh,
 ) -> Result<Walls, MeshError> {
+    // Between triangles of different materials, whatever the `.poly` says.
+    let by_regions = || Walls {
+        inner: super::inner_edges(mesh, &given.regions, &[]),
+        ..Walls::default()
+    };
     if poly.contains(LOOP_SEGMENTS) {
-        return Ok(Walls::default());
+        return Ok(by_regions());
     }
     let mut t = Tokens::new(poly, Some('#'), poly_path);
     let n = t.usize("the number of vertices")?;
@@ -364,9 +374,7 @@ fn walls_of(
         (&own, own_base)
     };
     let nseg = t.usize("the number of segments")?;
-    if t.usize("the number of segment markers (0 or 1)")? == 0 {
-        return Ok(Walls::default());
-    }
+    let marked = t.usize("the number of segment markers (0 or 1)")? > 0;
     let mut segments = Vec::with_capacity(nseg.min(1 << 20));
     for _ in 0..nseg {
         let line = t.line_no();
@@ -379,35 +387,55 @@ fn walls_of(
                 .ok_or_else(|| t.err_line(line, format!("segment end point {v} is not a vertex")))
         };
         let (a, b) = (end()?, end()?);
-        segments.push((a, b, t.i64("a segment marker")?));
+        let marker = if marked {
+            t.i64("a segment marker")?
+        } else {
+            0
+        };
+        segments.push((a, b, marker));
     }
-    let walls = match boundary_walls(mesh, &segments) {
-        Some(walls) => walls,
-        // Not this mesh's segments: the region Triangle was given (its `.poly` beside the mesh
-        // it made, which Triangle itself names `box.1.node`), or a file of another mesh.
-        None => return Ok(Walls::default()),
-    };
-    // The `.node`'s nonzero markers of boundary vertices: those that differ from the walls at
-    // their vertex are points of their own. Inside, Triangle marks the vertices of internal
-    // segments too, which are no points anyone placed: those are not read.
     let index: std::collections::HashMap<(u64, u64), u32> = mesh
         .points
         .iter()
         .enumerate()
         .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i as u32))
         .collect();
+    let at = |p: DVec2| index.get(&(p.x.to_bits(), p.y.to_bits())).copied();
+    // Segments between two of the mesh's vertices: those two triangles share are internal
+    // segments (Triangle's `-p` keeps them as edges, as a material interface).
+    let lines: Vec<[u32; 2]> = segments
+        .iter()
+        .filter_map(|&(a, b, _)| Some([at(a)?, at(b)?]))
+        .collect();
+    let inner = super::inner_edges(mesh, &given.regions, &lines);
+    let walls = match boundary_walls(mesh, &segments) {
+        Some(walls) if marked => walls,
+        // Not this mesh's segments: the region Triangle was given (its `.poly` beside the mesh
+        // it made, which Triangle itself names `box.1.node`), or a file of another mesh.
+        None => return Ok(by_regions()),
+        Some(_) => {
+            return Ok(Walls {
+                inner,
+                ..Walls::default()
+            })
+        }
+    };
+    // The `.node`'s nonzero markers of boundary vertices: those that differ from the walls at
+    // their vertex are points of their own. Inside, Triangle marks the vertices of internal
+    // segments too, which are no points anyone placed: those are not read.
     let nodes = given.points.as_ref().unwrap_or(&mesh.points);
     let points = nodes
         .iter()
         .zip(&given.markers)
         .filter(|(_, &m)| m != 0)
-        .filter_map(|(p, &m)| Some((*index.get(&(p.x.to_bits(), p.y.to_bits()))?, m)))
+        .filter_map(|(p, &m)| Some((at(*p)?, m)))
         .filter(|&(v, _)| mesh.markers[v as usize].on_boundary())
         .collect();
     Ok(Walls {
         edges: walls,
         points,
         names: Default::default(),
+        inner,
     })
 }
 
@@ -454,13 +482,14 @@ fn parse_mesh(
     ele_path: &Path,
 ) -> Result<(Mesh, GivenVertices), MeshError> {
     let (points, base, exact, _, column) = parse_node(node, node_path)?;
-    let (mut triangles, opposite) = parse_ele(ele, ele_path, points.len(), base)?;
+    let (mut triangles, opposite, regions) = parse_ele(ele, ele_path, points.len(), base)?;
     let second = opposite.is_some();
     let mut given = GivenVertices {
         points: second.then(|| points.clone()),
         base,
         markers: column,
         edge_nodes: Vec::new(),
+        regions,
     };
     let (corners, exact) = corners_of(second, points, &mut triangles, exact.unwrap_or_default());
     // Each edge's node, by the edge's ends as the mesh numbers them: the node opposite a
@@ -580,7 +609,7 @@ fn sizes_from(
             ),
         ));
     }
-    let (mut triangles, opposite) = parse_ele(ele_text, ele_path, points.len(), base)?;
+    let (mut triangles, opposite, _) = parse_ele(ele_text, ele_path, points.len(), base)?;
     let (points, sizes) = corners_of(opposite.is_some(), points, &mut triangles, sizes);
     Ok((read_mesh_parts(points, triangles, None), sizes))
 }
@@ -717,7 +746,7 @@ fn parse_ele(
     path: &Path,
     nvert: usize,
     base: usize,
-) -> Result<(Triples, Option<Triples>), MeshError> {
+) -> Result<(Triples, Option<Triples>, Vec<i64>), MeshError> {
     let mut t = Tokens::new(text, Some('#'), path);
     let ntri = t.usize("the number of triangles")?;
     let per = t.usize("the number of nodes per triangle")?;
@@ -729,6 +758,8 @@ fn parse_ele(
     let nattr = t.usize("the number of attributes")?;
     let mut triangles = Vec::with_capacity(ntri.min(1 << 20));
     let mut opposite = Vec::with_capacity(if per == 6 { ntri.min(1 << 20) } else { 0 });
+    // The first attribute (Triangle's regional attribute, `-A`: a material) by its bits.
+    let mut regions = Vec::with_capacity(if nattr > 0 { ntri.min(1 << 20) } else { 0 });
     for _ in 0..ntri {
         let line = t.line_no();
         t.usize("a triangle number")?;
@@ -747,15 +778,18 @@ fn parse_ele(
                 _ => far[k - 3] = (v - base) as u32,
             }
         }
-        for _ in 0..nattr {
-            t.f64("a triangle attribute")?;
+        for k in 0..nattr {
+            let a = t.f64("a triangle attribute")?;
+            if k == 0 {
+                regions.push(a.to_bits() as i64);
+            }
         }
         triangles.push(tri);
         if per == 6 {
             opposite.push(far);
         }
     }
-    Ok((triangles, (per == 6).then_some(opposite)))
+    Ok((triangles, (per == 6).then_some(opposite), regions))
 }
 
 /// A six-node mesh's corners: the vertices its triangles' corners use (the nodes on edges are
@@ -855,6 +889,22 @@ mod tests {
         let mut markers: Vec<i64> = walls.edges.iter().map(|e| e.1).collect();
         markers.sort_unstable();
         assert_eq!(markers, [7, 7, 8, 8, 8]);
+        assert!(walls.inner.is_empty());
+        // With an internal segment from (0.5, 0) to (1, 1), as Triangle's `-p` writes one: an
+        // inner edge, no wall.
+        let inside = "0 2 0 1\n6 1\n1 1 2 7\n2 2 3 7\n3 3 4 8\n4 4 5 8\n5 5 1 8\n6 2 4 3\n0\n";
+        fs::write(dir.path("m.poly"), inside).unwrap();
+        let (_, walls) = read_triangle_with_walls(&dir.path("m.node")).unwrap();
+        assert_eq!((walls.edges.len(), walls.inner.clone()), (5, vec![[1, 3]]));
+        // Materials in the `.ele` (its first attribute) meet along that edge too.
+        fs::remove_file(dir.path("m.poly")).unwrap();
+        fs::write(
+            dir.path("m.ele"),
+            "3 3 1\n1 1 2 5 1\n2 2 4 5 1\n3 2 3 4 2\n",
+        )
+        .unwrap();
+        let (_, walls) = read_triangle_with_walls(&dir.path("m.node")).unwrap();
+        assert_eq!(walls.inner, [[1, 3]]);
     }
 
     #[test]
