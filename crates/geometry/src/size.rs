@@ -2230,7 +2230,11 @@ mod tests {
                 size_max: 0.001,
                 ..t
             },
-            Threshold { dist_min: 0.3, dist_max: 0.2, ..t },
+            Threshold {
+                dist_min: 0.3,
+                dist_max: 0.2,
+                ..t
+            },
             Threshold {
                 dist_min: f64::NAN,
                 ..t
