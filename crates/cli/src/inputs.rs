@@ -229,7 +229,7 @@ pub fn output_kind(path: &Path) -> Result<&'static str> {
         .unwrap_or("")
         .to_ascii_lowercase();
     Ok(match ext.as_str() {
-        "node" | "ele" => "triangle",
+        "node" | "ele" | "poly" => "triangle",
         "msh" => "msh",
         "vtu" => "vtu",
         "obj" => "obj",

@@ -2720,3 +2720,29 @@ fn an_interface_between_materials_is_held_by_polish_and_not_meshed_away() {
         "the mesh keeps 4 edges inside it as lines of their own",
     );
 }
+
+/// `-o mesh.poly` writes Triangle's three files, as `-o mesh.node` and `-o mesh.ele` do (the
+/// README lists `.poly` among the outputs; it had been an unknown extension).
+#[test]
+fn a_poly_output_writes_triangle_s_three_files() {
+    let dir = scratch("poly_out");
+    let o = cvtmesh(&[
+        "mesh",
+        "circle",
+        "-n",
+        "100",
+        "--quiet",
+        "-o",
+        s(&dir.join("c.poly")),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    for ext in ["node", "ele", "poly"] {
+        assert!(dir.join(format!("c.{ext}")).is_file(), "no c.{ext}");
+    }
+    assert_eq!(
+        cvtmesh::io::read_mesh(&dir.join("c.node"))
+            .unwrap()
+            .num_vertices(),
+        100
+    );
+}

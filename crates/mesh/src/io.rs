@@ -44,7 +44,7 @@ pub use vtu::{read_vtu, triangle_quality, vtu_from_bytes, write_vtu};
 pub const UNKNOWN_PIECE: PieceId = usize::MAX;
 
 /// Extensions [`write_mesh`] understands.
-pub const WRITE_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
+pub const WRITE_EXTENSIONS: &[&str] = &["node", "ele", "poly", "msh", "vtu", "obj"];
 /// Extensions [`read_mesh`] understands.
 pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
 
@@ -78,7 +78,7 @@ pub const READ_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu", "obj"];
 /// ```
 pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
     match extension(path).as_deref() {
-        Some("node") | Some("ele") => write_triangle(mesh, &path.with_extension("")),
+        Some("node") | Some("ele") | Some("poly") => write_triangle(mesh, &path.with_extension("")),
         Some("msh") => write_gmsh(mesh, path),
         Some("vtu") => write_vtu(mesh, path),
         Some("obj") => write_obj(mesh, path),
@@ -95,7 +95,9 @@ pub fn write_mesh(mesh: &Mesh, path: &Path) -> Result<(), MeshError> {
 pub fn write_mesh_on(mesh: &Mesh, region: &Region, path: &Path) -> Result<(), MeshError> {
     match extension(path).as_deref() {
         Some("msh") => write_gmsh_on(mesh, region, path),
-        Some("node") | Some("ele") => write_triangle_on(mesh, region, &path.with_extension("")),
+        Some("node") | Some("ele") | Some("poly") => {
+            write_triangle_on(mesh, region, &path.with_extension(""))
+        }
         Some("vtu") if region.piece_markers().is_some() => {
             validate_for_writing(mesh, path)?;
             vtu::write_nodes(&Nodes::linear(mesh, Some(region)), path)
@@ -105,7 +107,7 @@ pub fn write_mesh_on(mesh: &Mesh, region: &Region, path: &Path) -> Result<(), Me
 }
 
 /// Extensions [`write_quadratic`] writes.
-pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "msh", "vtu"];
+pub const QUADRATIC_EXTENSIONS: &[&str] = &["node", "ele", "poly", "msh", "vtu"];
 
 /// Write a mesh of six-node triangles, choosing the format by extension as [`write_mesh`]
 /// does: `.msh` (Gmsh element types 9 and 8, the three-node boundary lines; with a physical
@@ -138,7 +140,9 @@ pub fn write_quadratic(q: &Quadratic, path: &Path) -> Result<(), MeshError> {
     validate_for_writing(q.linear(), path)?;
     let nodes = Nodes::quadratic(q);
     match extension(path).as_deref() {
-        Some("node") | Some("ele") => triangle::write_nodes(&nodes, &path.with_extension("")),
+        Some("node") | Some("ele") | Some("poly") => {
+            triangle::write_nodes(&nodes, &path.with_extension(""))
+        }
         Some("msh") => gmsh::write_nodes(&nodes, path),
         Some("vtu") => vtu::write_nodes(&nodes, path),
         _ => Err(unknown_extension(
@@ -345,10 +349,12 @@ fn names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
 /// let f = files_written(Path::new("out/coast.node"));
 /// assert_eq!(f, ["out/coast.node", "out/coast.ele", "out/coast.poly"].map(PathBuf::from));
 /// assert_eq!(files_written(Path::new("m.msh")), [PathBuf::from("m.msh")]);
+/// // `.poly` names the same three files, as a Triangle user may name the output.
+/// assert_eq!(files_written(Path::new("out/coast.poly")), f);
 /// ```
 pub fn files_written(path: &Path) -> Vec<std::path::PathBuf> {
     match extension(path).as_deref() {
-        Some("node") | Some("ele") => ["node", "ele", "poly"]
+        Some("node") | Some("ele") | Some("poly") => ["node", "ele", "poly"]
             .iter()
             .map(|e| path.with_extension(e))
             .collect(),
