@@ -1531,7 +1531,7 @@ mod tests {
         }
         let e = write_mesh(&m, &dir.path("f.stl")).unwrap_err().to_string();
         assert!(
-            e.contains("'.stl'") && e.contains(".node, .ele, .msh, .vtu, .obj"),
+            e.contains("'.stl'") && e.contains(".node, .ele, .poly, .msh, .vtu, .obj"),
             "{e}"
         );
         let e = write_mesh(&m, &dir.path("noext")).unwrap_err().to_string();
