@@ -812,6 +812,11 @@ impl Tally<'_> {
 }
 
 impl Mesher for Ccvt {
+    // Only the graded start spaces the points as the density asks before the iteration.
+    fn follows_size_fields(&self) -> bool {
+        self.graded_start
+    }
+
     fn name(&self) -> &'static str {
         if self.update == Update::Odt {
             return "ccvt1-odt";

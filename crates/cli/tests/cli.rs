@@ -2746,3 +2746,32 @@ fn a_poly_output_writes_triangle_s_three_files() {
         100
     );
 }
+
+/// A method that starts from a uniform lattice says that it follows a size field loosely; the
+/// default method, which starts from graded points, says nothing of the kind.
+#[test]
+fn methods_from_a_uniform_lattice_note_that_they_follow_a_size_field_loosely() {
+    let dir = scratch("loose_field");
+    let run = |method: &str| {
+        let out = dir.join(format!("{method}.msh"));
+        let o = cvtmesh(&[
+            "mesh",
+            "square_hole",
+            "--size-field",
+            "0.02+0.1*abs(x)",
+            "-n",
+            "300",
+            "--max-iter",
+            "40",
+            "--method",
+            method,
+            "--quiet",
+            "-o",
+            s(&out),
+        ]);
+        assert!(o.status.success(), "{method}: {}", text(&o));
+        text(&o).contains("follows a size field loosely")
+    };
+    assert!(run("vtm") && run("meshgen") && run("ccvt1"));
+    assert!(!run("ccvt") && !run("distmesh"));
+}

@@ -830,6 +830,22 @@ pub trait Mesher: Sync {
     fn min_boundary_points(&self, region: &Region) -> usize {
         boundary_points_needed(region)
     }
+
+    /// Whether the method starts from points already spaced as a non-uniform density asks
+    /// (a graded start), rather than from a uniform lattice the density only reshapes. Those
+    /// that do not follow a size field loosely, and [`Mesher::mesh_parts`] says so in a note.
+    /// True by default.
+    ///
+    /// ```
+    /// use cvtmesh::{Mesher, Method};
+    /// assert!("ccvt".parse::<Method>()?.mesher().follows_size_fields());
+    /// assert!(!"vtm".parse::<Method>()?.mesher().follows_size_fields());
+    /// assert!(!"ccvt1".parse::<Method>()?.mesher().follows_size_fields());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn follows_size_fields(&self) -> bool {
+        true
+    }
 }
 
 #[cfg(test)]

@@ -35,6 +35,10 @@ use mesh::{Mesh, MeshError, MeshRequest, MeshResult, Mesher, Progress};
 pub struct Meshgen;
 
 impl Mesher for Meshgen {
+    fn follows_size_fields(&self) -> bool {
+        false
+    }
+
     fn name(&self) -> &'static str {
         "meshgen"
     }

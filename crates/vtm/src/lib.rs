@@ -74,6 +74,10 @@ pub struct Vtm {
 }
 
 impl Mesher for Vtm {
+    fn follows_size_fields(&self) -> bool {
+        false
+    }
+
     fn name(&self) -> &'static str {
         "vtm"
     }
