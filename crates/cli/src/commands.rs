@@ -25,7 +25,7 @@ const MAX_SAMPLES: usize = 100_000_000;
         .args(["points", "size", "size_field", "size_toward"])
 ))]
 pub struct MeshArgs {
-    /// Region file (.json, .geojson, .poly, .txt loop list), built-in name (see `cvtmesh regions`), or a mesh (.node/.ele, .msh, .obj): the region its triangles cover, to mesh again.
+    /// Region file (.json, .geojson, .poly, .txt loop list), built-in name (see `cvtmesh regions`), or a mesh (.node/.ele, .msh, .vtu, .obj): the region its triangles cover, to mesh again.
     region: String,
     /// Number of vertices K (one of --points, --size, --size-field and --size-toward is
     /// required; with a size field, the field's shape is kept and scaled to K vertices).
@@ -367,7 +367,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
 /// `cvtmesh polish`.
 #[derive(Args)]
 pub struct PolishArgs {
-    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj;
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh, VTK FILE.vtu or Wavefront FILE.obj;
     /// its boundary vertices are those the file marks, or those on an edge of one triangle.
     mesh: PathBuf,
     /// The region the mesh is of (file or built-in name): boundary vertices slide along it
@@ -480,7 +480,7 @@ pub fn polish(a: PolishArgs) -> Result<()> {
 #[derive(Args)]
 #[command(group(ArgGroup::new("graded").multiple(true).args(["size_field", "size_toward"])))]
 pub struct MeasureArgs {
-    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh or Wavefront FILE.obj.
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh, VTK FILE.vtu or Wavefront FILE.obj.
     mesh: PathBuf,
     /// The region the mesh is of (file or built-in name) [default: the region the mesh's
     /// triangles cover].
@@ -674,7 +674,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
 /// `cvtmesh show`.
 #[derive(Args)]
 pub struct ShowArgs {
-    /// A mesh (.node/.ele, .msh, .obj) or a region (file or built-in name).
+    /// A mesh (.node/.ele, .msh, .vtu, .obj) or a region (file or built-in name).
     input: String,
     /// The region of a mesh, whose boundary is drawn over it [default: none: the mesh's own
     /// boundary, the edges of exactly one triangle, is drawn, as Triangle's showme does].

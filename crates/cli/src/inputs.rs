@@ -161,16 +161,17 @@ pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
 }
 
 /// The mesh files an argument reads where a mesh may be named (a region, a `--size-field`): a
-/// Triangle `.node` with its `.ele`, a Gmsh `.msh` or an `.obj`, or none for anything else (a
-/// region file, a built-in name, an expression).
+/// Triangle `.node` with its `.ele`, a Gmsh `.msh`, a `.vtu` or an `.obj`, or none for anything
+/// else (a region file, a built-in name, an expression).
 pub fn mesh_files(text: &str) -> Vec<PathBuf> {
     let path = Path::new(text);
     if !cvtmesh::io::names_mesh(path) {
         Vec::new()
-    } else if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("msh") || e.eq_ignore_ascii_case("obj"))
-    {
+    } else if path.extension().is_some_and(|e| {
+        ["msh", "vtu", "obj"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    }) {
         vec![path.to_path_buf()]
     } else {
         vec![path.with_extension("node"), path.with_extension("ele")]

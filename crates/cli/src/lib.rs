@@ -45,7 +45,7 @@ enum Command {
         after_help = "Examples:\n  cvtmesh mesh circle --points 362 -o circle.msh\n  cvtmesh mesh lake --points 20000 --method ccvt2 -o lake.node\n  cvtmesh mesh coast.geojson --size 0.01 --corner-angle 30 -o coast.vtu\n  cvtmesh mesh square.poly --points 2000 --density '1 + 10*exp(-((x-0.5)^2+y^2)/0.01)' -o graded.png"
     )]
     Mesh(commands::MeshArgs),
-    /// Print K, K̃ and the 12 quality measures of a mesh (Triangle .node+.ele, Gmsh .msh, .obj).
+    /// Print K, K̃ and the 12 quality measures of a mesh (Triangle .node+.ele, Gmsh .msh, .vtu, .obj).
     #[command(
         after_help = "Examples:\n  cvtmesh measure out.node --region circle\n  cvtmesh measure out.msh --region my_region.json --csv"
     )]

@@ -1011,7 +1011,7 @@ impl PyMesh {
         Ok(polished)
     }
 
-    /// Read a mesh file (.node/.ele, .msh, .obj). Higher-order triangles come back as the
+    /// Read a mesh file (.node/.ele, .msh, .vtu, .obj). Higher-order triangles come back as the
     /// three-node mesh of their corners, with a warning.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {

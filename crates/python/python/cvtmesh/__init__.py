@@ -6,7 +6,7 @@
     ((500, 2), 3)
 
 A region is a built-in name (``cvtmesh.regions()``), the path of a region file (JSON, Triangle
-``.poly``, GeoJSON, plain loop list) or of a mesh (``.msh``, ``.node``, ``.obj``: the region its
+``.poly``, GeoJSON, plain loop list) or of a mesh (``.msh``, ``.node``, ``.vtu``, ``.obj``: the region its
 triangles cover), a :class:`Region`, or an ``(k, 2)`` array of the outer loop with
 ``holes=[(m, 2), ...]``. The mesh's arrays are numpy arrays: ``points`` (N, 2)
 float64, ``triangles`` (M, 3) int64, 0-based and counter-clockwise.
