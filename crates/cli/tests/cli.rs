@@ -652,6 +652,12 @@ fn bad_input_is_refused_with_a_clear_message() {
         &out,
         "<--size-field <EXPR|MESH>|--size-toward",
     );
+    // A field coarser than the region: named as such, not as too few points asked for.
+    assert_refused(
+        &["mesh", "circle", "--size-field", "10", "-o", o],
+        &out,
+        "the size field asks for 0.04 vertices (its sizes from 1.000e1 on a region 2.828e0 across)",
+    );
     // A threshold with a uniform size: refused, not ignored (it was, without a word).
     assert_refused(
         &[

@@ -167,6 +167,18 @@ impl MeshRequest {
                         max: MAX_POINTS,
                     });
                 }
+                // A field coarser than the region: say so in its terms, not as too few points.
+                let needed = boundary_points_needed(region);
+                if predicted.round() < needed as f64 {
+                    return Err(MeshError::BadRequest(format!(
+                        "the size field asks for {predicted:.2} vertices (its sizes from {:.3e} \
+                         on a region {:.3e} across), fewer than the {needed} the region's boundary \
+                         needs at the coarsest: smaller sizes, or a vertex count (n, --points), \
+                         would mesh it",
+                        range.min,
+                        region.diameter()
+                    )));
+                }
                 predicted.round() as usize
             }
         };
