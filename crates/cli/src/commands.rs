@@ -70,16 +70,8 @@ pub struct MeshArgs {
     /// segment are such points too [default: none].
     #[arg(long, value_name = "X,Y[:M]", allow_hyphen_values = true)]
     embed: Vec<String>,
-    /// Smallest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "graded", allow_negative_numbers = true)]
-    size_min: Option<f64>,
-    /// Largest edge length --size-field may ask for [default: none].
-    #[arg(long, requires = "graded", allow_negative_numbers = true)]
-    size_max: Option<f64>,
-    /// Largest gradient of --size-field's edge length: sizes grow by at most this much per
-    /// unit of distance, h(x) = min_y h(y) + g|x − y| (`inf` leaves the field as given).
-    #[arg(long, default_value_t = GRADATION, requires = "graded", allow_negative_numbers = true)]
-    gradation: f64,
+    #[command(flatten)]
+    bounds: FieldBounds,
     // The names come from `Method::ALL`, so the help cannot fall behind the list of methods.
     #[arg(long, short = 'm', help = method_help(), default_value_t = Method::default().to_string())]
     method: String,
@@ -171,9 +163,9 @@ fn request(a: &MeshArgs, region: &Region, named: &Region) -> Result<(MeshRequest
             let (r, field, note) = MeshRequest::bounded_size_field(
                 &field,
                 region,
-                a.size_min,
-                a.size_max,
-                Some(a.gradation),
+                a.bounds.size_min,
+                a.bounds.size_max,
+                Some(a.bounds.gradation),
                 a.points,
             )?;
             let mut line = format!(
@@ -523,17 +515,25 @@ pub struct MeasureArgs {
     /// [default: as `mesh` does].
     #[arg(long, requires = "size_toward", allow_negative_numbers = true)]
     corner_angle: Option<f64>,
-    /// As for `mesh`: the smallest edge length of the size field measured against
-    /// [default: none].
+    /// The bounds of the field measured against, as `mesh` takes them: the same options
+    /// measure the field `mesh` meshed.
+    #[command(flatten)]
+    bounds: FieldBounds,
+}
+
+/// How a size field is bounded, for `mesh` and `measure` alike.
+#[derive(Args)]
+pub struct FieldBounds {
+    /// Smallest edge length of the size field, which the mesh keeps (`mesh` refuses it with
+    /// --points, which scales the field) [default: none].
     #[arg(long, requires = "graded", allow_negative_numbers = true)]
     size_min: Option<f64>,
-    /// As for `mesh`: the largest edge length of the size field measured against
-    /// [default: none].
+    /// Largest edge length of the size field, which the mesh keeps (`mesh` refuses it with
+    /// --points) [default: none].
     #[arg(long, requires = "graded", allow_negative_numbers = true)]
     size_max: Option<f64>,
-    /// As for `mesh`: the largest gradient of the size field measured against, so that the
-    /// field `mesh` meshed with the same options is the one measured (`inf` measures against
-    /// the field as given).
+    /// Largest gradient of the size field's edge length: sizes grow by at most this much per
+    /// unit of distance, h(x) = min_y h(y) + g|x − y| (`inf` leaves the field as given).
     #[arg(long, default_value_t = GRADATION, requires = "graded", allow_negative_numbers = true)]
     gradation: f64,
 }
@@ -595,7 +595,10 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
         &named,
     )?;
     let field = field
-        .map(|f| f.bounded(&region, a.size_min, a.size_max, Some(a.gradation)))
+        .map(|f| {
+            let b = &a.bounds;
+            f.bounded(&region, b.size_min, b.size_max, Some(b.gradation))
+        })
         .transpose()?;
     let conformity = match &field {
         Some(field) => {

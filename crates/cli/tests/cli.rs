@@ -1333,7 +1333,7 @@ fn bad_size_fields_are_refused_before_any_work() {
             s(&out),
         ],
         &out,
-        "size bounds",
+        "0.2 is larger than the largest (size_max, --size-max) 0.1",
     );
     assert_refused(
         &[

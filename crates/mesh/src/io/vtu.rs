@@ -1251,26 +1251,20 @@ fn file_layout<'a>(attrs: &[(&[u8], &[u8])], line: usize) -> Result<Layout<'a>, 
         }
         None => return Err(format!("line {line}: <VTKFile> has no type")),
     }
-    let big = match attr(attrs, b"byte_order").unwrap_or(b"LittleEndian") {
-        b"LittleEndian" => false,
-        b"BigEndian" => true,
-        o => {
-            return Err(format!(
-                "line {line}: byte_order \"{}\" is neither LittleEndian nor BigEndian",
-                lossy(o)
-            ))
+    // An attribute of two values, the first the default: whether it has the second.
+    let second = |key: &str, [first, other]: [&str; 2]| {
+        let v = attr(attrs, key.as_bytes()).unwrap_or(first.as_bytes());
+        match v {
+            _ if v == first.as_bytes() => Ok(false),
+            _ if v == other.as_bytes() => Ok(true),
+            _ => Err(format!(
+                "line {line}: {key} \"{}\" is neither {first} nor {other}",
+                lossy(v)
+            )),
         }
     };
-    let header64 = match attr(attrs, b"header_type").unwrap_or(b"UInt32") {
-        b"UInt32" => false,
-        b"UInt64" => true,
-        h => {
-            return Err(format!(
-                "line {line}: header_type \"{}\" is neither UInt32 nor UInt64",
-                lossy(h)
-            ))
-        }
-    };
+    let big = second("byte_order", ["LittleEndian", "BigEndian"])?;
+    let header64 = second("header_type", ["UInt32", "UInt64"])?;
     let compressor = match attr(attrs, b"compressor").unwrap_or(b"") {
         b"" => Compressor::None,
         b"vtkZLibDataCompressor" => Compressor::Zlib,
