@@ -129,8 +129,12 @@ pub fn density(expr: Option<&str>) -> Result<Density> {
 pub fn size_field(text: &str, region: &Region) -> Result<SizeField> {
     if cvtmesh::io::names_sizes(Path::new(text)) {
         // The reader's errors name the file.
-        let (mesh, sizes) =
+        let file =
             cvtmesh::io::read_sizes(Path::new(text)).map_err(|e| anyhow!("--size-field: {e}"))?;
+        if let Some(view) = &file.view {
+            eprintln!("note: {view}");
+        }
+        let (mesh, sizes) = (file.mesh, file.sizes);
         return SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes)
             .map_err(|e| anyhow!("--size-field {text}: {e}"));
     }

@@ -537,15 +537,49 @@ pub fn names_sizes(path: &Path) -> bool {
     extension(path).is_some_and(|e| SIZE_EXTENSIONS.contains(&e.as_str()))
 }
 
+/// A mesh and a size at each of its vertices, as [`read_sizes`] reads them.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct SizesFile {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The size at each of its vertices.
+    pub sizes: Vec<f64>,
+    /// Where the file holds several views (Gmsh's `$NodeData`), which one the sizes are, for
+    /// the user to hear.
+    pub view: Option<String>,
+}
+
 /// A mesh and a size at each of its vertices, for a size field given on a mesh (an adaptive
 /// solver's sizes on its last mesh, a background mesh; [`geometry::SizeField::from_mesh`]):
 /// a Triangle `.node` whose first attribute is the size, with its `.ele`
 /// ([`read_triangle_sizes`]), or a Gmsh `.msh` with a `$NodeData` view of one value per node
-/// ([`read_gmsh_sizes`]).
-pub fn read_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+/// ([`read_gmsh_sizes`]: the first, as Gmsh takes a background mesh's, with a note naming it
+/// where the file has several).
+///
+/// ```
+/// let dir = std::env::temp_dir().join(format!("cvtmesh-doc-sizes-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let view = |name: &str, h: f64| format!("$NodeData\n1\n\"{name}\"\n1\n0\n3\n0\n1\n3\n1 {h}\n2 {h}\n3 {h}\n$EndNodeData\n");
+/// let mesh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n";
+/// std::fs::write(dir.join("bg.msh"), format!("{mesh}{}{}", view("error", 1e-3), view("h", 0.1)))?;
+/// let f = cvtmesh::io::read_sizes(&dir.join("bg.msh"))?;
+/// assert_eq!(f.sizes, [1e-3; 3]);
+/// assert!(f.view.unwrap().contains("its first $NodeData view, \"error\", of 2 (the others: \"h\")"));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn read_sizes(path: &Path) -> Result<SizesFile, MeshError> {
     match extension(path).as_deref() {
-        Some("node") | Some("ele") => read_triangle_sizes(&path.with_extension("node")),
-        Some("msh") => read_gmsh_sizes(path),
+        Some("node") | Some("ele") => {
+            let (mesh, sizes) = read_triangle_sizes(&path.with_extension("node"))?;
+            Ok(SizesFile {
+                mesh,
+                sizes,
+                view: None,
+            })
+        }
+        Some("msh") => gmsh::read_gmsh_sizes_file(path),
         _ => Err(unknown_extension(path, "read sizes from", SIZE_EXTENSIONS)),
     }
 }

@@ -1103,8 +1103,13 @@ fn scalar_field(
     if spec.is_instance_of::<PyString>() {
         let text: String = spec.extract()?;
         if cvtmesh::io::names_sizes(std::path::Path::new(&text)) {
-            let (mesh, sizes) =
-                cvtmesh::io::read_sizes(std::path::Path::new(&text)).map_err(err)?;
+            let file = cvtmesh::io::read_sizes(std::path::Path::new(&text)).map_err(err)?;
+            if let Some(view) = &file.view {
+                let warnings = py.import("warnings")?;
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                warnings.call_method1("warn", (view, category))?;
+            }
+            let (mesh, sizes) = (file.mesh, file.sizes);
             return py
                 .detach(|| SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes))
                 .map_err(|e| err(format!("{what} {text}: {e}")));

@@ -1,7 +1,7 @@
 //! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
 use super::{
     file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, write_lines,
-    MeshFile, Nodes, Producer, Tokens, Walls, F,
+    MeshFile, Nodes, Producer, SizesFile, Tokens, Walls, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -375,7 +375,20 @@ pub fn gmsh_sizes_from_str(text: &str) -> Result<(Mesh, Vec<f64>), MeshError> {
 }
 
 fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
-    let Parsed { mesh, sizes, .. } = parse(text, path, true)?;
+    let f = sizes_file_from(text, path)?;
+    Ok((f.mesh, f.sizes))
+}
+
+/// [`read_gmsh_sizes`], saying which view the sizes are where the file has several.
+pub(crate) fn read_gmsh_sizes_file(path: &Path) -> Result<SizesFile, MeshError> {
+    let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
+    sizes_file_from(&String::from_utf8_lossy(&bytes), path)
+}
+
+fn sizes_file_from(text: &str, path: &Path) -> Result<SizesFile, MeshError> {
+    let Parsed {
+        mesh, sizes, views, ..
+    } = parse(text, path, true)?;
     let sizes = sizes.ok_or_else(|| {
         file_err(
             path,
@@ -383,7 +396,24 @@ fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
              view (one value per node)",
         )
     })?;
-    Ok((mesh, sizes))
+    // Gmsh's background field reads a file's first view too; with several, say which.
+    let view = (views.len() > 1).then(|| {
+        let quoted = |v: &[String]| {
+            v.iter()
+                .map(|n| format!("\"{n}\""))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        format!(
+            "{}: the sizes are its first $NodeData view, {}, of {} (the others: {}), as Gmsh \
+             takes a background mesh's first view",
+            path.display(),
+            quoted(&views[..1]),
+            views.len(),
+            quoted(&views[1..])
+        )
+    });
+    Ok(SizesFile { mesh, sizes, view })
 }
 
 /// Parse the text of a Gmsh ASCII mesh, as [`read_gmsh`] reads a file; errors name
@@ -509,6 +539,8 @@ struct Raw {
     names: HashMap<(i64, i64), String>,
     /// The first `$NodeData` view, when asked for: (node tag, value).
     node_data: Option<Vec<(u64, f64)>>,
+    /// The names of every `$NodeData` view, in the file's order, when sizes are asked for.
+    views: Vec<String>,
     /// Six-node triangles' edge nodes: the edge's corner tags and the node's tag.
     edge_nodes: Vec<([u64; 2], u64)>,
     /// Each triangle's region: its physical surface, or its surface where that has none.
@@ -524,6 +556,8 @@ struct Raw {
 struct Parsed {
     mesh: Mesh,
     sizes: Option<Vec<f64>>,
+    /// The names of the `$NodeData` views, when sizes were asked for.
+    views: Vec<String>,
     walls: Walls,
     triangle_nodes: usize,
     edge_nodes: Vec<([u32; 2], DVec2)>,
@@ -598,11 +632,17 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
                 ))
             }
             "$NodeData" if sizes && raw.node_data.is_none() => {
-                raw.node_data = Some(parse_node_data(&mut t)?);
+                let (name, data) = parse_node_data(&mut t)?;
+                raw.views.push(name);
+                raw.node_data = Some(data);
                 expect_end(&mut t, "$EndNodeData")?;
             }
             s if s.starts_with('$') && !s.starts_with("$End") => {
-                // A section this reader does not need ($NodeData, $Periodic, ...): skip it.
+                // A section this reader does not need ($NodeData, $Periodic, ...): skip it,
+                // a later view's name kept for the note on which view the sizes are.
+                if s == "$NodeData" && sizes {
+                    raw.views.push(view_name(&mut t)?);
+                }
                 let end = format!("$End{}", &s[1..]);
                 loop {
                     match t.peek() {
@@ -626,19 +666,29 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     assemble(raw, path)
 }
 
-/// A `$NodeData` section's header (string, real and integer tags: the view's name, its time,
-/// then time step, components, count and maybe a partition) and its values, which must be one
-/// per node.
-fn parse_node_data(t: &mut Tokens) -> Result<Vec<(u64, f64)>, MeshError> {
+/// A `$NodeData` section's string tags (each a quoted string on a line of its own), the first
+/// the view's name ("" without one).
+fn view_name(t: &mut Tokens) -> Result<String, MeshError> {
     let strings = t.usize("the number of string tags")?;
-    // Each string tag (a quoted name) fills a line of its own.
     t.rest_of_line();
-    for _ in 0..strings {
+    let mut name = String::new();
+    for k in 0..strings {
         if t.peek().is_none() {
             return Err(t.err("unexpected end of file in $NodeData's string tags"));
         }
-        t.rest_of_line();
+        let line = t.rest_of_line();
+        if k == 0 {
+            name = line.trim().trim_matches('"').to_string();
+        }
     }
+    Ok(name)
+}
+
+/// A `$NodeData` section's header (string, real and integer tags: the view's name, its time,
+/// then time step, components, count and maybe a partition) and its values, which must be one
+/// per node.
+fn parse_node_data(t: &mut Tokens) -> Result<(String, Vec<(u64, f64)>), MeshError> {
+    let name = view_name(t)?;
     let reals = t.usize("the number of real tags")?;
     for _ in 0..reals {
         t.f64("a real tag")?;
@@ -675,7 +725,7 @@ fn parse_node_data(t: &mut Tokens) -> Result<Vec<(u64, f64)>, MeshError> {
         }
         values.push((tag, value));
     }
-    Ok(values)
+    Ok((name, values))
 }
 
 fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
@@ -1116,6 +1166,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     Ok(Parsed {
         mesh,
         sizes,
+        views: std::mem::take(&mut raw.views),
         walls,
         triangle_nodes: raw.triangle_nodes,
         edge_nodes,
