@@ -2781,3 +2781,41 @@ fn methods_from_a_uniform_lattice_note_that_they_follow_a_size_field_loosely() {
     assert!(run("vtm") && run("meshgen") && run("ccvt1"));
     assert!(!run("ccvt") && !run("distmesh"));
 }
+
+/// A wall a `.poly` leaves unmarked (segment marker 0) is written with marker 1, as Triangle
+/// writes it, so that a nonzero marker tells a boundary vertex from an interior one (0 had been
+/// written on the boundary too).
+#[test]
+fn an_unmarked_wall_is_written_with_marker_one_as_triangle_does() {
+    let dir = scratch("marker_zero");
+    let poly = dir.join("walls.poly");
+    std::fs::write(
+        &poly,
+        "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 1\n1 1 2 0\n2 2 3 2\n3 3 4 0\n4 4 1 2\n0\n",
+    )
+    .unwrap();
+    let out = dir.join("sq.node");
+    let o = cvtmesh(&["mesh", s(&poly), "-n", "200", "--quiet", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let node = std::fs::read_to_string(&out).unwrap();
+    let rows: Vec<Vec<&str>> = node
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    // index x y kind id param loop wall: kind 0 inside, 1 and 2 on the boundary.
+    for r in &rows {
+        let (kind, wall) = (r[3], r[7]);
+        assert_eq!(kind == "0", wall == "0", "{r:?}");
+    }
+    let segments = std::fs::read_to_string(out.with_extension("poly")).unwrap();
+    let markers: std::collections::BTreeSet<&str> = segments
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(2)
+        .take_while(|l| l.split_whitespace().count() == 4)
+        .map(|l| l.split_whitespace().nth(3).unwrap())
+        .collect();
+    assert_eq!(markers, ["1", "2"].into_iter().collect());
+}

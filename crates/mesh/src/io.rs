@@ -243,7 +243,9 @@ impl<'a> Nodes<'a> {
     /// where the region names its walls by number: a line takes its piece's, a node the marker
     /// of the line it starts or whose middle it is (so a corner takes the wall that leaves it,
     /// counter-clockwise along an outer loop), a corner with a marker of its own
-    /// ([`Region::vertex_markers`]) that one.
+    /// ([`Region::vertex_markers`]) that one. A wall numbered 0 (a `.poly` segment without a
+    /// marker) is 1, as Triangle marks it: on the boundary, 0 is never a marker, so that a
+    /// node's marker tells the boundary from the inside.
     pub fn wall_markers(&self) -> Option<(Vec<Vec<i64>>, Vec<i64>)> {
         let pm = self.piece_markers.as_ref()?;
         let by_line: Vec<Vec<i64>> = self
@@ -251,7 +253,10 @@ impl<'a> Nodes<'a> {
             .iter()
             .map(|ps| {
                 ps.iter()
-                    .map(|&j| pm.get(j).copied().unwrap_or(0))
+                    .map(|&j| match pm.get(j).copied().unwrap_or(0) {
+                        0 => 1,
+                        m => m,
+                    })
                     .collect()
             })
             .collect();
