@@ -624,18 +624,24 @@ fn floats(a: &Array, layout: &Layout) -> Result<Vec<f64>, String> {
         }
         return Ok(out);
     }
-    let data = binary(a, layout).map_err(what)?;
-    let size = a.scalar.size();
-    if data.len() % size != 0 {
-        return Err(what(format!(
-            "{} bytes are no whole number of {size}-byte values",
-            data.len()
-        )));
-    }
+    let (data, size) = binary_values(a, layout).map_err(what)?;
     Ok(data
         .chunks_exact(size)
         .map(|b| float_value(a.scalar, b, layout.big))
         .collect())
+}
+
+/// The bytes of a binary array and the size of each of its values, which they must fill.
+fn binary_values(a: &Array, layout: &Layout) -> Result<(Vec<u8>, usize), String> {
+    let data = binary(a, layout)?;
+    let size = a.scalar.size();
+    if data.len() % size != 0 {
+        return Err(format!(
+            "{} bytes are no whole number of {size}-byte values",
+            data.len()
+        ));
+    }
+    Ok((data, size))
 }
 
 /// The values of an integer array, none negative.
@@ -668,14 +674,7 @@ fn uints(a: &Array, layout: &Layout) -> Result<Vec<u64>, String> {
         }
         return Ok(out);
     }
-    let data = binary(a, layout).map_err(what)?;
-    let size = a.scalar.size();
-    if data.len() % size != 0 {
-        return Err(what(format!(
-            "{} bytes are no whole number of {size}-byte values",
-            data.len()
-        )));
-    }
+    let (data, size) = binary_values(a, layout).map_err(what)?;
     data.chunks_exact(size)
         .map(|b| check(int_value(a.scalar, b, layout.big)))
         .collect()
