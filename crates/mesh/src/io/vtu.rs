@@ -377,6 +377,15 @@ struct Array {
     line: usize,
 }
 
+impl Array {
+    /// The words of an ASCII array's text.
+    fn tokens(&self) -> impl Iterator<Item = &[u8]> {
+        self.text
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty())
+    }
+}
+
 /// A `<Piece>`: its counts and arrays.
 #[derive(Default)]
 struct Piece {
@@ -604,11 +613,7 @@ fn floats(a: &Array, layout: &Layout) -> Result<Vec<f64>, String> {
     let what = |m: String| format!("line {}: {}: {m}", a.line, a.role.name());
     if a.format == Format::Ascii {
         let mut out = Vec::new();
-        for tok in a
-            .text
-            .split(|b| b.is_ascii_whitespace())
-            .filter(|t| !t.is_empty())
-        {
+        for tok in a.tokens() {
             let s = std::str::from_utf8(tok).unwrap_or("");
             let v = if a.scalar == Scalar::F32 {
                 s.parse::<f32>().map(f64::from).ok()
@@ -656,11 +661,7 @@ fn uints(a: &Array, layout: &Layout) -> Result<Vec<u64>, String> {
         |v: i128| u64::try_from(v).map_err(|_| what(format!("{v} is not an index or count")));
     if a.format == Format::Ascii {
         let mut out = Vec::new();
-        for tok in a
-            .text
-            .split(|b| b.is_ascii_whitespace())
-            .filter(|t| !t.is_empty())
-        {
+        for tok in a.tokens() {
             let v = std::str::from_utf8(tok)
                 .ok()
                 .and_then(|s| s.parse::<i128>().ok())
