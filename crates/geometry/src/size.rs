@@ -1362,10 +1362,17 @@ impl SizeField {
         let mut before = None;
         if g.is_finite() {
             if count {
+                // The clamped grid sealed for its count, then taken back to be limited: no copy
+                // of its values.
                 let clamped = SizeField {
-                    kind: Kind::Grid(Arc::new(grid.clone().sealed())),
+                    kind: Kind::Grid(Arc::new(grid.sealed())),
                 };
                 before = Some(clamped.predicted_points(region));
+                let Kind::Grid(sealed) = clamped.kind else {
+                    unreachable!("made as a grid just above")
+                };
+                grid = Arc::try_unwrap(sealed).expect("the only handle on the grid");
+                grid.padded = Vec::new();
             }
             grid.limit_gradation(g);
         }
