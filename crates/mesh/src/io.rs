@@ -426,6 +426,10 @@ impl Walls {
 /// triangle, empty for none) differ, and those of `lines` (edges the file lists) that two
 /// triangles share.
 pub(crate) fn inner_edges(mesh: &Mesh, regions: &[i64], lines: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    // Most files have one region and no lines: no edge map over the whole mesh for them.
+    if lines.is_empty() && regions.windows(2).all(|w| w[0] == w[1]) {
+        return Vec::new();
+    }
     // Each edge, its lower vertex first, with the region of the first triangle met and whether
     // a second triangle shares it (with which region).
     let mut seen: std::collections::HashMap<[u32; 2], (i64, Option<i64>)> =
