@@ -157,7 +157,12 @@ impl MeshRequest {
     ) -> Result<Self, MeshError> {
         let range = field.check(region)?;
         let k = match points {
-            Some(k) => k,
+            Some(k) => {
+                if !field.is_constant() {
+                    refuse_unresolved_boundary(field, region, k, range)?;
+                }
+                k
+            }
             None => {
                 let predicted = field.predicted_points(region);
                 if !(predicted.is_finite() && predicted <= MAX_POINTS as f64) {
@@ -540,6 +545,87 @@ pub fn boundary_points_needed(region: &Region) -> usize {
     per_loop.into_iter().map(|c| c.max(3)).sum()
 }
 
+/// The share of the region that a field scaled to K may be predicted to leave out along its
+/// curved boundary before [`MeshRequest::size_field`] refuses K. The prediction runs about 1.5×
+/// the share a CCVT mesh leaves out (the disc at 20 vertices, sizes 1:10 from its centre: 11 %
+/// predicted, 7.2 % left out), so this refuses what would be a mesh over less than about 80 %
+/// of the region, which is no longer a coarse mesh but a distorted one, and lets coarse meshes
+/// through to the warning every mesh under 90 % gets.
+const UNRESOLVED_LOSS: f64 = 0.3;
+
+/// Refuse `k` vertices for `field` where the field scaled to `k` would give the boundary
+/// edges far too long for its curvature (a field whose sizes span 10⁵, scaled to 1000
+/// vertices on the disc, gave DistMesh a mesh over 66 % of it, nearly every triangle a
+/// sliver), naming the K that keeps the boundary to the
+/// [`MIN_COVERAGE`](crate::check::MIN_COVERAGE) of a coarse mesh.
+///
+/// A chord of length h across a boundary arc of radius R leaves out h³ / (12 R), so an arc
+/// whose tangent turns by θ loses about θ h² / 12 where its vertices lie h apart: summed over
+/// the convex turns of the boundary polygon away from corners (which are vertices), with h the
+/// field scaled by √(N / k), N the field's own count.
+fn refuse_unresolved_boundary(
+    field: &SizeField,
+    region: &Region,
+    k: usize,
+    range: geometry::SizeRange,
+) -> Result<(), MeshError> {
+    let predicted = field.predicted_points(region);
+    if !(predicted.is_finite() && predicted > 0.0 && k > 0) {
+        return Ok(());
+    }
+    let scale = (predicted / k as f64).sqrt();
+    let corners: std::collections::HashSet<(u64, u64)> = region
+        .corners()
+        .iter()
+        .map(|c| (c.pos.x.to_bits(), c.pos.y.to_bits()))
+        .collect();
+    let mut lost = 0.0;
+    for ring in region.polygonize(1e-3 * region.diameter()).rings {
+        let n = ring.points.len();
+        for i in 0..n {
+            let (a, p, b) = (
+                ring.points[(i + n - 1) % n],
+                ring.points[i],
+                ring.points[(i + 1) % n],
+            );
+            if corners.contains(&(p.x.to_bits(), p.y.to_bits())) {
+                continue;
+            }
+            let turn = (p - a).perp_dot(b - p).atan2((p - a).dot(b - p));
+            if turn > 0.0 {
+                lost += turn * (scale * field.at(p)).powi(2) / 12.0;
+            }
+        }
+    }
+    if !(lost > UNRESOLVED_LOSS * region.area()) {
+        return Ok(());
+    }
+    let allowed = (1.0 - crate::check::MIN_COVERAGE) * region.area();
+    let needed = (k as f64 * lost / allowed).ceil();
+    let instead = if needed <= predicted {
+        format!(
+            "; or leave the count out (the field asks for {predicted:.0}) and bound the field \
+             (size_max, --size-max)"
+        )
+    } else {
+        String::new()
+    };
+    Err(MeshError::BadRequest(format!(
+        "K = {k} vertices are too few for this size field: scaled to K, its sizes run from \
+         {:.3e} to {:.3e} (a ratio of {:.3e}), and the boundary edges they give are too long for \
+         the boundary's curvature, leaving out about {} of the region; K >= {needed:.0} keeps \
+         the boundary{instead}",
+        scale * range.min,
+        scale * range.max,
+        range.max / range.min,
+        if lost >= region.area() {
+            "all".to_string()
+        } else {
+            format!("{:.0} %", 100.0 * lost / region.area())
+        },
+    )))
+}
+
 /// Refuse a region with embedded points ([`Region::embedded_points`]) for a method that cannot
 /// keep them as vertices (`method` names it in the error).
 ///
@@ -867,6 +953,44 @@ mod tests {
 
     fn region(name: &str) -> Region {
         Region::builtin(name).unwrap()
+    }
+
+    /// A K too small for a field's range is refused with the K that keeps the boundary; a
+    /// coarse but sound mesh of the same field is not.
+    #[test]
+    fn k_too_few_for_the_fields_boundary_is_refused_with_the_k_needed() {
+        let circle = region("circle");
+        let steep = SizeField::from_expr("1e-5 + x^2")
+            .unwrap()
+            .bounded(&circle, None, None, Some(0.3))
+            .unwrap();
+        let e = MeshRequest::size_field(&steep, &circle, Some(1000))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("K = 1000 vertices are too few") && e.contains("K >= "),
+            "{e}"
+        );
+        let needed: f64 = e
+            .split("K >= ")
+            .nth(1)
+            .unwrap()
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(MeshRequest::size_field(&steep, &circle, Some(needed as usize)).is_ok());
+        let source = SizeField::from_expr("0.01 + 0.1 * sqrt(x^2 + y^2)").unwrap();
+        let e = MeshRequest::size_field(&source, &circle, Some(5))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("K >= 22"), "{e}");
+        // A coarse mesh of 10 vertices covers 92 % of the disc: let through.
+        assert!(MeshRequest::size_field(&source, &circle, Some(10)).is_ok());
+        // A polygon loses nothing along its straight sides, whatever K.
+        let hexagons = region("hex_hole");
+        assert!(MeshRequest::size_field(&source, &hexagons, Some(4)).is_ok());
     }
 
     #[test]
