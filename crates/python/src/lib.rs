@@ -682,6 +682,9 @@ struct PyMesh {
     /// Vertices `polished` holds where they are: the ends of the edges the file it was read
     /// from keeps inside it (a material interface).
     held: Vec<u32>,
+    /// For a mesh read from a file: the file and the walls it numbers, which make the region
+    /// its triangles cover (what `polished` keeps the boundary on, as `cvtmesh polish` does).
+    read_from: Option<(PathBuf, cvtmesh::io::Walls)>,
     /// The vertices, (N, 2) float64.
     #[pyo3(get)]
     points: Py<PyArray2<f64>>,
@@ -823,6 +826,7 @@ impl PyMesh {
             mesh,
             region,
             held: Vec::new(),
+            read_from: None,
             points: points.unbind(),
             triangles: triangles.unbind(),
             boundary_edges: boundary_edges.unbind(),
@@ -977,12 +981,24 @@ impl PyMesh {
     /// A polished copy: the vertices of triangles with an angle below `below` degrees move to
     /// raise the smallest angle around them (boundary vertices along the region's boundary,
     /// corners fixed, the triangles kept, no triangle or cell taken past the mesh's extremes),
-    /// against the region the mesh was made for or `region` (needed for a mesh read from a
-    /// file). Its notes say how many moved.
+    /// against `region`, else the region the mesh was made for, else (a mesh read from a file)
+    /// the region its triangles cover, with the walls the file numbers, as `cvtmesh polish`
+    /// takes it: every vertex of its boundary is a corner of that region and stays where it is
+    /// (pass the region to let them slide along it). Its notes say how many moved.
     #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG),
         text_signature = "(self, region=None, below=40.0)")]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
-        let region = self.region_or(region, "polished")?;
+        let region = match (region, &self.region, &self.read_from) {
+            (None, None, Some((path, walls))) => py
+                .detach(|| cvtmesh::region_of_mesh(&self.mesh, walls, path))
+                .map(Arc::new)
+                .map_err(|e| {
+                    err(format!(
+                        "the mesh is no region ({e}): pass one, mesh.polished(region)"
+                    ))
+                })?,
+            _ => self.region_or(region, "polished")?,
+        };
         if !(0.0..=60.0).contains(&below) {
             return Err(err(format!(
                 "below must be an angle from 0 to 60 degrees, got {below}"
@@ -1032,6 +1048,7 @@ impl PyMesh {
         let held = file.walls.inner_vertices();
         let mut mesh = PyMesh::new(py, file.mesh, None, true, 0, Vec::new(), Vec::new())?;
         mesh.held = held;
+        mesh.read_from = Some((path, file.walls));
         Ok(mesh)
     }
 
