@@ -4,7 +4,7 @@
 //! | extension | write | read |
 //! |---|---|---|
 //! | `.node`, `.ele` (+ `.poly`) | [`write_triangle`] | [`read_triangle`] |
-//! | `.msh` | [`write_gmsh`] (4.1 ASCII) | [`read_gmsh`] (4.1 and 2.2 ASCII) |
+//! | `.msh` | [`write_gmsh`] (4.1 ASCII) | [`read_gmsh`] (4.1 and 2.2, ASCII and binary) |
 //! | `.vtu` | [`write_vtu`] (XML ASCII, with quality fields) | [`read_vtu`] (ASCII, binary, appended; zlib) |
 //! | `.obj` | [`write_obj`] | [`read_obj`] |
 //!
@@ -25,13 +25,15 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 mod gmsh;
+mod gmsh_binary;
 mod obj;
 mod triangle;
 mod vtu;
 
 pub use gmsh::{
-    gmsh_from_str, gmsh_sizes_from_str, gmsh_walls_from_str, read_gmsh, read_gmsh_sizes,
-    read_gmsh_with_walls, write_gmsh, write_gmsh_on,
+    gmsh_from_bytes, gmsh_from_str, gmsh_sizes_from_bytes, gmsh_sizes_from_str,
+    gmsh_walls_from_bytes, gmsh_walls_from_str, read_gmsh, read_gmsh_sizes, read_gmsh_with_walls,
+    write_gmsh, write_gmsh_on,
 };
 pub use obj::{obj_from_str, read_obj, write_obj};
 pub use triangle::{

@@ -1,7 +1,8 @@
-//! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2 ASCII.
+//! Gmsh `.msh`: writes 4.1 ASCII; reads 4.1 and 2.2, ASCII and binary (binary files as the
+//! ASCII text of the same file, [`super::gmsh_binary`]).
 use super::{
-    file_err, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files, write_lines,
-    MeshFile, Nodes, Producer, SizesFile, Tokens, Walls, F,
+    file_err, gmsh_binary, io_err, planar_z, read_mesh_parts, validate_for_writing, write_files,
+    write_lines, MeshFile, Nodes, Producer, SizesFile, Tokens, Walls, F,
 };
 use crate::{Mesh, MeshError, VertexMarker};
 use geometry::DVec2;
@@ -340,7 +341,7 @@ fn element_line(s: &mut String, tag: usize, vs: &[u32]) {
     let _ = writeln!(s);
 }
 
-/// Read a Gmsh ASCII mesh (format 4.1 or 2.2). Triangles (including higher-order ones, by their
+/// Read a Gmsh mesh (format 4.1 or 2.2, ASCII or binary, either byte order). Triangles (including higher-order ones, by their
 /// corners) become the mesh; points and line elements are read but only used for markers;
 /// quadrangles or 3-D elements are an error. Vertices are ordered by node tag, and z must be 0.
 ///
@@ -349,7 +350,7 @@ fn element_line(s: &mut String, tag: usize, vs: &[u32]) {
 /// names them) is taken from that name.
 pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    Ok(parse(&String::from_utf8_lossy(&bytes), path, false)?.mesh)
+    Ok(parse_bytes(&bytes, path, false)?.mesh)
 }
 
 /// A Gmsh mesh and a size at each vertex, from the first `$NodeData` view of the file (one
@@ -357,7 +358,7 @@ pub fn read_gmsh(path: &Path) -> Result<Mesh, MeshError> {
 /// mesh ([`geometry::SizeField::from_mesh`]). The mesh is read as [`read_gmsh`] reads it.
 pub fn read_gmsh_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    sizes_from(&String::from_utf8_lossy(&bytes), path)
+    sizes_from(&bytes, path)
 }
 
 /// [`read_gmsh_sizes`] from the text of a file; errors name `mesh.msh`.
@@ -371,24 +372,55 @@ pub fn read_gmsh_sizes(path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
 /// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_sizes_from_str(text: &str) -> Result<(Mesh, Vec<f64>), MeshError> {
-    sizes_from(text, Path::new("mesh.msh"))
+    sizes_from(text.as_bytes(), Path::new("mesh.msh"))
 }
 
-fn sizes_from(text: &str, path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
-    let f = sizes_file_from(text, path)?;
+/// [`gmsh_sizes_from_str`] of a file's bytes, ASCII or binary.
+///
+/// ```
+/// // A binary 2.2 file: ASCII lines around little-endian ints and doubles.
+/// let mut b = b"$MeshFormat\n2.2 1 8\n".to_vec();
+/// b.extend(1i32.to_le_bytes());
+/// b.extend(b"\n$EndMeshFormat\n$Nodes\n3\n");
+/// for (tag, x, y) in [(1i32, 0.0, 0.0), (2, 1.0, 0.0), (3, 0.0, 1.0)] {
+///     b.extend(tag.to_le_bytes());
+///     [x, y, 0.0f64].iter().for_each(|v| b.extend(v.to_le_bytes()));
+/// }
+/// // One block of one triangle (type 2) with no tags: number, then nodes 1, 2, 3.
+/// b.extend(b"\n$EndNodes\n$Elements\n1\n");
+/// [2, 1, 0, 1, 1, 2, 3].iter().for_each(|v: &i32| b.extend(v.to_le_bytes()));
+/// b.extend(b"\n$EndElements\n$NodeData\n1\n\"h\"\n1\n0\n3\n0\n1\n3\n");
+/// for (tag, h) in [(1i32, 0.1), (2, 0.2), (3, 0.3)] {
+///     b.extend(tag.to_le_bytes());
+///     b.extend(f64::to_le_bytes(h));
+/// }
+/// b.extend(b"\n$EndNodeData\n");
+/// let (m, h) = cvtmesh::io::gmsh_sizes_from_bytes(&b)?;
+/// assert_eq!((m.num_triangles(), h), (1, vec![0.1, 0.2, 0.3]));
+/// // Cut short, it is an error saying where.
+/// let e = cvtmesh::io::gmsh_sizes_from_bytes(&b[..b.len() - 30]).unwrap_err().to_string();
+/// assert!(e.contains("$NodeData gives 3 values") && e.contains("the file is cut short"), "{e}");
+/// # Ok::<(), cvtmesh::MeshError>(())
+/// ```
+pub fn gmsh_sizes_from_bytes(bytes: &[u8]) -> Result<(Mesh, Vec<f64>), MeshError> {
+    sizes_from(bytes, Path::new("mesh.msh"))
+}
+
+fn sizes_from(bytes: &[u8], path: &Path) -> Result<(Mesh, Vec<f64>), MeshError> {
+    let f = sizes_file_from(bytes, path)?;
     Ok((f.mesh, f.sizes))
 }
 
 /// [`read_gmsh_sizes`], saying which view the sizes are where the file has several.
 pub(crate) fn read_gmsh_sizes_file(path: &Path) -> Result<SizesFile, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    sizes_file_from(&String::from_utf8_lossy(&bytes), path)
+    sizes_file_from(&bytes, path)
 }
 
-fn sizes_file_from(text: &str, path: &Path) -> Result<SizesFile, MeshError> {
+fn sizes_file_from(bytes: &[u8], path: &Path) -> Result<SizesFile, MeshError> {
     let Parsed {
         mesh, sizes, views, ..
-    } = parse(text, path, true)?;
+    } = parse_bytes(bytes, path, true)?;
     let sizes = sizes.ok_or_else(|| {
         file_err(
             path,
@@ -417,7 +449,7 @@ fn sizes_file_from(text: &str, path: &Path) -> Result<SizesFile, MeshError> {
 }
 
 /// Parse the text of a Gmsh ASCII mesh, as [`read_gmsh`] reads a file; errors name
-/// `mesh.msh`.
+/// `mesh.msh`. A binary file is not text: [`gmsh_from_bytes`] reads either.
 ///
 /// ```
 /// let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n$Elements\n1\n1 2 0 1 2 3\n$EndElements\n";
@@ -427,7 +459,38 @@ fn sizes_file_from(text: &str, path: &Path) -> Result<SizesFile, MeshError> {
 /// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
-    Ok(parse(text, Path::new("mesh.msh"), false)?.mesh)
+    gmsh_from_bytes(text.as_bytes())
+}
+
+/// Parse the bytes of a Gmsh mesh, ASCII or binary, as [`read_gmsh`] reads a file; errors
+/// name `mesh.msh` (and, in a binary file, the byte where the fault is).
+///
+/// ```
+/// // A binary 4.1 file, big-endian (the int after the format line tells the order).
+/// let mut b = b"$MeshFormat\n4.1 1 8\n".to_vec();
+/// b.extend(1i32.to_be_bytes());
+/// b.extend(b"\n$EndMeshFormat\n$Nodes\n");
+/// // One block (surface 1, not parametric) of nodes 1 to 3: size_t counts and tags.
+/// [1u64, 3, 1, 3].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// [2i32, 1, 0].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// [3u64, 1, 2, 3].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0f64].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// b.extend(b"\n$EndNodes\n$Elements\n");
+/// [1u64, 1, 1, 1].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// [2i32, 1, 2].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// [1u64, 1, 1, 2, 3].iter().for_each(|v| b.extend(v.to_be_bytes()));
+/// b.extend(b"\n$EndElements\n");
+/// let m = cvtmesh::io::gmsh_from_bytes(&b)?;
+/// assert_eq!((m.num_vertices(), m.num_triangles()), (3, 1));
+/// // A count past the end of the file is refused before anything is made for it.
+/// let at = b.windows(9).position(|w| w == b"$Elements").unwrap() + 10;
+/// b[at..at + 8].copy_from_slice(&u64::MAX.to_be_bytes());
+/// let e = cvtmesh::io::gmsh_from_bytes(&b).unwrap_err().to_string();
+/// assert!(e.contains("$Elements gives 18446744073709551615 element blocks"), "{e}");
+/// # Ok::<(), cvtmesh::MeshError>(())
+/// ```
+pub fn gmsh_from_bytes(bytes: &[u8]) -> Result<Mesh, MeshError> {
+    Ok(parse_bytes(bytes, Path::new("mesh.msh"), false)?.mesh)
 }
 
 /// The boundary lines of a Gmsh mesh that carry a wall number, by their end vertices (as
@@ -459,7 +522,12 @@ pub fn gmsh_from_str(text: &str) -> Result<Mesh, MeshError> {
 /// # Ok::<(), cvtmesh::MeshError>(())
 /// ```
 pub fn gmsh_walls_from_str(text: &str) -> Result<Walls, MeshError> {
-    Ok(parse(text, Path::new("mesh.msh"), false)?.walls)
+    gmsh_walls_from_bytes(text.as_bytes())
+}
+
+/// [`gmsh_walls_from_str`] of a file's bytes, ASCII or binary.
+pub fn gmsh_walls_from_bytes(bytes: &[u8]) -> Result<Walls, MeshError> {
+    Ok(parse_bytes(bytes, Path::new("mesh.msh"), false)?.walls)
 }
 
 /// [`read_gmsh`] and [`gmsh_walls_from_str`] of a file, read once.
@@ -470,7 +538,7 @@ pub fn read_gmsh_with_walls(path: &Path) -> Result<(Mesh, Walls), MeshError> {
 /// [`read_gmsh_with_walls`], with the triangles' node count and a six-node file's edge nodes.
 pub(crate) fn read_gmsh_file(path: &Path) -> Result<MeshFile, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
-    let parsed = parse(&String::from_utf8_lossy(&bytes), path, false)?;
+    let parsed = parse_bytes(&bytes, path, false)?;
     Ok(MeshFile {
         mesh: parsed.mesh,
         walls: parsed.walls,
@@ -481,7 +549,7 @@ pub(crate) fn read_gmsh_file(path: &Path) -> Result<MeshFile, MeshError> {
 
 /// Element kinds the reader distinguishes.
 #[derive(Clone, Copy, PartialEq)]
-enum Kind {
+pub(super) enum Kind {
     Point,
     Line,
     Triangle,
@@ -489,7 +557,7 @@ enum Kind {
 }
 
 /// Nodes per element and kind for Gmsh element types 1..=28.
-fn element_type(t: i64) -> Option<(usize, Kind)> {
+pub(super) fn element_type(t: i64) -> Option<(usize, Kind)> {
     use Kind::*;
     Some(match t {
         15 => (1, Point),
@@ -563,6 +631,15 @@ struct Parsed {
     edge_nodes: Vec<([u32; 2], DVec2)>,
 }
 
+/// Parse a file's bytes: a binary file as the ASCII text of the same file, with its errors
+/// naming the byte of the file they are about.
+fn parse_bytes(bytes: &[u8], path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
+    match gmsh_binary::ascii_of_binary(bytes, path)? {
+        Some(ascii) => parse(&ascii.text, path, sizes).map_err(|e| ascii.locate(e)),
+        None => parse(&String::from_utf8_lossy(bytes), path, sizes),
+    }
+}
+
 fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     let mut t = Tokens::new(text, None, path);
     if t.peek() != Some("$MeshFormat") {
@@ -571,17 +648,18 @@ fn parse(text: &str, path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
     t.next("$MeshFormat")?;
     let version = t.next("the format version")?;
     let file_type = t.next("the file type")?;
+    // Binary files (type 1) reach this parser as the ASCII text of the same file.
     if file_type != "0" {
-        return Err(
-            t.err("binary .msh files are not supported; save the mesh as ASCII (Mesh.Binary = 0)")
-        );
+        return Err(t.err(format!(
+            "file type {file_type} is neither 0 (ASCII) nor 1 (binary)"
+        )));
     }
     let v2 = match version {
         "4.1" => false,
         "2.2" | "2.1" | "2.0" | "2" => true,
         _ => {
             return Err(t.err(format!(
-                "format version {version} is not supported; use 4.1 or 2.2 ASCII"
+                "format version {version} is not supported; use 4.1 or 2.2"
             )))
         }
     };
@@ -1284,7 +1362,8 @@ mod tests {
         let head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
         let cases = [
             ("hello", "line 1: not a Gmsh mesh"),
-            ("$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", "binary .msh files are not supported"),
+            ("$MeshFormat\n4.1 1 8\n$EndMeshFormat\n", "the binary int after the format line is"),
+            ("$MeshFormat\n4.1 2 8\n$EndMeshFormat\n", "file type 2 is neither 0 (ASCII) nor 1 (binary)"),
             ("$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", "version 3.0 is not supported"),
             (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 0 0.5\n$EndNodes\n"), "line 8: z = 0.5"),
             (&format!("{head}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 x 0\n$EndNodes\n"), "line 8: expected y"),
@@ -1298,7 +1377,7 @@ mod tests {
             (&format!("{head}junk\n"), "line 4: expected a section"),
         ];
         for (text, want) in cases {
-            let e = parse(text, Path::new("bad.msh"), false)
+            let e = parse_bytes(text.as_bytes(), Path::new("bad.msh"), false)
                 .map(|r| r.mesh)
                 .unwrap_err()
                 .to_string();
@@ -1309,6 +1388,456 @@ mod tests {
         }
     }
 
+    /// Binary files and their ASCII twins, written by the same tool from the same mesh
+    /// (`crates/mesh/tests/data/msh/`). `gmsh*`: Gmsh 4.15's Python API, a unit square with a
+    /// square hole (0.4–0.6) built from points and lines with a mesh size of 0.5, in physical
+    /// curves 7 "inflow" (the bottom), 8 "wall" (the other outer sides) and 9 (unnamed: the
+    /// hole), physical point 21 "pin" (the origin) and physical surface 100 "domain", saved
+    /// with `Mesh.MshFileVersion` 4.1 or 2.2 and `Mesh.Binary` 0 or 1; `gmsh*_sizes*` is
+    /// `gmsh.view.write` of a "NodeData" view of 0.05 + 0.1 x + 0.2 y at every node, with
+    /// `PostProcessing.SaveMesh` = 1. `meshio*`: meshio 5.3's `write(..., file_format="gmsh"
+    /// or "gmsh22", binary=False or True)` of a unit square of four triangles about
+    /// (0.1, 0.7): `plain` the triangles alone, `physical` with its sides as lines in
+    /// `gmsh:physical` 3 "bottom" and 5 "top" (4.1 needs `gmsh:dim_tags`), `sizes` with point
+    /// data "h" of 0.1 to 0.5.
+    fn fixture(name: &str) -> &'static [u8] {
+        match name {
+            "gmsh41_ascii" => include_bytes!("../../tests/data/msh/gmsh41_ascii.msh"),
+            "gmsh41_binary" => include_bytes!("../../tests/data/msh/gmsh41_binary.msh"),
+            "gmsh22_ascii" => include_bytes!("../../tests/data/msh/gmsh22_ascii.msh"),
+            "gmsh22_binary" => include_bytes!("../../tests/data/msh/gmsh22_binary.msh"),
+            "gmsh41_sizes_ascii" => include_bytes!("../../tests/data/msh/gmsh41_sizes_ascii.msh"),
+            "gmsh41_sizes_binary" => include_bytes!("../../tests/data/msh/gmsh41_sizes_binary.msh"),
+            "gmsh22_sizes_ascii" => include_bytes!("../../tests/data/msh/gmsh22_sizes_ascii.msh"),
+            "gmsh22_sizes_binary" => include_bytes!("../../tests/data/msh/gmsh22_sizes_binary.msh"),
+            "meshio41_plain_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio41_plain_ascii.msh")
+            }
+            "meshio41_plain_binary" => {
+                include_bytes!("../../tests/data/msh/meshio41_plain_binary.msh")
+            }
+            "meshio22_plain_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio22_plain_ascii.msh")
+            }
+            "meshio22_plain_binary" => {
+                include_bytes!("../../tests/data/msh/meshio22_plain_binary.msh")
+            }
+            "meshio41_physical_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio41_physical_ascii.msh")
+            }
+            "meshio41_physical_binary" => {
+                include_bytes!("../../tests/data/msh/meshio41_physical_binary.msh")
+            }
+            "meshio22_physical_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio22_physical_ascii.msh")
+            }
+            "meshio22_physical_binary" => {
+                include_bytes!("../../tests/data/msh/meshio22_physical_binary.msh")
+            }
+            "meshio41_sizes_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio41_sizes_ascii.msh")
+            }
+            "meshio41_sizes_binary" => {
+                include_bytes!("../../tests/data/msh/meshio41_sizes_binary.msh")
+            }
+            "meshio22_sizes_ascii" => {
+                include_bytes!("../../tests/data/msh/meshio22_sizes_ascii.msh")
+            }
+            "meshio22_sizes_binary" => {
+                include_bytes!("../../tests/data/msh/meshio22_sizes_binary.msh")
+            }
+            _ => panic!("no fixture {name}"),
+        }
+    }
+
+    const TWINS: [&str; 10] = [
+        "gmsh41",
+        "gmsh22",
+        "gmsh41_sizes",
+        "gmsh22_sizes",
+        "meshio41_plain",
+        "meshio22_plain",
+        "meshio41_physical",
+        "meshio22_physical",
+        "meshio41_sizes",
+        "meshio22_sizes",
+    ];
+
+    /// Everything a read gives, as text: markers of a foreign file hold NaN, which `==`
+    /// would never find equal.
+    fn everything(p: &Parsed) -> String {
+        format!(
+            "{:?} {:?} {:?} {:?} {} {:?}",
+            p.mesh, p.sizes, p.views, p.walls, p.triangle_nodes, p.edge_nodes
+        )
+    }
+
+    /// [`everything`] but the coordinates and sizes, and those within `tol` of `want`'s.
+    fn same_within(got: &Parsed, want: &Parsed, tol: f64) -> Result<(), String> {
+        let shape = |p: &Parsed| {
+            format!(
+                "{:?} {:?} {:?} {:?} {:?} {} {}",
+                p.mesh.triangles,
+                p.mesh.markers,
+                p.views,
+                p.walls,
+                p.sizes.as_ref().map(Vec::len),
+                p.triangle_nodes,
+                p.edge_nodes.len()
+            )
+        };
+        if shape(got) != shape(want) {
+            return Err(format!("{}\nis not\n{}", shape(got), shape(want)));
+        }
+        let values = |p: &Parsed| -> Vec<f64> {
+            let xy = p.mesh.points.iter().flat_map(|q| [q.x, q.y]);
+            xy.chain(p.sizes.iter().flatten().copied()).collect()
+        };
+        let (a, b) = (values(got), values(want));
+        match a.iter().zip(&b).position(|(a, b)| (a - b).abs() > tol) {
+            Some(k) if a.len() == b.len() => Err(format!("value {k}: {} is not {}", a[k], b[k])),
+            _ if a.len() != b.len() => Err("not as many values".into()),
+            _ => Ok(()),
+        }
+    }
+
+    #[test]
+    fn binary_files_read_as_their_ascii_twins() {
+        for name in TWINS {
+            let path = Path::new("t.msh");
+            let ascii = fixture(&format!("{name}_ascii"));
+            let binary = fixture(&format!("{name}_binary"));
+            assert!(std::str::from_utf8(binary).is_err(), "{name} is binary");
+            for sizes in [false, true] {
+                if sizes && !name.contains("sizes") {
+                    continue;
+                }
+                let a = parse_bytes(ascii, path, sizes).unwrap();
+                let b = parse_bytes(binary, path, sizes).unwrap();
+                if name.starts_with("meshio") {
+                    // meshio's ASCII has 17 digits, which give every double back.
+                    assert_eq!(everything(&a), everything(&b), "{name}, sizes {sizes}");
+                } else {
+                    // Gmsh's has 16 (`%.16g`), one rounding off the double it wrote in binary
+                    // (0.2711324865408619 for 0.27113248654086186).
+                    same_within(&b, &a, 1e-16).unwrap_or_else(|e| panic!("{name}, {sizes}: {e}"));
+                    assert_ne!(
+                        everything(&a),
+                        everything(&b),
+                        "{name}: 16 digits were enough"
+                    );
+                }
+            }
+        }
+        // What the twins hold, so that equal reads are no two empty ones.
+        let gmsh = parse_bytes(fixture("gmsh41_binary"), Path::new("g.msh"), false).unwrap();
+        assert_eq!(gmsh.mesh.points.len(), 20);
+        assert_eq!(gmsh.mesh.points[0], DVec2::ZERO);
+        let loops: std::collections::BTreeSet<_> = gmsh
+            .mesh
+            .markers
+            .iter()
+            .filter_map(|m| m.loop_index())
+            .collect();
+        assert_eq!(loops.len(), 2, "the square and its hole");
+        let walls: std::collections::BTreeSet<i64> = gmsh.walls.edges.iter().map(|e| e.1).collect();
+        assert_eq!(walls, [7, 8, 9].into());
+        assert_eq!(gmsh.walls.points, [(0, 21)]);
+        assert_eq!(gmsh.walls.names[&7], "inflow");
+        let v2 = parse_bytes(fixture("gmsh22_binary"), Path::new("g.msh"), false).unwrap();
+        assert_eq!(
+            everything(&v2),
+            everything(&gmsh),
+            "2.2 and 4.1 of one mesh, in binary"
+        );
+        let (m, h) = sizes_from(fixture("gmsh22_sizes_binary"), Path::new("g.msh")).unwrap();
+        for (p, h) in m.points.iter().zip(&h) {
+            assert!(
+                (h - (0.05 + 0.1 * p.x + 0.2 * p.y)).abs() < 1e-15,
+                "{p} {h}"
+            );
+        }
+        let (m, h) = sizes_from(fixture("meshio41_sizes_binary"), Path::new("m.msh")).unwrap();
+        assert_eq!((m.num_triangles(), h), (4, vec![0.1, 0.2, 0.3, 0.4, 0.5]));
+        let walls = parse_bytes(
+            fixture("meshio22_physical_binary"),
+            Path::new("m.msh"),
+            false,
+        )
+        .unwrap()
+        .walls;
+        assert_eq!(
+            walls.edges,
+            [([0, 1], 3), ([1, 2], 3), ([2, 3], 5), ([3, 0], 5)]
+        );
+        assert_eq!(walls.names[&5], "top");
+    }
+
+    #[test]
+    fn read_gmsh_reads_binary_files() {
+        let dir = TempDir::new("msh-binary");
+        let p = dir.path("b.msh");
+        fs::write(&p, fixture("gmsh41_sizes_binary")).unwrap();
+        let bytes = fixture("gmsh41_sizes_binary");
+        assert_eq!(
+            format!("{:?}", read_gmsh(&p).unwrap()),
+            format!("{:?}", gmsh_from_bytes(bytes).unwrap())
+        );
+        let (m, walls) = read_gmsh_with_walls(&p).unwrap();
+        assert_eq!(m.num_triangles(), 28);
+        assert_eq!(
+            format!("{walls:?}"),
+            format!("{:?}", gmsh_walls_from_bytes(bytes).unwrap())
+        );
+        assert_eq!(walls.names[&8], "wall");
+        assert_eq!(
+            read_gmsh_sizes(&p).unwrap().1,
+            gmsh_sizes_from_bytes(bytes).unwrap().1
+        );
+        let file = read_gmsh_sizes_file(&p).unwrap();
+        assert_eq!((file.sizes.len(), file.view), (20, None));
+    }
+
+    /// A square of two triangles, its bottom a line in physical curve 7, as a binary 4.1 file
+    /// in either byte order and with a `size_t` of 8 or 4 bytes.
+    fn square_v4(big: bool, size_t: usize) -> Vec<u8> {
+        let mut b = format!("$MeshFormat\n4.1 1 {size_t}\n").into_bytes();
+        let int = |b: &mut Vec<u8>, v: i32| {
+            b.extend(if big {
+                v.to_be_bytes()
+            } else {
+                v.to_le_bytes()
+            })
+        };
+        let size = |b: &mut Vec<u8>, v: u64| {
+            let bytes = if big {
+                v.to_be_bytes()
+            } else {
+                v.to_le_bytes()
+            };
+            b.extend(if big {
+                &bytes[8 - size_t..]
+            } else {
+                &bytes[..size_t]
+            });
+        };
+        let double = |b: &mut Vec<u8>, v: f64| {
+            b.extend(if big {
+                v.to_be_bytes()
+            } else {
+                v.to_le_bytes()
+            })
+        };
+        int(&mut b, 1);
+        b.extend(b"\n$EndMeshFormat\n$Entities\n");
+        for n in [0, 1, 1, 0] {
+            size(&mut b, n);
+        }
+        // Curve 3 in physical 7, bounded by no points; surface 1 in physical 100.
+        int(&mut b, 3);
+        for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0] {
+            double(&mut b, v);
+        }
+        size(&mut b, 1);
+        int(&mut b, 7);
+        size(&mut b, 0);
+        int(&mut b, 1);
+        for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+            double(&mut b, v);
+        }
+        size(&mut b, 1);
+        int(&mut b, 100);
+        size(&mut b, 1);
+        int(&mut b, 3);
+        b.extend(b"\n$EndEntities\n$Nodes\n");
+        for n in [1, 4, 1, 4] {
+            size(&mut b, n);
+        }
+        for v in [2, 1, 0] {
+            int(&mut b, v);
+        }
+        size(&mut b, 4);
+        for tag in 1..=4 {
+            size(&mut b, tag);
+        }
+        for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0] {
+            double(&mut b, v);
+        }
+        b.extend(b"\n$EndNodes\n$Elements\n");
+        for n in [2, 3, 1, 3] {
+            size(&mut b, n);
+        }
+        for v in [1, 3, 1] {
+            int(&mut b, v);
+        }
+        size(&mut b, 1);
+        for v in [1, 1, 2] {
+            size(&mut b, v);
+        }
+        for v in [2, 1, 2] {
+            int(&mut b, v);
+        }
+        size(&mut b, 2);
+        for v in [2, 1, 2, 3, 3, 1, 3, 4] {
+            size(&mut b, v);
+        }
+        b.extend(b"\n$EndElements\n");
+        b
+    }
+
+    #[test]
+    fn binary_files_read_in_either_byte_order_and_size() {
+        let text = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 1 1 0\n\
+                    3 0 0 0 1 0 0 1 7 0\n1 0 0 0 1 1 0 1 100 1 3\n$EndEntities\n\
+                    $Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n\
+                    $Elements\n2 3 1 3\n1 3 1 1\n1 1 2\n2 1 2 2\n2 1 2 3\n3 1 3 4\n$EndElements\n";
+        let want = everything(&parse(text, Path::new("s.msh"), false).unwrap());
+        assert!(want.contains("edges: [([0, 1], 7)]"), "{want}");
+        for big in [false, true] {
+            for size_t in [8, 4] {
+                let bytes = square_v4(big, size_t);
+                let got = parse_bytes(&bytes, Path::new("s.msh"), false).unwrap();
+                assert_eq!(everything(&got), want, "big-endian {big}, size_t {size_t}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_binary_files_name_the_fault_and_its_byte() {
+        let good = square_v4(false, 8);
+        let find = |b: &[u8], s: &str| b.windows(s.len()).position(|w| w == s.as_bytes()).unwrap();
+        let err = |b: &[u8]| {
+            parse_bytes(b, Path::new("b.msh"), false)
+                .map(|_| ())
+                .unwrap_err()
+                .to_string()
+        };
+        let nodes = find(&good, "$Nodes\n") + 7;
+        let elements = find(&good, "$Elements\n") + 10;
+        let mut cases: Vec<(Vec<u8>, String)> = Vec::new();
+        let mut with = |at: usize, bytes: &[u8], want: String| {
+            let mut b = good.clone();
+            b[at..at + bytes.len()].copy_from_slice(bytes);
+            cases.push((b, want));
+        };
+        with(18, b"6", "binary data size 6 is not supported".into());
+        with(
+            20,
+            &[2, 0, 0, 0],
+            "byte 20: the binary int after the format line is [02, 00, 00, 00]".into(),
+        );
+        // The number of node blocks, and of the nodes of the first block (after 32 bytes of
+        // counts and 12 of the block's ints).
+        with(
+            nodes,
+            &u64::MAX.to_le_bytes(),
+            format!(
+                "byte {}: $Nodes gives 18446744073709551615 node blocks",
+                nodes + 32
+            ),
+        );
+        with(
+            nodes + 44,
+            &(1u64 << 40).to_le_bytes(),
+            format!("byte {}: $Nodes gives 1099511627776 nodes", nodes + 52),
+        );
+        with(
+            nodes + 40,
+            &[2, 0, 0, 0],
+            format!(
+                "byte {}: a node block of dimension 2 has the parametric flag 2",
+                nodes + 40
+            ),
+        );
+        // The third node's z: the parser's error, at the byte its line came from.
+        let z = nodes + 52 + 32 + 2 * 24 + 16;
+        with(
+            z,
+            &0.5f64.to_le_bytes(),
+            format!("byte {}: z = 0.5", z - 16),
+        );
+        // The first element block's type: 99 is none, 3 a quadrangle (the parser's).
+        with(
+            elements + 40,
+            &[99, 0, 0, 0],
+            format!("byte {}: element type 99 is not supported", elements + 40),
+        );
+        // A node that is not in $Nodes.
+        with(
+            elements + 52 + 8,
+            &[9, 0, 0, 0],
+            "refers to node 9, which is not in $Nodes".into(),
+        );
+        // One block fewer than the section holds: its bytes are where $EndElements should be.
+        with(
+            elements,
+            &[1],
+            format!(
+                "byte {}: expected $EndElements after the binary data of $Elements",
+                elements + 76
+            ),
+        );
+        for (bytes, want) in cases {
+            let e = err(&bytes);
+            assert!(
+                e.starts_with("b.msh: ") && e.contains(&want),
+                "{e:?} should contain {want:?}"
+            );
+        }
+        let e = err(&good[..good.len() - 20]);
+        let want = format!(
+            "byte {}: $Elements gives 2 elements of 32 bytes or more, but 58 bytes are left",
+            good.len() - 78
+        );
+        assert!(e.contains(&want), "{e}");
+        let e = err(&good[..elements + 20]);
+        let want = format!(
+            "byte {}: the file ends in $Elements, in the smallest element tag (8 bytes, 4 left)",
+            elements + 16
+        );
+        assert!(e.contains(&want), "{e}");
+        // A 2.2 file: an element block claiming more elements than the section.
+        let mut v2 = fixture("meshio22_plain_binary").to_vec();
+        let at = find(&v2, "$Elements\n4\n") + 12;
+        v2[at + 4] = 5;
+        assert!(err(&v2).contains(&format!(
+            "byte {at}: a block of 5 elements, past the 4 the section gives"
+        )));
+        // A section that never ends.
+        let open = [&good[..nodes], b"\x00\x01"].concat();
+        let e = err(&[&good[..find(&good, "$Nodes")], b"$Periodic\n\x00\x01"].concat());
+        assert!(e.contains("section $Periodic has no $EndPeriodic"), "{e}");
+        assert!(err(&open).contains("the file ends in $Nodes"));
+        // A binary section the reader skips: left out.
+        let periodic = [
+            &good[..find(&good, "$Nodes")],
+            b"$Periodic\n\x07\xff\x00\n$EndPeriodic\n",
+            &good[find(&good, "$Nodes")..],
+        ]
+        .concat();
+        let p = parse_bytes(&periodic, Path::new("b.msh"), false).unwrap();
+        assert_eq!(p.mesh.triangles.len(), 2);
+    }
+
+    #[test]
+    fn every_truncation_of_a_binary_file_is_an_error() {
+        // Each has a mesh and a view: no cut before the view's end leaves a file to read.
+        for name in [
+            "gmsh41_sizes_binary",
+            "gmsh22_sizes_binary",
+            "meshio41_sizes_binary",
+            "meshio22_sizes_binary",
+        ] {
+            let bytes = fixture(name);
+            let last = bytes.len() - b"$EndNodeData\n".len();
+            assert_eq!(&bytes[last..], b"$EndNodeData\n");
+            for n in 0..=last {
+                let cut = sizes_from(&bytes[..n], Path::new("t.msh"));
+                assert!(cut.is_err(), "{name} cut at {n} of {} read", bytes.len());
+            }
+        }
+    }
+
     proptest::proptest! {
         #[test]
         fn random_bytes_never_panic(bytes in proptest::collection::vec(proptest::num::u8::ANY, 0..300)) {
@@ -1316,11 +1845,29 @@ mod tests {
         }
 
         #[test]
+        fn corrupted_binary_files_never_panic(
+            which in 0..4usize,
+            flips in proptest::collection::vec((proptest::num::usize::ANY, 1..=255u8), 1..6),
+            cut in proptest::num::usize::ANY,
+        ) {
+            let names = ["gmsh41_sizes", "gmsh22_sizes", "meshio41_physical", "meshio22_physical"];
+            let mut bytes = fixture(&format!("{}_binary", names[which])).to_vec();
+            for (at, x) in flips {
+                let n = bytes.len();
+                bytes[at % n] ^= x;
+            }
+            bytes.truncate(cut % (bytes.len() + 1) + bytes.len() / 2);
+            for sizes in [false, true] {
+                let _ = parse_bytes(&bytes, Path::new("r.msh"), sizes).map(|r| r.mesh);
+            }
+        }
+
+        #[test]
         fn random_numbers_after_a_valid_header_never_panic(body in "[0-9 \n.$a-zA-Z-]{0,200}") {
             let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
             let _ = parse(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Elements\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
             let _ = parse(&format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n{body}"), Path::new("r.msh"), false).map(|r| r.mesh);
-            let _ = sizes_from(&format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$NodeData\n{body}"), Path::new("r.msh"));
+            let _ = sizes_from(format!("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$NodeData\n{body}").as_bytes(), Path::new("r.msh"));
         }
     }
 
@@ -1343,7 +1890,7 @@ mod tests {
         for version in ["2.2", "4.1"] {
             let text = with_node_data(version, data)
                 + "$NodeData\n1\n\"other\"\n1\n0\n3\n0\n1\n1\n10 9\n$EndNodeData\n";
-            let (m, h) = sizes_from(&text, Path::new("bg.msh")).unwrap();
+            let (m, h) = sizes_from(text.as_bytes(), Path::new("bg.msh")).unwrap();
             assert_eq!(m.num_triangles(), 2, "{version}");
             assert_eq!(h, [0.1, 0.2, 0.3, 0.4], "{version}");
             // The mesh reader alone still skips the view.
@@ -1379,11 +1926,12 @@ mod tests {
             ),
         ];
         for (data, want) in cases {
-            let e = sizes_from(&with_node_data("2.2", &data), Path::new("bg.msh")).unwrap_err();
+            let e = sizes_from(with_node_data("2.2", &data).as_bytes(), Path::new("bg.msh"))
+                .unwrap_err();
             assert!(e.to_string().contains(want), "{e} should contain {want:?}");
         }
         let no_view = with_node_data("2.2", "").replace("$NodeData\n$EndNodeData\n", "");
-        let e = sizes_from(&no_view, Path::new("bg.msh")).unwrap_err();
+        let e = sizes_from(no_view.as_bytes(), Path::new("bg.msh")).unwrap_err();
         assert!(e.to_string().contains("no $NodeData section"), "{e}");
     }
 }
