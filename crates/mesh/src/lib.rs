@@ -15,8 +15,9 @@ mod thin;
 mod types;
 
 pub use check::{
-    check_conforming, measurable, min_angle_and_slivers, short_coverage, slivers, ConformityError,
-    ShortCoverage, Slivers, MIN_COVERAGE, SLIVER_ANGLE_DEG,
+    check_conforming, chord_allowance, measurable, min_angle_and_slivers, short_coverage, slivers,
+    ConformityError, ShortCoverage, Slivers, CHORD_ALLOWANCE, EDGE_ALLOWANCE, MIN_COVERAGE,
+    SLIVER_ANGLE_DEG,
 };
 pub use error::MeshError;
 pub use mesher::{

@@ -167,10 +167,10 @@ fn boundary_loops(
         .collect()
 }
 
-/// Where the chord a–b leaves the region by more than a curved piece's sagitta allows (the
-/// allowance of `mesh::check_conforming`), skipping part of the boundary.
-fn chord_leaves(region: &Region, a: DVec2, b: DVec2) -> Option<DVec2> {
-    let allowance = 1e-9 * region.diameter() + 0.13 * a.distance(b);
+/// Where the chord a–b leaves the region by more than `share` of its length (a curved
+/// stretch's sagitta, as `mesh::check_conforming` allows it), skipping part of the boundary.
+fn chord_leaves(region: &Region, a: DVec2, b: DVec2, share: f64) -> Option<DVec2> {
+    let allowance = 1e-9 * region.diameter() + share * a.distance(b);
     (1..8)
         .map(|s| a.lerp(b, s as f64 / 8.0))
         .find(|&x| region.signed_distance(x) > allowance)
@@ -224,7 +224,7 @@ fn read_off(
             let (u, w) = (lp[k], lp[(k + 1) % lp.len()]);
             let (vu, vw) = (vertex(u), vertex(w));
             if !del.ring(vu as usize).contains(&vw)
-                || chord_leaves(region, points[u], points[w]).is_some()
+                || chord_leaves(region, points[u], points[w], mesh::EDGE_ALLOWANCE).is_some()
             {
                 return None;
             }
@@ -395,7 +395,11 @@ fn attempt(
             // A chord that leaves the region by more than a curved piece's sagitta allows
             // (the allowance of `mesh::check_conforming`) skips part of the boundary.
             let (a, b) = (pos[owner[u]], pos[owner[w]]);
-            if let Some(x) = chord_leaves(region, a, b) {
+            let far = chord_leaves(region, a, b, mesh::EDGE_ALLOWANCE).and_then(|_| {
+                let share = mesh::chord_allowance(region, &markers[owner[u]], &markers[owner[w]]);
+                chord_leaves(region, a, b, share)
+            });
+            if let Some(x) = far {
                 return bad(format!(
                     "boundary edge ({}, {}) – ({}, {}) of loop {l} leaves the region near ({}, {}): the boundary \
                      vertices skip a corner or a bend, or are too coarse for the boundary's curvature there: more \
