@@ -71,6 +71,57 @@ impl Region {
         polygon_region(name, name, loops)
     }
 
+    /// [`Region::from_loops`] with its walls numbered as a `.poly`'s segment markers number
+    /// them: each loop's `markers` give the marker of each of its edges (edge `i` runs from
+    /// point `i` to the next), which become the pieces' markers
+    /// ([`Region::piece_markers`]); a vertex where the marker changes is a corner, so a mesh
+    /// has a vertex there and no mesh edge lies on two walls. One marker per point of its loop
+    /// (after a closing copy of the first point is dropped), within Triangle's and Gmsh's
+    /// 32-bit range.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, LoopRole, Region};
+    /// // A channel: inlet 1 on the left, walls 2, outlet 3 on the right, the bottom wall split
+    /// // at x = 1 where a heated stretch 4 begins.
+    /// let pts = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)].map(|(x, y)| DVec2::new(x, y));
+    /// let r = Region::from_loops_marked("channel", vec![(LoopRole::Outer, pts.to_vec(), vec![2, 4, 3, 2, 1])])?;
+    /// assert_eq!(r.piece_markers(), Some(&[2, 4, 3, 2, 1][..]));
+    /// // The straight bottom side turns at no vertex, yet (1, 0) is a corner: the marker changes.
+    /// assert!(r.corners().iter().any(|c| c.pos == DVec2::X));
+    /// let e = Region::from_loops_marked("short", vec![(LoopRole::Outer, pts.to_vec(), vec![1, 2])]).unwrap_err();
+    /// assert!(e.to_string().contains("2 markers for its 5 edges"), "{e}");
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn from_loops_marked(
+        name: &str,
+        loops: Vec<(LoopRole, Vec<DVec2>, Vec<i64>)>,
+    ) -> Result<Region, GeometryError> {
+        let mut markers = SegmentMarkers::new();
+        let mut rings = Vec::with_capacity(loops.len());
+        for (l, (role, mut pts, marks)) in loops.into_iter().enumerate() {
+            if pts.len() > 1 && pts.first() == pts.last() {
+                pts.pop();
+            }
+            if marks.len() != pts.len() {
+                return Err(GeometryError::Invalid {
+                    region: name.to_string(),
+                    message: format!(
+                        "loop {l} has {} markers for its {} edges (one per edge, edge i from \
+                         point i to the next)",
+                        marks.len(),
+                        pts.len()
+                    ),
+                });
+            }
+            let n = pts.len();
+            for (i, &m) in marks.iter().enumerate() {
+                markers.insert(segment_key(pts[i], pts[(i + 1) % n]), m);
+            }
+            rings.push((Some(role), pts));
+        }
+        marked_polygon_region(name, name, rings, Some(markers), &VertexMarkers::new())
+    }
+
     /// Read a region file in any supported format, chosen by the extension (case-insensitive):
     ///
     /// | extension | format |

@@ -5,6 +5,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 mod check;
+mod dual;
 mod error;
 pub mod io;
 mod mesher;
@@ -19,6 +20,7 @@ pub use check::{
     ConformityError, ShortCoverage, Slivers, CHORD_ALLOWANCE, EDGE_ALLOWANCE, MIN_COVERAGE,
     SLIVER_ANGLE_DEG,
 };
+pub use dual::Dual;
 pub use error::MeshError;
 pub use mesher::{
     boundary_points_needed, memory_estimate, refuse_embedded, total_memory, MeshRequest,

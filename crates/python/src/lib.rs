@@ -370,12 +370,20 @@ impl PyRegion {
     /// corner of this region; `cvtmesh.mesh` keeps those turning by more than its
     /// `corner_angle` (30° by default), as `with_corner_angle` does.
     /// Any array-likes of numbers are taken (lists, integer arrays).
+    /// `markers=[outer_markers, hole_markers, ...]` numbers the walls for boundary conditions,
+    /// as a `.poly`'s segment markers do: one integer per edge of each loop (edge i from point
+    /// i to the next), outer loop first. They become `piece_markers`, a vertex where the
+    /// marker changes is a corner (so a mesh has a vertex there and no edge lies on two
+    /// walls), and the meshes' `.msh` files carry them as physical curves; `names={11:
+    /// "inlet"}` names them.
     #[staticmethod]
-    #[pyo3(signature = (outer, holes = None, name = "region"))]
+    #[pyo3(signature = (outer, holes = None, name = "region", markers = None, names = None))]
     fn from_loops(
         outer: &Bound<'_, PyAny>,
         holes: Option<&Bound<'_, PyAny>>,
         name: &str,
+        markers: Option<Vec<Bound<'_, PyAny>>>,
+        names: Option<std::collections::BTreeMap<i64, String>>,
     ) -> PyResult<PyRegion> {
         let mut loops = vec![(LoopRole::Outer, xy_of(outer, "outer")?)];
         if let Some(holes) = holes {
@@ -385,8 +393,34 @@ impl PyRegion {
                     .map(|h| (LoopRole::Hole, h)),
             );
         }
+        let region = match markers {
+            None => Region::from_loops(name, loops),
+            Some(markers) => {
+                if markers.len() != loops.len() {
+                    return Err(err(format!(
+                        "markers: {} arrays for {} loops; need one per loop, outer loop first",
+                        markers.len(),
+                        loops.len()
+                    )));
+                }
+                let mut marked = Vec::with_capacity(loops.len());
+                for (l, ((role, pts), m)) in loops.into_iter().zip(&markers).enumerate() {
+                    let m: PyReadonlyArray1<'_, i64> = whole_numbers(m, "markers")?
+                        .call_method0("ravel")?
+                        .extract()
+                        .map_err(|_| {
+                            err(format!(
+                                "markers[{l}] must be integers, one per edge of loop {l}"
+                            ))
+                        })?;
+                    marked.push((role, pts, m.as_array().to_vec()));
+                }
+                Region::from_loops_marked(name, marked)
+            }
+        }
+        .map_err(err)?;
         Ok(PyRegion {
-            inner: Arc::new(Region::from_loops(name, loops).map_err(err)?),
+            inner: Arc::new(region.with_marker_names(names.unwrap_or_default())),
         })
     }
 
@@ -957,6 +991,46 @@ impl PyMesh {
         let a = PyArray1::from_vec(py, markers);
         read_only(&a)?;
         Ok(a)
+    }
+
+    /// The Voronoi dual restricted to the mesh, for vertex-centred finite volumes (two-point
+    /// flux): a dict of read-only arrays, `volumes` (N,) each vertex's control volume, `edges`
+    /// (E, 2) every edge once (lower vertex first, sorted), `lengths` (E,), `faces` (E,) the
+    /// dual face between the two ends' cells (from the edge's midpoint to its triangle's
+    /// circumcentre on the boundary), `on_boundary` (E,) bool, and `circumcentres` (M, 2).
+    /// Flux across edge e ≈ faces[e] / lengths[e] × the difference of its ends' values.
+    /// Faces are signed: negative on an edge whose opposite angles sum to more than π (not
+    /// Delaunay) or a boundary edge of a triangle obtuse there; the volumes always sum to the
+    /// mesh's area.
+    fn dual<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = py.detach(|| cvtmesh::Dual::new(&self.mesh));
+        let out = PyDict::new(py);
+        let edges: Vec<i64> = d.edges.iter().flatten().map(|&v| v as i64).collect();
+        let centres: Vec<f64> = d.circumcentres.iter().flat_map(|c| [c.x, c.y]).collect();
+        let ne = d.edges.len();
+        let nt = d.circumcentres.len();
+        let arrays: [(&str, Bound<'py, PyAny>); 6] = [
+            ("volumes", PyArray1::from_vec(py, d.volumes).into_any()),
+            (
+                "edges",
+                PyArray1::from_vec(py, edges).reshape([ne, 2])?.into_any(),
+            ),
+            ("lengths", PyArray1::from_vec(py, d.lengths).into_any()),
+            ("faces", PyArray1::from_vec(py, d.faces).into_any()),
+            (
+                "on_boundary",
+                PyArray1::from_vec(py, d.on_boundary).into_any(),
+            ),
+            (
+                "circumcentres",
+                PyArray1::from_vec(py, centres).reshape([nt, 2])?.into_any(),
+            ),
+        ];
+        for (name, a) in arrays {
+            a.getattr("flags")?.setattr("writeable", false)?;
+            out.set_item(name, a)?;
+        }
+        Ok(out)
     }
 
     /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the

@@ -1183,3 +1183,66 @@ def test_an_interface_between_materials_is_held_by_polished_and_not_meshed_away(
 def test_no_region_is_a_type_error_naming_what_a_region_may_be():
     with pytest.raises(TypeError, match="a Region or a"):
         cvtmesh.mesh(None, n=100)
+
+
+def test_walls_numbered_on_arrays_reach_the_mesh_and_its_file(tmp_path):
+    # A channel: inlet 1 on the left, walls 2, outlet 3 on the right, and a heated stretch 4
+    # of the bottom from x = 1 on, where the side does not turn.
+    pts = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [0, 1]], float)
+    names = {1: "inlet", 3: "outlet", 4: "heated"}
+    r = Region.from_loops(pts, markers=[[2, 4, 3, 2, 1]], names=names)
+    assert r.piece_markers == [2, 4, 3, 2, 1]
+    m = cvtmesh.mesh(r, n=600)
+    # (1, 0) is a vertex, so no edge lies on two walls.
+    assert np.any(np.all(m.points == [1.0, 0.0], axis=1))
+    mid = m.points[m.boundary_edges].mean(axis=1)
+    expected = np.select(
+        [mid[:, 0] < 1e-12, mid[:, 0] > 2 - 1e-12, (mid[:, 1] < 1e-12) & (mid[:, 0] > 1)],
+        [1, 3, 4],
+        2,
+    )
+    np.testing.assert_array_equal(m.boundary_markers(), expected)
+    # A hole's walls too, in the same list; the .msh names the groups.
+    hole = np.array([[0.4, 0.4], [0.6, 0.4], [0.6, 0.6], [0.4, 0.6]])
+    r2 = Region.from_loops(pts, holes=[hole], markers=[[2, 4, 3, 2, 1], [7, 7, 7, 7]], names=names)
+    assert r2.piece_markers[-1] == 7
+    m2 = cvtmesh.mesh(r2, n=600)
+    m2.write(tmp_path / "c.msh")
+    text = (tmp_path / "c.msh").read_text()
+    assert '"heated"' in text and '"inlet"' in text and '"marker7"' in text
+    with pytest.raises(MeshError, match="loop 0 has 2 markers for its 5 edges"):
+        Region.from_loops(pts, markers=[[1, 2]])
+    with pytest.raises(MeshError, match="1 arrays for 2 loops"):
+        Region.from_loops(pts, holes=[hole], markers=[[2, 4, 3, 2, 1]])
+    with pytest.raises(MeshError, match="whole numbers"):
+        Region.from_loops(pts, markers=[[2, 4, 3.5, 2, 1]])
+
+
+def test_the_dual_gives_finite_volume_cells_that_tile_the_mesh():
+    m = cvtmesh.mesh("square_hole", n=1500)
+    d = m.dual()
+    u = m.points[m.triangles[:, 1]] - m.points[m.triangles[:, 0]]
+    v = m.points[m.triangles[:, 2]] - m.points[m.triangles[:, 0]]
+    area = 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]).sum()
+    assert d["volumes"].shape == (len(m.points),) and (d["volumes"] > 0).all()
+    assert abs(d["volumes"].sum() - area) < 1e-12 * area
+    # A CCVT mesh is Delaunay and has no triangle obtuse at the boundary: no negative face,
+    # so a two-point flux scheme is monotone on it.
+    assert (d["faces"] >= -1e-12 * d["lengths"]).all()
+    # Every edge once; boundary edges are those of the mesh's boundary.
+    assert len(d["edges"]) == len({tuple(e) for e in d["edges"]})
+    ends = np.sort(m.boundary_edges, axis=1)
+    assert {tuple(e) for e in d["edges"][d["on_boundary"]]} == {tuple(e) for e in ends}
+    # Divergence theorem on the dual: for u = x² + y², Δu = 4, the two-point fluxes out of an
+    # inner cell sum to 4 × its volume (exactly, on a Delaunay mesh, for a quadratic).
+    u = (m.points**2).sum(axis=1)
+    i, j = d["edges"][:, 0], d["edges"][:, 1]
+    flux = d["faces"] / d["lengths"] * (u[j] - u[i])
+    net = np.zeros(len(u))
+    np.add.at(net, i, flux)
+    np.add.at(net, j, -flux)
+    inner = np.ones(len(u), bool)
+    inner[np.unique(m.boundary_edges)] = False
+    np.testing.assert_allclose(net[inner], 4 * d["volumes"][inner], rtol=1e-9)
+    assert not d["faces"].flags.writeable
+    assert d["circumcentres"].shape == (len(m.triangles), 2)

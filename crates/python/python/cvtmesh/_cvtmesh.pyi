@@ -1,7 +1,7 @@
 """Type stubs of the compiled module (see ``cvtmesh/__init__.py`` for the public layer)."""
 
 from os import PathLike
-from typing import Any, Callable, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -31,7 +31,11 @@ class Region:
     ) -> Region: ...
     @staticmethod
     def from_loops(
-        outer: npt.ArrayLike, holes: Optional[Sequence[npt.ArrayLike]] = None, name: str = "region"
+        outer: npt.ArrayLike,
+        holes: Optional[Sequence[npt.ArrayLike]] = None,
+        name: str = "region",
+        markers: Optional[Sequence[npt.ArrayLike]] = None,
+        names: Optional[Dict[int, str]] = None,
     ) -> Region: ...
     @staticmethod
     def from_parts(
@@ -83,6 +87,7 @@ class Mesh:
     def boundary_pieces(self, region: Optional[Region] = None) -> npt.NDArray[np.int64]: ...
     def boundary_markers(self, region: Optional[Region] = None) -> npt.NDArray[np.int64]: ...
     def vertex_markers(self, region: Optional[Region] = None) -> npt.NDArray[np.int64]: ...
+    def dual(self) -> dict[str, npt.NDArray[Any]]: ...
     def measures(self, region: Optional[Region] = None) -> dict[str, float]: ...
     def to_meshio(self, order: int = 1, region: Optional[Region] = None) -> Any: ...
     def polished(self, region: Optional[Region] = None, below: float = 40.0) -> Mesh: ...
