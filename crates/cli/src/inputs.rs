@@ -100,8 +100,12 @@ pub fn region_of(
     if let Some(spec) = spec {
         return region(spec, None);
     }
-    cvtmesh::region_of_mesh(mesh, walls, path)
-        .map_err(|e| anyhow!("no --region given, and the mesh is no region: {e}"))
+    let region = cvtmesh::region_of_mesh(mesh, walls, path)
+        .map_err(|e| anyhow!("no --region given, and the mesh is no region: {e}"))?;
+    for note in region.notes() {
+        eprintln!("warning: {note}");
+    }
+    Ok(region)
 }
 
 /// A mesh from Triangle's .node (+ .ele beside it) or Gmsh's .msh.

@@ -658,6 +658,23 @@ fn bad_input_is_refused_with_a_clear_message() {
         &out,
         "the size field asks for 0.04 vertices (its sizes from 1.000e1 on a region 2.828e0 across)",
     );
+    // K too few for the field's range: the scaled field would leave most of the disc out.
+    assert_refused(
+        &[
+            "mesh",
+            "circle",
+            "--size-field",
+            "1e-5+x^2",
+            "-n",
+            "1000",
+            "-m",
+            "distmesh",
+            "-o",
+            o,
+        ],
+        &out,
+        "K = 1000 vertices are too few for this size field",
+    );
     // A threshold with a uniform size: refused, not ignored (it was, without a word).
     assert_refused(
         &[
@@ -2818,4 +2835,52 @@ fn an_unmarked_wall_is_written_with_marker_one_as_triangle_does() {
         .map(|l| l.split_whitespace().nth(3).unwrap())
         .collect();
     assert_eq!(markers, ["1", "2"].into_iter().collect());
+}
+
+/// A Gmsh user's rectangle: its curves in `inlet` 11 or `walls` 12 and all of them in
+/// `all_boundary` 99 too, the surface in `fluid` 1. Meshed again and polished, the new files
+/// keep the walls and the surface group with their tags and names, and say that 99 is not
+/// kept (a boundary edge keeps one wall).
+#[test]
+fn gmsh_groups_come_through_a_new_mesh_and_a_polish() {
+    let d = scratch("groups");
+    let old = d.join("rect.msh");
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../mesh/tests/data/msh/overlapping_groups.msh"
+        ),
+        &old,
+    )
+    .unwrap();
+    let new = d.join("new.msh");
+    let o = cvtmesh(&[
+        "mesh",
+        old.to_str().unwrap(),
+        "-n",
+        "300",
+        "-o",
+        new.to_str().unwrap(),
+    ]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    assert!(
+        t.contains("warning: physical curve 99 \"all_boundary\" is not kept"),
+        "{t}"
+    );
+    let written = std::fs::read_to_string(&new).unwrap();
+    for group in ["1 11 \"inlet\"", "1 12 \"walls\"", "2 1 \"fluid\""] {
+        assert!(written.contains(group), "{group} missing:\n{written}");
+    }
+    assert!(!written.contains("\"domain\""));
+    let polished = d.join("polished.msh");
+    let o = cvtmesh(&[
+        "polish",
+        new.to_str().unwrap(),
+        "-o",
+        polished.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let written = std::fs::read_to_string(&polished).unwrap();
+    assert!(written.contains("2 1 \"fluid\"") && written.contains("1 11 \"inlet\""));
 }

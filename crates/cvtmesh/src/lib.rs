@@ -115,7 +115,7 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 ///     edges: vec![([0, 1], 3)],
 ///     points: vec![(2, 8)],
 ///     names: [(3, "heated".to_string())].into(),
-///     inner: Vec::new(),
+///     ..Default::default()
 /// };
 /// let r = cvtmesh::region_of_mesh(&mesh, &walls, path)?.with_default_corners();
 /// assert_eq!(r.piece_markers().map(|m| m.contains(&3)), Some(true));
@@ -139,7 +139,15 @@ pub fn region_of_mesh(
         &walls.points,
     );
     region
-        .map(|r| r.with_marker_names(walls.names.clone()))
+        .map(|r| {
+            let r = r
+                .with_marker_names(walls.names.clone())
+                .with_notes(walls.notes.iter().cloned());
+            match &walls.surface_group {
+                Some((tag, name)) => r.with_surface_group(*tag, name),
+                None => r,
+            }
+        })
         .map_err(|e| match e {
             GeometryError::Invalid { message, .. } => GeometryError::Invalid {
                 region: path.display().to_string(),

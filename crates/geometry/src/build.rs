@@ -162,6 +162,7 @@ impl Region {
         merged.vertex_markers = self.vertex_markers.clone();
         merged.embedded = self.embedded.clone();
         merged.notes = self.notes.clone();
+        merged.surface_group = self.surface_group.clone();
         merged
     }
 
@@ -678,5 +679,6 @@ pub(crate) fn assemble(
         embedded: Vec::new(),
         inside_grid: Default::default(),
         notes: Vec::new(),
+        surface_group: None,
     }
 }

@@ -91,6 +91,8 @@ pub struct Region {
     pub(crate) inside_grid: Arc<InsideGrid>,
     /// What the region's file held that the region does not use ([`Region::notes`]).
     pub(crate) notes: Vec<String>,
+    /// The physical surface its file put the whole region in ([`Region::surface_group`]).
+    pub(crate) surface_group: Option<(i64, String)>,
 }
 
 /// Cells of the [`Region::inside_grid`] a side.
@@ -287,6 +289,36 @@ impl Region {
     /// ```
     pub fn with_marker_names(mut self, names: impl IntoIterator<Item = (i64, String)>) -> Region {
         self.marker_names.extend(names);
+        self
+    }
+
+    /// The tag and name of the physical surface the region's file put all of it in (a Gmsh
+    /// mesh's single physical surface, such as 1 `"fluid"`), which the `.msh` files written
+    /// for its meshes give their triangles again; `None` where the file named none (they are
+    /// then in the surface `"domain"`).
+    ///
+    /// ```
+    /// use cvtmesh::geometry::Region;
+    /// let r = Region::builtin("circle")?;
+    /// assert_eq!(r.surface_group(), None);
+    /// let r = r.with_surface_group(1, "fluid");
+    /// assert_eq!(r.with_default_corners().surface_group(), Some((1, "fluid")));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn surface_group(&self) -> Option<(i64, &str)> {
+        self.surface_group.as_ref().map(|(t, n)| (*t, n.as_str()))
+    }
+
+    /// The same region with the physical surface ([`Region::surface_group`]) `tag` `name`.
+    pub fn with_surface_group(mut self, tag: i64, name: &str) -> Region {
+        self.surface_group = Some((tag, name.to_string()));
+        self
+    }
+
+    /// The same region with `notes` added to [`Region::notes`] (what its file held that the
+    /// region does not keep).
+    pub fn with_notes(mut self, notes: impl IntoIterator<Item = String>) -> Region {
+        self.notes.extend(notes);
         self
     }
     /// The centre about which the region is rotationally symmetric: every piece a full circle

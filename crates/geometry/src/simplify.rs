@@ -192,6 +192,7 @@ impl Region {
                 }
                 region.corners_computed = true;
                 region.notes = self.notes.clone();
+                region.surface_group = self.surface_group.clone();
                 // Embedded points stay where they are; one the simplified boundary no longer
                 // holds well inside is a reason to simplify less.
                 let embedded = region

@@ -197,6 +197,7 @@ impl Region {
         region.corners_computed = self.corners_computed;
         region.embedded = self.embedded.clone();
         region.notes = self.notes.clone();
+        region.surface_group = self.surface_group.clone();
         SpacingCorners {
             region,
             pieces: origin_piece,

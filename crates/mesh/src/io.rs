@@ -180,8 +180,17 @@ pub(crate) struct Nodes<'a> {
     pub corner_markers: Vec<Option<i64>>,
     /// The region's embedded points with nonzero markers ([`Region::embedded_points`]).
     pub embedded: Vec<(DVec2, i64)>,
+    /// The physical surface the triangles go in ([`Region::surface_group`]).
+    pub surface_group: Option<(i64, String)>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
+}
+
+/// The region's physical surface, for the writers.
+fn surface_group_of(region: Option<&Region>) -> Option<(i64, String)> {
+    region
+        .and_then(Region::surface_group)
+        .map(|(t, n)| (t, n.to_string()))
 }
 
 impl<'a> Nodes<'a> {
@@ -195,6 +204,7 @@ impl<'a> Nodes<'a> {
             marker_names: names_of(region),
             corner_markers: corner_markers(region),
             embedded: marked_embedded(region),
+            surface_group: surface_group_of(region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -218,6 +228,7 @@ impl<'a> Nodes<'a> {
             marker_names: names_of(q.region()),
             corner_markers: corner_markers(q.region()),
             embedded: marked_embedded(q.region()),
+            surface_group: surface_group_of(q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -407,6 +418,12 @@ pub struct Walls {
     /// them is not taken as a region to mesh again (`cvtmesh::load_region`), which would lose
     /// them.
     pub inner: Vec<[u32; 2]>,
+    /// The physical surface the file puts every triangle in, tag and name (a Gmsh mesh's one
+    /// physical surface), which a region of the mesh keeps ([`Region::surface_group`]).
+    pub surface_group: Option<(i64, String)>,
+    /// What the file numbers that these walls do not keep: a Gmsh physical curve whose curves
+    /// are in another group too (each boundary edge keeps one wall, the first).
+    pub notes: Vec<String>,
 }
 
 impl Walls {

@@ -178,6 +178,12 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     pieces_named.sort_unstable();
     pieces_named.dedup();
     let piece_phys = |j: usize| surface_phys + 1 + j;
+    // The physical surface the region's file gave (Gmsh numbers each dimension's groups
+    // apart, so its tag may be a curve's too), else ours.
+    let (domain_tag, domain_name) = match &nodes.surface_group {
+        Some((tag, name)) => (*tag, name.clone()),
+        None => (surface_phys as i64, "domain".to_string()),
+    };
     // Where the region numbers its walls, a third physical curve per number, past the pieces'.
     let marker_of = |j: usize| nodes.piece_markers.as_ref().and_then(|m| m.get(j).copied());
     let mut markers_named: Vec<i64> = pieces_named.iter().filter_map(|&j| marker_of(j)).collect();
@@ -214,7 +220,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         for &m in &markers_named {
             writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
-        writeln!(w, "2 {surface_phys} \"domain\"\n$EndPhysicalNames")?;
+        writeln!(w, "2 {domain_tag} \"{domain_name}\"\n$EndPhysicalNames")?;
         writeln!(w, "$Entities\n{} {} 1 0", pins.len(), curves.len())?;
         for (p, &(v, m)) in pins.iter().enumerate() {
             let x = nodes.points[v];
@@ -256,7 +262,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         let (lo, hi) = bbox(&mut (0..n));
         write!(
             w,
-            "1 {} {} 0 {} {} 0 1 {surface_phys} {}",
+            "1 {} {} 0 {} {} 0 1 {domain_tag} {}",
             F(lo.x),
             F(lo.y),
             F(hi.x),
@@ -613,6 +619,8 @@ struct Raw {
     edge_nodes: Vec<([u64; 2], u64)>,
     /// Each triangle's region: its physical surface, or its surface where that has none.
     triangle_regions: Vec<i64>,
+    /// Physical curves that no line keeps as its wall, each with the walls its lines keep.
+    unkept: std::collections::BTreeMap<i64, std::collections::BTreeSet<i64>>,
     /// The most nodes a triangle element had (3, 6, 10, ...): above 3, the nodes that are no
     /// corners go.
     triangle_nodes: usize,
@@ -847,7 +855,25 @@ fn curve_groups(names: &HashMap<(i64, i64), String>, dim: i64, phys: &[i64]) -> 
             .filter(|&&p| p != 0)
             .map(|p| (*p, named(p).map(str::to_string))),
     };
-    CurveGroups { loop_tag, wall }
+    // The other groups of a user's file: a curve also in "all_boundary", say.
+    let others = match (&wall, generic) {
+        (Some((w, _)), None) => phys
+            .iter()
+            .copied()
+            .filter(|p| {
+                *p != 0
+                    && p != w
+                    && !named(p)
+                        .is_some_and(|n| ours(n, "loop") || ours(n, "piece") || ours(n, "marker"))
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    CurveGroups {
+        loop_tag,
+        wall,
+        others,
+    }
 }
 
 /// A curve's physical groups, as [`curve_groups`] reads them.
@@ -855,6 +881,8 @@ fn curve_groups(names: &HashMap<(i64, i64), String>, dim: i64, phys: &[i64]) -> 
 struct CurveGroups {
     loop_tag: i64,
     wall: Option<(i64, Option<String>)>,
+    /// The groups a user's file also puts the curve in, which no wall keeps.
+    others: Vec<i64>,
 }
 
 /// 4.1 `$Entities`: each point's and curve's groups ([`curve_groups`]), by (dimension, tag).
@@ -995,6 +1023,9 @@ fn add_element(
         Kind::Line => {
             raw.lines.push((nodes[0], nodes[1], groups.loop_tag));
             if let Some((w, name)) = &groups.wall {
+                for &other in &groups.others {
+                    raw.unkept.entry(other).or_default().insert(*w);
+                }
                 raw.walls.push((nodes[0], nodes[1], *w));
                 if let Some(name) = name {
                     raw.wall_names.insert(*w, name.clone());
@@ -1228,11 +1259,39 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     for &(a, m) in &raw.pins {
         points.push((lookup(a)?, m));
     }
+    // One physical surface over every triangle: the region's, kept through a new mesh.
+    let surface_group = match raw.triangle_regions.first() {
+        Some(&r) if r < 0 && raw.triangle_regions.iter().all(|&q| q == r) => {
+            let tag = -(r + 1);
+            let name = raw.names.get(&(2, tag)).cloned();
+            Some((tag, name.unwrap_or_else(|| format!("surface{tag}"))))
+        }
+        _ => None,
+    };
+    let notes = raw
+        .unkept
+        .iter()
+        .map(|(group, kept)| {
+            let name = raw
+                .names
+                .get(&(1, *group))
+                .map_or(String::new(), |n| format!(" \"{n}\""));
+            let kept: Vec<String> = kept.iter().map(|k| k.to_string()).collect();
+            format!(
+                "physical curve {group}{name} is not kept: its curves are in physical curve{} \
+                 {} as well, and a boundary edge keeps one wall, the first",
+                if kept.len() == 1 { "" } else { "s" },
+                kept.join(", ")
+            )
+        })
+        .collect();
     let walls = Walls {
         edges,
         points,
         names: std::mem::take(&mut raw.wall_names),
         inner,
+        surface_group,
+        notes,
     };
     let mut edge_nodes = Vec::with_capacity(edge_places.len());
     for (ends, p) in edge_places {
@@ -1329,6 +1388,24 @@ mod tests {
     /// tag), or in different surfaces without physical ones (4.1's entity blocks), share
     /// their diagonal as an interface; a line element inside the mesh is one too, and it
     /// numbers no wall of the region.
+    /// A rectangle as Gmsh users group it: curves in `inlet` 11 or `walls` 12 and all of them
+    /// in `all_boundary` 99 as well, the surface in `fluid` 1. The walls keep 11 and 12 and
+    /// say that 99 is not kept; the surface group is kept, tag and name.
+    #[test]
+    fn a_curve_in_two_groups_is_named_and_the_surface_group_kept() {
+        let text = include_str!("../../tests/data/msh/overlapping_groups.msh");
+        let walls = gmsh_walls_from_str(text).unwrap();
+        let mut markers: Vec<i64> = walls.edges.iter().map(|e| e.1).collect();
+        markers.sort_unstable();
+        assert_eq!(markers, [11, 12, 12, 12]);
+        assert_eq!(walls.surface_group, Some((1, "fluid".to_string())));
+        assert_eq!(walls.notes.len(), 1);
+        assert!(walls.notes[0].starts_with("physical curve 99 \"all_boundary\" is not kept: its curves are in physical curves 11, 12 as well"), "{}", walls.notes[0]);
+        // One group per curve: nothing to note.
+        let ours = text.replace("2 12 99", "1 12").replace("2 11 99", "1 11");
+        assert!(gmsh_walls_from_str(&ours).unwrap().notes.is_empty());
+    }
+
     #[test]
     fn edges_between_surfaces_and_lines_inside_are_inner() {
         let nodes = "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";

@@ -434,8 +434,8 @@ fn walls_of(
     Ok(Walls {
         edges: walls,
         points,
-        names: Default::default(),
         inner,
+        ..Walls::default()
     })
 }
 
