@@ -15,6 +15,11 @@
 //! - `parametric`: `points` (≥ 2), a dense sampling used as one `Piece::Chain`
 //!   (`formula`/`t_range` are documentation only).
 //!
+//! Any segment may carry `marker` (an integer, as a `.poly`'s segment markers number walls for
+//! boundary conditions): its pieces get that marker ([`Region::piece_markers`]; 0 for a
+//! segment without one, where some have one), and a junction where the marker changes is a
+//! corner, so a mesh has a vertex there even where the boundary runs smoothly on.
+//!
 //! `corners` (optional) lists every tangent discontinuity; an empty list means none, and
 //! without the field corners are computed. `name` (optional) names the region; otherwise
 //! the file stem. Every other field (`area`, `bbox`, `length`, ...) is ignored: all derived
@@ -187,9 +192,12 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         ));
     }
     let mut loops = Vec::with_capacity(loops_v.len());
+    let mut marks: Vec<Option<i64>> = Vec::new();
     for (i, lv) in loops_v.iter().enumerate() {
         let ctx = format!("loops[{i}]");
-        loops.push(parse_loop(lv, &ctx).map_err(perr)?);
+        let (role, pieces, m) = parse_loop(lv, &ctx).map_err(perr)?;
+        loops.push((role, pieces));
+        marks.extend(m);
     }
     if loops.iter().all(|l| l.0 == Some(LoopRole::Hole)) {
         return Err(perr("no loop has role 'outer'".into()));
@@ -198,16 +206,71 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         None | Some(Value::Null) => None,
         Some(c) => Some(points(c, "corners", 0).map_err(perr)?),
     };
-    crate::build::new_region(&name, loops, corners).map_err(|e| match e {
+    let located = |e| match e {
         GeometryError::Invalid { region, message } => GeometryError::Invalid {
             region: format!("{region} (from {label})"),
             message,
         },
         other => other,
-    })
+    };
+    if marks.iter().all(Option::is_none) {
+        return crate::build::new_region(&name, loops, corners).map_err(located);
+    }
+    // Each piece's marker by its end points (either way round: loops are reoriented).
+    let key = |p: &Piece| {
+        let (a, b) = (
+            p.start().to_array().map(f64::to_bits),
+            p.end().to_array().map(f64::to_bits),
+        );
+        (a.min(b), a.max(b))
+    };
+    let by_ends: std::collections::HashMap<_, i64> = loops
+        .iter()
+        .flat_map(|(_, pieces)| pieces.iter())
+        .zip(&marks)
+        .map(|(p, m)| (key(p), m.unwrap_or(0)))
+        .collect();
+    let region =
+        crate::build::new_region(&name, loops.clone(), corners.clone()).map_err(located)?;
+    let marker_of = |r: &Region| -> Vec<i64> {
+        r.pieces
+            .iter()
+            .map(|p| by_ends.get(&key(p)).copied().unwrap_or(0))
+            .collect()
+    };
+    let markers = marker_of(&region);
+    // Where the marker changes along a loop, the junction is a corner.
+    let markers = &markers;
+    let changes: Vec<DVec2> = region
+        .loops
+        .iter()
+        .flat_map(|lp| {
+            let n = lp.pieces.len();
+            (0..n).filter_map(move |k| {
+                let (prev, cur) = (lp.pieces[(k + n - 1) % n], lp.pieces[k]);
+                (n > 1 && markers[prev] != markers[cur]).then_some(cur)
+            })
+        })
+        .map(|cur| region.pieces[cur].start())
+        .filter(|p| region.corners.iter().all(|c| c.pos != *p))
+        .collect();
+    let mut region = if changes.is_empty() {
+        region
+    } else {
+        let mut listed: Vec<DVec2> = region.corners.iter().map(|c| c.pos).collect();
+        listed.extend(changes);
+        let mut again = crate::build::new_region(&name, loops, Some(listed)).map_err(located)?;
+        again.corners_computed = region.corners_computed;
+        again
+    };
+    region.markers = marker_of(&region);
+    Ok(region)
 }
 
-fn parse_loop(lv: &Value, ctx: &str) -> Result<(Option<LoopRole>, Vec<Piece>), String> {
+/// A loop's role, its pieces, and each piece's marker (its segment's `marker`, if any).
+type ParsedLoop = (Option<LoopRole>, Vec<Piece>, Vec<Option<i64>>);
+
+fn parse_loop(lv: &Value, ctx: &str) -> Result<ParsedLoop, String> {
     let obj = lv
         .as_object()
         .ok_or_else(|| format!("{ctx} must be an object with 'segments'"))?;
@@ -239,12 +302,26 @@ fn parse_loop(lv: &Value, ctx: &str) -> Result<(Option<LoopRole>, Vec<Piece>), S
     if segs.is_empty() {
         return Err(format!("{ctx}.segments is empty"));
     }
-    let mut pieces = Vec::new();
+    let (mut pieces, mut marks) = (Vec::new(), Vec::new());
     for (k, sv) in segs.iter().enumerate() {
         let sctx = format!("{ctx}.segments[{k}]");
         parse_segment(sv, ccw, &sctx, &mut pieces)?;
+        let marker = match sv.get("marker") {
+            None | Some(Value::Null) => None,
+            Some(m) => Some(
+                m.as_i64()
+                    .filter(|m| i32::try_from(*m).is_ok())
+                    .ok_or_else(|| {
+                        format!(
+                            "{sctx}.marker is {m}; expected an integer within Triangle's and \
+                             Gmsh's 32-bit range"
+                        )
+                    })?,
+            ),
+        };
+        marks.resize(pieces.len(), marker);
     }
-    Ok((role, pieces))
+    Ok((role, pieces, marks))
 }
 
 const KINDS: &str = "polyline, arc, circle, superellipse, parametric";

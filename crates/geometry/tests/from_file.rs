@@ -144,3 +144,46 @@ fn a_byte_order_mark_is_skipped() {
         assert_square_with_hole(&r.with_default_corners(), name);
     }
 }
+
+/// A disc given as two arcs that meet smoothly, its walls numbered by the segments' `marker`:
+/// the junctions, which no turning makes corners, are corners (a mesh keeps a vertex there,
+/// so no boundary edge lies on both walls), and each piece carries its wall's number, through
+/// the command line's default corner angle too. Without markers the smooth junctions are no
+/// corners, as before.
+#[test]
+fn segment_markers_number_the_walls_and_keep_their_junctions() {
+    let arcs = |m: [&str; 2]| {
+        format!(
+            r#"{{"loops": [{{"segments": [
+            {{"kind": "arc", "center": [0, 0], "radius": 1, "from_deg": 0, "to_deg": 180{}}},
+            {{"kind": "arc", "center": [0, 0], "radius": 1, "from_deg": 180, "to_deg": 360{}}}]}}]}}"#,
+            m[0], m[1]
+        )
+    };
+    let plain = Region::from_json_str(&arcs(["", ""]), "disc").unwrap();
+    assert!(plain.corners().is_empty() && plain.piece_markers().is_none());
+    let marked =
+        Region::from_json_str(&arcs([r#", "marker": 7"#, r#", "marker": 9"#]), "disc").unwrap();
+    for r in [marked.clone(), marked.with_default_corners()] {
+        let mut at: Vec<(i64, i64)> = r
+            .corners()
+            .iter()
+            .map(|c| (c.pos.x.round() as i64, c.pos.y.round() as i64))
+            .collect();
+        at.sort_unstable();
+        assert_eq!(at, [(-1, 0), (1, 0)]);
+        let mut markers = r.piece_markers().unwrap().to_vec();
+        markers.sort_unstable();
+        assert_eq!(markers, [7, 9]);
+        // The upper arc is wall 7.
+        let upper = r.project(DVec2::new(0.0, 1.0)).piece;
+        assert_eq!(r.piece_markers().unwrap()[upper], 7);
+    }
+    // One segment marked: the other's pieces get 0, Triangle's "no marker".
+    let one = Region::from_json_str(&arcs([r#", "marker": 7"#, ""]), "disc").unwrap();
+    let mut markers = one.piece_markers().unwrap().to_vec();
+    markers.sort_unstable();
+    assert_eq!(markers, [0, 7]);
+    let e = Region::from_json_str(&arcs([r#", "marker": 1.5"#, ""]), "disc").unwrap_err();
+    assert!(e.to_string().contains("segments[0].marker is 1.5"), "{e}");
+}

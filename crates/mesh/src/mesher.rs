@@ -597,7 +597,7 @@ fn refuse_unresolved_boundary(
             }
         }
     }
-    if !(lost > UNRESOLVED_LOSS * region.area()) {
+    if lost.is_nan() || lost <= UNRESOLVED_LOSS * region.area() {
         return Ok(());
     }
     let allowed = (1.0 - crate::check::MIN_COVERAGE) * region.area();

@@ -791,6 +791,27 @@ impl PyMesh {
         }
     }
 
+    /// [`PyMesh::region_or`], but for a mesh read from a file the region its triangles cover,
+    /// with the walls the file numbers, as the command line's `polish` and `measure` take it.
+    fn region_or_covered(
+        &self,
+        py: Python<'_>,
+        region: Option<&PyRegion>,
+        call: &str,
+    ) -> PyResult<Arc<Region>> {
+        match (region, &self.region, &self.read_from) {
+            (None, None, Some((path, walls))) => py
+                .detach(|| cvtmesh::region_of_mesh(&self.mesh, walls, path))
+                .map(Arc::new)
+                .map_err(|e| {
+                    err(format!(
+                        "the mesh is no region ({e}): pass one, mesh.{call}(region)"
+                    ))
+                }),
+            _ => self.region_or(region, call),
+        }
+    }
+
     /// [`PyMesh::region_or`], a `region` passed in checked against the mesh first: boundary
     /// pieces, markers or six-node boundary nodes read off a region the mesh does not mesh
     /// would be numbers without meaning.
@@ -1033,9 +1054,11 @@ impl PyMesh {
         Ok(out)
     }
 
-    /// The 12 quality measures of the paper's Section 3 (and K, K̃), against the region the
-    /// mesh was made for, or `region` if given: a `MeshError` where the mesh covers an area
-    /// more than half off the region's, a `RuntimeWarning` where it only nearly conforms.
+    /// The 12 quality measures of the paper's Section 3 (and K, K̃), against `region` if
+    /// given, else the region the mesh was made for, else (a mesh read from a file) the region
+    /// its triangles cover, as `cvtmesh measure` takes it: a `MeshError` where the mesh covers
+    /// an area more than half off the region's, a `RuntimeWarning` where it only nearly
+    /// conforms.
     #[pyo3(signature = (region = None))]
     fn measures<'py>(
         &self,
@@ -1045,7 +1068,7 @@ impl PyMesh {
         if let Some(r) = region {
             fit_to_measure(py, &self.mesh, &r.inner)?;
         }
-        let region = self.region_or(region, "measures")?;
+        let region = self.region_or_covered(py, region, "measures")?;
         let m = py
             .detach(|| cvtmesh::measures(&self.mesh, &region))
             .map_err(err)?;
@@ -1062,17 +1085,7 @@ impl PyMesh {
     #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG),
         text_signature = "(self, region=None, below=40.0)")]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
-        let region = match (region, &self.region, &self.read_from) {
-            (None, None, Some((path, walls))) => py
-                .detach(|| cvtmesh::region_of_mesh(&self.mesh, walls, path))
-                .map(Arc::new)
-                .map_err(|e| {
-                    err(format!(
-                        "the mesh is no region ({e}): pass one, mesh.polished(region)"
-                    ))
-                })?,
-            _ => self.region_or(region, "polished")?,
-        };
+        let region = self.region_or_covered(py, region, "polished")?;
         if !(0.0..=60.0).contains(&below) {
             return Err(err(format!(
                 "below must be an angle from 0 to 60 degrees, got {below}"

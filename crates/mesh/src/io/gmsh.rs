@@ -642,6 +642,8 @@ struct Parsed {
 /// Parse a file's bytes: a binary file as the ASCII text of the same file, with its errors
 /// naming the byte of the file they are about.
 fn parse_bytes(bytes: &[u8], path: &Path, sizes: bool) -> Result<Parsed, MeshError> {
+    // A UTF-8 byte-order mark, as Windows editors save one, is no part of the format.
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     match gmsh_binary::ascii_of_binary(bytes, path)? {
         Some(ascii) => parse(&ascii.text, path, sizes).map_err(|e| ascii.locate(e)),
         None => parse(&String::from_utf8_lossy(bytes), path, sizes),
@@ -1404,6 +1406,9 @@ mod tests {
         // One group per curve: nothing to note.
         let ours = text.replace("2 12 99", "1 12").replace("2 11 99", "1 11");
         assert!(gmsh_walls_from_str(&ours).unwrap().notes.is_empty());
+        // Saved with a byte-order mark (a Windows editor's), the same file.
+        let marked = gmsh_walls_from_str(&format!("\u{feff}{text}")).unwrap();
+        assert_eq!(marked, walls);
     }
 
     #[test]
