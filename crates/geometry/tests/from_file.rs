@@ -149,7 +149,7 @@ fn a_byte_order_mark_is_skipped() {
 /// the junctions, which no turning makes corners, are corners (a mesh keeps a vertex there,
 /// so no boundary edge lies on both walls), and each piece carries its wall's number, through
 /// the command line's default corner angle too. Without markers the smooth junctions are no
-/// corners, as before.
+/// corners.
 #[test]
 fn segment_markers_number_the_walls_and_keep_their_junctions() {
     let arcs = |m: [&str; 2]| {

@@ -519,8 +519,9 @@ pub const EDGE_ALLOWANCE: f64 = 0.13;
 /// follow each other along their loop may stray outside the region where no corner lies
 /// between them ([`chord_allowance`]): 0.3 lets a hole's boundary vertices lie as far apart
 /// as the corners of a triangle inscribed in it (θ = 120°, 0.289), a coarse mesh of a round
-/// hole as every mesher gives one. At [`EDGE_ALLOWANCE`] a hexagon in square_hole's hole at
-/// K = 40 and the superellipse's hole at K = 120–140 (but not 100) were refused. Every other
+/// hole as every mesher gives one, where [`EDGE_ALLOWANCE`] would refuse a hexagon in
+/// square_hole's hole (K = 40) and the superellipse's hole at some K (120–140) but not at
+/// others (100, 150). Every other
 /// edge keeps [`EDGE_ALLOWANCE`]: an edge over a hole or across a gap between two parts of one
 /// loop is not a chord of the boundary.
 pub const CHORD_ALLOWANCE: f64 = 0.3;

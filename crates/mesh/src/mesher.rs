@@ -555,8 +555,8 @@ const UNRESOLVED_LOSS: f64 = 0.3;
 
 /// Refuse `k` vertices for `field` where the field scaled to `k` would give the boundary
 /// edges far too long for its curvature (a field whose sizes span 10⁵, scaled to 1000
-/// vertices on the disc, gave DistMesh a mesh over 66 % of it, nearly every triangle a
-/// sliver), naming the K that keeps the boundary to the
+/// vertices on the disc, leaves DistMesh a mesh over two thirds of it, nearly every triangle
+/// a sliver), naming the K that keeps the boundary to the
 /// [`MIN_COVERAGE`](crate::check::MIN_COVERAGE) of a coarse mesh.
 ///
 /// A chord of length h across a boundary arc of radius R leaves out h³ / (12 R), so an arc

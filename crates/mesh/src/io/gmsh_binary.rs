@@ -297,18 +297,30 @@ fn entities(r: &mut Reader, out: &mut Out) -> Result<(), String> {
     Ok(())
 }
 
-fn nodes_v4(r: &mut Reader, out: &mut Out) -> Result<(), String> {
+/// A 4.1 section's first line, four size_t: its blocks, its count, its smallest and largest
+/// tags (`what` names each); the number of blocks.
+fn section_counts(r: &mut Reader, out: &mut Out, what: [&str; 4]) -> Result<u64, String> {
     out.at(r.pos, 0);
-    let blocks = r.size("the number of node blocks")?;
+    let blocks = r.size(what[0])?;
     out.uint(blocks);
-    for what in [
-        "the number of nodes",
-        "the smallest node tag",
-        "the largest",
-    ] {
-        out.uint(r.size(what)?);
+    for w in &what[1..] {
+        out.uint(r.size(w)?);
     }
     out.end();
+    Ok(blocks)
+}
+
+fn nodes_v4(r: &mut Reader, out: &mut Out) -> Result<(), String> {
+    let blocks = section_counts(
+        r,
+        out,
+        [
+            "the number of node blocks",
+            "the number of nodes",
+            "the smallest node tag",
+            "the largest",
+        ],
+    )?;
     r.fits(blocks, 12 + r.size_t, "node blocks")?;
     for _ in 0..blocks {
         out.at(r.pos, 0);
@@ -358,17 +370,16 @@ fn nodes_of(etype: i32, at: usize) -> Result<usize, String> {
 }
 
 fn elements_v4(r: &mut Reader, out: &mut Out) -> Result<(), String> {
-    out.at(r.pos, 0);
-    let blocks = r.size("the number of element blocks")?;
-    out.uint(blocks);
-    for what in [
-        "the number of elements",
-        "the smallest element tag",
-        "the largest",
-    ] {
-        out.uint(r.size(what)?);
-    }
-    out.end();
+    let blocks = section_counts(
+        r,
+        out,
+        [
+            "the number of element blocks",
+            "the number of elements",
+            "the smallest element tag",
+            "the largest",
+        ],
+    )?;
     r.fits(blocks, 12 + r.size_t, "element blocks")?;
     for _ in 0..blocks {
         out.at(r.pos, 0);
