@@ -805,7 +805,7 @@ fn parse_node_data(t: &mut Tokens) -> Result<(String, Vec<(u64, f64)>), MeshErro
     let mut values = Vec::with_capacity(count.min(1 << 20));
     for _ in 0..count {
         let tag = t.usize("a node tag")? as u64;
-        let value = t.f64("a node value")?;
+        let value = node_value(t)?;
         if !(value > 0.0 && value < f64::INFINITY) {
             return Err(t.err(format!(
                 "$NodeData gives node {tag} the size {value}; sizes must be positive and finite"
@@ -814,6 +814,22 @@ fn parse_node_data(t: &mut Tokens) -> Result<(String, Vec<(u64, f64)>), MeshErro
         values.push((tag, value));
     }
     Ok((name, values))
+}
+
+/// A `$NodeData` value. meshio 5.3 under NumPy 2 writes each value of an ASCII file as the
+/// repr of a NumPy scalar, `np.float64(0.1)`; its number is the value Gmsh would read.
+fn node_value(t: &mut Tokens) -> Result<f64, MeshError> {
+    let wrapped = t
+        .peek()
+        .and_then(|tok| tok.strip_prefix("np.float64(")?.strip_suffix(')'))
+        .and_then(|inner| inner.parse::<f64>().ok());
+    match wrapped {
+        Some(v) => {
+            t.next("a node value")?;
+            Ok(v)
+        }
+        None => t.f64("a node value"),
+    }
 }
 
 fn expect_end(t: &mut Tokens, end: &str) -> Result<(), MeshError> {
@@ -1981,6 +1997,26 @@ mod tests {
                 None
             );
         }
+    }
+
+    /// meshio 5.3 under NumPy 2 writes `$NodeData` values as `np.float64(0.25)`: read as the
+    /// numbers they hold, as in the file meshio meant to write.
+    #[test]
+    fn numpy_scalar_reprs_in_node_data_are_their_numbers() {
+        let data = "1\n\"size\"\n1\n0\n4\n0\n1\n4\n0\n30 0.3\n10 0.1\n40 0.4\n20 0.2\n";
+        let plain = with_node_data("4.1", data);
+        let repr = plain
+            .replace("10 0.1\n", "10 np.float64(0.1)\n")
+            .replace("20 0.2\n", "20 np.float64(0.2)\n");
+        assert_ne!(plain, repr);
+        let (m1, h1) = gmsh_sizes_from_str(&repr).unwrap();
+        let (m2, h2) = gmsh_sizes_from_str(&plain).unwrap();
+        assert_eq!((m1.points, m1.triangles, h1), (m2.points, m2.triangles, h2));
+        let bad = plain.replace("10 0.1\n", "10 np.float64(x)\n");
+        assert!(gmsh_sizes_from_str(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("np.float64(x)"));
     }
 
     #[test]
