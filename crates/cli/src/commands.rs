@@ -757,7 +757,61 @@ fn triangle_values(mesh: &cvtmesh::Mesh, what: &str) -> Result<Vec<f64>> {
         .collect())
 }
 
-/// `cvtmesh regions`.
+/// `cvtmesh dual`.
+#[derive(Args)]
+pub struct DualArgs {
+    /// Mesh: Triangle FILE.node (with FILE.ele beside it), Gmsh FILE.msh, VTK FILE.vtu or Wavefront FILE.obj.
+    mesh: PathBuf,
+    /// Print each vertex's control volume (`vertex,x,y,volume`) instead of each edge's face
+    /// (`a,b,length,face,boundary`).
+    #[arg(long)]
+    volumes: bool,
+}
+
+/// `cvtmesh dual`: the Voronoi dual restricted to the mesh as CSV on standard output, vertices
+/// numbered from 0 in the file's order.
+pub fn dual(a: DualArgs) -> Result<()> {
+    let mesh = cvtmesh::io::read_mesh_file(&a.mesh)?.mesh;
+    let d = cvtmesh::Dual::new(&mesh);
+    if a.volumes {
+        outln!("vertex,x,y,volume");
+        for (v, (p, vol)) in mesh.points.iter().zip(&d.volumes).enumerate() {
+            outln!("{v},{:?},{:?},{vol:?}", p.x, p.y);
+        }
+    } else {
+        outln!("a,b,length,face,boundary");
+        for (e, [u, w]) in d.edges.iter().enumerate() {
+            outln!(
+                "{u},{w},{:?},{:?},{}",
+                d.lengths[e],
+                d.faces[e],
+                u8::from(d.on_boundary[e])
+            );
+        }
+    }
+    let (inner, outer) = d.negative_faces(1e-12);
+    let counted = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
+    let negative: Vec<String> = [
+        (inner, counted(inner, "interior edge"), "not Delaunay"),
+        (
+            outer,
+            counted(outer, "boundary edge"),
+            "opposite an obtuse angle",
+        ),
+    ]
+    .into_iter()
+    .filter(|x| x.0 > 0)
+    .map(|(_, n, why)| format!("{n} {why}"))
+    .collect();
+    if !negative.is_empty() {
+        eprintln!(
+            "note: negative faces, where a two-point flux is not monotone: {}",
+            negative.join(", ")
+        );
+    }
+    Ok(())
+}
+
 /// `cvtmesh regions`.
 #[derive(Args)]
 pub struct RegionsArgs {

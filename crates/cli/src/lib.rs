@@ -74,6 +74,13 @@ enum Command {
         after_help = "Examples:\n  cvtmesh regions\n  cvtmesh regions square_hole\n  cvtmesh regions channel.poly --corner-angle 30"
     )]
     Regions(commands::RegionsArgs),
+    /// Print the Voronoi dual of a mesh for finite volumes, as CSV: each edge's length and dual
+    /// face (the two-point flux's transmissibility is face/length), or each vertex's control
+    /// volume.
+    #[command(
+        after_help = "Examples:\n  cvtmesh dual lake.msh > faces.csv\n  cvtmesh dual lake.msh --volumes > volumes.csv"
+    )]
+    Dual(commands::DualArgs),
 }
 
 /// Runs the command line `args` (the program's name first, as in `std::env::args_os`) and
@@ -99,6 +106,7 @@ where
         Command::Polish(a) => commands::polish(a),
         Command::Show(a) => commands::show(a),
         Command::Regions(a) => commands::regions(a),
+        Command::Dual(a) => commands::dual(a),
     };
     match result {
         Ok(()) => 0,

@@ -2884,3 +2884,65 @@ fn gmsh_groups_come_through_a_new_mesh_and_a_polish() {
     let written = std::fs::read_to_string(&polished).unwrap();
     assert!(written.contains("2 1 \"fluid\"") && written.contains("1 11 \"inlet\""));
 }
+
+/// `dual` prints each edge's length and face and each vertex's volume: the volumes sum to the
+/// mesh's area, every interior face of a CCVT mesh (a Delaunay triangulation) is non-negative,
+/// and the faces of the edges around an inner vertex close its cell (Σ face × unit normal = 0).
+/// The one boundary edge of this mesh opposite an obtuse angle is named in a note.
+#[test]
+fn dual_prints_the_finite_volume_cells() {
+    let d = scratch("dual");
+    let mesh = d.join("sq.node");
+    let o = cvtmesh(&[
+        "mesh",
+        "square_hole",
+        "-n",
+        "800",
+        "-o",
+        mesh.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let rows = |args: &[&str]| -> Vec<Vec<f64>> {
+        let o = cvtmesh(args);
+        assert!(o.status.success(), "{}", text(&o));
+        let out = String::from_utf8(o.stdout).unwrap();
+        out.lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let volumes = rows(&["dual", mesh.to_str().unwrap(), "--volumes"]);
+    let faces = rows(&["dual", mesh.to_str().unwrap()]);
+    let o = cvtmesh(&["dual", mesh.to_str().unwrap()]);
+    let negative = faces.iter().filter(|r| r[3] < -1e-12 * r[2]).count();
+    assert_eq!(negative, 1);
+    assert!(text(&o).contains("note: negative faces, where a two-point flux is not monotone: 1 boundary edge opposite an obtuse angle"), "{}", text(&o));
+    assert_eq!(volumes.len(), 800);
+    let total: f64 = volumes.iter().map(|r| r[3]).sum();
+    let square_hole = 4.0 - std::f64::consts::PI * 0.16;
+    assert!((total / square_hole - 1.0).abs() < 0.01, "{total}");
+    assert!(faces.iter().all(|r| r[4] == 1.0 || r[3] >= -1e-12 * r[2]));
+    // Around an inner vertex: Σ face · (x_w − x_v)/|x_w − x_v| = 0.
+    let xy = |v: usize| (volumes[v][1], volumes[v][2]);
+    let inner = (0..800)
+        .find(|&v| {
+            faces
+                .iter()
+                .filter(|r| r[0] as usize == v || r[1] as usize == v)
+                .all(|r| r[4] == 0.0)
+        })
+        .unwrap();
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for r in faces
+        .iter()
+        .filter(|r| r[0] as usize == inner || r[1] as usize == inner)
+    {
+        let other = if r[0] as usize == inner { r[1] } else { r[0] } as usize;
+        let ((x0, y0), (x1, y1)) = (xy(inner), xy(other));
+        sx += r[3] * (x1 - x0) / r[2];
+        sy += r[3] * (y1 - y0) / r[2];
+    }
+    assert!(sx.hypot(sy) < 1e-9, "{sx} {sy}");
+    let o = cvtmesh(&["dual", d.join("none.msh").to_str().unwrap()]);
+    assert!(!o.status.success() && text(&o).contains("none.msh"));
+}
