@@ -743,9 +743,9 @@ pub struct MeshResult {
     /// Objective per iteration (CVT energy of eq. (4) for CVT methods; empty if none). For a
     /// region of several parts, meshed one after another, the parts' histories follow each
     /// other, each entry the energy of the parts already meshed plus the current part's: the
-    /// last is the whole region's. Algorithm 2 (`ccvt`, `ccvt2`) ends on Ω_ε, so its energy is
-    /// of the cells clipped to Ω_ε (its note gives ε), larger than over Ω by the band's share:
-    /// compare it with another method's only through the measures.
+    /// last is the whole region's. A run of Algorithm 2 (whose notes give an ε) ends on Ω_ε,
+    /// so its energy is of the cells clipped to Ω_ε, larger than over Ω by the band's share:
+    /// methods compare through the measures, not through it.
     pub energy_history: Vec<f64>,
     /// Largest relative move per iteration.
     pub move_history: Vec<f64>,

@@ -743,8 +743,8 @@ struct PyMesh {
     #[pyo3(get)]
     notes: Vec<String>,
     /// The CVT energy after each iteration, (iterations,) float64 (empty for methods that
-    /// minimise none). Algorithm 2 (`ccvt`, `ccvt2`) ends on Ω_ε: its energies are over the
-    /// cells clipped to Ω_ε (a note gives ε), so compare methods by `measures()`, not by them.
+    /// minimise none). A run of Algorithm 2 (whose notes give an ε) ends on Ω_ε: its energies
+    /// are over the cells clipped to Ω_ε, so compare methods by `measures()`, not by them.
     #[pyo3(get)]
     energy_history: Py<PyArray1<f64>>,
 }
