@@ -320,8 +320,9 @@ pub fn render_fidelity(
     );
     for m in methods.iter().map(|&m| Some(m)).chain([None]) {
         let _ = write!(out, "| {} |", m.map_or("all", |m| m.column()));
+        // One seed's range is one value, as the text above says.
         let point = share(&pick(main, m, None), |f| {
-            f.ours.len() > 1 && f.ours.first() == f.ours.last()
+            !f.ours.is_empty() && f.ours.first() == f.ours.last()
         });
         for cells in [main, sampled, exact] {
             let c = pick(cells, m, None);

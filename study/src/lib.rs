@@ -186,9 +186,9 @@ fn write_csvs(
 }
 
 /// Run the selected jobs in parallel and write `out/csv/metrics.csv`, `out/csv/failures.csv`
-/// and `out/meshes/*.node|.ele|.poly`. Without a shard, rows of (table, method) cells that
-/// were not run are kept from an existing CSV (unless `fresh`), so rerunning one method
-/// updates only its cells; then tables, figures and the summary are written from the whole
+/// and `out/meshes/*.node|.ele|.poly`. Without a shard, rows of (table, method, seed) that
+/// were not run are kept from an existing CSV (unless `fresh`), so rerunning one method or
+/// one seed updates only those rows; then tables, figures and the summary are written from the whole
 /// CSV. With a shard, the CSV holds exactly this shard's rows and nothing else is drawn.
 pub fn run_study(
     opts: &StudyOptions,
@@ -208,6 +208,8 @@ pub fn run_study(
             "--real-peers runs without --shard (its runs are few and cheap)".into(),
         ));
     }
+    // An output directory that cannot be made fails now, not after every job has run.
+    output::create_dir(&opts.out)?;
     let jobs = opts.jobs();
     let names: Vec<&'static str> = {
         let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
@@ -245,10 +247,11 @@ pub fn run_study(
             .map(|j| (j.region().to_string(), j.k(), j.method.name().to_string()))
             .collect();
         let (old_rows, old_failures) = read_dir_csv(&opts.out)?;
-        // Keep the cells this run did not touch, and in the cells it did, the seeds below
-        // the first one it ran.
+        // Keep the cells this run did not touch, and in the cells it did, the seeds it did
+        // not run: rerunning seed 1 of one method in a run of three seeds updates that seed.
         let keep = |region: &str, k: usize, method: &str, seed: u64| {
-            seed < opts.first_seed || !ran.contains(&(region.to_string(), k, method.to_string()))
+            !(opts.first_seed..=opts.seeds).contains(&seed)
+                || !ran.contains(&(region.to_string(), k, method.to_string()))
         };
         rows.extend(
             old_rows
@@ -279,7 +282,7 @@ pub fn run_study(
 }
 
 /// The graded part of [`run_study`]: run its jobs, write their meshes and `graded.csv`
-/// (keeping, as for the paper's rows, the cells not run and the seeds below the first).
+/// (keeping, as for the paper's rows, the cells and seeds not run).
 fn run_graded_part(
     opts: &StudyOptions,
     on_event: &(dyn Fn(Event<'_>) + Sync),
@@ -307,7 +310,7 @@ fn run_graded_part(
             .map(|j| (j.case.name, j.method.name()))
             .collect();
         let keep = |case: &str, method: &str, seed: u64| {
-            seed < opts.first_seed || !ran.contains(&(case, method))
+            !(opts.first_seed..=opts.seeds).contains(&seed) || !ran.contains(&(case, method))
         };
         let (old_rows, old_failures) = graded::read_graded(&opts.out)?;
         rows.extend(
@@ -386,15 +389,30 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
             "merge needs at least one directory".into(),
         ));
     }
-    let mut parts = Vec::new();
-    let mut failures = Vec::new();
     let mut result = Outcome::default();
+    // Every directory read and the merge checked (a row in two of them is refused) before
+    // anything is written to `out`.
+    let mut read = Vec::with_capacity(dirs.len());
     for d in dirs {
         require_metrics(d)?;
-        let (rows, f) = read_dir_csv(d)?;
+        read.push((d, read_dir_csv(d)?));
+    }
+    let mut graded_read = Vec::new();
+    for d in dirs.iter().filter(|d| graded::graded_csv_path(d).exists()) {
+        graded_read.push((d, graded::read_graded(d)?));
+    }
+    let mut rows = record::merge_rows(read.iter().map(|(_, (r, _))| r.clone()).collect())?;
+    let graded_rows = match graded_read.is_empty() {
+        true => None,
+        false => Some(graded::merge_graded(
+            graded_read.iter().map(|(_, (g, _))| g.clone()).collect(),
+        )?),
+    };
+    let mut failures = Vec::new();
+    for (d, (shard_rows, f)) in &read {
         // Copy this shard's meshes (those of its rows) unless merging in place.
         if d.as_path() != out {
-            for r in rows.iter().filter(|r| r.kind == Kind::Exact) {
+            for r in shard_rows.iter().filter(|r| r.kind == Kind::Exact) {
                 let Some(method) = r.method_id() else {
                     continue;
                 };
@@ -412,24 +430,18 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
                 cvtmesh::io::write_triangle(&mesh, &base)?;
             }
         }
-        parts.push(rows);
-        failures.extend(f);
+        failures.extend(f.iter().cloned());
     }
-    let mut rows = record::merge_rows(parts)?;
     result.failures = failures.clone();
     write_csvs(out, &mut rows, &mut failures, &mut result.written)?;
-    let mut graded_parts = Vec::new();
-    let mut graded_failures = Vec::new();
-    for d in dirs.iter().filter(|d| graded::graded_csv_path(d).exists()) {
-        let (g, f) = graded::read_graded(d)?;
-        if d.as_path() != out {
-            graded::copy_graded_meshes(d, out, &g, &mut result.notes)?;
+    if let Some(mut g) = graded_rows {
+        let mut graded_failures = Vec::new();
+        for (d, (shard_rows, f)) in &graded_read {
+            if d.as_path() != out {
+                graded::copy_graded_meshes(d, out, shard_rows, &mut result.notes)?;
+            }
+            graded_failures.extend(f.iter().cloned());
         }
-        graded_parts.push(g);
-        graded_failures.extend(f);
-    }
-    if !graded_parts.is_empty() {
-        let mut g = graded::merge_graded(graded_parts)?;
         result.failures.extend(graded_failures.iter().cloned());
         result
             .written

@@ -108,6 +108,16 @@ fn extending_a_run_to_more_seeds_equals_running_them_at_once() {
     assert_eq!(rows(&whole), rows(&grown));
     // Three seeds are enough for the significance section to be drawn, and for its CSV.
     assert!(output::significance_csv(&grown).exists());
+    // Seed 1 run again keeps seeds 2 and 3 (else tables "over seeds 1–3" would hold one).
+    study::run_study(
+        &StudyOptions {
+            out: grown.clone(),
+            ..base.clone()
+        },
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(rows(&whole), rows(&grown));
     // A first seed beyond the last is refused.
     let bad = study::run_study(
         &StudyOptions {
@@ -205,4 +215,49 @@ fn graded_part_sharded_then_merged_equals_unsharded() {
     )
     .unwrap();
     assert_eq!(std::fs::read(&metrics).unwrap(), before);
+}
+
+#[test]
+fn an_output_directory_that_cannot_be_made_fails_before_any_job() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("a_file");
+    std::fs::write(&file, "").unwrap();
+    let events = std::sync::atomic::AtomicUsize::new(0);
+    let e = study::run_study(
+        &StudyOptions {
+            regions: vec!["circle"],
+            methods: vec![MethodId::Meshgen],
+            graded: false,
+            out: file.join("out"),
+            ..StudyOptions::default()
+        },
+        &|_| {
+            events.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("a_file"), "{e}");
+    assert_eq!(events.load(std::sync::atomic::Ordering::Relaxed), 0);
+}
+
+#[test]
+fn a_refused_merge_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = tmp.path().join("run");
+    study::run_study(
+        &StudyOptions {
+            regions: vec!["square_two_hex"],
+            methods: vec![MethodId::Meshgen],
+            threads: Some(2),
+            graded: false,
+            out: run.clone(),
+            ..StudyOptions::default()
+        },
+        &|_| {},
+    )
+    .unwrap();
+    // The same rows twice: refused before any mesh is copied.
+    let out = tmp.path().join("merged");
+    assert!(study::merge(&[run.clone(), run], &out).is_err());
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
 }
