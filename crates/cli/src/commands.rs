@@ -772,7 +772,7 @@ pub struct DualArgs {
 /// numbered from 0 in the file's order.
 pub fn dual(a: DualArgs) -> Result<()> {
     let mesh = cvtmesh::io::read_mesh_file(&a.mesh)?.mesh;
-    let d = cvtmesh::Dual::new(&mesh);
+    let d = cvtmesh::Dual::new(&mesh).map_err(|e| anyhow!("{}: {e}", a.mesh.display()))?;
     if a.volumes {
         outln!("vertex,x,y,volume");
         for (v, (p, vol)) in mesh.points.iter().zip(&d.volumes).enumerate() {

@@ -2945,4 +2945,14 @@ fn dual_prints_the_finite_volume_cells() {
     assert!(sx.hypot(sy) < 1e-9, "{sx} {sy}");
     let o = cvtmesh(&["dual", d.join("none.msh").to_str().unwrap()]);
     assert!(!o.status.success() && text(&o).contains("none.msh"));
+    // A triangle of three points on a line has no circumcentre: refused, not printed as inf.
+    std::fs::write(d.join("flat.node"), "4 2 0 0\n1 0 0\n2 1 0\n3 2 0\n4 0 1\n").unwrap();
+    std::fs::write(d.join("flat.ele"), "2 3 0\n1 1 2 4\n2 1 2 3\n").unwrap();
+    let o = cvtmesh(&["dual", d.join("flat.node").to_str().unwrap()]);
+    assert!(!o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("has no positive area") && o.stdout.is_empty(),
+        "{}",
+        text(&o)
+    );
 }

@@ -1,6 +1,6 @@
 //! The Voronoi dual of a triangle mesh: the control volumes and faces of vertex-centred finite
 //! volumes (two-point flux), read off the triangles by the cotangent formulas.
-use crate::Mesh;
+use crate::{Mesh, MeshError};
 use geometry::DVec2;
 use rayon::prelude::*;
 
@@ -34,7 +34,9 @@ pub struct Dual {
 }
 
 impl Dual {
-    /// The dual of `mesh`. O(K log K) for the sort of its edges.
+    /// The dual of `mesh`. O(K log K) for the sort of its edges. A triangle that is not
+    /// counter-clockwise with a positive area (a degenerate one read from a file) has no
+    /// circumcentre: refused, naming it.
     ///
     /// ```
     /// use cvtmesh::{Dual, Mesh, VertexMarker};
@@ -42,7 +44,7 @@ impl Dual {
     /// // The unit square cut along a diagonal: two right triangles, circumcentres at the centre.
     /// let points = vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
     /// let mesh = Mesh { markers: vec![VertexMarker::Interior; 4], points, triangles: vec![[0, 1, 2], [0, 2, 3]] };
-    /// let dual = Dual::new(&mesh);
+    /// let dual = Dual::new(&mesh)?;
     /// // Each vertex owns the quarter of the square nearest to it.
     /// assert!(dual.volumes.iter().all(|&v| (v - 0.25).abs() < 1e-15));
     /// // The diagonal's two right angles put both circumcentres on it: no face between 0 and 2.
@@ -51,9 +53,28 @@ impl Dual {
     /// // A side's face runs from its midpoint to the centre: half a side.
     /// let side = dual.edges.iter().position(|&e| e == [0, 1]).unwrap();
     /// assert!((dual.faces[side] - 0.5).abs() < 1e-15 && dual.on_boundary[side]);
+    /// // Three vertices on a line: no circumcentre, refused by name.
+    /// let flat = Mesh { triangles: vec![[0, 1, 2], [0, 2, 3]], points: vec![DVec2::ZERO, DVec2::X, 2.0 * DVec2::X, DVec2::Y], ..mesh };
+    /// assert!(Dual::new(&flat).unwrap_err().to_string().contains("triangle 0"));
+    /// # Ok::<(), cvtmesh::MeshError>(())
     /// ```
-    pub fn new(mesh: &Mesh) -> Dual {
+    pub fn new(mesh: &Mesh) -> Result<Dual, MeshError> {
         let p = &mesh.points;
+        let area2 = |t: &[u32; 3]| {
+            let v = t.map(|i| p.get(i as usize).copied().unwrap_or(DVec2::NAN));
+            (v[1] - v[0]).perp_dot(v[2] - v[0])
+        };
+        if let Some(t) = mesh
+            .triangles
+            .par_iter()
+            .position_first(|t| !(area2(t) > 0.0))
+        {
+            return Err(MeshError::BadRequest(format!(
+                "triangle {t} ({:?}) has no positive area (degenerate, clockwise or out of \
+                 range): the dual needs counter-clockwise triangles",
+                mesh.triangles[t]
+            )));
+        }
         // Per triangle: its circumcentre, the cotangents of its angles at each corner, and the
         // squared lengths of its sides (side k opposite corner k).
         let parts: Vec<(DVec2, [f64; 3], [f64; 3])> = mesh
@@ -99,14 +120,14 @@ impl Dual {
             .iter()
             .map(|e| p[e[0] as usize].distance(p[e[1] as usize]))
             .collect();
-        Dual {
+        Ok(Dual {
             volumes,
             edges,
             lengths,
             faces,
             on_boundary,
             circumcentres: parts.into_iter().map(|x| x.0).collect(),
-        }
+        })
     }
 
     /// The interior edges whose face is negative (opposite angles summing to more than π: the
@@ -117,7 +138,7 @@ impl Dual {
     /// ```
     /// use cvtmesh::{Dual, Region};
     /// let mesh = cvtmesh::mesh(&Region::builtin("square_hole")?, 2000)?.mesh;
-    /// assert_eq!(Dual::new(&mesh).negative_faces(1e-12), (0, 0));
+    /// assert_eq!(Dual::new(&mesh)?.negative_faces(1e-12), (0, 0));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn negative_faces(&self, tol: f64) -> (usize, usize) {
@@ -171,7 +192,7 @@ mod tests {
             }
         }
         let m = mesh(points, triangles);
-        let dual = Dual::new(&m);
+        let dual = Dual::new(&m).unwrap();
         let total: f64 = dual.volumes.iter().sum();
         assert!((total - m.area()).abs() < 1e-12 * m.area());
         let inner = |v: usize| (2..n - 2).contains(&(v % n)) && (2..n - 2).contains(&(v / n));
@@ -209,7 +230,7 @@ mod tests {
             m0.points.iter().map(|&p| rot.rotate(p) + shift).collect(),
             m0.triangles.clone(),
         );
-        let (d0, d1) = (Dual::new(&m0), Dual::new(&m1));
+        let (d0, d1) = (Dual::new(&m0).unwrap(), Dual::new(&m1).unwrap());
         assert_eq!(d0.edges, d1.edges);
         for (a, b) in d0
             .volumes
@@ -237,11 +258,11 @@ mod tests {
             DVec2::new(1.0, 0.0),
             DVec2::new(0.0, 0.3),
         ];
-        let d = Dual::new(&mesh(pts.clone(), vec![[0, 1, 2], [0, 2, 3]]));
+        let d = Dual::new(&mesh(pts.clone(), vec![[0, 1, 2], [0, 2, 3]])).unwrap();
         let diagonal = d.edges.iter().position(|&e| e == [0, 2]).unwrap();
         assert!(d.faces[diagonal] < 0.0);
         assert_eq!(d.negative_faces(1e-12), (1, 0));
-        let d = Dual::new(&mesh(pts, vec![[0, 1, 2]]));
+        let d = Dual::new(&mesh(pts, vec![[0, 1, 2]])).unwrap();
         assert_eq!(d.negative_faces(1e-12), (0, 1));
     }
 }

@@ -1025,7 +1025,7 @@ impl PyMesh {
     /// Delaunay) or a boundary edge of a triangle obtuse there; the volumes always sum to the
     /// mesh's area.
     fn dual<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = py.detach(|| cvtmesh::Dual::new(&self.mesh));
+        let d = py.detach(|| cvtmesh::Dual::new(&self.mesh)).map_err(err)?;
         let out = PyDict::new(py);
         let edges: Vec<i64> = d.edges.iter().flatten().map(|&v| v as i64).collect();
         let centres: Vec<f64> = d.circumcentres.iter().flat_map(|c| [c.x, c.y]).collect();
