@@ -64,11 +64,10 @@ impl Dual {
             let v = t.map(|i| p.get(i as usize).copied().unwrap_or(DVec2::NAN));
             (v[1] - v[0]).perp_dot(v[2] - v[0])
         };
-        if let Some(t) = mesh
-            .triangles
-            .par_iter()
-            .position_first(|t| !(area2(t) > 0.0))
-        {
+        if let Some(t) = mesh.triangles.par_iter().position_first(|t| {
+            let a = area2(t);
+            a.is_nan() || a <= 0.0
+        }) {
             return Err(MeshError::BadRequest(format!(
                 "triangle {t} ({:?}) has no positive area (degenerate, clockwise or out of \
                  range): the dual needs counter-clockwise triangles",
