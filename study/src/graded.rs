@@ -12,7 +12,7 @@
 //! Output: `DIR/csv/graded.csv` (a row per case, method and seed), `DIR/csv/graded_failures.csv`,
 //! `DIR/graded.md` (a table per case) and `DIR/figures/graded_CASE.png` (a panel per method),
 //! meshes under `DIR/meshes/graded/`.
-use crate::record::{from_csv, to_csv, Failure};
+use crate::record::{read_csv_with_header, to_csv, Failure};
 use crate::{output, MethodId, Shard, StudyError};
 use cvtmesh::geometry::{LoopRole, Region, SizeField, Threshold, Toward};
 use cvtmesh::{DVec2, Mesh, MeshRequest};
@@ -319,17 +319,16 @@ pub fn graded_csv(rows: &[GradedRow]) -> Result<Vec<u8>, StudyError> {
 
 /// Read `DIR/csv/graded.csv` and `DIR/csv/graded_failures.csv` (absent: empty).
 pub fn read_graded(dir: &Path) -> Result<(Vec<GradedRow>, Vec<Failure>), StudyError> {
-    let read = |p: PathBuf| -> Result<Vec<u8>, StudyError> {
-        if p.exists() {
-            std::fs::read(&p).map_err(|e| StudyError::io(&p, e))
-        } else {
-            Ok(Vec::new())
-        }
-    };
     let p = graded_csv_path(dir);
-    let rows = from_csv(&read(p.clone())?, &p.display().to_string())?;
+    let rows = match p.exists() {
+        true => read_csv_with_header(&p, GRADED_HEADER)?,
+        false => Vec::new(),
+    };
     let p = graded_failures_path(dir);
-    let failures = from_csv(&read(p.clone())?, &p.display().to_string())?;
+    let failures = match p.exists() {
+        true => read_csv_with_header(&p, crate::record::FAILURES_HEADER)?,
+        false => Vec::new(),
+    };
     Ok((rows, failures))
 }
 
@@ -776,7 +775,7 @@ mod tests {
             String::from_utf8(text.clone()).unwrap().lines().next(),
             Some(GRADED_HEADER)
         );
-        let back: Vec<GradedRow> = from_csv(&text, "t").unwrap();
+        let back: Vec<GradedRow> = crate::record::from_csv(&text, "t").unwrap();
         assert_eq!(back, vec![row.clone()]);
         let md = render_graded_md(std::slice::from_ref(&row), &[]);
         assert!(

@@ -156,13 +156,13 @@ fn require_metrics(dir: &Path) -> Result<(), StudyError> {
 pub fn read_dir_csv(dir: &Path) -> Result<(Vec<Row>, Vec<Failure>), StudyError> {
     let m = output::metrics_csv(dir);
     let rows = if m.exists() {
-        record::read_csv(&m)?
+        record::read_csv_with_header(&m, record::METRICS_HEADER)?
     } else {
         Vec::new()
     };
     let f = output::failures_csv(dir);
     let failures = if f.exists() {
-        record::read_csv(&f)?
+        record::read_csv_with_header(&f, record::FAILURES_HEADER)?
     } else {
         Vec::new()
     };
@@ -609,6 +609,23 @@ mod tests {
                 })
             })
             .collect()
+    }
+
+    #[test]
+    fn a_metrics_csv_under_another_header_is_refused_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let m = output::metrics_csv(dir.path());
+        output::write_atomic(&m, format!("{}\n", graded::GRADED_HEADER).as_bytes()).unwrap();
+        let e = read_dir_csv(dir.path()).unwrap_err().to_string();
+        assert!(
+            e.contains(&m.display().to_string()) && e.contains(record::METRICS_HEADER),
+            "{e}"
+        );
+        assert!(write_report(dir.path()).is_err());
+        assert!(merge(&[dir.path().to_path_buf()], &dir.path().join("merged")).is_err());
+        // Just the header is what a run whose every job failed writes: no rows, no error.
+        output::write_atomic(&m, &record::rows_csv(&[]).unwrap()).unwrap();
+        assert_eq!(read_dir_csv(dir.path()).unwrap(), (vec![], vec![]));
     }
 
     #[test]

@@ -259,6 +259,44 @@ pub fn read_csv<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<Vec<T>, Stu
     from_csv(&bytes, &path.display().to_string())
 }
 
+/// Parse CSV text of records whose header line must be `header`. [`from_csv`] matches
+/// fields by column name, so it reads a file without rows under any header (another CSV,
+/// an empty file) as no rows: a run without results.
+pub fn from_csv_with_header<T: for<'de> Deserialize<'de>>(
+    text: &[u8],
+    label: &str,
+    header: &str,
+) -> Result<Vec<T>, StudyError> {
+    let mut rd = csv::Reader::from_reader(text);
+    let found = rd.headers().map_err(|e| StudyError::Csv {
+        path: label.to_string(),
+        message: format!("header: {e}"),
+    })?;
+    if !found.iter().eq(header.split(',')) {
+        let message = match found.is_empty() {
+            true => format!("empty file; expected the header line {header}"),
+            false => format!(
+                "unexpected header '{}'; expected the columns {header}",
+                found.iter().collect::<Vec<_>>().join(",")
+            ),
+        };
+        return Err(StudyError::Csv {
+            path: label.to_string(),
+            message,
+        });
+    }
+    from_csv(text, label)
+}
+
+/// Read a CSV file of records whose header line must be `header` ([`from_csv_with_header`]).
+pub fn read_csv_with_header<T: for<'de> Deserialize<'de>>(
+    path: &Path,
+    header: &str,
+) -> Result<Vec<T>, StudyError> {
+    let bytes = std::fs::read(path).map_err(|e| StudyError::io(path, e))?;
+    from_csv_with_header(&bytes, &path.display().to_string(), header)
+}
+
 /// Combine row sets: reject duplicates and unknown methods, sort canonically.
 pub fn merge_rows(parts: Vec<Vec<Row>>) -> Result<Vec<Row>, StudyError> {
     let mut seen = BTreeSet::new();
@@ -336,6 +374,31 @@ mod tests {
             FAILURES_HEADER
         );
         assert_eq!(from_csv::<Failure>(&fb, "t").unwrap(), f);
+    }
+
+    #[test]
+    fn a_wrong_or_missing_header_is_an_error_not_an_empty_run() {
+        let read =
+            |text: &str| from_csv_with_header::<Row>(text.as_bytes(), "m.csv", METRICS_HEADER);
+        // The header a run writes when every job failed: no rows, no error.
+        assert_eq!(read(&format!("{METRICS_HEADER}\n")).unwrap(), vec![]);
+        let row = fake_row("circle", 19, MethodId::Vtm, 1, Kind::Exact, 1.0);
+        let text = String::from_utf8(rows_csv(std::slice::from_ref(&row)).unwrap()).unwrap();
+        assert_eq!(read(&text).unwrap(), vec![row]);
+        for bad in [
+            format!("{FAILURES_HEADER}\n"),
+            "case,K_requested,method\n".to_string(),
+            text.replacen("lambda", "lambda2", 1),
+            text.replacen(",seconds", "", 1),
+            String::new(),
+        ] {
+            let e = read(&bad).unwrap_err().to_string();
+            assert!(
+                e.starts_with("m.csv: ") && e.contains(METRICS_HEADER),
+                "{bad:?}: {e}"
+            );
+        }
+        assert!(read("").unwrap_err().to_string().contains("empty file"));
     }
 
     #[test]
