@@ -484,8 +484,9 @@ pub fn load_meshes(
     Ok(set)
 }
 
-/// Write `dir/tables/table_NN.md`, `dir/summary.md`, `dir/graded.md` and `dir/figures/*`
-/// from `dir/csv/*.csv` and `dir/meshes/*`.
+/// Write `dir/tables/table_NN.md`, `dir/summary.md`, `dir/fidelity.md`, `dir/graded.md` and
+/// `dir/figures/*` from `dir/csv/*.csv` and `dir/meshes/*`; `summary.md` and `fidelity.md`
+/// only if the directory has a row or failure of the paper's tables.
 pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
     // Every study writes `csv/` (a graded-only one no metrics.csv): without it, no study
     // wrote here (a mistyped path), and an empty report would hide that.
@@ -521,37 +522,47 @@ pub fn write_report(dir: &Path) -> Result<Outcome, StudyError> {
         output::write_atomic(&p, md.as_bytes())?;
         out.written.push(p);
     }
-    let p = output::summary_md(dir);
-    output::write_atomic(
-        &p,
-        summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
-    )?;
-    out.written.push(p);
-    let fid = |b| fidelity::compare(&rows, &paper, &tables, b);
-    let (main, sampled, exact) = (
-        fid(fidelity::Basis::ExactPaperScale),
-        fid(fidelity::Basis::Sampled),
-        fid(fidelity::Basis::Exact),
-    );
-    let p = output::fidelity_md(dir);
-    let md = fidelity::render_fidelity(
-        &main,
-        &sampled,
-        &exact,
-        &tables,
-        &paper,
-        &tables::seed_list(&agg.all_seeds()),
-    );
-    output::write_atomic(&p, md.as_bytes())?;
-    out.written.push(p);
-    let p = output::fidelity_csv(dir);
-    let all: Vec<fidelity::Fidelity> = main.into_iter().chain(sampled).chain(exact).collect();
-    output::write_atomic(&p, &fidelity::fidelity_csv(&all))?;
-    out.written.push(p);
-    if agg.all_seeds().len() >= 2 {
-        let p = output::significance_csv(dir);
-        output::write_atomic(&p, &summary::significance_csv(&rows, &tables, &methods))?;
+    // Without a row or failure of the paper's tables (a graded-only run) both files would
+    // be headings over empty tables, read as a run whose methods produced nothing.
+    if rows.is_empty() && failures.is_empty() {
+        out.notes.push(format!(
+            "{}: no results of the paper's tables in csv/metrics.csv, so no summary.md or \
+             fidelity.md",
+            dir.display()
+        ));
+    } else {
+        let p = output::summary_md(dir);
+        output::write_atomic(
+            &p,
+            summary::render_summary(&rows, &paper, &tables, &methods, &failures).as_bytes(),
+        )?;
         out.written.push(p);
+        let fid = |b| fidelity::compare(&rows, &paper, &tables, b);
+        let (main, sampled, exact) = (
+            fid(fidelity::Basis::ExactPaperScale),
+            fid(fidelity::Basis::Sampled),
+            fid(fidelity::Basis::Exact),
+        );
+        let p = output::fidelity_md(dir);
+        let md = fidelity::render_fidelity(
+            &main,
+            &sampled,
+            &exact,
+            &tables,
+            &paper,
+            &tables::seed_list(&agg.all_seeds()),
+        );
+        output::write_atomic(&p, md.as_bytes())?;
+        out.written.push(p);
+        let p = output::fidelity_csv(dir);
+        let all: Vec<fidelity::Fidelity> = main.into_iter().chain(sampled).chain(exact).collect();
+        output::write_atomic(&p, &fidelity::fidelity_csv(&all))?;
+        out.written.push(p);
+        if agg.all_seeds().len() >= 2 {
+            let p = output::significance_csv(dir);
+            output::write_atomic(&p, &summary::significance_csv(&rows, &tables, &methods))?;
+            out.written.push(p);
+        }
     }
     let meshes = load_meshes(dir, &rows, &mut out.notes)?;
     let names: BTreeSet<&'static str> = tables.iter().map(|t| t.region).collect();

@@ -153,6 +153,11 @@ fn graded_part_sharded_then_merged_equals_unsharded() {
     .unwrap();
     assert_eq!(o.jobs, 3 * 2);
     assert!(o.failures.is_empty(), "{:?}", o.failures);
+    assert!(
+        o.notes.iter().any(|n| n.contains("no summary.md")),
+        "{:?}",
+        o.notes
+    );
     let mut shard_dirs = Vec::new();
     for i in 1..=2 {
         let d = tmp.path().join(format!("shard_{i}"));
@@ -187,6 +192,9 @@ fn graded_part_sharded_then_merged_equals_unsharded() {
         for case in &graded::CASES {
             assert!(graded::graded_png(d, case.name).exists(), "{}", case.name);
         }
+        // Nothing of the paper's tables ran: a summary and fidelity report of them would be
+        // empty tables.
+        assert!(!output::summary_md(d).exists() && !output::fidelity_md(d).exists());
     }
     // A graded-only run, even with `fresh`, leaves the paper's CSV alone.
     let metrics = output::metrics_csv(&whole);
@@ -215,6 +223,8 @@ fn graded_part_sharded_then_merged_equals_unsharded() {
     )
     .unwrap();
     assert_eq!(std::fs::read(&metrics).unwrap(), before);
+    // With a row of the paper's tables in the directory they are drawn.
+    assert!(output::summary_md(&whole).exists() && output::fidelity_md(&whole).exists());
 }
 
 #[test]
