@@ -47,6 +47,9 @@ pub enum StudyError {
     /// Two merged CSVs contain the same (region, K, method, seed, kind) row.
     #[error("duplicate result for {0} in the merged inputs (do two shard directories overlap?)")]
     Duplicate(String),
+    /// The shard directories given to a merge are not every shard of one run, once each.
+    #[error("{0}")]
+    ShardSet(String),
     /// A mesh file could not be read or written.
     #[error(transparent)]
     Mesh(#[from] cvtmesh::MeshError),

@@ -1,6 +1,9 @@
 //! The deterministic job list and its sharding.
 use crate::paper::{region_names, TableSpec, TABLES};
-use crate::{MethodId, StudyError};
+use crate::{output, record, MethodId, StudyError};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 /// One mesh to make and measure: a method on a paper region at the paper's K with one seed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,6 +125,205 @@ impl Shard {
     }
 }
 
+/// What a sharded run writes to `DIR/csv/shard.csv`: the shard it ran and the arguments
+/// that define the job list it is a part of. Shard directories look alike otherwise, so
+/// without it a merge cannot tell every shard of a run from a set with one left out, or
+/// with shards of a run split another way or asked for other jobs.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShardRecord {
+    /// I, 1..=N.
+    pub index: usize,
+    /// N.
+    pub count: usize,
+    /// The last seed of both job lists.
+    pub seeds: u64,
+    /// Their first seed.
+    pub first_seed: u64,
+    /// The regions of the paper's jobs, comma-separated in table order; empty if the run
+    /// has none of them.
+    pub regions: String,
+    /// The methods of the paper's jobs, comma-separated in column order; empty as `regions`.
+    pub methods: String,
+    /// The methods of the graded jobs, as `methods`; empty if the run has none of them.
+    pub graded_methods: String,
+}
+
+/// The header line of `shard.csv`.
+pub const SHARD_HEADER: &str = "index,count,seeds,first_seed,regions,methods,graded_methods";
+
+impl ShardRecord {
+    /// The record of `shard` of the paper's jobs over `regions` × `methods` (`None`: the run
+    /// has none) and the graded jobs of `graded_methods` (`None`: none), seeds
+    /// `first_seed..=seeds`. Lists are written in the job list's order, so that arguments
+    /// giving the same job list give the same record.
+    pub fn new(
+        shard: Shard,
+        paper: Option<(&[&str], &[MethodId])>,
+        graded_methods: Option<&[MethodId]>,
+        seeds: u64,
+        first_seed: u64,
+    ) -> ShardRecord {
+        let names = |methods: &[MethodId]| {
+            let mut m = methods.to_vec();
+            m.sort();
+            m.dedup();
+            m.iter().map(|m| m.name()).collect::<Vec<_>>().join(",")
+        };
+        let (regions, methods) = match paper {
+            Some((r, m)) if !r.is_empty() && !m.is_empty() => (
+                region_names()
+                    .into_iter()
+                    .filter(|n| r.contains(n))
+                    .collect::<Vec<_>>()
+                    .join(","),
+                names(m),
+            ),
+            _ => (String::new(), String::new()),
+        };
+        ShardRecord {
+            index: shard.index,
+            count: shard.count,
+            seeds,
+            first_seed,
+            regions,
+            methods,
+            graded_methods: graded_methods.map_or(String::new(), names),
+        }
+    }
+
+    /// "shard 2/4".
+    pub fn shard_text(&self) -> String {
+        format!("shard {}/{}", self.index, self.count)
+    }
+
+    /// The job list, for messages: "seeds 1..=3; tables of circle with refine,vtm; no
+    /// graded jobs".
+    pub fn jobs_text(&self) -> String {
+        let paper = match self.regions.is_empty() {
+            true => "none of the paper's tables".to_string(),
+            false => format!("tables of {} with {}", self.regions, self.methods),
+        };
+        let graded = match self.graded_methods.is_empty() {
+            true => "no graded jobs".to_string(),
+            false => format!("graded jobs with {}", self.graded_methods),
+        };
+        format!(
+            "seeds {}..={}; {paper}; {graded}",
+            self.first_seed, self.seeds
+        )
+    }
+
+    /// True if both are parts of the same job list (whichever parts they are).
+    pub fn same_jobs(&self, other: &ShardRecord) -> bool {
+        (
+            self.seeds,
+            self.first_seed,
+            &self.regions,
+            &self.methods,
+            &self.graded_methods,
+        ) == (
+            other.seeds,
+            other.first_seed,
+            &other.regions,
+            &other.methods,
+            &other.graded_methods,
+        )
+    }
+
+    /// Write `DIR/csv/shard.csv`.
+    pub fn write(&self, dir: &Path) -> Result<PathBuf, StudyError> {
+        let p = output::shard_csv(dir);
+        output::write_atomic(&p, &record::to_csv(std::slice::from_ref(self))?)?;
+        Ok(p)
+    }
+
+    /// Read `DIR/csv/shard.csv`; `None` if there is none.
+    pub fn read(dir: &Path) -> Result<Option<ShardRecord>, StudyError> {
+        let p = output::shard_csv(dir);
+        if !p.exists() {
+            return Ok(None);
+        }
+        let records: Vec<ShardRecord> = record::read_csv_with_header(&p, SHARD_HEADER)?;
+        match records.as_slice() {
+            [r] if r.index >= 1 && r.index <= r.count => Ok(Some(r.clone())),
+            _ => Err(StudyError::Csv {
+                path: p.display().to_string(),
+                message: "expected one record of a shard I/N with 1 <= I <= N".into(),
+            }),
+        }
+    }
+}
+
+/// Check that `shards` (each a directory and its record) are every shard of one job list
+/// split N ways, each once: a merge of anything less would pass for the whole run.
+pub fn check_shard_set(shards: &[(&Path, ShardRecord)]) -> Result<(), StudyError> {
+    let Some((first_dir, first)) = shards.first() else {
+        return Ok(());
+    };
+    let bad = |m: String| Err(StudyError::ShardSet(m));
+    for (dir, r) in &shards[1..] {
+        if r.count != first.count {
+            return bad(format!(
+                "{} is {} but {} is {}: shards of a run split into another number of parts; \
+                 merge the shards of one run",
+                first_dir.display(),
+                first.shard_text(),
+                dir.display(),
+                r.shard_text()
+            ));
+        }
+        if !r.same_jobs(first) {
+            return bad(format!(
+                "{} ({}) and {} ({}) are shards of different job lists, \"{}\" and \"{}\"; \
+                 every shard of a run needs the same --regions, --methods, --seeds, \
+                 --first-seed and graded options",
+                first_dir.display(),
+                first.shard_text(),
+                dir.display(),
+                r.shard_text(),
+                first.jobs_text(),
+                r.jobs_text()
+            ));
+        }
+    }
+    let mut given: BTreeMap<usize, &Path> = BTreeMap::new();
+    for (dir, r) in shards {
+        if let Some(before) = given.insert(r.index, dir) {
+            return bad(format!(
+                "{} given twice: {} and {}",
+                r.shard_text(),
+                before.display(),
+                dir.display()
+            ));
+        }
+    }
+    let missing: Vec<String> = (1..=first.count)
+        .filter(|i| !given.contains_key(i))
+        .map(|i| format!("{i}/{}", first.count))
+        .collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    // A run split a hundred ways and merged from one shard need not list 99 others.
+    const LISTED: usize = 10;
+    let mut list = missing[..missing.len().min(LISTED)].join(", ");
+    if missing.len() > LISTED {
+        list.push_str(&format!(" and {} more", missing.len() - LISTED));
+    }
+    bad(format!(
+        "incomplete set of shards: {} {list} missing, {} of {} given (job list \"{}\"); \
+         merge every shard of the run",
+        if missing.len() == 1 {
+            "shard"
+        } else {
+            "shards"
+        },
+        given.len(),
+        first.count,
+        first.jobs_text()
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -186,5 +388,96 @@ mod tests {
         for bad in ["0/8", "9/8", "1/0", "3", "a/b", "3/8/1", ""] {
             assert!(Shard::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    fn record(index: usize, count: usize, seeds: u64) -> ShardRecord {
+        let regions: &[&str] = &["lake", "circle"];
+        let methods: &[MethodId] = &[MethodId::Vtm, MethodId::Triangle];
+        ShardRecord::new(
+            Shard { index, count },
+            Some((regions, methods)),
+            None,
+            seeds,
+            1,
+        )
+    }
+
+    #[test]
+    fn a_shard_record_names_the_job_list_in_its_own_order() {
+        let r = record(2, 4, 3);
+        assert_eq!(
+            (r.regions.as_str(), r.methods.as_str()),
+            ("circle,lake", "refine,vtm")
+        );
+        assert_eq!(r.graded_methods, "");
+        assert_eq!(
+            r.jobs_text(),
+            "seeds 1..=3; tables of circle,lake with refine,vtm; no graded jobs"
+        );
+        // Without the paper's jobs their regions do not matter.
+        let graded = |regions: &[&str]| {
+            ShardRecord::new(
+                Shard { index: 1, count: 2 },
+                None,
+                Some(&[MethodId::CcvtFast, MethodId::Triangle]),
+                1,
+                1,
+            )
+            .same_jobs(&ShardRecord::new(
+                Shard { index: 2, count: 2 },
+                Some((regions, &[][..])),
+                Some(&[MethodId::Triangle, MethodId::CcvtFast]),
+                1,
+                1,
+            ))
+        };
+        assert!(graded(&["circle"]));
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(ShardRecord::read(dir.path()).unwrap(), None);
+        r.write(dir.path()).unwrap();
+        assert_eq!(ShardRecord::read(dir.path()).unwrap(), Some(r));
+        std::fs::write(output::shard_csv(dir.path()), format!("{SHARD_HEADER}\n")).unwrap();
+        assert!(ShardRecord::read(dir.path()).is_err());
+    }
+
+    #[test]
+    fn a_shard_set_must_be_every_shard_of_one_job_list_once() {
+        let dirs: Vec<PathBuf> = (0..6).map(|i| PathBuf::from(format!("s{i}"))).collect();
+        let set = |records: &[ShardRecord]| -> Result<(), String> {
+            let given: Vec<(&Path, ShardRecord)> = dirs
+                .iter()
+                .map(PathBuf::as_path)
+                .zip(records.iter().cloned())
+                .collect();
+            check_shard_set(&given).map_err(|e| e.to_string())
+        };
+        assert_eq!(set(&[]), Ok(()));
+        assert_eq!(
+            set(&[record(3, 3, 2), record(1, 3, 2), record(2, 3, 2)]),
+            Ok(())
+        );
+        let e = set(&[record(1, 4, 2), record(2, 4, 2)]).unwrap_err();
+        assert!(
+            e.contains("shards 3/4, 4/4 missing, 2 of 4 given") && e.contains("seeds 1..=2"),
+            "{e}"
+        );
+        let e = set(&[record(1, 2, 2)]).unwrap_err();
+        assert!(e.contains("shard 2/2 missing"), "{e}");
+        let e = set(&[record(1, 2, 2), record(2, 2, 2), record(2, 2, 2)]).unwrap_err();
+        assert!(e.contains("shard 2/2 given twice: s1 and s2"), "{e}");
+        let e = set(&[record(1, 2, 2), record(2, 3, 2), record(3, 3, 2)]).unwrap_err();
+        assert!(e.contains("s0 is shard 1/2 but s1 is shard 2/3"), "{e}");
+        let e = set(&[record(1, 2, 2), record(2, 2, 3)]).unwrap_err();
+        assert!(
+            e.contains("different job lists")
+                && e.contains("seeds 1..=2")
+                && e.contains("seeds 1..=3"),
+            "{e}"
+        );
+        let e = set(&[record(1, 100, 2)]).unwrap_err();
+        assert!(
+            e.contains("2/100, 3/100") && e.contains("and 89 more"),
+            "{e}"
+        );
     }
 }

@@ -29,7 +29,7 @@ pub mod summary;
 pub mod tables;
 
 pub use error::StudyError;
-pub use jobs::{job_list, parse_regions, Job, Shard};
+pub use jobs::{job_list, parse_regions, Job, Shard, ShardRecord};
 pub use measure::{scaled_label, superscript, Measure};
 pub use methods::MethodId;
 pub use record::{Failure, Kind, Row};
@@ -117,6 +117,19 @@ impl StudyOptions {
         all.retain(|j| j.seed >= self.first_seed);
         graded::shard_graded(self.shard, all)
     }
+
+    /// What a run with these options writes to `DIR/csv/shard.csv`: `None` without a shard.
+    pub fn shard_record(&self) -> Option<ShardRecord> {
+        let shard = self.shard?;
+        Some(ShardRecord::new(
+            shard,
+            self.paper
+                .then_some((self.regions.as_slice(), self.methods.as_slice())),
+            self.graded.then_some(self.graded_methods.as_slice()),
+            self.seeds,
+            self.first_seed,
+        ))
+    }
 }
 
 /// What a run or merge did.
@@ -150,6 +163,31 @@ fn require_metrics(dir: &Path) -> Result<(), StudyError> {
         true => Ok(()),
         false => Err(not_a_study(&m, "metrics.csv")),
     }
+}
+
+/// Refuse to merge `dirs` unless their shards are every shard of one run, once each
+/// ([`jobs::check_shard_set`]). A directory without a shard record holds a whole run if a
+/// report was drawn in it (every unsharded run and every merge draws one, a shard never
+/// does); otherwise it is a shard of a version that did not record its place, or of a run
+/// that stopped, and whether the set is complete cannot be told.
+fn check_shards(dirs: &[PathBuf]) -> Result<(), StudyError> {
+    let mut shards = Vec::new();
+    for d in dirs {
+        match ShardRecord::read(d)? {
+            Some(r) => shards.push((d.as_path(), r)),
+            None if output::summary_md(d).exists() || graded::graded_md_path(d).exists() => {}
+            None => {
+                return Err(StudyError::ShardSet(format!(
+                    "{}: no {} and no report, so it is a shard of an older version of the \
+                     study (or of a run that stopped) and which shard it is cannot be \
+                     checked; rerun it",
+                    d.display(),
+                    output::shard_csv(d).display()
+                )))
+            }
+        }
+    }
+    jobs::check_shard_set(&shards)
 }
 
 /// Read `DIR/csv/metrics.csv` and `DIR/csv/failures.csv` (either may be absent: empty).
@@ -210,6 +248,8 @@ pub fn run_study(
     }
     // An output directory that cannot be made fails now, not after every job has run.
     output::create_dir(&opts.out)?;
+    // A record of an earlier sharded run here would pass this directory off as that shard.
+    output::remove_if_present(&output::shard_csv(&opts.out))?;
     let jobs = opts.jobs();
     let names: Vec<&'static str> = {
         let set: BTreeSet<&'static str> = jobs.iter().map(|j| j.region()).collect();
@@ -270,6 +310,10 @@ pub fn run_study(
         write_csvs(&opts.out, &mut rows, &mut failures, &mut out.written)?;
     }
     run_graded_part(opts, on_event, &mut out)?;
+    // Written last, so that a shard which stopped before its CSVs has none.
+    if let Some(r) = opts.shard_record() {
+        out.written.push(r.write(&opts.out)?);
+    }
     if opts.real_peers {
         run_peers_part(opts, on_event, &mut out)?;
     }
@@ -383,6 +427,8 @@ fn run_peers_part(
 
 /// Combine the CSVs and meshes of shard directories `dirs` into `out` (rows sorted as an
 /// unsharded run writes them; a row present twice is an error), then write the report.
+/// The shards must be every shard of one run, each once (`csv/shard.csv`); directories of
+/// unsharded runs or merges may be given beside them.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
     if dirs.is_empty() {
         return Err(StudyError::BadOption(
@@ -390,11 +436,14 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
         ));
     }
     let mut result = Outcome::default();
-    // Every directory read and the merge checked (a row in two of them is refused) before
-    // anything is written to `out`.
-    let mut read = Vec::with_capacity(dirs.len());
+    // Every directory read, its shards found to be every shard of one run, and the merge
+    // checked (a row in two of them is refused) before anything is written to `out`.
     for d in dirs {
         require_metrics(d)?;
+    }
+    check_shards(dirs)?;
+    let mut read = Vec::with_capacity(dirs.len());
+    for d in dirs {
         read.push((d, read_dir_csv(d)?));
     }
     let mut graded_read = Vec::new();
@@ -447,6 +496,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Outcome, StudyError> {
             .written
             .extend(graded::write_graded(out, &mut g, &mut graded_failures)?);
     }
+    // Merged into one of its shards, or over an old shard, `out` now holds the whole run.
+    output::remove_if_present(&output::shard_csv(out))?;
     let report = write_report(out)?;
     result.written.extend(report.written);
     result.notes.extend(report.notes);
@@ -639,6 +690,106 @@ mod tests {
         assert_eq!(read_dir_csv(dir.path()).unwrap(), (vec![], vec![]));
     }
 
+    /// Options of a two-seed run of every method on `regions`, as shard `i` of `n`.
+    fn options(regions: &[&'static str], i: usize, n: usize) -> StudyOptions {
+        StudyOptions {
+            regions: regions.to_vec(),
+            seeds: 2,
+            graded: false,
+            shard: Some(Shard { index: i, count: n }),
+            ..StudyOptions::default()
+        }
+    }
+
+    /// Write into `dir` what the shard of `opts` writes: its rows of `all` (the whole job
+    /// list) and its record.
+    fn write_shard(dir: &Path, opts: &StudyOptions, all: &[Job]) {
+        let part = opts.shard.unwrap().select(all);
+        output::write_atomic(
+            &output::metrics_csv(dir),
+            &record::rows_csv(&rows_for(&part)).unwrap(),
+        )
+        .unwrap();
+        opts.shard_record().unwrap().write(dir).unwrap();
+    }
+
+    #[test]
+    fn merge_refuses_shards_that_are_not_every_shard_of_one_run() {
+        let regions = ["circle"];
+        let all = job_list(&regions, &MethodId::ALL, 2);
+        let tmp = tempfile::tempdir().unwrap();
+        let shard = |name: &str, opts: &StudyOptions| {
+            let d = tmp.path().join(name);
+            let all = job_list(&opts.regions, &opts.methods, opts.seeds);
+            write_shard(&d, opts, &all);
+            d
+        };
+        let s: Vec<PathBuf> = (1..=3)
+            .map(|i| shard(&format!("s{i}"), &options(&regions, i, 3)))
+            .collect();
+        let out = tmp.path().join("merged");
+        let refused = |dirs: &[PathBuf]| {
+            let e = merge(dirs, &out).unwrap_err();
+            assert!(matches!(e, StudyError::ShardSet(_)), "{e:?}");
+            // Refused before anything is written.
+            assert!(!out.exists());
+            e.to_string()
+        };
+        let e = refused(&s[..2]);
+        assert!(e.contains("shard 3/3 missing"), "{e}");
+        let e = refused(&[s[0].clone(), s[1].clone(), s[1].clone(), s[2].clone()]);
+        assert!(e.contains("shard 2/3 given twice"), "{e}");
+        let other_n = shard("t2", &options(&regions, 2, 2));
+        let e = refused(&[s[0].clone(), other_n, s[2].clone()]);
+        assert!(
+            e.contains("is shard 1/3 but") && e.contains("is shard 2/2"),
+            "{e}"
+        );
+        let other_jobs = shard(
+            "u2",
+            &StudyOptions {
+                seeds: 3,
+                ..options(&regions, 2, 3)
+            },
+        );
+        let e = refused(&[s[0].clone(), other_jobs, s[2].clone()]);
+        assert!(e.contains("different job lists"), "{e}");
+        // A shard of a version that did not record which it is: its place cannot be checked.
+        let old = tmp.path().join("old");
+        output::write_atomic(
+            &output::metrics_csv(&old),
+            &record::rows_csv(&rows_for(&Shard { index: 2, count: 3 }.select(&all))).unwrap(),
+        )
+        .unwrap();
+        let e = refused(&[s[0].clone(), old, s[2].clone()]);
+        assert!(
+            e.contains("no ") && e.contains("shard.csv") && e.contains("rerun"),
+            "{e}"
+        );
+
+        // Every shard, with an unsharded run of another region beside them, as before.
+        let whole = tmp.path().join("whole");
+        let lake = StudyOptions {
+            shard: None,
+            ..options(&["lake"], 1, 1)
+        };
+        output::write_atomic(
+            &output::metrics_csv(&whole),
+            &record::rows_csv(&rows_for(&lake.jobs())).unwrap(),
+        )
+        .unwrap();
+        write_report(&whole).unwrap();
+        let mut dirs = s.clone();
+        dirs.push(whole);
+        merge(&dirs, &out).unwrap();
+        let rows: Vec<Row> = record::read_csv(&output::metrics_csv(&out)).unwrap();
+        assert_eq!(rows.len(), 2 * (all.len() + lake.jobs().len()));
+        assert!(!output::shard_csv(&out).exists());
+        // Merged into one of its shards, the directory is no longer that shard.
+        merge(&s, &s[0]).unwrap();
+        assert!(!output::shard_csv(&s[0]).exists());
+    }
+
     #[test]
     fn merging_two_shards_equals_the_unsharded_csv() {
         let all = job_list(&["circle", "square_two_hex"], &MethodId::ALL, 2);
@@ -646,12 +797,7 @@ mod tests {
         let mut shard_dirs = Vec::new();
         for i in 1..=2 {
             let d = dir.path().join(format!("shard_{i}"));
-            let part = Shard { index: i, count: 2 }.select(&all);
-            output::write_atomic(
-                &output::metrics_csv(&d),
-                &record::rows_csv(&rows_for(&part)).unwrap(),
-            )
-            .unwrap();
+            write_shard(&d, &options(&["circle", "square_two_hex"], i, 2), &all);
             shard_dirs.push(d);
         }
         // Shard 2 also had a failure.
@@ -692,7 +838,7 @@ mod tests {
             &[shard_dirs[0].clone(), shard_dirs[0].clone()],
             &dir.path().join("bad"),
         );
-        assert!(matches!(twice, Err(StudyError::Duplicate(_))), "{twice:?}");
+        assert!(matches!(twice, Err(StudyError::ShardSet(_))), "{twice:?}");
         // A directory without metrics.csv is refused with a message naming it.
         let e = merge(&[dir.path().join("nowhere")], &dir.path().join("bad2")).unwrap_err();
         let text = e.to_string();

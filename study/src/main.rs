@@ -36,7 +36,7 @@ struct Cli {
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N")]
     jobs: Option<usize>,
-    /// Run only jobs j with j mod N = I−1 of the job list, and write only the CSV and meshes.
+    /// Run only jobs j with j mod N = I−1 of the job list, and write only the CSV (with csv/shard.csv, the shard and its job list, which merge checks) and meshes.
     #[arg(long, value_name = "I/N")]
     shard: Option<String>,
     /// Replace DIR/csv/metrics.csv (and graded.csv) instead of updating only the cells run.
@@ -62,6 +62,8 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Combine shard directories into one CSV, tables, figures and summary.
+    ///
+    /// The shards must be every shard of one run (the same job list and N), each once; directories of unsharded runs or merges may be given beside them.
     Merge {
         /// Shard output directories (each with csv/metrics.csv and meshes/).
         #[arg(required = true, value_name = "DIR")]

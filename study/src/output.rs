@@ -12,6 +12,11 @@ pub fn failures_csv(dir: &Path) -> PathBuf {
     dir.join("csv").join("failures.csv")
 }
 
+/// `DIR/csv/shard.csv`: which shard of which job list a sharded run ran.
+pub fn shard_csv(dir: &Path) -> PathBuf {
+    dir.join("csv").join("shard.csv")
+}
+
 /// `DIR/tables/table_NN.md`.
 pub fn table_md(dir: &Path, number: u8) -> PathBuf {
     dir.join("tables").join(format!("table_{number:02}.md"))
@@ -71,6 +76,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
     cvtmesh::io::write_atomic(path, bytes).map_err(|e| StudyError::io(path, e))
+}
+
+/// Remove `path` if it is there.
+pub fn remove_if_present(path: &Path) -> Result<(), StudyError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(StudyError::io(path, e)),
+        _ => Ok(()),
+    }
 }
 
 /// Create a directory and its parents.

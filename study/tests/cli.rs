@@ -55,3 +55,32 @@ fn unknown_names_and_bad_options_fail_clearly() {
     assert!(err.contains("is this a study output directory"), "{err}");
     assert!(!dir.path().join("never").exists());
 }
+
+#[test]
+fn a_merge_of_some_shards_of_a_run_fails_naming_the_missing_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = vec!["merge".to_string()];
+    for i in [1, 2] {
+        let shard = dir.path().join(format!("shard_{i}"));
+        let csv = shard.join("csv");
+        std::fs::create_dir_all(&csv).unwrap();
+        let metrics = format!("{}\n", study::record::METRICS_HEADER);
+        std::fs::write(csv.join("metrics.csv"), metrics).unwrap();
+        let record = format!(
+            "index,count,seeds,first_seed,regions,methods,graded_methods\n\
+             {i},4,1,1,circle,\"refine,vtm\",\n"
+        );
+        std::fs::write(csv.join("shard.csv"), record).unwrap();
+        args.push(shard.to_str().unwrap().to_string());
+    }
+    let out = dir.path().join("merged");
+    args.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, err) = study(&args);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("shards 3/4, 4/4 missing") && err.contains("tables of circle with refine,vtm"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

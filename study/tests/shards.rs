@@ -49,10 +49,20 @@ fn sharded_then_merged_equals_unsharded() {
         )
         .unwrap();
         assert_eq!(o.jobs, 2);
-        // A shard writes the CSV and meshes only.
+        // A shard writes the CSV and meshes only, and which shard of which jobs it is.
         assert!(!d.join("tables").exists() && !d.join("figures").exists());
+        let record = study::ShardRecord::read(&d).unwrap().unwrap();
+        assert_eq!((record.index, record.count, record.seeds), (i, 2, 2));
         shard_dirs.push(d);
     }
+    assert!(!output::shard_csv(&whole).exists());
+    // One shard is not the run.
+    let half = tmp.path().join("half");
+    let e = study::merge(&shard_dirs[1..], &half)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("shard 1/2 missing"), "{e}");
+    assert!(!half.exists());
     let merged = tmp.path().join("merged");
     study::merge(&shard_dirs, &merged).unwrap();
 
