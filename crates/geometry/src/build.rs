@@ -112,6 +112,7 @@ impl Region {
                             > threshold
                             || self.markers.get(c.piece_in) != self.markers.get(c.piece_out)
                             || self.is_marked_vertex(c.pos)
+                            || self.is_line_end(c.pos)
                     })
                 })
                 .collect();
@@ -161,6 +162,7 @@ impl Region {
         merged.marker_names = self.marker_names.clone();
         merged.vertex_markers = self.vertex_markers.clone();
         merged.embedded = self.embedded.clone();
+        merged.lines = self.lines.clone();
         merged.notes = self.notes.clone();
         merged.surface_group = self.surface_group.clone();
         merged
@@ -677,6 +679,7 @@ pub(crate) fn assemble(
         marker_names: Default::default(),
         vertex_markers: Vec::new(),
         embedded: Vec::new(),
+        lines: Vec::new(),
         inside_grid: Default::default(),
         notes: Vec::new(),
         surface_group: None,

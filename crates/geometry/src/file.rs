@@ -20,6 +20,10 @@
 //! segment without one, where some have one), and a junction where the marker changes is a
 //! corner, so a mesh has a vertex there even where the boundary runs smoothly on.
 //!
+//! `lines` (optional) lists polylines to keep in every mesh as edges (a material interface, a
+//! crack, an inclusion's outline), each `{"points": [[x, y], ...], "marker": m}` (`marker`
+//! optional; closed when the last point is the first): see [`Region::with_embedded_lines`].
+//!
 //! `corners` (optional) lists every tangent discontinuity; an empty list means none, and
 //! without the field corners are computed. `name` (optional) names the region; otherwise
 //! the file stem. Every other field (`area`, `bbox`, `length`, ...) is ignored: all derived
@@ -213,8 +217,14 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         },
         other => other,
     };
+    let lines = match top.get("lines") {
+        None | Some(Value::Null) => Vec::new(),
+        Some(v) => embedded_lines(v).map_err(perr)?,
+    };
     if marks.iter().all(Option::is_none) {
-        return crate::build::new_region(&name, loops, corners).map_err(located);
+        return crate::build::new_region(&name, loops, corners)
+            .and_then(|r| r.with_embedded_lines(lines))
+            .map_err(located);
     }
     // Each piece's marker by its end points (either way round: loops are reoriented).
     let key = |p: &Piece| {
@@ -264,7 +274,34 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         again
     };
     region.markers = marker_of(&region);
-    Ok(region)
+    region.with_embedded_lines(lines).map_err(located)
+}
+
+/// The `lines` field: each line an object with `points` (at least two) and an optional integer
+/// `marker`.
+fn embedded_lines(v: &Value) -> Result<Vec<crate::EmbeddedLine>, String> {
+    let list = v.as_array().ok_or_else(|| {
+        "'lines' must be a list of {\"points\": [...], \"marker\": m}".to_string()
+    })?;
+    list.iter()
+        .enumerate()
+        .map(|(i, lv)| {
+            let ctx = format!("lines[{i}]");
+            let points = points(
+                lv.get("points")
+                    .ok_or_else(|| format!("{ctx}: missing field 'points'"))?,
+                &format!("{ctx}.points"),
+                2,
+            )?;
+            let marker = match lv.get("marker") {
+                None | Some(Value::Null) => 0,
+                Some(m) => m
+                    .as_i64()
+                    .ok_or_else(|| format!("{ctx}.marker is {m}; expected an integer"))?,
+            };
+            Ok(crate::EmbeddedLine { points, marker })
+        })
+        .collect()
 }
 
 /// A loop's role, its pieces, and each piece's marker (its segment's `marker`, if any).

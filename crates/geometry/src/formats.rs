@@ -383,7 +383,18 @@ fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, Geomet
         .copied()
         .filter(|&(p, _)| region.signed_distance(p) < -off)
         .collect();
-    let mut region = region.with_embedded_points(inside)?;
+    let mut region = region
+        .with_embedded_points(inside)?
+        .with_embedded_lines(std::mem::take(&mut poly.lines))?;
+    if poly.dropped > 0 {
+        region.notes.push(format!(
+            "{label}: {} segment{} in a hole or outside the region {} in no triangle, as \
+             Triangle eats them: not kept",
+            poly.dropped,
+            if poly.dropped == 1 { "" } else { "s" },
+            if poly.dropped == 1 { "is" } else { "are" }
+        ));
+    }
     if poly.regional > 0 {
         region.notes.push(format!(
             "{label}: its {} regional {} not used: cvtmesh meshes the region as one, its \
@@ -762,6 +773,10 @@ struct Poly {
     embedded: Vec<(DVec2, i64)>,
     /// The number of regional attributes and area constraints after the holes.
     regional: usize,
+    /// Segments with the region on both sides, joined into polylines.
+    lines: Vec<crate::EmbeddedLine>,
+    /// Segments with the region on neither side (in a hole or outside).
+    dropped: usize,
 }
 
 /// A `.poly`'s nonzero vertex markers, by the vertex's coordinates.
@@ -837,8 +852,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         .map(|(i, p)| *canon.entry((p.x.to_bits(), p.y.to_bits())).or_insert(i))
         .collect();
     let mut seen: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut adj: HashMap<usize, Vec<(usize, usize)>> = HashMap::new(); // vertex → (neighbour, line)
-    let mut order = Vec::new();
+    let mut segments: Vec<(usize, usize, usize)> = Vec::with_capacity(nseg); // (a, b, line)
     for s in 0..nseg {
         let (line, t) = recs.next().ok_or_else(|| {
             parse_err(
@@ -873,6 +887,49 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
                 format!("segment repeats the segment on line {prev}"),
             ));
         }
+        segments.push((a, b, line));
+    }
+    if segments.is_empty() {
+        return Err(invalid(
+            label,
+            "no segments: a .poly region needs its boundary as closed loops of segments",
+        ));
+    }
+
+    let (line, t) = recs
+        .next()
+        .ok_or_else(|| parse_err(label, last_line, "file ends before the hole header"))?;
+    let nholes: usize = num(label, line, t.first(), "the number of holes")?;
+    let mut holes = Vec::new();
+    for h in 0..nholes {
+        let (line, t) = recs.next().ok_or_else(|| {
+            parse_err(
+                label,
+                last_line,
+                format!("file ends after {h} of {nholes} holes"),
+            )
+        })?;
+        holes.push((
+            line,
+            DVec2::new(
+                coord(label, line, t.get(1), "x")?,
+                coord(label, line, t.get(2), "y")?,
+            ),
+        ));
+    }
+    // As Triangle reads the segments: those with the region on one side bound it, those with
+    // the region on both sides are lines inside it to keep (a material interface, a crack, an
+    // inclusion's outline), and those in a hole or outside are dropped.
+    let hole_points: Vec<DVec2> = holes.iter().map(|&(_, h)| h).collect();
+    let pairs: Vec<(usize, usize)> = segments.iter().map(|&(a, b, _)| (a, b)).collect();
+    let sides = crate::faces::classify(&verts, &pairs, &hole_points);
+    let mut adj: HashMap<usize, Vec<(usize, usize)>> = HashMap::new(); // vertex → (neighbour, line)
+    let mut order = Vec::new();
+    for (&(a, b, line), _) in segments
+        .iter()
+        .zip(&sides)
+        .filter(|(_, &side)| side == crate::faces::Side::Boundary)
+    {
         for (u, v) in [(a, b), (b, a)] {
             let e = adj.entry(u).or_default();
             if e.is_empty() {
@@ -899,9 +956,9 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
                 label,
                 e[2].1,
                 format!(
-                    "vertex {} at {} is shared by {} segments: internal segments (a material \
-                     interface, a crack, a line to keep in the mesh) are not supported; cvtmesh \
-                     meshes regions bounded by simple loops, one per outer boundary or hole",
+                    "vertex {} at {} is on {} boundary segments: two loops of the boundary \
+                     touch there; cvtmesh meshes regions bounded by simple loops, one per \
+                     outer boundary or hole",
                     v + base,
                     verts[v],
                     e.len()
@@ -932,33 +989,65 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         rings.push(ring);
     }
     if rings.is_empty() {
+        if let Some(&(line, h)) = holes.first() {
+            return Err(parse_err(
+                label,
+                line,
+                format!("hole point {h} lies in the region, not inside any hole loop"),
+            ));
+        }
+        // Segments that enclose nothing: most likely a loop left open.
+        let mut degree: HashMap<usize, (usize, usize)> = HashMap::new();
+        for &(a, b, line) in &segments {
+            for v in [a, b] {
+                degree.entry(v).or_insert((0, line)).0 += 1;
+            }
+        }
+        if let Some((v, (_, line))) = pairs
+            .iter()
+            .flat_map(|&(a, b)| [a, b])
+            .map(|v| (v, degree[&v]))
+            .find(|(_, (d, _))| *d == 1)
+        {
+            return Err(parse_err(
+                label,
+                line,
+                format!(
+                    "open polyline: vertex {} at {} ends the segments without closing a loop",
+                    v + base,
+                    verts[v]
+                ),
+            ));
+        }
         return Err(invalid(
             label,
-            "no segments: a .poly region needs its boundary as closed loops of segments",
+            "no segment bounds the region: every segment has the region on both sides or on \
+             neither (a hole point in every face?)",
         ));
     }
-
-    let (line, t) = recs
-        .next()
-        .ok_or_else(|| parse_err(label, last_line, "file ends before the hole header"))?;
-    let nholes: usize = num(label, line, t.first(), "the number of holes")?;
-    let mut holes = Vec::new();
-    for h in 0..nholes {
-        let (line, t) = recs.next().ok_or_else(|| {
-            parse_err(
-                label,
-                last_line,
-                format!("file ends after {h} of {nholes} holes"),
-            )
-        })?;
-        holes.push((
-            line,
-            DVec2::new(
-                coord(label, line, t.get(1), "x")?,
-                coord(label, line, t.get(2), "y")?,
-            ),
-        ));
-    }
+    let dropped = sides
+        .iter()
+        .filter(|&&side| side == crate::faces::Side::Outside)
+        .count();
+    let inner: Vec<(usize, usize)> = pairs
+        .iter()
+        .zip(&sides)
+        .filter(|(_, &side)| side == crate::faces::Side::Inside)
+        .map(|(&p, _)| p)
+        .collect();
+    let marker_of = |a: usize, b: usize| {
+        markers
+            .get(&segment_key(verts[a], verts[b]))
+            .copied()
+            .unwrap_or(0)
+    };
+    let lines = polylines(&inner, |v| adj.contains_key(&v), &marker_of)
+        .into_iter()
+        .map(|(vs, marker)| crate::EmbeddedLine {
+            points: vs.iter().map(|&v| verts[v]).collect(),
+            marker,
+        })
+        .collect();
     // Regional attributes and area constraints may follow; they do not change the region (the
     // user hears that they are not used). Which loops are holes is for nesting to decide and
     // the hole points to confirm (`poly_region`).
@@ -979,7 +1068,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
     let mut embedded = Vec::new();
     if header.0 > 0 {
         for (i, p) in verts.iter().enumerate() {
-            if ids[i] == i && !adj.contains_key(&i) {
+            if ids[i] == i && !pairs.iter().any(|&(a, b)| a == i || b == i) {
                 embedded.push((*p, vertex_marks[i]));
             }
         }
@@ -991,7 +1080,73 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         vertex_markers,
         embedded,
         regional,
+        lines,
+        dropped,
     })
+}
+
+/// The segments `inner` joined into polylines: a polyline ends where three or more segments
+/// meet, where one ends, on the boundary (`on_boundary`), and where the marker changes; a
+/// cycle with none of these is one closed polyline. Each with its segments' marker.
+fn polylines(
+    inner: &[(usize, usize)],
+    on_boundary: impl Fn(usize) -> bool,
+    marker_of: &dyn Fn(usize, usize) -> i64,
+) -> Vec<(Vec<usize>, i64)> {
+    let mut at: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (s, &(a, b)) in inner.iter().enumerate() {
+        at.entry(a).or_default().push(s);
+        at.entry(b).or_default().push(s);
+    }
+    let other = |s: usize, v: usize| {
+        let (a, b) = inner[s];
+        if a == v {
+            b
+        } else {
+            a
+        }
+    };
+    // A vertex a polyline passes through: two segments of one marker, off the boundary.
+    let through = |v: usize| {
+        let ss = &at[&v];
+        ss.len() == 2
+            && !on_boundary(v)
+            && marker_of(inner[ss[0]].0, inner[ss[0]].1)
+                == marker_of(inner[ss[1]].0, inner[ss[1]].1)
+    };
+    let mut used = vec![false; inner.len()];
+    let mut out = Vec::new();
+    let walk = |s0: usize, v0: usize, used: &mut Vec<bool>| {
+        let (mut s, mut v) = (s0, v0);
+        let mut vs = vec![v0];
+        loop {
+            used[s] = true;
+            v = other(s, v);
+            vs.push(v);
+            if v == v0 || !through(v) {
+                break;
+            }
+            match at[&v].iter().find(|&&t| !used[t]) {
+                Some(&t) => s = t,
+                None => break,
+            }
+        }
+        (vs, marker_of(inner[s0].0, inner[s0].1))
+    };
+    // Open polylines first, from their ends, in the segments' order; then the cycles.
+    for (s, &(a, b)) in inner.iter().enumerate() {
+        for v in [a, b] {
+            if !used[s] && !through(v) {
+                out.push(walk(s, v, &mut used));
+            }
+        }
+    }
+    for s in 0..inner.len() {
+        if !used[s] {
+            out.push(walk(s, inner[s].0, &mut used));
+        }
+    }
+    out
 }
 
 /// Insert `p` into the loop segment within `off` of it (the first found), the two halves
@@ -1257,11 +1412,18 @@ mod tests {
             [(LoopRole::Outer, 16.0), (LoopRole::Hole, 1.0)]
         );
         assert_eq!(r.loops()[0].pieces.len(), 4);
-        // Without the hole point Triangle would mesh the inner square too (an internal
-        // boundary), which a region cannot express: refused, naming the loop.
+        // Without the hole point Triangle meshes the inner square too, its outline kept as
+        // edges: an inclusion, a closed embedded line.
         let no_hole = SQUARE_HOLE_POLY.replace("\n1\n1 1.5 1.5\n", "\n0\n");
-        let e = poly(&no_hole).unwrap_err().to_string();
-        assert!(e.contains("has no hole point"), "{e}");
+        let r = poly(&no_hole).unwrap();
+        assert_eq!(region_areas(&r), [(LoopRole::Outer, 16.0)]);
+        let lines = r.embedded_lines();
+        assert_eq!(lines.len(), 1);
+        assert!(
+            lines[0].is_closed() && lines[0].points.len() == 5,
+            "{lines:?}"
+        );
+        assert!((lines[0].length() - 4.0).abs() < 1e-12);
         // 0-based numbering, duplicate coincident vertex closing a loop, trailing attributes.
         let zero =
             "5 2 1 0\n0 0 0 9\n1 3 0 9\n2 0 3 9\n3 0 0 9\n4 9 9 9\n3 0\n0 0 1\n1 1 2\n2 2 3\n0\n";
@@ -1556,11 +1718,11 @@ mod tests {
                    8 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n8 8 5\n0\n";
         let r = poly(two).unwrap();
         assert_eq!((r.num_parts(), r.area()), (2, 5.0));
-        // A vertex shared by three segments.
+        // Two triangles touching at a vertex: a bow tie's two loops.
         let bow = "5 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 2 0\n5 2 1\n6 0\n1 1 2\n2 2 3\n3 3 1\n4 2 4\n5 4 5\n6 5 2\n0\n";
         let e = poly(bow).unwrap_err().to_string();
         assert!(
-            e.contains("shared by 4 segments") && e.contains("internal segments"),
+            e.contains("on 4 boundary segments") && e.contains("touch there"),
             "{e}"
         );
     }

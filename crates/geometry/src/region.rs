@@ -87,6 +87,8 @@ pub struct Region {
     pub(crate) vertex_markers: Vec<(DVec2, i64)>,
     /// Points inside Ω every mesh has as vertices, each with its marker (0 for none).
     pub(crate) embedded: Vec<(DVec2, i64)>,
+    /// Polylines inside Ω every mesh follows with its edges ([`Region::embedded_lines`]).
+    pub(crate) lines: Vec<crate::EmbeddedLine>,
     /// [`Region::inside_grid`], made on first use (shared by clones, which have the same loops).
     pub(crate) inside_grid: Arc<InsideGrid>,
     /// What the region's file held that the region does not use ([`Region::notes`]).
@@ -480,6 +482,13 @@ impl Region {
                     .iter()
                     .copied()
                     .filter(|&(p, _)| region.contains(p))
+                    .collect();
+                // A line lies in one part: the one holding its first segment's midpoint.
+                region.lines = self
+                    .lines
+                    .iter()
+                    .filter(|l| region.contains(0.5 * (l.points[0] + l.points[1])))
+                    .cloned()
                     .collect();
                 // Pieces and corners are numbered loop by loop, so a part's are a run of ours.
                 let pieces = loops

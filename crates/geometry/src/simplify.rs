@@ -124,13 +124,19 @@ impl Region {
             .map(|(m, ring)| match (m, ring) {
                 (Some(m), Some(ring)) => (0..m.len())
                     .filter(|&i| {
-                        m[(i + m.len() - 1) % m.len()] != m[i] || self.is_marked_vertex(ring[i])
+                        m[(i + m.len() - 1) % m.len()] != m[i]
+                            || self.is_marked_vertex(ring[i])
+                            || self.is_line_end(ring[i])
                     })
+                    .collect(),
+                // An embedded line's end on the boundary stays a vertex and a corner.
+                (None, Some(ring)) => (0..ring.len())
+                    .filter(|&i| self.is_line_end(ring[i]))
                     .collect(),
                 _ => Vec::new(),
             })
             .collect();
-        let marked = self.piece_markers().is_some();
+        let marked = self.piece_markers().is_some() || !self.lines.is_empty();
         let mut tol = tolerance;
         for _ in 0..=RETRIES {
             let mut loops = Vec::with_capacity(self.loops.len());
@@ -144,20 +150,20 @@ impl Region {
                         let kept = simplify_ring(ring, tol, &changes[l]);
                         after += kept.len();
                         deviation = deviation.max(ring_deviation(ring, &kept));
+                        let index: HashMap<(u64, u64), usize> = ring
+                            .iter()
+                            .enumerate()
+                            .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i))
+                            .collect();
+                        let at = |p: DVec2| index[&(p.x.to_bits(), p.y.to_bits())];
                         if let Some(m) = &ring_markers[l] {
-                            let index: HashMap<(u64, u64), usize> = ring
-                                .iter()
-                                .enumerate()
-                                .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i))
-                                .collect();
-                            let at = |p: DVec2| index[&(p.x.to_bits(), p.y.to_bits())];
                             markers.extend(kept.iter().map(|&p| m[at(p)]));
-                            corners.extend(
-                                kept.iter()
-                                    .copied()
-                                    .filter(|&p| changes[l].binary_search(&at(p)).is_ok()),
-                            );
                         }
+                        corners.extend(
+                            kept.iter()
+                                .copied()
+                                .filter(|&p| changes[l].binary_search(&at(p)).is_ok()),
+                        );
                         (0..kept.len())
                             .map(|i| Piece::Line {
                                 a: kept[i],
@@ -186,7 +192,9 @@ impl Region {
             let listed = marked.then_some(corners);
             if let Ok(mut region) = Region::new(&self.name, loops, listed) {
                 if marked {
-                    region.markers = markers;
+                    if self.piece_markers().is_some() {
+                        region.markers = markers;
+                    }
                     region.marker_names = self.marker_names.clone();
                     region.vertex_markers = self.vertex_markers.clone();
                 }
@@ -197,7 +205,8 @@ impl Region {
                 // holds well inside is a reason to simplify less.
                 let embedded = region
                     .clone()
-                    .with_embedded_points(self.embedded.iter().copied());
+                    .with_embedded_points(self.embedded.iter().copied())
+                    .and_then(|r| r.with_embedded_lines(self.lines.iter().cloned()));
                 let Ok(mut region) = embedded else {
                     tol *= 0.5;
                     continue;

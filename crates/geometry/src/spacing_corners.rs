@@ -196,6 +196,7 @@ impl Region {
         let mut region = assemble(self.name.clone(), lps, &flags, self.corner_threshold);
         region.corners_computed = self.corners_computed;
         region.embedded = self.embedded.clone();
+        region.lines = self.lines.clone();
         region.notes = self.notes.clone();
         region.surface_group = self.surface_group.clone();
         SpacingCorners {

@@ -121,14 +121,19 @@ fn a_poly_island_is_a_part_unless_a_hole_point_eats_it() {
     let r = poly_from_str(&format!("{head}1\n1 1.2 1.2\n"), "i.poly", "i").unwrap();
     assert_eq!(r.num_parts(), 2);
     assert!((r.area() - (16.0 - 4.0 + 1.0)).abs() < 1e-12);
-    // A hole point in the island would have Triangle eat it: refused, with its line.
-    let e = poly_from_str(&format!("{head}2\n1 1.2 1.2\n2 2 2\n"), "i.poly", "i")
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("line 29: hole point"), "{e}");
-    // Without a hole point the hole's loop is an internal boundary.
-    let e = poly_from_str(&format!("{head}0\n"), "i.poly", "i")
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("has no hole point"), "{e}");
+    // A hole point in the island too has Triangle eat it: the island's segments are in no
+    // triangle, which a note says.
+    let r = poly_from_str(&format!("{head}2\n1 1.2 1.2\n2 2 2\n"), "i.poly", "i").unwrap();
+    assert_eq!((r.num_parts(), r.area()), (1, 12.0));
+    assert!(
+        r.notes().iter().any(|n| n.contains("4 segments")),
+        "{:?}",
+        r.notes()
+    );
+    // Without a hole point the hole's loop and the island's are lines inside the square, kept
+    // as edges (an inclusion within an inclusion), as Triangle keeps them.
+    let r = poly_from_str(&format!("{head}0\n"), "i.poly", "i").unwrap();
+    assert_eq!((r.num_parts(), r.area()), (1, 16.0));
+    assert_eq!(r.embedded_lines().len(), 2);
+    assert!(r.embedded_lines().iter().all(|l| l.is_closed()));
 }

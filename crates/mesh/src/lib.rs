@@ -8,6 +8,7 @@ mod check;
 mod dual;
 mod error;
 pub mod io;
+mod lines;
 mod mesher;
 mod parts;
 mod polish;
@@ -22,6 +23,7 @@ pub use check::{
 };
 pub use dual::Dual;
 pub use error::MeshError;
+pub use lines::line_edges;
 pub use mesher::{
     boundary_points_needed, memory_estimate, refuse_embedded, total_memory, MeshRequest,
     MeshResult, Mesher, Progress, Size, BYTES_PER_VERTEX, GRADATION_NOTE, MAX_POINTS,

@@ -626,8 +626,9 @@ fn refuse_unresolved_boundary(
     )))
 }
 
-/// Refuse a region with embedded points ([`Region::embedded_points`]) for a method that cannot
-/// keep them as vertices (`method` names it in the error).
+/// Refuse a region with embedded points ([`Region::embedded_points`]) or lines
+/// ([`Region::embedded_lines`]) for a method that cannot keep them as vertices and edges
+/// (`method` names it in the error).
 ///
 /// ```
 /// use cvtmesh::geometry::{DVec2, Region};
@@ -638,6 +639,15 @@ fn refuse_unresolved_boundary(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn refuse_embedded(region: &Region, method: &str) -> Result<(), MeshError> {
+    let lines = region.embedded_lines().len();
+    if lines > 0 {
+        return Err(MeshError::BadRequest(format!(
+            "{method} cannot keep lines inside a region as edges, and region '{}' embeds {lines} \
+             line{}; use ccvt (the default), refine or distmesh",
+            region.name(),
+            if lines == 1 { "" } else { "s" }
+        )));
+    }
     match region.embedded_points().len() {
         0 => Ok(()),
         n => Err(MeshError::BadRequest(format!(

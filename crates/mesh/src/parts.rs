@@ -13,6 +13,14 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     request: &MeshRequest,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<MeshResult, MeshError> {
+    // An embedded line's vertices, placed at the local spacing, are points every mesh keeps.
+    let with_points;
+    let (region, lines) = if region.embedded_lines().is_empty() {
+        (region, None)
+    } else {
+        with_points = crate::lines::with_line_points(region, request)?;
+        (&with_points, Some(region))
+    };
     let (bent, unfitted) = match with_spacing_corners(region, request) {
         Fit::Added(b) => (Some(*b), None),
         Fit::TooMany { needed } => (None, Some(needed)),
@@ -43,6 +51,17 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         }
         (Err(e), _) => return Err(e),
     };
+    // A triangulation of points spaced along a line has the edges between them unless a point
+    // off the line crowds one; flips restore those before the polish, which holds the line's
+    // vertices.
+    if lines.is_some() && !crate::lines::restore_line_edges(&mut result.mesh, region) {
+        return Err(MeshError::Failed {
+            method: mesher.name().to_string(),
+            message: "an embedded line has a piece between two of its vertices that no flip of \
+                      the mesh's edges could make an edge; ask for more points"
+                .into(),
+        });
+    }
     if !request.density.is_uniform() && !mesher.follows_size_fields() {
         result.notes.push(format!(
             "{} starts from a uniform lattice that the density only reshapes, and follows a \
@@ -154,6 +173,17 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
                 ),
             });
         }
+    }
+    // The line's pieces are edges still (the polish moves no vertex of a line): checked, as a
+    // method's own triangulation could have lost one no flip restored.
+    if let Some(lines) = lines {
+        crate::lines::line_edges(&result.mesh, lines).map_err(|e| match e {
+            MeshError::Failed { message, .. } => MeshError::Failed {
+                method: mesher.name().to_string(),
+                message,
+            },
+            e => e,
+        })?;
     }
     Ok(result)
 }

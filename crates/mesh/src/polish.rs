@@ -212,10 +212,18 @@ fn sweep(
     };
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(sorted(a.1).cmp(&sorted(b.1))));
     let mut seen = vec![false; mesh.num_vertices()];
+    // So do the vertices of the mesh on its embedded lines.
+    let on_lines = crate::lines::line_edges(mesh, region).unwrap_or_default();
     let fixed: std::collections::HashSet<(u64, u64)> = region
         .embedded_points()
         .iter()
-        .map(|(q, _)| (q.x.to_bits(), q.y.to_bits()))
+        .map(|(q, _)| *q)
+        .chain(
+            on_lines
+                .iter()
+                .flat_map(|(e, _)| e.map(|v| mesh.points[v as usize])),
+        )
+        .map(|q| (q.x.to_bits(), q.y.to_bits()))
         .collect();
     let embedded = |p: DVec2| fixed.contains(&(p.x.to_bits(), p.y.to_bits()));
     let mut any = false;

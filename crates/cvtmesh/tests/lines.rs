@@ -1,0 +1,194 @@
+//! Lines embedded in a region (a material interface, a crack, an inclusion's outline) are
+//! followed by the edges of every mesh the methods that keep them make: no triangle crosses
+//! one, and each side's triangles cover exactly its share of the region.
+use cvtmesh::geometry::predicates::orient;
+use cvtmesh::geometry::{LoopRole, SizeField};
+use cvtmesh::{
+    check_conforming, line_edges, polish, DVec2, EmbeddedLine, MeshRequest, Method, Region,
+};
+
+fn square() -> Region {
+    let pts = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from);
+    Region::from_loops("square", vec![(LoopRole::Outer, pts.to_vec())]).unwrap()
+}
+
+/// A wall-to-wall interface at x = 0.4 that bends at (0.6, 0.5), and a square inclusion.
+fn two_materials_and_an_inclusion() -> Region {
+    let interface = EmbeddedLine {
+        points: [(0.4, 0.0), (0.6, 0.5), (0.4, 1.0)]
+            .map(DVec2::from)
+            .to_vec(),
+        marker: 7,
+    };
+    let inclusion = EmbeddedLine {
+        points: [
+            (0.75, 0.4),
+            (0.9, 0.4),
+            (0.9, 0.6),
+            (0.75, 0.6),
+            (0.75, 0.4),
+        ]
+        .map(DVec2::from)
+        .to_vec(),
+        marker: 8,
+    };
+    square()
+        .with_embedded_lines([interface, inclusion])
+        .unwrap()
+}
+
+/// The area of the triangles whose centroid satisfies `side`.
+fn area_where(mesh: &cvtmesh::Mesh, side: impl Fn(DVec2) -> bool) -> f64 {
+    mesh.triangles
+        .iter()
+        .map(|t| t.map(|v| mesh.points[v as usize]))
+        .filter(|p| side((p[0] + p[1] + p[2]) / 3.0))
+        .map(|p| 0.5 * orient(p[0], p[1], p[2]))
+        .sum()
+}
+
+fn left_of_interface(c: DVec2) -> bool {
+    // Left of the polyline (0.4, 0) → (0.6, 0.5) → (0.4, 1).
+    let x = if c.y < 0.5 {
+        0.4 + 0.4 * c.y
+    } else {
+        0.6 - 0.4 * (c.y - 0.5)
+    };
+    c.x < x
+}
+
+fn in_inclusion(c: DVec2) -> bool {
+    (0.75..0.9).contains(&c.x) && (0.4..0.6).contains(&c.y)
+}
+
+fn assert_follows(mesh: &cvtmesh::Mesh, region: &Region, what: &str) {
+    check_conforming(mesh, region).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let edges = line_edges(mesh, region).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let length = |m: i64| -> f64 {
+        edges
+            .iter()
+            .filter(|e| e.1 == m)
+            .map(|&([a, b], _)| mesh.points[a as usize].distance(mesh.points[b as usize]))
+            .sum()
+    };
+    let interface = 2.0 * (0.2f64.powi(2) + 0.5f64.powi(2)).sqrt();
+    assert!(
+        (length(7) - interface).abs() < 1e-12,
+        "{what}: {}",
+        length(7)
+    );
+    assert!((length(8) - 0.7).abs() < 1e-12, "{what}: {}", length(8));
+    // No triangle straddles a line: each side's triangles tile exactly its area.
+    let left = area_where(mesh, left_of_interface);
+    let left_exact = 0.5 * (0.4 + 0.6) * 0.5 * 2.0;
+    assert!(
+        (left - left_exact).abs() < 1e-12,
+        "{what}: left {left} of {left_exact}"
+    );
+    let inside = area_where(mesh, in_inclusion);
+    assert!((inside - 0.03).abs() < 1e-12, "{what}: inclusion {inside}");
+}
+
+#[test]
+fn every_method_that_keeps_lines_follows_them_and_the_others_refuse() {
+    let region = two_materials_and_an_inclusion();
+    for method in Method::ALL {
+        for k in [200, 2000] {
+            let result = method.run(&region, &MeshRequest::points(k).seed(3));
+            if matches!(method, Method::Meshgen | Method::Vtm) {
+                let e = result.map(|_| ()).unwrap_err().to_string();
+                assert!(e.contains("embeds 2 lines"), "{method}: {e}");
+                continue;
+            }
+            let r = result.unwrap_or_else(|e| panic!("{method} at {k}: {e}"));
+            assert_follows(&r.mesh, &region, &format!("{method} at {k}"));
+        }
+    }
+}
+
+#[test]
+fn a_graded_mesh_follows_the_lines_at_the_local_spacing() {
+    let region = two_materials_and_an_inclusion();
+    // Fine near the left wall, four times coarser at the right.
+    let field = SizeField::from_expr("0.01 + 0.03 * x").unwrap();
+    let request = MeshRequest::size_field(&field, &region, None).unwrap();
+    let r = Method::Ccvt.run(&region, &request).unwrap();
+    assert_follows(&r.mesh, &region, "graded");
+    // The inclusion's edges (x ≥ 0.75) are longer than the interface's near its ends
+    // (x ≈ 0.4), as the field asks.
+    let edges = line_edges(&r.mesh, &region).unwrap();
+    let mean = |m: i64| {
+        let e: Vec<f64> = edges
+            .iter()
+            .filter(|e| e.1 == m)
+            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+            .collect();
+        e.iter().sum::<f64>() / e.len() as f64
+    };
+    let (h7, h8) = (mean(7), mean(8));
+    assert!(h8 > 1.2 * h7, "interface {h7}, inclusion {h8}");
+}
+
+#[test]
+fn the_polish_moves_no_vertex_of_a_line() {
+    let region = two_materials_and_an_inclusion();
+    let r = cvtmesh::mesh(&region, 600).unwrap();
+    let mut mesh = r.mesh.clone();
+    let on_line: Vec<u32> = line_edges(&mesh, &region)
+        .unwrap()
+        .iter()
+        .flat_map(|(e, _)| *e)
+        .collect();
+    let before: Vec<DVec2> = on_line.iter().map(|&v| mesh.points[v as usize]).collect();
+    polish(&mut mesh, &region, 59.0);
+    let after: Vec<DVec2> = on_line.iter().map(|&v| mesh.points[v as usize]).collect();
+    assert_eq!(before, after);
+    assert_follows(&mesh, &region, "polished");
+}
+
+#[test]
+fn a_crack_inside_and_lines_meeting_at_a_point_are_followed() {
+    // A crack from the middle of the left wall into the square, and three lines meeting at
+    // an inner point.
+    let crack = EmbeddedLine {
+        points: vec![DVec2::new(0.0, 0.5), DVec2::new(0.3, 0.5)],
+        marker: 1,
+    };
+    let star: Vec<EmbeddedLine> = [(0.6, 0.2), (0.9, 0.8), (0.5, 0.9)]
+        .iter()
+        .enumerate()
+        .map(|(i, &q)| EmbeddedLine {
+            points: vec![DVec2::new(0.65, 0.6), DVec2::from(q)],
+            marker: 2 + i as i64,
+        })
+        .collect();
+    let region = square()
+        .with_embedded_lines(std::iter::once(crack).chain(star))
+        .unwrap();
+    let r = cvtmesh::mesh(&region, 800).unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let edges = line_edges(&r.mesh, &region).unwrap();
+    let total: f64 = edges
+        .iter()
+        .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+        .sum();
+    let exact: f64 = region
+        .embedded_lines()
+        .iter()
+        .map(EmbeddedLine::length)
+        .sum();
+    assert!((total - exact).abs() < 1e-12, "{total} of {exact}");
+    assert!((r.mesh.area() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_mesh() {
+    let region = two_materials_and_an_inclusion();
+    let a = Method::Ccvt
+        .run(&region, &MeshRequest::points(500).seed(9))
+        .unwrap();
+    let b = Method::Ccvt
+        .run(&region, &MeshRequest::points(500).seed(9))
+        .unwrap();
+    assert_eq!(a.mesh, b.mesh);
+}

@@ -1,0 +1,542 @@
+//! Lines embedded in a region: polylines inside it that every mesh must follow with its edges
+//! (a material interface, a crack, an inclusion's outline, a line a solver reads values on),
+//! as a Triangle `.poly`'s internal segments and Gmsh's embedded curves are.
+use crate::predicates::{closest_on_segment, orient, segments_cross};
+use crate::region::Region;
+use crate::GeometryError;
+use glam::DVec2;
+
+/// A polyline embedded in a region ([`Region::embedded_lines`]): every vertex of it is a
+/// vertex of each mesh, and between two of them the mesh's edges run along it. Closed when its
+/// last point is its first (an inclusion's outline).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmbeddedLine {
+    /// The vertices, in order; at least two.
+    pub points: Vec<DVec2>,
+    /// Its marker (0 for none): the number a solver knows the line by, as a `.poly`'s
+    /// segment marker numbers a wall.
+    pub marker: i64,
+}
+
+impl EmbeddedLine {
+    /// Whether the line closes on itself (its last point is its first).
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, EmbeddedLine};
+    /// let square = [(0.4, 0.4), (0.6, 0.4), (0.6, 0.6), (0.4, 0.6), (0.4, 0.4)];
+    /// let line = EmbeddedLine { points: square.map(DVec2::from).to_vec(), marker: 3 };
+    /// assert!(line.is_closed());
+    /// ```
+    pub fn is_closed(&self) -> bool {
+        self.points.len() > 2 && self.points.first() == self.points.last()
+    }
+
+    /// Its segments, in order.
+    pub fn segments(&self) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+        self.points.windows(2).map(|w| (w[0], w[1]))
+    }
+
+    /// Its length.
+    pub fn length(&self) -> f64 {
+        self.segments().map(|(a, b)| a.distance(b)).sum()
+    }
+}
+
+impl Region {
+    /// The lines embedded in the region ([`Region::with_embedded_lines`]); empty for most.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, EmbeddedLine, Region};
+    /// let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+    /// // A square whose outline has a vertex at the middle of the bottom and top edges...
+    /// let outline = [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 1.0), (0.5, 1.0), (0.0, 1.0)];
+    /// let r = Region::from_loops("two materials", vec![(cvtmesh::geometry::LoopRole::Outer,
+    ///     outline.map(DVec2::from).to_vec())])?;
+    /// // ... and an interface between them, marked 7.
+    /// let interface = EmbeddedLine { points: vec![DVec2::new(0.5, 0.0), DVec2::new(0.5, 1.0)], marker: 7 };
+    /// let r = r.with_embedded_lines([interface])?;
+    /// assert_eq!(r.embedded_lines()[0].marker, 7);
+    /// // A line leaving the region is refused by name.
+    /// let out = EmbeddedLine { points: vec![DVec2::new(0.5, 0.5), DVec2::new(1.5, 0.5)], marker: 0 };
+    /// let e = Region::from_loops("sq", vec![(cvtmesh::geometry::LoopRole::Outer, square)])?
+    ///     .with_embedded_lines([out]).unwrap_err();
+    /// assert!(e.to_string().contains("(1.5, 0.5)"));
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn embedded_lines(&self) -> &[EmbeddedLine] {
+        &self.lines
+    }
+
+    /// The same region with `lines` embedded as well ([`Region::embedded_lines`]). Every
+    /// point of a line lies inside the region, off its boundary by more than 10⁻⁹ of its
+    /// diameter, except an open line's ends, which may sit on a corner of the boundary (a
+    /// vertex of a polygonal loop: an interface from wall to wall); such a corner stays a
+    /// corner whatever the corner angle. Lines may share vertices (three materials meeting at
+    /// a point) but not cross or touch elsewhere, each other or themselves. A marked line in
+    /// a region that numbers no walls gives every piece Triangle's marker for a boundary, 1,
+    /// as a marked embedded point does.
+    pub fn with_embedded_lines(
+        mut self,
+        lines: impl IntoIterator<Item = EmbeddedLine>,
+    ) -> Result<Region, GeometryError> {
+        let off = 1e-9 * self.diameter();
+        let bad = |message: String| GeometryError::Invalid {
+            region: self.name.clone(),
+            message,
+        };
+        let mut added: Vec<EmbeddedLine> = Vec::new();
+        // Junctions where the boundary runs straight on, which a line's end makes corners.
+        let mut new_corners: Vec<DVec2> = Vec::new();
+        for (i, mut line) in lines.into_iter().enumerate() {
+            let n = line.points.len();
+            if n < 2 {
+                return Err(bad(format!(
+                    "embedded line {i} has {n} point(s); a line needs at least two"
+                )));
+            }
+            if i32::try_from(line.marker).is_err() {
+                return Err(bad(format!(
+                    "marker {} of embedded line {i} is outside the 32-bit range of Triangle's \
+                     markers and Gmsh's physical tags",
+                    line.marker
+                )));
+            }
+            let closed = line.is_closed();
+            for k in 0..n {
+                let p = line.points[k];
+                let sd = self.signed_distance(p);
+                if !p.is_finite() || sd.is_nan() {
+                    return Err(bad(format!(
+                        "embedded line {i} has a point that is not finite: ({}, {})",
+                        p.x, p.y
+                    )));
+                }
+                if sd <= -off {
+                    continue;
+                }
+                let end = !closed && (k == 0 || k == n - 1);
+                // A junction of pieces, or a point of a straight piece or an arc, which is
+                // split there.
+                let junction = self
+                    .pieces
+                    .iter()
+                    .map(|piece| piece.start())
+                    .find(|q| q.distance(p) <= off)
+                    .or_else(|| {
+                        self.pieces
+                            .iter()
+                            .any(|piece| split_point(piece, p, off).is_some())
+                            .then_some(p)
+                    });
+                match junction {
+                    Some(q) if end => {
+                        line.points[k] = q;
+                        if self.corners.iter().all(|c| c.pos != q) {
+                            new_corners.push(q);
+                        }
+                    }
+                    _ => {
+                        let place = if sd > off {
+                            "outside the region"
+                        } else if end {
+                            "on a closed curve of the region's boundary (a circle or \
+                             super-ellipse loop: a line may end on a polygonal wall or an arc)"
+                        } else {
+                            "on the region's boundary (only a line's ends may touch it)"
+                        };
+                        return Err(bad(format!(
+                            "embedded line {i} has the point ({}, {}) {place}",
+                            p.x, p.y
+                        )));
+                    }
+                }
+            }
+            if let Some(w) = line.points.windows(2).find(|w| w[0].distance(w[1]) <= off) {
+                return Err(bad(format!(
+                    "embedded line {i} repeats the point ({}, {})",
+                    w[0].x, w[0].y
+                )));
+            }
+            // A segment whose ends are inside may still leave the region between them, or
+            // run outside between two corners of a notch.
+            let polygon = self.polygonize(1e-6 * self.diameter());
+            for (a, b) in line.segments() {
+                let mid = 0.5 * (a + b);
+                let crossing = polygon.rings.iter().find_map(|r| {
+                    let m = r.points.len();
+                    (0..m).find_map(|j| {
+                        let (c, d) = (r.points[j], r.points[(j + 1) % m]);
+                        segments_cross(a, b, c, d).then_some(c)
+                    })
+                });
+                if crossing.is_some() || !self.contains(mid) {
+                    return Err(bad(format!(
+                        "embedded line {i}'s segment from ({}, {}) to ({}, {}) leaves the region",
+                        a.x, a.y, b.x, b.y
+                    )));
+                }
+            }
+            added.push(line);
+        }
+        // No two segments (of one line or of two) may cross, or touch except at a shared
+        // vertex: the mesh could not have both as edges.
+        let all: Vec<(usize, DVec2, DVec2)> = self
+            .lines
+            .iter()
+            .chain(&added)
+            .enumerate()
+            .flat_map(|(i, l)| l.segments().map(move |(a, b)| (i, a, b)))
+            .collect();
+        for (s, &(i, a, b)) in all.iter().enumerate() {
+            for &(j, c, d) in &all[s + 1..] {
+                if let Some(p) = meeting(a, b, c, d, off) {
+                    return Err(bad(format!(
+                        "embedded lines {i} and {j} cross or touch at ({}, {}); lines may \
+                         meet only at a vertex of both",
+                        p.x, p.y
+                    )));
+                }
+            }
+        }
+        if !new_corners.is_empty() {
+            self = self.with_corners_at(&new_corners)?;
+        }
+        self.lines.extend(added);
+        if self.markers.is_empty() && self.lines.iter().any(|l| l.marker != 0) {
+            self.markers = vec![1; self.pieces.len()];
+        }
+        Ok(self)
+    }
+
+    /// The same region with corners at the boundary points `extra` as well (a piece through
+    /// one split there), everything else kept.
+    fn with_corners_at(&self, extra: &[DVec2]) -> Result<Region, GeometryError> {
+        let off = 1e-9 * self.diameter();
+        // The marker of each piece by its ends, the halves of a split piece keeping its own.
+        let mut marker_by_ends = std::collections::HashMap::new();
+        let mut loops = Vec::with_capacity(self.loops.len());
+        for lp in &self.loops {
+            let mut pieces = Vec::new();
+            for &j in &lp.pieces {
+                let m = self.markers.get(j).copied().unwrap_or(0);
+                let mut rest = self.pieces[j].clone();
+                while let Some((a, b)) = extra.iter().find_map(|&p| split_point(&rest, p, off)) {
+                    marker_by_ends.insert(ends(&a), m);
+                    pieces.push(a);
+                    rest = b;
+                }
+                marker_by_ends.insert(ends(&rest), m);
+                pieces.push(rest);
+            }
+            loops.push((Some(lp.role), pieces));
+        }
+        let listed: Vec<DVec2> = self
+            .corners
+            .iter()
+            .map(|c| c.pos)
+            .chain(extra.iter().copied())
+            .collect();
+        let mut r = crate::build::new_region(&self.name, loops, Some(listed))?;
+        if !self.markers.is_empty() {
+            r.markers = r
+                .pieces
+                .iter()
+                .map(|p| marker_by_ends.get(&ends(p)).copied().unwrap_or(0))
+                .collect();
+        }
+        r.corner_threshold = self.corner_threshold;
+        r.corners_computed = self.corners_computed;
+        r.marker_names = self.marker_names.clone();
+        r.vertex_markers = self.vertex_markers.clone();
+        r.embedded = self.embedded.clone();
+        r.lines = self.lines.clone();
+        r.notes = self.notes.clone();
+        r.surface_group = self.surface_group.clone();
+        Ok(r)
+    }
+
+    /// Is `p` an end of an embedded line on the boundary (a corner every corner angle keeps)?
+    pub(crate) fn is_line_end(&self, p: DVec2) -> bool {
+        self.lines
+            .iter()
+            .filter(|l| !l.is_closed())
+            .any(|l| l.points.first() == Some(&p) || l.points.last() == Some(&p))
+    }
+}
+
+/// A piece's ends, by their bits (a rebuilt region may start a loop at another piece).
+fn ends(p: &crate::Piece) -> ((u64, u64), (u64, u64)) {
+    let bits = |q: DVec2| (q.x.to_bits(), q.y.to_bits());
+    (bits(p.start()), bits(p.end()))
+}
+
+/// `piece` split in two at `p`, where `p` lies on it within `off` and not at its ends: a line
+/// or a chain at the point, an arc at the angle of `p`. `None` otherwise (and for closed
+/// curves, which have no ends to split between).
+fn split_point(piece: &crate::Piece, p: DVec2, off: f64) -> Option<(crate::Piece, crate::Piece)> {
+    use crate::Piece;
+    if piece.start().distance(p) <= off || piece.end().distance(p) <= off {
+        return None;
+    }
+    match piece {
+        Piece::Line { a, b } => (closest_on_segment(*a, *b, p).0.distance(p) <= off)
+            .then_some((Piece::Line { a: *a, b: p }, Piece::Line { a: p, b: *b })),
+        Piece::Chain(pts) => {
+            let k = pts
+                .windows(2)
+                .position(|w| closest_on_segment(w[0], w[1], p).0.distance(p) <= off)?;
+            let mut first = pts[..=k].to_vec();
+            first.push(p);
+            let mut second = vec![p];
+            second.extend_from_slice(&pts[k + 1..]);
+            // A split at a chain's vertex leaves that vertex once.
+            first.dedup();
+            second.dedup();
+            Some((Piece::Chain(first), Piece::Chain(second)))
+        }
+        Piece::Arc {
+            center,
+            radius,
+            from,
+            to,
+        } => {
+            if ((p - *center).length() - radius).abs() > off {
+                return None;
+            }
+            let d = p - *center;
+            let mut t = d.y.atan2(d.x);
+            // The angle within the arc's sweep, either way round.
+            let (lo, hi) = (from.min(*to), from.max(*to));
+            while t < lo {
+                t += std::f64::consts::TAU;
+            }
+            while t > hi {
+                t -= std::f64::consts::TAU;
+            }
+            (t > lo && t < hi).then_some((
+                Piece::Arc {
+                    center: *center,
+                    radius: *radius,
+                    from: *from,
+                    to: t,
+                },
+                Piece::Arc {
+                    center: *center,
+                    radius: *radius,
+                    from: t,
+                    to: *to,
+                },
+            ))
+        }
+        _ => None,
+    }
+}
+
+/// Where segments [a, b] and [c, d] cross or touch, other than at an end point they share
+/// exactly: `None` when they are apart (or meet only so).
+fn meeting(a: DVec2, b: DVec2, c: DVec2, d: DVec2, off: f64) -> Option<DVec2> {
+    if (a == c && b == d) || (a == d && b == c) {
+        return Some(a);
+    }
+    if segments_cross(a, b, c, d) {
+        let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+        return Some(a + (b - a) * (o1 / (o1 - o2)));
+    }
+    let shared = |p: DVec2| p == c || p == d;
+    // An end of one within `off` of the other segment touches it (collinear overlaps too).
+    let near = |p: DVec2, s: DVec2, t: DVec2| closest_on_segment(s, t, p).0.distance(p) <= off;
+    [(a, c, d), (b, c, d)]
+        .into_iter()
+        .filter(|&(p, _, _)| !shared(p))
+        .chain(
+            [(c, a, b), (d, a, b)]
+                .into_iter()
+                .filter(|&(p, _, _)| p != a && p != b),
+        )
+        .find(|&(p, s, t)| near(p, s, t))
+        .map(|(p, _, _)| p)
+        .or_else(|| {
+            // Two segments sharing one end, overlapping along a line.
+            let one_shared = [a, b].iter().filter(|p| shared(**p)).count() == 1;
+            let collinear = orient(a, b, c).abs() <= off * a.distance(b)
+                && orient(a, b, d).abs() <= off * a.distance(b);
+            let (p, q) = if shared(a) { (a, b) } else { (b, a) };
+            let other = if p == c { d } else { c };
+            (one_shared && collinear && (q - p).dot(other - p) > 0.0).then_some(p)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::LoopRole;
+
+    fn outline() -> Region {
+        let pts = [
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.5, 1.0),
+            (0.0, 1.0),
+        ];
+        Region::from_loops("sq", vec![(LoopRole::Outer, pts.map(DVec2::from).to_vec())]).unwrap()
+    }
+
+    fn line(pts: &[(f64, f64)], marker: i64) -> EmbeddedLine {
+        EmbeddedLine {
+            points: pts.iter().map(|&p| DVec2::from(p)).collect(),
+            marker,
+        }
+    }
+
+    #[test]
+    fn an_interface_from_wall_to_wall_keeps_its_ends_as_corners() {
+        let r = outline()
+            .with_embedded_lines([line(&[(0.5, 0.0), (0.5, 1.0)], 7)])
+            .unwrap();
+        // The straight junctions at the interface's ends survive any corner angle.
+        let bent = r.with_corner_angle(30.0);
+        let corners: Vec<DVec2> = bent.corners().iter().map(|c| c.pos).collect();
+        assert!(corners.contains(&DVec2::new(0.5, 0.0)) && corners.contains(&DVec2::new(0.5, 1.0)));
+        assert_eq!(corners.len(), 6);
+        assert_eq!(bent.embedded_lines(), r.embedded_lines());
+        // Without the line, they are dropped.
+        assert_eq!(outline().with_corner_angle(30.0).corners().len(), 4);
+    }
+
+    #[test]
+    fn bad_lines_are_refused_naming_the_place() {
+        let cases: [(&[(f64, f64)], &str); 5] = [
+            (&[(0.5, 0.5)], "at least two"),
+            (
+                &[(0.2, 0.5), (0.8, 0.5), (0.8, 0.5)],
+                "repeats the point (0.8, 0.5)",
+            ),
+            (&[(0.2, 0.5), (0.0, 0.5), (0.2, 0.7)], "only a line's ends"),
+            (&[(0.2, 0.5), (1.2, 0.5)], "(1.2, 0.5) outside"),
+            (&[(0.2, 0.5), (f64::NAN, 0.5)], "not finite"),
+        ];
+        for (pts, says) in cases {
+            let e = outline()
+                .with_embedded_lines([line(pts, 0)])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(says), "{pts:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_line_may_end_inside_a_wall_or_an_arc_but_not_on_a_circle() {
+        // Inside the bottom wall: the wall is split there, the halves keep its marker.
+        let marked = Region::from_loops_marked(
+            "sq",
+            vec![(
+                LoopRole::Outer,
+                [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+                    .map(DVec2::from)
+                    .to_vec(),
+                vec![4, 5, 5, 5],
+            )],
+        )
+        .unwrap();
+        let r = marked
+            .with_embedded_lines([line(&[(0.2, 0.0), (0.2, 0.5)], 9)])
+            .unwrap();
+        assert!(r.corners().iter().any(|c| c.pos == DVec2::new(0.2, 0.0)));
+        assert_eq!(r.pieces().len(), 5);
+        assert_eq!(r.piece_markers(), Some(&[4, 4, 5, 5, 5][..]));
+        assert_eq!(r.area(), 1.0);
+        // On the pie's arc (a half disc's upper boundary): split at the point's angle.
+        let half = Region::builtin("pie_hole").unwrap();
+        let arc_point = half
+            .pieces()
+            .iter()
+            .find_map(|p| match p {
+                crate::Piece::Arc {
+                    center,
+                    radius,
+                    from,
+                    to,
+                } => Some(*center + *radius * DVec2::from_angle(0.5 * (from + to))),
+                _ => None,
+            })
+            .unwrap();
+        let inside = half.polygonize(1e-3).rings[0].points.iter().sum::<DVec2>()
+            / half.polygonize(1e-3).rings[0].points.len() as f64;
+        let split = half.clone().with_embedded_lines([EmbeddedLine {
+            points: vec![arc_point, 0.5 * (arc_point + inside)],
+            marker: 0,
+        }]);
+        let split = split.unwrap();
+        assert!((split.area() - half.area()).abs() < 1e-12 * half.area());
+        assert_eq!(split.pieces().len(), half.pieces().len() + 1);
+        // On a circle loop there are no ends to split between.
+        let e = Region::builtin("circle")
+            .unwrap()
+            .with_embedded_lines([line(&[(0.0, 1.0), (0.0, 0.0)], 0)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("closed curve"), "{e}");
+    }
+
+    #[test]
+    fn crossing_or_touching_lines_are_refused_and_shared_vertices_are_not() {
+        let a = line(&[(0.2, 0.2), (0.8, 0.8)], 1);
+        let crossing = line(&[(0.2, 0.8), (0.8, 0.2)], 2);
+        let e = outline()
+            .with_embedded_lines([a.clone(), crossing])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("cross or touch at (0.5, 0.5)"), "{e}");
+        let touching = line(&[(0.5, 0.5), (0.8, 0.2)], 2);
+        assert!(outline()
+            .with_embedded_lines([a.clone(), touching])
+            .is_err());
+        let overlapping = line(&[(0.8, 0.8), (0.5, 0.5)], 2);
+        assert!(outline()
+            .with_embedded_lines([a.clone(), overlapping])
+            .is_err());
+        // Three lines meeting at a vertex of each: a triple junction.
+        let star = [
+            line(&[(0.5, 0.5), (0.5, 0.0)], 1),
+            line(&[(0.5, 0.5), (0.2, 0.8)], 2),
+            line(&[(0.5, 0.5), (0.8, 0.8)], 3),
+        ];
+        assert_eq!(
+            outline()
+                .with_embedded_lines(star)
+                .unwrap()
+                .embedded_lines()
+                .len(),
+            3
+        );
+        // A line crossing itself.
+        let bow = line(&[(0.2, 0.2), (0.8, 0.8), (0.8, 0.2), (0.2, 0.8)], 0);
+        assert!(outline().with_embedded_lines([bow]).is_err());
+    }
+
+    #[test]
+    fn a_segment_leaving_a_notch_is_refused() {
+        // An L: a chord between the two inner corners of the notch lies outside.
+        let l = [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (1.0, 0.5),
+            (0.5, 0.5),
+            (0.5, 1.0),
+            (0.0, 1.0),
+        ];
+        let r =
+            Region::from_loops("L", vec![(LoopRole::Outer, l.map(DVec2::from).to_vec())]).unwrap();
+        let e = r
+            .clone()
+            .with_embedded_lines([line(&[(1.0, 0.5), (0.5, 1.0)], 0)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("leaves the region"), "{e}");
+        assert!(r
+            .with_embedded_lines([line(&[(1.0, 0.5), (0.0, 0.0)], 0)])
+            .is_ok());
+    }
+}
