@@ -192,3 +192,34 @@ fn the_same_seed_gives_the_same_mesh() {
         .unwrap();
     assert_eq!(a.mesh, b.mesh);
 }
+
+#[test]
+fn the_files_keep_the_lines_as_segments_and_physical_curves() {
+    let region = two_materials_and_an_inclusion();
+    let r = cvtmesh::mesh(&region, 700).unwrap();
+    let mut edges: Vec<[u32; 2]> = line_edges(&r.mesh, &region)
+        .unwrap()
+        .iter()
+        .map(|&([a, b], _)| [a.min(b), a.max(b)])
+        .collect();
+    edges.sort_unstable();
+    let dir = std::env::temp_dir().join(format!("cvtmesh-lines-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for name in ["m.msh", "m.node"] {
+        let path = dir.join(name);
+        cvtmesh::io::write_mesh_on(&r.mesh, &region, &path).unwrap();
+        // Read back, the lines are the edges the file keeps inside the mesh (Triangle's in
+        // the .poly beside the .node).
+        let (back, walls) = cvtmesh::io::read_mesh_with_walls(&path).unwrap();
+        assert_eq!(back.points, r.mesh.points, "{name}");
+        assert_eq!(walls.inner, edges, "{name}");
+    }
+    let msh = std::fs::read_to_string(dir.join("m.msh")).unwrap();
+    assert!(msh.contains("1 7 \"marker7\"") && msh.contains("1 8 \"marker8\""));
+    // Six-node triangles: the lines get their middle nodes too (three-node lines, type 8).
+    let q = cvtmesh::Quadratic::new(&r.mesh, Some(&region));
+    cvtmesh::io::write_quadratic(&q, &dir.join("q.msh")).unwrap();
+    let (_, walls) = cvtmesh::io::read_mesh_with_walls(&dir.join("q.msh")).unwrap();
+    assert_eq!(walls.inner, edges);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

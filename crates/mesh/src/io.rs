@@ -182,8 +182,20 @@ pub(crate) struct Nodes<'a> {
     pub embedded: Vec<(DVec2, i64)>,
     /// The physical surface the triangles go in ([`Region::surface_group`]).
     pub surface_group: Option<(i64, String)>,
+    /// The lines along the region's embedded lines ([`crate::line_edges`]), each with its
+    /// line's marker: Triangle's `.poly` lists them as segments, Gmsh's files as line
+    /// elements in a physical curve per marker.
+    pub inner: Vec<(Vec<u32>, i64)>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
+}
+
+/// The mesh's edges along `region`'s embedded lines, for the writers (none where the mesh
+/// does not follow them: a file then has its triangles and walls, as for any region).
+fn inner_lines(mesh: &Mesh, region: Option<&Region>) -> Vec<([u32; 2], i64)> {
+    region
+        .and_then(|r| crate::line_edges(mesh, r).ok())
+        .unwrap_or_default()
 }
 
 /// The region's physical surface, for the writers.
@@ -205,6 +217,10 @@ impl<'a> Nodes<'a> {
             corner_markers: corner_markers(region),
             embedded: marked_embedded(region),
             surface_group: surface_group_of(region),
+            inner: inner_lines(mesh, region)
+                .into_iter()
+                .map(|([a, b], m)| (vec![a, b], m))
+                .collect(),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -229,6 +245,13 @@ impl<'a> Nodes<'a> {
             corner_markers: corner_markers(q.region()),
             embedded: marked_embedded(q.region()),
             surface_group: surface_group_of(q.region()),
+            inner: inner_lines(q.linear(), q.region())
+                .into_iter()
+                .map(|([a, b], m)| {
+                    let mid = q.edge_node(a, b).expect("a line's piece is an edge");
+                    (vec![a, b, mid], m)
+                })
+                .collect(),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -285,6 +308,15 @@ impl<'a> Nodes<'a> {
             for (line, &m) in lines.iter().zip(marks) {
                 for &v in line.iter().take(1).chain(line.get(2)) {
                     by_node[v as usize] = m;
+                }
+            }
+        }
+        // A vertex of an embedded line takes its marker, as Triangle marks a segment's
+        // vertices, unless a wall or a marker of its own names it.
+        for (line, m) in &self.inner {
+            for &v in line {
+                if by_node[v as usize] == 0 {
+                    by_node[v as usize] = *m;
                 }
             }
         }

@@ -641,6 +641,62 @@ impl PyRegion {
         })
     }
 
+    /// Polylines inside the region that every mesh of it follows with its edges, as
+    /// `[(points, marker), ...]` with `points` a (k, 2) array (closed when its last row is its
+    /// first): a `.poly`'s segments with the region on both sides, a JSON region's `lines`, or
+    /// those given to `with_embedded_lines`.
+    #[getter]
+    fn embedded_lines<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Vec<(Bound<'py, PyArray2<f64>>, i64)>> {
+        self.inner
+            .embedded_lines()
+            .iter()
+            .map(|l| Ok((xy_array(py, &l.points)?, l.marker)))
+            .collect()
+    }
+
+    /// The same region with `lines` embedded: each a (k, 2) array of a polyline inside the
+    /// region (a material interface, a crack; closed when its last point is its first, an
+    /// inclusion's outline), with `markers` (one integer per line, default 0). Every mesh of
+    /// it has each line's vertices, more vertices along it at the local spacing, and edges
+    /// running along it (`Mesh.line_edges()`; in the files, `.poly` segments and Gmsh physical
+    /// curves of their markers). A line may end on a polygonal wall or an arc; lines may meet
+    /// at shared vertices but not cross. A line leaving the region, or crossing another,
+    /// raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
+    /// meshgen and vtm refuse such a region.
+    #[pyo3(signature = (lines, markers = None))]
+    fn with_embedded_lines(
+        &self,
+        lines: Vec<Bound<'_, PyAny>>,
+        markers: Option<Vec<i64>>,
+    ) -> PyResult<PyRegion> {
+        let markers = markers.unwrap_or_else(|| vec![0; lines.len()]);
+        if markers.len() != lines.len() {
+            return Err(err(format!(
+                "{} lines and {} markers; give one marker per line",
+                lines.len(),
+                markers.len()
+            )));
+        }
+        let lines = lines
+            .iter()
+            .zip(markers)
+            .enumerate()
+            .map(|(i, (l, marker))| {
+                Ok(cvtmesh::EmbeddedLine {
+                    points: xy_of(l, &format!("lines[{i}]"))?,
+                    marker,
+                })
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let region = (*self.inner).clone();
+        Ok(PyRegion {
+            inner: Arc::new(region.with_embedded_lines(lines).map_err(err)?),
+        })
+    }
+
     /// The boundary vertices with a marker of their own, as `[((x, y), marker), ...]`: a
     /// `.poly` vertex whose nonzero marker differs from both its segments' (a point where a
     /// solver pins a value). Each is a corner, so every mesh has a vertex there, and
@@ -748,6 +804,9 @@ struct PyMesh {
     #[pyo3(get)]
     energy_history: Py<PyArray1<f64>>,
 }
+
+/// Edges (E, 2) and a marker per edge (E,) as numpy arrays.
+type EdgesAndMarkers<'py> = (Bound<'py, PyArray2<i64>>, Bound<'py, PyArray1<i64>>);
 
 /// Points (n, 2) and six-node triangles (m, 6) as numpy arrays.
 type QuadraticArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
@@ -972,6 +1031,29 @@ impl PyMesh {
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let region = self.conforming_region_or(py, region, "boundary_pieces")?;
         self.by_boundary_edge(py, &region, |p| p as i64)
+    }
+
+    /// The edges along the region's embedded lines (`Region.embedded_lines`), line by line
+    /// and in order along each: `(edges, markers)`, an (E, 2) int64 array of vertex indices
+    /// and the (E,) markers of their lines: where an interface condition or a flux across a
+    /// crack is set. Against the region the mesh was made for, or `region`; a `MeshError`
+    /// where the mesh does not follow a line.
+    #[pyo3(signature = (region = None))]
+    fn line_edges<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<EdgesAndMarkers<'py>> {
+        let region = self.region_or(region, "line_edges")?;
+        let edges = py
+            .detach(|| cvtmesh::line_edges(&self.mesh, &region))
+            .map_err(err)?;
+        let flat: Vec<i64> = edges.iter().flat_map(|(e, _)| e.map(i64::from)).collect();
+        let pairs = PyArray1::from_vec(py, flat).reshape([edges.len(), 2])?;
+        let markers = PyArray1::from_vec(py, edges.iter().map(|&(_, m)| m).collect());
+        read_only(&pairs)?;
+        read_only(&markers)?;
+        Ok((pairs, markers))
     }
 
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file

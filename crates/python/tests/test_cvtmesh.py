@@ -587,6 +587,70 @@ def test_embedded_points_are_vertices_of_every_mesh(tmp_path):
     assert Region.load(str(path)).embedded_points == [((1.0, 0.5), 9)]
 
 
+INTERFACE_POLY = """# a unit square of two materials: an interface x = 0.5 from wall to wall, marked 7
+6 2 0 1
+1 0 0 1
+2 1 0 1
+3 1 1 1
+4 0 1 1
+5 0.5 0 0
+6 0.5 1 0
+7 1
+1 1 5 1
+2 5 2 1
+3 2 3 1
+4 3 6 1
+5 6 4 1
+6 4 1 1
+7 5 6 7
+0
+"""
+
+
+def test_an_interface_and_an_inclusion_are_followed_by_edges(tmp_path):
+    # An interface read from a .poly, as Triangle users write one, and a circular inclusion
+    # (a closed polygon) added from arrays.
+    path = tmp_path / "two.poly"
+    path.write_text(INTERFACE_POLY)
+    region = Region.load(str(path))
+    ((pts, marker),) = region.embedded_lines
+    assert marker == 7 and pts.tolist() == [[0.5, 0.0], [0.5, 1.0]]
+    t = np.linspace(0.0, 2.0 * np.pi, 41)
+    ring = np.c_[0.75 + 0.1 * np.cos(t), 0.5 + 0.1 * np.sin(t)]
+    ring[-1] = ring[0]
+    region = region.with_embedded_lines([ring], markers=[8])
+    for method in ("ccvt", "refine", "distmesh"):
+        m = cvtmesh.mesh(region, n=1500, method=method, seed=2)
+        edges, markers = m.line_edges()
+        seg = m.points[edges]
+        length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
+        assert set(markers.tolist()) == {7, 8}, method
+        assert abs(length[markers == 7].sum() - 1.0) < 1e-12, method
+        polygon = np.linalg.norm(np.diff(ring, axis=0), axis=1).sum()
+        assert abs(length[markers == 8].sum() - polygon) < 1e-12, method
+        # No triangle straddles the interface: the left triangles tile half the square.
+        tri = m.points[m.triangles]
+        c = tri.mean(axis=1)
+        u, v = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+        area = 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+        assert abs(area[c[:, 0] < 0.5].sum() - 0.5) < 1e-12, method
+        # Triangle's files list the interface as segments with its marker; Gmsh's as lines
+        # in the physical curve 7.
+        m.write(str(tmp_path / f"{method}.poly"))
+        poly = (tmp_path / f"{method}.poly").read_text()
+        assert poly.count(" 7\n") >= len(edges[markers == 7]), method
+        m.write(str(tmp_path / f"{method}.msh"))
+        assert '1 7 "marker7"' in (tmp_path / f"{method}.msh").read_text()
+    with pytest.raises(MeshError, match="embeds 2 lines"):
+        cvtmesh.mesh(region, n=1500, method="vtm")
+    with pytest.raises(MeshError, match="leaves the region|outside the region"):
+        region.with_embedded_lines([[[0.2, 0.2], [1.5, 0.2]]])
+    with pytest.raises(MeshError, match="cross or touch"):
+        region.with_embedded_lines([[[0.2, 0.2], [0.6, 0.6]], [[0.2, 0.6], [0.6, 0.2]]])
+    with pytest.raises(MeshError, match="one marker per line"):
+        region.with_embedded_lines([[[0.2, 0.2], [0.3, 0.3]]], markers=[1, 2])
+
+
 def test_boundary_edges_lie_on_the_boundary_and_close_each_loop():
     region = Region.builtin("annulus")
     m = cvtmesh.mesh(region, n=303)

@@ -92,6 +92,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         .piece_markers
         .iter()
         .flatten()
+        .chain(nodes.inner.iter().map(|(_, m)| m))
         .fold(0, |top, &m| top.max(m))
         .max(0) as usize;
     // Physical tags 1..=nloops are the loops; keep the surface tag clear of them, and the
@@ -187,6 +188,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     // Where the region numbers its walls, a third physical curve per number, past the pieces'.
     let marker_of = |j: usize| nodes.piece_markers.as_ref().and_then(|m| m.get(j).copied());
     let mut markers_named: Vec<i64> = pieces_named.iter().filter_map(|&j| marker_of(j)).collect();
+    // The embedded lines: a curve per marker, in the physical curve of that marker.
+    let mut inner_curves: Vec<(i64, Vec<usize>)> = Vec::new();
+    for (k, &(_, m)) in nodes.inner.iter().enumerate() {
+        match inner_curves.iter_mut().find(|(n, _)| *n == m) {
+            Some((_, ks)) => ks.push(k),
+            None => inner_curves.push((m, vec![k])),
+        }
+    }
+    inner_curves.sort_by_key(|(m, _)| *m);
+    markers_named.extend(inner_curves.iter().map(|(m, _)| *m));
     markers_named.sort_unstable();
     markers_named.dedup();
     // A positive marker is its own tag; 0 or below, a tag past the pieces'.
@@ -221,7 +232,12 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
         writeln!(w, "2 {domain_tag} \"{domain_name}\"\n$EndPhysicalNames")?;
-        writeln!(w, "$Entities\n{} {} 1 0", pins.len(), curves.len())?;
+        writeln!(
+            w,
+            "$Entities\n{} {} 1 0",
+            pins.len(),
+            curves.len() + inner_curves.len()
+        )?;
         for (p, &(v, m)) in pins.iter().enumerate() {
             let x = nodes.points[v];
             writeln!(w, "{} {} {} 0 1 {}", p + 1, F(x.x), F(x.y), pin_phys(m))?;
@@ -258,6 +274,23 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 (Some(j), None) => writeln!(w, " 2 {} {} 0", curve.loop_index + 1, piece_phys(j))?,
                 (None, _) => writeln!(w, " 1 {} 0", curve.loop_index + 1)?,
             }
+        }
+        for (i, (m, ks)) in inner_curves.iter().enumerate() {
+            let (lo, hi) = bbox(
+                &mut ks
+                    .iter()
+                    .flat_map(|&k| nodes.inner[k].0.iter().map(|&v| v as usize)),
+            );
+            writeln!(
+                w,
+                "{} {} {} 0 {} {} 0 1 {} 0",
+                curves.len() + 1 + i,
+                F(lo.x),
+                F(lo.y),
+                F(hi.x),
+                F(hi.y),
+                marker_phys(*m)
+            )?;
         }
         let (lo, hi) = bbox(&mut (0..n));
         write!(
@@ -299,8 +332,9 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         writeln!(w, "$EndNodes")?;
 
         let nlines: usize = nodes.lines.iter().map(Vec::len).sum();
-        let total = nlines + nodes.triangles.len() + pins.len();
+        let total = nlines + nodes.inner.len() + nodes.triangles.len() + pins.len();
         let nblocks = curves.iter().filter(|c| !c.lines.is_empty()).count()
+            + inner_curves.len()
             + usize::from(!nodes.triangles.is_empty())
             + pins.len();
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
@@ -324,6 +358,12 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             writeln!(w, "1 {} {line_type} {}", c + 1, curve.lines.len())?;
             for &k in &curve.lines {
                 element(w, &nodes.lines[curve.loop_index][k])?;
+            }
+        }
+        for (i, (_, ks)) in inner_curves.iter().enumerate() {
+            writeln!(w, "1 {} {line_type} {}", curves.len() + 1 + i, ks.len())?;
+            for &k in ks {
+                element(w, &nodes.inner[k].0)?;
             }
         }
         if !nodes.triangles.is_empty() {

@@ -173,7 +173,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
             "# Triangle .poly written by cvtmesh: vertices are in the .node file beside it."
         )?;
         writeln!(w, "0 2 0 1")?;
-        let nseg: usize = segments.iter().map(Vec::len).sum();
+        let nseg: usize = segments.iter().map(Vec::len).sum::<usize>() + nodes.inner.len();
         writeln!(
             w,
             "# segments: the mesh boundary edges, {}",
@@ -193,6 +193,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
                     .map_or(l as i64 + 1, |(by_line, _)| by_line[l][e]);
                 writeln!(w, "{k} {} {} {marker}", a + 1, b + 1)?;
             }
+        }
+        if !nodes.inner.is_empty() {
+            writeln!(
+                w,
+                "# the edges along the region's embedded lines, marker = the line's"
+            )?;
+        }
+        for (line, marker) in &nodes.inner {
+            k += 1;
+            writeln!(w, "{k} {} {} {marker}", line[0] + 1, line[1] + 1)?;
         }
         writeln!(w, "# holes: a point inside each hole loop")?;
         writeln!(w, "{}", holes.len())?;
