@@ -163,8 +163,9 @@ pub fn region_of_mesh(
 /// [`Region::from_file`] reads; the path of a mesh ([`io::read_mesh`]: Triangle `.node`/`.ele`,
 /// Gmsh `.msh`, `.obj`), whose region is what its triangles cover
 /// ([`Region::from_triangles`]), so a mesh can be meshed again, polished or measured with no
-/// region file (refused where the file keeps lines inside the mesh, [`io::Walls::inner`],
-/// which a new mesh would lose); or, when the text looks like no path (no `.` or `/`), the name of a built-in
+/// region file; the lines the file keeps inside the mesh ([`io::Walls::inner`]: a material
+/// interface) are the region's embedded lines ([`Region::embedded_lines`]), so that a new
+/// mesh follows them too; or, when the text looks like no path (no `.` or `/`), the name of a built-in
 /// region, even where a file of that name lies in the working directory (a file without an
 /// extension is in no format; `./lake` names the file). As read: a polygon file's every
 /// turning vertex is a corner ([`Region::with_default_corners`] keeps the command line's).
@@ -193,21 +194,33 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
             path: spec.to_string(),
             message: e.to_string(),
         })?;
-        // A new mesh of the region its triangles cover would have none of its inner lines.
-        if !walls.inner.is_empty() {
-            return Err(GeometryError::Invalid {
-                region: spec.to_string(),
-                message: format!(
-                    "the mesh keeps {} edges inside it as lines of their own (an interface \
-                     between materials or surfaces, a curve in the domain), which a new mesh \
-                     of the region its triangles cover would not have: cvtmesh meshes regions \
-                     without inner lines; `polish` (Mesh.polished) improves this mesh and \
-                     holds them",
-                    walls.inner.len()
-                ),
-            });
+        // The lines the file keeps inside the mesh (an interface between materials, a curve
+        // in the domain) stay lines of a new mesh, straight runs of old edges joined.
+        let region = region_of_mesh(&mesh, &walls, path)?;
+        if walls.inner.is_empty() {
+            return Ok(region);
         }
-        return region_of_mesh(&mesh, &walls, path);
+        let segments: Vec<(usize, usize, i64)> = walls
+            .inner
+            .iter()
+            .enumerate()
+            .map(|(k, &[a, b])| {
+                let m = walls.inner_markers.get(k).copied().unwrap_or(0);
+                (a as usize, b as usize, m)
+            })
+            .collect();
+        let lines = geometry::EmbeddedLine::join(&mesh.points, &segments, |v| {
+            mesh.markers[v].on_boundary()
+        });
+        return region
+            .with_embedded_lines(lines.iter().map(|l| l.straightened(1e-9)))
+            .map_err(|e| match e {
+                GeometryError::Invalid { message, .. } => GeometryError::Invalid {
+                    region: spec.to_string(),
+                    message: format!("the lines the mesh keeps inside it: {message}"),
+                },
+                e => e,
+            });
     }
     let plain = !spec.contains('.') && !spec.contains('/');
     if plain && Region::builtin_names().contains(&spec) {

@@ -1035,19 +1035,14 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         .filter(|(_, &side)| side == crate::faces::Side::Inside)
         .map(|(&p, _)| p)
         .collect();
-    let marker_of = |a: usize, b: usize| {
-        markers
-            .get(&segment_key(verts[a], verts[b]))
-            .copied()
-            .unwrap_or(0)
-    };
-    let lines = polylines(&inner, |v| adj.contains_key(&v), &marker_of)
-        .into_iter()
-        .map(|(vs, marker)| crate::EmbeddedLine {
-            points: vs.iter().map(|&v| verts[v]).collect(),
-            marker,
+    let marked_inner: Vec<(usize, usize, i64)> = inner
+        .iter()
+        .map(|&(a, b)| {
+            let m = markers.get(&segment_key(verts[a], verts[b])).copied();
+            (a, b, m.unwrap_or(0))
         })
         .collect();
+    let lines = crate::EmbeddedLine::join(&verts, &marked_inner, |v| adj.contains_key(&v));
     // Regional attributes and area constraints may follow; they do not change the region (the
     // user hears that they are not used). Which loops are holes is for nesting to decide and
     // the hole points to confirm (`poly_region`).
@@ -1083,70 +1078,6 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         lines,
         dropped,
     })
-}
-
-/// The segments `inner` joined into polylines: a polyline ends where three or more segments
-/// meet, where one ends, on the boundary (`on_boundary`), and where the marker changes; a
-/// cycle with none of these is one closed polyline. Each with its segments' marker.
-fn polylines(
-    inner: &[(usize, usize)],
-    on_boundary: impl Fn(usize) -> bool,
-    marker_of: &dyn Fn(usize, usize) -> i64,
-) -> Vec<(Vec<usize>, i64)> {
-    let mut at: HashMap<usize, Vec<usize>> = HashMap::new();
-    for (s, &(a, b)) in inner.iter().enumerate() {
-        at.entry(a).or_default().push(s);
-        at.entry(b).or_default().push(s);
-    }
-    let other = |s: usize, v: usize| {
-        let (a, b) = inner[s];
-        if a == v {
-            b
-        } else {
-            a
-        }
-    };
-    // A vertex a polyline passes through: two segments of one marker, off the boundary.
-    let through = |v: usize| {
-        let ss = &at[&v];
-        ss.len() == 2
-            && !on_boundary(v)
-            && marker_of(inner[ss[0]].0, inner[ss[0]].1)
-                == marker_of(inner[ss[1]].0, inner[ss[1]].1)
-    };
-    let mut used = vec![false; inner.len()];
-    let mut out = Vec::new();
-    let walk = |s0: usize, v0: usize, used: &mut Vec<bool>| {
-        let (mut s, mut v) = (s0, v0);
-        let mut vs = vec![v0];
-        loop {
-            used[s] = true;
-            v = other(s, v);
-            vs.push(v);
-            if v == v0 || !through(v) {
-                break;
-            }
-            match at[&v].iter().find(|&&t| !used[t]) {
-                Some(&t) => s = t,
-                None => break,
-            }
-        }
-        (vs, marker_of(inner[s0].0, inner[s0].1))
-    };
-    // Open polylines first, from their ends, in the segments' order; then the cycles.
-    for (s, &(a, b)) in inner.iter().enumerate() {
-        for v in [a, b] {
-            if !used[s] && !through(v) {
-                out.push(walk(s, v, &mut used));
-            }
-        }
-    }
-    for s in 0..inner.len() {
-        if !used[s] {
-            out.push(walk(s, inner[s].0, &mut used));
-        }
-    }
-    out
 }
 
 /// Insert `p` into the loop segment within `off` of it (the first found), the two halves

@@ -40,6 +40,108 @@ impl EmbeddedLine {
     pub fn length(&self) -> f64 {
         self.segments().map(|(a, b)| a.distance(b)).sum()
     }
+
+    /// Segments (pairs of indices into `points`, each with its marker) joined into lines: a
+    /// line ends where three or more segments meet, where one ends, at a vertex `ends` names
+    /// (one on the region's boundary), and where the marker changes; a cycle with none of
+    /// these is one closed line. Open lines first, each from an end, then the cycles.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, EmbeddedLine};
+    /// let points = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (1.0, 1.0)].map(DVec2::from);
+    /// // A T: three segments meeting at (1, 0), the stem marked 5.
+    /// let lines = EmbeddedLine::join(&points, &[(0, 1, 2), (1, 2, 2), (1, 3, 5)], |_| false);
+    /// assert_eq!(lines.len(), 3);
+    /// assert_eq!(lines.iter().filter(|l| l.marker == 5).count(), 1);
+    /// ```
+    pub fn join(
+        points: &[DVec2],
+        segments: &[(usize, usize, i64)],
+        ends: impl Fn(usize) -> bool,
+    ) -> Vec<EmbeddedLine> {
+        let mut at: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+        for (s, &(a, b, _)) in segments.iter().enumerate() {
+            at.entry(a).or_default().push(s);
+            at.entry(b).or_default().push(s);
+        }
+        let other = |s: usize, v: usize| {
+            let (a, b, _) = segments[s];
+            if a == v {
+                b
+            } else {
+                a
+            }
+        };
+        // A vertex a line passes through: two segments of one marker, not at an end.
+        let through = |v: usize| {
+            let ss = &at[&v];
+            ss.len() == 2 && !ends(v) && segments[ss[0]].2 == segments[ss[1]].2
+        };
+        let mut used = vec![false; segments.len()];
+        let walk = |s0: usize, v0: usize, used: &mut Vec<bool>| {
+            let (mut s, mut v) = (s0, v0);
+            let mut vs = vec![points[v0]];
+            loop {
+                used[s] = true;
+                v = other(s, v);
+                vs.push(points[v]);
+                if v == v0 || !through(v) {
+                    break;
+                }
+                match at[&v].iter().find(|&&t| !used[t]) {
+                    Some(&t) => s = t,
+                    None => break,
+                }
+            }
+            EmbeddedLine {
+                points: vs,
+                marker: segments[s0].2,
+            }
+        };
+        let mut out = Vec::new();
+        for (s, &(a, b, _)) in segments.iter().enumerate() {
+            for v in [a, b] {
+                if !used[s] && !through(v) {
+                    out.push(walk(s, v, &mut used));
+                }
+            }
+        }
+        for s in 0..segments.len() {
+            if !used[s] {
+                out.push(walk(s, segments[s].0, &mut used));
+            }
+        }
+        out
+    }
+
+    /// The same line without the vertices where it runs straight on (turning by at most
+    /// `radians`): a line read from a mesh's edges has a vertex at every old mesh vertex.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, EmbeddedLine};
+    /// let line = EmbeddedLine { points: [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 1.0)].map(DVec2::from).to_vec(), marker: 1 };
+    /// assert_eq!(line.straightened(1e-9).points, [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)].map(DVec2::from));
+    /// ```
+    pub fn straightened(&self, radians: f64) -> EmbeddedLine {
+        let p = &self.points;
+        let turn = |a: DVec2, b: DVec2, c: DVec2| {
+            let (u, v) = (b - a, c - b);
+            u.perp_dot(v).atan2(u.dot(v)).abs()
+        };
+        let mut kept = vec![p[0]];
+        for k in 1..p.len().saturating_sub(1) {
+            if turn(*kept.last().expect("one kept"), p[k], p[k + 1]) > radians {
+                kept.push(p[k]);
+            }
+        }
+        if p.len() > 1 {
+            kept.push(p[p.len() - 1]);
+        }
+        EmbeddedLine {
+            points: kept,
+            marker: self.marker,
+        }
+    }
 }
 
 impl Region {

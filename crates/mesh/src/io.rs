@@ -450,6 +450,10 @@ pub struct Walls {
     /// them is not taken as a region to mesh again (`cvtmesh::load_region`), which would lose
     /// them.
     pub inner: Vec<[u32; 2]>,
+    /// The marker of each [`Walls::inner`] edge, in its order: a `.poly` segment's marker, the
+    /// physical curve of a Gmsh line element; 0 where the file gives none (an edge between
+    /// two regions). Empty when no inner edge has one.
+    pub inner_markers: Vec<i64>,
     /// The physical surface the file puts every triangle in, tag and name (a Gmsh mesh's one
     /// physical surface), which a region of the mesh keeps ([`Region::surface_group`]).
     pub surface_group: Option<(i64, String)>,
@@ -470,6 +474,24 @@ impl Walls {
         v.sort_unstable();
         v.dedup();
         v
+    }
+}
+
+/// The marker of each of `inner` (sorted edges, the lower vertex first) that `given` (edges
+/// either way round, with markers) gives; empty when it gives none a nonzero one.
+pub(crate) fn inner_markers(inner: &[[u32; 2]], given: &[([u32; 2], i64)]) -> Vec<i64> {
+    let by_edge: HashMap<[u32; 2], i64> = given
+        .iter()
+        .map(|&([a, b], m)| ([a.min(b), a.max(b)], m))
+        .collect();
+    let markers: Vec<i64> = inner
+        .iter()
+        .map(|e| by_edge.get(e).copied().unwrap_or(0))
+        .collect();
+    if markers.iter().all(|&m| m == 0) {
+        Vec::new()
+    } else {
+        markers
     }
 }
 

@@ -1234,17 +1234,21 @@ def _two_materials(tmp_path):
     return node
 
 
-def test_an_interface_between_materials_is_held_by_polished_and_not_meshed_away(tmp_path):
+def test_an_interface_between_materials_is_held_by_polished_and_kept_by_a_new_mesh(tmp_path):
     node = _two_materials(tmp_path)
     m = cvtmesh.Mesh.read(str(node))
     rectangle = Region.from_loops(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]))
     p = m.polished(rectangle, below=60.0)
     assert not np.array_equal(p.points, m.points)
     assert np.count_nonzero(p.points[:, 0] == 1.0) == np.count_nonzero(m.points[:, 0] == 1.0) == 5
-    with pytest.raises(MeshError, match="lines of their own"):
-        cvtmesh.mesh(str(node), n=100)
-    with pytest.raises(MeshError, match="lines of their own"):
-        Region.load(str(node))
+    # Meshed again, the region its triangles cover keeps the interface x = 1 as a line, and
+    # the new mesh follows it.
+    ((line, marker),) = Region.load(str(node)).embedded_lines
+    assert line.tolist() == [[1.0, 0.0], [1.0, 1.0]] or line.tolist() == [[1.0, 1.0], [1.0, 0.0]]
+    again = cvtmesh.mesh(str(node), n=300)
+    edges, _ = again.line_edges()
+    assert (again.points[edges.ravel(), 0] == 1.0).all()
+    assert abs(np.abs(np.diff(again.points[edges][:, :, 1], axis=1)).sum() - 1.0) < 1e-12
 
 
 def test_no_region_is_a_type_error_naming_what_a_region_may_be():

@@ -1306,13 +1306,18 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
     }
     let inner = super::inner_edges(&mesh, &raw.triangle_regions, &lines);
     let mut edges = Vec::with_capacity(raw.walls.len());
+    let mut inner_marked = Vec::new();
     for &(a, b, w) in &raw.walls {
         let (a, b) = (lookup(a)?, lookup(b)?);
-        // A curve group inside the mesh (an interface) numbers no wall of the region.
+        // A curve group inside the mesh (an interface) numbers no wall of the region, but
+        // the line it is.
         if inner.binary_search(&[a.min(b), a.max(b)]).is_err() {
             edges.push(([a, b], w));
+        } else {
+            inner_marked.push(([a, b], w));
         }
     }
+    let inner_markers = super::inner_markers(&inner, &inner_marked);
     let mut points = Vec::with_capacity(raw.pins.len());
     for &(a, m) in &raw.pins {
         points.push((lookup(a)?, m));
@@ -1348,6 +1353,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         points,
         names: std::mem::take(&mut raw.wall_names),
         inner,
+        inner_markers,
         surface_group,
         notes,
     };

@@ -418,6 +418,11 @@ fn walls_of(
         .filter_map(|&(a, b, _)| Some([at(a)?, at(b)?]))
         .collect();
     let inner = super::inner_edges(mesh, &given.regions, &lines);
+    let with_markers: Vec<([u32; 2], i64)> = segments
+        .iter()
+        .filter_map(|&(a, b, m)| Some(([at(a)?, at(b)?], m)))
+        .collect();
+    let inner_markers = super::inner_markers(&inner, &with_markers);
     let walls = match boundary_walls(mesh, &segments) {
         Some(walls) if marked => walls,
         // Not this mesh's segments: the region Triangle was given (its `.poly` beside the mesh
@@ -426,6 +431,7 @@ fn walls_of(
         Some(_) => {
             return Ok(Walls {
                 inner,
+                inner_markers,
                 ..Walls::default()
             })
         }
@@ -445,6 +451,7 @@ fn walls_of(
         edges: walls,
         points,
         inner,
+        inner_markers,
         ..Walls::default()
     })
 }
