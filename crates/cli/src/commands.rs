@@ -890,6 +890,24 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
             p.y
         );
     }
+    for (i, line) in region.embedded_lines().iter().enumerate() {
+        let marker = match (line.marker, region.marker_name(line.marker)) {
+            (0, _) => String::new(),
+            (m, Some(n)) => format!(", marker {m} ({n})"),
+            (m, None) => format!(", marker {m}"),
+        };
+        let (a, b) = (line.points[0], line.points[line.points.len() - 1]);
+        let shape = if line.is_closed() {
+            format!("closed through ({}, {})", a.x, a.y)
+        } else {
+            format!("from ({}, {}) to ({}, {})", a.x, a.y, b.x, b.y)
+        };
+        outln!(
+            "line {i} {shape}, {} vertices, length {:.6}{marker}: edges of every mesh",
+            line.points.len(),
+            line.length()
+        );
+    }
     Ok(())
 }
 

@@ -2967,3 +2967,54 @@ fn dual_prints_the_finite_volume_cells() {
         text(&o)
     );
 }
+
+/// A Triangle `.poly` with an interface from wall to wall (its segment with the region on both
+/// sides, marked 7): `regions` lists it, `mesh` follows it with edges that its `.msh` keeps in
+/// physical curve 7, and an interface that leaves the region is refused with no file written.
+#[test]
+fn a_poly_interface_is_listed_meshed_along_and_kept_in_the_file() {
+    let dir = scratch("interface");
+    let poly = dir.join("two.poly");
+    std::fs::write(
+        &poly,
+        "6 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0 0\n6 0.5 1 0\n\
+         7 1\n1 1 5 1\n2 5 2 1\n3 2 3 1\n4 3 6 1\n5 6 4 1\n6 4 1 1\n7 5 6 7\n0\n",
+    )
+    .unwrap();
+    let o = cvtmesh(&["regions", s(&poly)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o)
+            .contains("line 0 from (0.5, 0) to (0.5, 1), 2 vertices, length 1.000000, marker 7"),
+        "{}",
+        text(&o)
+    );
+    let out = dir.join("two.msh");
+    let o = cvtmesh(&["mesh", s(&poly), "-n", "400", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let (mesh, walls) = cvtmesh::io::read_mesh_with_walls(&out).unwrap();
+    assert_eq!(walls.inner_markers.len(), walls.inner.len());
+    assert!(walls.inner_markers.iter().all(|&m| m == 7));
+    let length: f64 = walls
+        .inner
+        .iter()
+        .map(|&[a, b]| mesh.points[a as usize].distance(mesh.points[b as usize]))
+        .sum();
+    assert!((length - 1.0).abs() < 1e-12, "{length}");
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .contains("1 7 \"marker7\""));
+    // The same interface run past the right wall.
+    let bad = dir.join("bad.poly");
+    std::fs::write(
+        &bad,
+        "7 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0.5 0\n6 1.5 0.5 0\n7 0.5 0.2 0\n\
+         5 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n5 5 6 7\n0\n",
+    )
+    .unwrap();
+    let never = dir.join("never.msh");
+    let o = cvtmesh(&["mesh", s(&bad), "-n", "400", "-o", s(&never)]);
+    assert!(!o.status.success());
+    assert!(!never.exists());
+    assert!(text(&o).contains("(1.5, 0.5)"), "{}", text(&o));
+}

@@ -641,6 +641,17 @@ def test_an_interface_and_an_inclusion_are_followed_by_edges(tmp_path):
         assert poly.count(" 7\n") >= len(edges[markers == 7]), method
         m.write(str(tmp_path / f"{method}.msh"))
         assert '1 7 "marker7"' in (tmp_path / f"{method}.msh").read_text()
+    # meshio gets the lines as a block per marker, in the cell set and physical group of the
+    # marker, which a Gmsh file written by meshio carries back.
+    m = cvtmesh.mesh(region, n=1500)
+    edges, markers = m.line_edges()
+    mm = m.to_meshio()
+    assert sum(len(b) for b in mm.cell_sets["marker_8"]) == (markers == 8).sum()
+    path = tmp_path / "meshio.msh"
+    mm.write(str(path), file_format="gmsh22", binary=False)
+    back = cvtmesh.Mesh.read(str(path))
+    again_edges, again_markers = back.line_edges(region)
+    assert sorted(again_markers.tolist()) == sorted(markers.tolist())
     with pytest.raises(MeshError, match="embeds 2 lines"):
         cvtmesh.mesh(region, n=1500, method="vtm")
     with pytest.raises(MeshError, match="leaves the region|outside the region"):

@@ -261,7 +261,9 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
     wall's marker (its loop + 1 where the region numbers no walls) and the triangles 1, point
     data ``gmsh:dim_tags`` puts each node on its curve or the surface, and ``field_data``
     names the physical groups as the cell sets (``marker_4`` or ``boundary_0``, and
-    ``domain``), which meshio reads back as cell sets."""
+    ``domain``), which meshio reads back as cell sets. The edges along the region's embedded
+    lines (:meth:`Mesh.line_edges`: an interface, a crack) follow as one ``line`` block per
+    marker, in the cell set ``marker_7`` of their marker and its physical group."""
     import meshio
 
     loops = np.asarray(self.boundary_loop)
@@ -328,10 +330,38 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
     for r, (a, b) in enumerate(runs):
         dim_tags[lines[a:b, [0] + list(range(2, lines.shape[1]))].ravel()] = [1, r + 1]
     point_data = {"gmsh:dim_tags": dim_tags}
+    # The edges along the region's embedded lines (an interface, a crack): a line block per
+    # marker after the boundary's, in the cell set and physical group of that marker.
+    try:
+        inner, inner_markers = self.line_edges(region)
+    except MeshError:  # no region, or no lines the mesh follows
+        inner, inner_markers = np.empty((0, 2), dtype=np.int64), np.empty(0, dtype=np.int64)
+    inner = np.array(inner)
+    if order == 2 and len(inner):
+        mids = [node_of[tuple(e)] for e in np.sort(inner, axis=1).tolist()]
+        inner = np.column_stack([inner, np.array(mids, dtype=np.int64)])
+    spare = int(max(group.max(initial=0), inner_markers.max(initial=0))) + 1
+    for i, m in enumerate(np.unique(inner_markers).tolist()):
+        rows = inner[inner_markers == m]
+        cells.append((kinds[1], rows))
+        for blocks in cell_sets.values():
+            blocks.append(np.empty(0, dtype=np.int64))
+        name = f"marker_{m}"
+        if name not in cell_sets:
+            cell_sets[name] = [np.empty(0, dtype=np.int64) for _ in cells]
+        cell_sets[name][-1] = np.arange(len(rows))
+        tag = m if m > 0 else spare + i
+        cell_data["gmsh:physical"].append(np.full(len(rows), tag, dtype=np.int64))
+        cell_data["gmsh:geometrical"].append(np.full(len(rows), len(runs) + 1 + i, dtype=np.int64))
+        field_data[name] = np.array([tag, 1])
     if len(markers):
         # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
         # finite-element codes read facet tags from, keep cell data, not cell sets.
-        cell_data["marker"] = [np.zeros(len(tris), dtype=np.int64)] + [markers[a:b] for a, b in runs]
+        cell_data["marker"] = (
+            [np.zeros(len(tris), dtype=np.int64)]
+            + [markers[a:b] for a, b in runs]
+            + [np.full(len(c[1]), m, dtype=np.int64) for c, m in zip(cells[1 + len(runs):], np.unique(inner_markers).tolist())]
+        )
         # Each vertex's as a Triangle .node gives it (a point the region marks on its own
         # keeps its marker); the edge nodes of order 2 take 0.
         marks = np.zeros(len(points), dtype=np.int64)
