@@ -80,3 +80,13 @@ fn a_part_that_gets_only_its_corners_holds_algorithm_2s_epsilon_after_one_step()
         .expect("the triangle's epsilon note");
     assert!(!triangle.contains("not settled"), "{triangle}");
 }
+
+/// `poly`: a segment count of 177 777 777 777 777 776 in the header of a `.poly`'s segments
+/// was an allocation of that many entries before the first one was read, an abort.
+#[test]
+fn a_poly_segment_count_beyond_any_file_is_an_error_not_an_abort() {
+    let text = "6 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0 0\n6 0.5 1 0\n\
+                177777777777777776 1\n1 1 2 1\n2 2 3 1\n0\n";
+    let e = cvtmesh::geometry::formats::poly_from_str(text, "t.poly", "t").unwrap_err();
+    assert!(e.to_string().contains("t.poly"), "{e}");
+}

@@ -852,7 +852,7 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         .map(|(i, p)| *canon.entry((p.x.to_bits(), p.y.to_bits())).or_insert(i))
         .collect();
     let mut seen: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut segments: Vec<(usize, usize, usize)> = Vec::with_capacity(nseg); // (a, b, line)
+    let mut segments: Vec<(usize, usize, usize)> = Vec::with_capacity(nseg.min(1 << 16)); // (a, b, line)
     for s in 0..nseg {
         let (line, t) = recs.next().ok_or_else(|| {
             parse_err(

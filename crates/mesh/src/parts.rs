@@ -54,7 +54,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // A triangulation of points spaced along a line has the edges between them unless a point
     // off the line crowds one; flips restore those before the polish, which holds the line's
     // vertices.
-    if lines.is_some() && !crate::lines::restore_line_edges(&mut result.mesh, region) {
+    if lines.is_some()
+        && crate::lines::line_edges(&result.mesh, region).is_err()
+        && !crate::lines::restore_line_edges(&mut result.mesh, region)
+    {
         return Err(MeshError::Failed {
             method: mesher.name().to_string(),
             message: "an embedded line has a piece between two of its vertices that no flip of \
