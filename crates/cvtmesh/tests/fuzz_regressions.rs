@@ -90,3 +90,22 @@ fn a_poly_segment_count_beyond_any_file_is_an_error_not_an_abort() {
     let e = cvtmesh::geometry::formats::poly_from_str(text, "t.poly", "t").unwrap_err();
     assert!(e.to_string().contains("t.poly"), "{e}");
 }
+
+/// `poly`: a vertex on no segment at (6, 5·10¹⁰⁴), far above a polygon, was kept as a point
+/// inside: every piece was as near as rounding could tell, and the side of the bottom edge,
+/// which won, said inside.
+#[test]
+fn a_point_far_outside_is_outside_however_near_rounding_makes_every_piece() {
+    let pts = [(0.0, 0.0), (2.5, 0.0), (40.0, 0.0), (4.0, 9.0), (0.0, 1.0)]
+        .map(DVec2::from)
+        .to_vec();
+    let r = Region::from_loops("c", vec![(LoopRole::Outer, pts)]).unwrap();
+    for p in [
+        DVec2::new(6.0, 5e104),
+        DVec2::new(-3e200, 1.0),
+        DVec2::new(1e20, -1e20),
+    ] {
+        assert!(r.signed_distance(p) > 0.0 && !r.contains(p), "{p}");
+    }
+    assert!(r.contains(DVec2::new(3.0, 0.5)));
+}

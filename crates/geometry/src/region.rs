@@ -571,9 +571,14 @@ impl Region {
         }
         let hit = self.index.nearest(&self.pieces, p);
         let d = hit.d2.sqrt();
+        // Outside the bounding box the point is outside, however the nearest piece came out:
+        // far away (10¹⁰⁰ spacings) every piece is as near as rounding can tell, and the side
+        // of whichever won is no answer.
+        let (lo, hi) = self.bbox;
+        let boxed = p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
         if d == 0.0 {
             0.0
-        } else if self.index.inside(&self.pieces, p, &hit) {
+        } else if boxed && self.index.inside(&self.pieces, p, &hit) {
             -d
         } else {
             d
