@@ -2713,7 +2713,9 @@ fn an_interface_between_materials_is_held_by_polish_and_kept_by_a_new_mesh() {
         "{}",
         text(&o)
     );
-    let polished = cvtmesh::io::read_mesh(&out).unwrap();
+    let (polished, kept) = cvtmesh::io::read_mesh_with_walls(&out).unwrap();
+    // The polished mesh's files keep the interface as segments inside it.
+    assert_eq!(kept.inner.len(), ny - 1, "{:?}", kept.inner);
     let on_interface = polished.points.iter().filter(|p| p.x == 1.0).count();
     assert_eq!(on_interface, ny);
     let moved = polished
@@ -2726,7 +2728,11 @@ fn an_interface_between_materials_is_held_by_polish_and_kept_by_a_new_mesh() {
     // Not held, the polish takes interface vertices off x = 1.
     let file = cvtmesh::io::read_mesh_file(&dir.join("two.node")).unwrap();
     let mut free = file.mesh.clone();
-    let region = cvtmesh::region_of_mesh(&free, &file.walls, &dir.join("two.node")).unwrap();
+    let unheld = cvtmesh::io::Walls {
+        inner: Vec::new(),
+        ..file.walls.clone()
+    };
+    let region = cvtmesh::region_of_mesh(&free, &unheld, &dir.join("two.node")).unwrap();
     cvtmesh::polish_restored(&mut free, &region, 60.0).unwrap();
     assert!(free.points.iter().filter(|p| p.x == 1.0).count() < ny);
     // Meshed again, the interface stays: a line of the region its triangles cover, which the
@@ -2973,7 +2979,7 @@ fn dual_prints_the_finite_volume_cells() {
 /// physical curve 7, and an interface that leaves the region is refused with no file written.
 #[test]
 fn a_poly_interface_is_listed_meshed_along_and_kept_in_the_file() {
-    let dir = scratch("interface");
+    let dir = scratch("poly_interface");
     let poly = dir.join("two.poly");
     std::fs::write(
         &poly,

@@ -101,8 +101,10 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 /// named after the file, with the walls the file numbers (`walls`, from
 /// [`io::read_mesh_with_walls`]: Gmsh physical curves, a Triangle `.poly`'s segment markers),
 /// so that a mesh of it carries the same boundary conditions
-/// ([`Region::from_triangles_marked`], [`Region::with_marker_names`]); its errors name the
-/// file.
+/// ([`Region::from_triangles_marked`], [`Region::with_marker_names`]), and the lines it keeps
+/// inside the mesh ([`io::Walls::inner`], with [`io::Walls::inner_markers`]) as embedded lines
+/// ([`Region::embedded_lines`]), so that a new or polished mesh keeps them; its errors name
+/// the file.
 ///
 /// ```
 /// use cvtmesh::{io::{markers_from_topology, Walls}, DVec2, Mesh};
@@ -123,6 +125,10 @@ pub fn mesh(region: &Region, n: usize) -> Result<MeshResult, MeshError> {
 /// assert_eq!(r.piece_markers().map(|m| m.contains(&3)), Some(true));
 /// assert_eq!(r.marker_name(3), Some("heated"));
 /// assert_eq!(r.vertex_markers(), &[(DVec2::ONE, 8)]);
+/// // Its diagonal kept inside as an interface, marked 5: a line of the region.
+/// let walls = Walls { inner: vec![[0, 2]], inner_markers: vec![5], ..Default::default() };
+/// let r = cvtmesh::region_of_mesh(&mesh, &walls, path)?;
+/// assert_eq!(r.embedded_lines()[0].marker, 5);
 /// # Ok::<(), cvtmesh::GeometryError>(())
 /// ```
 pub fn region_of_mesh(
@@ -145,10 +151,11 @@ pub fn region_of_mesh(
             let r = r
                 .with_marker_names(walls.names.clone())
                 .with_notes(walls.notes.iter().cloned());
-            match &walls.surface_group {
+            let r = match &walls.surface_group {
                 Some((tag, name)) => r.with_surface_group(*tag, name),
                 None => r,
-            }
+            };
+            with_inner_lines(r, mesh, walls)
         })
         .map_err(|e| match e {
             GeometryError::Invalid { message, .. } => GeometryError::Invalid {
@@ -157,6 +164,36 @@ pub fn region_of_mesh(
             },
             e => e,
         })
+}
+
+/// `region` (the one `mesh`'s triangles cover) with the lines the file keeps inside the mesh
+/// ([`io::Walls::inner`]: an interface between materials, a curve in the domain) as embedded
+/// lines, straight runs of the mesh's edges joined, so that a new mesh, a polished one and
+/// their files keep them; where they make no valid lines, the region without them and a note.
+fn with_inner_lines(region: Region, mesh: &Mesh, walls: &io::Walls) -> Region {
+    if walls.inner.is_empty() {
+        return region;
+    }
+    let segments: Vec<(usize, usize, i64)> = walls
+        .inner
+        .iter()
+        .enumerate()
+        .map(|(k, &[a, b])| {
+            let m = walls.inner_markers.get(k).copied().unwrap_or(0);
+            (a as usize, b as usize, m)
+        })
+        .collect();
+    let lines =
+        geometry::EmbeddedLine::join(&mesh.points, &segments, |v| mesh.markers[v].on_boundary());
+    let lines: Vec<_> = lines.iter().map(|l| l.straightened(1e-9)).collect();
+    match region.clone().with_embedded_lines(lines) {
+        Ok(r) => r,
+        Err(e) => region.with_notes([format!(
+            "the {} edges the mesh keeps inside it are not lines of the region ({e}): a new \
+             mesh does not follow them",
+            walls.inner.len()
+        )]),
+    }
 }
 
 /// A region by what a user types: the path of a region file in any format
@@ -194,33 +231,7 @@ pub fn load_region(spec: &str) -> Result<Region, GeometryError> {
             path: spec.to_string(),
             message: e.to_string(),
         })?;
-        // The lines the file keeps inside the mesh (an interface between materials, a curve
-        // in the domain) stay lines of a new mesh, straight runs of old edges joined.
-        let region = region_of_mesh(&mesh, &walls, path)?;
-        if walls.inner.is_empty() {
-            return Ok(region);
-        }
-        let segments: Vec<(usize, usize, i64)> = walls
-            .inner
-            .iter()
-            .enumerate()
-            .map(|(k, &[a, b])| {
-                let m = walls.inner_markers.get(k).copied().unwrap_or(0);
-                (a as usize, b as usize, m)
-            })
-            .collect();
-        let lines = geometry::EmbeddedLine::join(&mesh.points, &segments, |v| {
-            mesh.markers[v].on_boundary()
-        });
-        return region
-            .with_embedded_lines(lines.iter().map(|l| l.straightened(1e-9)))
-            .map_err(|e| match e {
-                GeometryError::Invalid { message, .. } => GeometryError::Invalid {
-                    region: spec.to_string(),
-                    message: format!("the lines the mesh keeps inside it: {message}"),
-                },
-                e => e,
-            });
+        return region_of_mesh(&mesh, &walls, path);
     }
     let plain = !spec.contains('.') && !spec.contains('/');
     if plain && Region::builtin_names().contains(&spec) {

@@ -112,7 +112,7 @@ impl Region {
                             > threshold
                             || self.markers.get(c.piece_in) != self.markers.get(c.piece_out)
                             || self.is_marked_vertex(c.pos)
-                            || self.is_line_end(c.pos)
+                            || self.is_line_vertex(c.pos)
                     })
                 })
                 .collect();

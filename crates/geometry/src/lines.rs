@@ -170,10 +170,10 @@ impl Region {
     }
 
     /// The same region with `lines` embedded as well ([`Region::embedded_lines`]). Every
-    /// point of a line lies inside the region, off its boundary by more than 10⁻⁹ of its
-    /// diameter, except an open line's ends, which may sit on a corner of the boundary (a
-    /// vertex of a polygonal loop: an interface from wall to wall); such a corner stays a
-    /// corner whatever the corner angle. Lines may share vertices (three materials meeting at
+    /// vertex of a line lies inside the region, off its boundary by more than 10⁻⁹ of its
+    /// diameter, or on a polygonal wall or an arc (an interface from wall to wall, an
+    /// inclusion touching a wall), where the piece is split if need be and the point becomes
+    /// a corner whatever the corner angle; no segment leaves the region. Lines may share vertices (three materials meeting at
     /// a point) but not cross or touch elsewhere, each other or themselves. A marked line in
     /// a region that numbers no walls gives every piece Triangle's marker for a boundary, 1,
     /// as a marked embedded point does.
@@ -203,7 +203,6 @@ impl Region {
                     line.marker
                 )));
             }
-            let closed = line.is_closed();
             for k in 0..n {
                 let p = line.points[k];
                 let sd = self.signed_distance(p);
@@ -216,9 +215,9 @@ impl Region {
                 if sd <= -off {
                     continue;
                 }
-                let end = !closed && (k == 0 || k == n - 1);
-                // A junction of pieces, or a point of a straight piece or an arc, which is
-                // split there.
+                // Any vertex may touch the boundary (an end of an interface, an inclusion
+                // touching a wall) at a junction of pieces, or at a point of a straight piece
+                // or an arc, which is split there; there it becomes a corner.
                 let junction = self
                     .pieces
                     .iter()
@@ -231,20 +230,18 @@ impl Region {
                             .then_some(p)
                     });
                 match junction {
-                    Some(q) if end => {
+                    Some(q) => {
                         line.points[k] = q;
-                        if self.corners.iter().all(|c| c.pos != q) {
+                        if self.corners.iter().all(|c| c.pos != q) && !new_corners.contains(&q) {
                             new_corners.push(q);
                         }
                     }
-                    _ => {
+                    None => {
                         let place = if sd > off {
                             "outside the region"
-                        } else if end {
-                            "on a closed curve of the region's boundary (a circle or \
-                             super-ellipse loop: a line may end on a polygonal wall or an arc)"
                         } else {
-                            "on the region's boundary (only a line's ends may touch it)"
+                            "on a closed curve of the region's boundary (a circle or \
+                             super-ellipse loop: a line may meet a polygonal wall or an arc)"
                         };
                         return Err(bad(format!(
                             "embedded line {i} has the point ({}, {}) {place}",
@@ -261,14 +258,27 @@ impl Region {
             }
             // A segment whose ends are inside may still leave the region between them, or
             // run outside between two corners of a notch.
-            let polygon = self.polygonize(1e-6 * self.diameter());
+            let chord = 1e-6 * self.diameter();
+            let polygon = self.polygonize(chord);
+            let on_boundary = |p: DVec2| self.signed_distance(p).abs() <= off;
             for (a, b) in line.segments() {
                 let mid = 0.5 * (a + b);
+                // A segment from a point of a curved piece crosses the piece's chords right
+                // beside that point, within their sag: not a crossing of the boundary.
+                let near_end = |x: DVec2| {
+                    (on_boundary(a) && x.distance(a) <= 1e3 * chord)
+                        || (on_boundary(b) && x.distance(b) <= 1e3 * chord)
+                };
                 let crossing = polygon.rings.iter().find_map(|r| {
                     let m = r.points.len();
                     (0..m).find_map(|j| {
                         let (c, d) = (r.points[j], r.points[(j + 1) % m]);
-                        segments_cross(a, b, c, d).then_some(c)
+                        if !segments_cross(a, b, c, d) {
+                            return None;
+                        }
+                        let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+                        let x = a + (b - a) * (o1 / (o1 - o2));
+                        (!near_end(x)).then_some(x)
                     })
                 });
                 if crossing.is_some() || !self.contains(mid) {
@@ -321,14 +331,10 @@ impl Region {
             let mut pieces = Vec::new();
             for &j in &lp.pieces {
                 let m = self.markers.get(j).copied().unwrap_or(0);
-                let mut rest = self.pieces[j].clone();
-                while let Some((a, b)) = extra.iter().find_map(|&p| split_point(&rest, p, off)) {
-                    marker_by_ends.insert(ends(&a), m);
-                    pieces.push(a);
-                    rest = b;
+                for piece in split_at_all(self.pieces[j].clone(), extra, off) {
+                    marker_by_ends.insert(ends(&piece), m);
+                    pieces.push(piece);
                 }
-                marker_by_ends.insert(ends(&rest), m);
-                pieces.push(rest);
             }
             loops.push((Some(lp.role), pieces));
         }
@@ -357,12 +363,10 @@ impl Region {
         Ok(r)
     }
 
-    /// Is `p` an end of an embedded line on the boundary (a corner every corner angle keeps)?
-    pub(crate) fn is_line_end(&self, p: DVec2) -> bool {
-        self.lines
-            .iter()
-            .filter(|l| !l.is_closed())
-            .any(|l| l.points.first() == Some(&p) || l.points.last() == Some(&p))
+    /// Is `p` a vertex of an embedded line (on the boundary, a corner every corner angle
+    /// keeps)?
+    pub(crate) fn is_line_vertex(&self, p: DVec2) -> bool {
+        self.lines.iter().any(|l| l.points.contains(&p))
     }
 }
 
@@ -370,6 +374,18 @@ impl Region {
 fn ends(p: &crate::Piece) -> ((u64, u64), (u64, u64)) {
     let bits = |q: DVec2| (q.x.to_bits(), q.y.to_bits());
     (bits(p.start()), bits(p.end()))
+}
+
+/// `piece` split at every one of `points` on it, in order along it.
+fn split_at_all(piece: crate::Piece, points: &[DVec2], off: f64) -> Vec<crate::Piece> {
+    match points.iter().find_map(|&p| split_point(&piece, p, off)) {
+        Some((a, b)) => {
+            let mut out = split_at_all(a, points, off);
+            out.extend(split_at_all(b, points, off));
+            out
+        }
+        None => vec![piece],
+    }
 }
 
 /// `piece` split in two at `p`, where `p` lies on it within `off` and not at its ends: a line
@@ -509,13 +525,12 @@ mod tests {
 
     #[test]
     fn bad_lines_are_refused_naming_the_place() {
-        let cases: [(&[(f64, f64)], &str); 5] = [
+        let cases: [(&[(f64, f64)], &str); 4] = [
             (&[(0.5, 0.5)], "at least two"),
             (
                 &[(0.2, 0.5), (0.8, 0.5), (0.8, 0.5)],
                 "repeats the point (0.8, 0.5)",
             ),
-            (&[(0.2, 0.5), (0.0, 0.5), (0.2, 0.7)], "only a line's ends"),
             (&[(0.2, 0.5), (1.2, 0.5)], "(1.2, 0.5) outside"),
             (&[(0.2, 0.5), (f64::NAN, 0.5)], "not finite"),
         ];
@@ -580,6 +595,58 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("closed curve"), "{e}");
+    }
+
+    #[test]
+    fn a_laminate_splits_each_wall_at_every_interface_and_an_inclusion_may_touch_one() {
+        let square = Region::from_loops(
+            "sq",
+            vec![(
+                LoopRole::Outer,
+                [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+                    .map(DVec2::from)
+                    .to_vec(),
+            )],
+        )
+        .unwrap();
+        // Two interfaces, listed either way: both walls are split twice.
+        let layers = [
+            line(&[(0.3, 0.0), (0.3, 1.0)], 1),
+            line(&[(0.7, 0.0), (0.7, 1.0)], 2),
+        ];
+        for order in [[0, 1], [1, 0]] {
+            let r = square
+                .clone()
+                .with_embedded_lines(order.map(|i| layers[i].clone()))
+                .unwrap();
+            assert_eq!(r.pieces().len(), 8);
+            assert_eq!(r.with_corner_angle(30.0).corners().len(), 8);
+        }
+        // A triangle standing on the bottom wall, touching it at one vertex.
+        let r = square
+            .with_embedded_lines([line(&[(0.5, 0.0), (0.7, 0.3), (0.3, 0.3), (0.5, 0.0)], 3)])
+            .unwrap();
+        assert!(r.corners().iter().any(|c| c.pos == DVec2::new(0.5, 0.0)));
+    }
+
+    #[test]
+    fn a_line_from_a_point_of_an_arc_is_inside_beside_the_arc_s_chords() {
+        for deg in [10.0f64, 60.0, 100.0, 150.0] {
+            let (y, x) = deg.to_radians().sin_cos();
+            let text = format!(
+                r#"{{"loops": [{{"segments": [{{"kind": "arc", "center": [0, 0], "radius": 1,
+                "from_deg": 0, "to_deg": 180}}, {{"kind": "polyline", "points": [[-1, 0], [1, 0]]}}]}}],
+                "lines": [{{"points": [[{x}, {y}], [0.2, 0.0]], "marker": 7}}]}}"#
+            );
+            let r =
+                Region::from_json_str(&text, "half.json").unwrap_or_else(|e| panic!("{deg}: {e}"));
+            assert_eq!(r.pieces().len(), 4, "{deg}");
+        }
+        // A line that does leave the disc through its arc is still refused.
+        let text = r#"{"loops": [{"segments": [{"kind": "arc", "center": [0, 0], "radius": 1,
+            "from_deg": 0, "to_deg": 180}, {"kind": "polyline", "points": [[-1, 0], [1, 0]]}]}],
+            "lines": [{"points": [[0.0, 0.5], [0.9, 0.9]]}]}"#;
+        assert!(Region::from_json_str(text, "half.json").is_err());
     }
 
     #[test]

@@ -222,6 +222,12 @@ impl Region {
         points: impl IntoIterator<Item = (DVec2, i64)>,
     ) -> Result<Region, crate::GeometryError> {
         let off = 1e-9 * self.diameter();
+        // The points already embedded, by their bits: a line's thousands are added at once.
+        let mut seen: std::collections::HashSet<(u64, u64)> = self
+            .embedded
+            .iter()
+            .map(|(q, _)| (q.x.to_bits(), q.y.to_bits()))
+            .collect();
         for (p, m) in points {
             let sd = self.signed_distance(p);
             if !p.is_finite() || sd.is_nan() || sd > -off {
@@ -245,7 +251,7 @@ impl Region {
                     ),
                 });
             }
-            if !self.embedded.iter().any(|(q, _)| *q == p) {
+            if seen.insert((p.x.to_bits(), p.y.to_bits())) {
                 self.embedded.push((p, m));
             }
         }

@@ -126,12 +126,12 @@ impl Region {
                     .filter(|&i| {
                         m[(i + m.len() - 1) % m.len()] != m[i]
                             || self.is_marked_vertex(ring[i])
-                            || self.is_line_end(ring[i])
+                            || self.is_line_vertex(ring[i])
                     })
                     .collect(),
                 // An embedded line's end on the boundary stays a vertex and a corner.
                 (None, Some(ring)) => (0..ring.len())
-                    .filter(|&i| self.is_line_end(ring[i]))
+                    .filter(|&i| self.is_line_vertex(ring[i]))
                     .collect(),
                 _ => Vec::new(),
             })

@@ -18,11 +18,14 @@ const SAMPLES: usize = 16;
 pub(crate) fn with_line_points(
     region: &Region,
     request: &MeshRequest,
-) -> Result<Region, MeshError> {
+) -> Result<(Region, Vec<(DVec2, DVec2)>), MeshError> {
     let spacing = request.spacing_at(region);
     let mut points = Vec::new();
+    // The pieces between consecutive points along each line, which must become edges.
+    let mut pieces = Vec::new();
     for line in region.embedded_lines() {
         for (a, b) in line.segments() {
+            let first = points.len();
             points.push((a, line.marker));
             let h = |t: f64| spacing(a + (b - a) * t);
             // ∫ ds / h by the midpoint rule, cumulated.
@@ -42,6 +45,8 @@ pub(crate) fn with_line_points(
                 let t = ((k - 1) as f64 + (target - c0) / (c1 - c0)) / SAMPLES as f64;
                 points.push((a + (b - a) * t, line.marker));
             }
+            let along: Vec<DVec2> = points[first..].iter().map(|&(p, _)| p).chain([b]).collect();
+            pieces.extend(along.windows(2).map(|w| (w[0], w[1])));
         }
         points.push((
             *line.points.last().expect("a line has two points"),
@@ -50,10 +55,11 @@ pub(crate) fn with_line_points(
     }
     let off = 1e-9 * region.diameter();
     points.retain(|&(p, _)| region.signed_distance(p) < -off);
-    region
+    let region = region
         .clone()
         .with_embedded_points(points)
-        .map_err(|e| MeshError::BadRequest(e.to_string()))
+        .map_err(|e| MeshError::BadRequest(e.to_string()))?;
+    Ok((region, pieces))
 }
 
 fn bits(p: DVec2) -> (u64, u64) {
@@ -146,38 +152,31 @@ fn neighbours(mesh: &Mesh) -> Vec<Vec<u32>> {
     n
 }
 
-/// Make every piece of the region's embedded lines between consecutive vertices of the mesh
-/// on it an edge, by flipping the edges that cross it (a Delaunay triangulation of points
-/// spaced along a line has those edges unless a point off the line crowds it). False where a
-/// piece could not be restored. Each round scans every vertex for every segment of the lines
-/// and every triangle for each missing piece: O(V·S + T·missing), for the rare mesh that
-/// [`line_edges`] finds missing a piece.
-pub(crate) fn restore_line_edges(mesh: &mut Mesh, region: &Region) -> bool {
-    let off = 1e-9 * region.diameter();
+/// Make every one of `pieces` (consecutive points along the region's embedded lines, as
+/// [`with_line_points`] placed them) an edge of the mesh, by flipping the edges that cross it
+/// (a Delaunay triangulation of points spaced along a line has those edges unless a point off
+/// the line crowds it). False where a piece could not be restored (or one of its points is no
+/// vertex). Each round is O(V + pieces), and each flip scans the triangles: O(T) per missing
+/// piece, for the rare mesh that [`line_edges`] finds missing one.
+pub(crate) fn restore_line_edges(mesh: &mut Mesh, pieces: &[(DVec2, DVec2)]) -> bool {
+    let at: HashMap<(u64, u64), u32> = mesh
+        .points
+        .iter()
+        .enumerate()
+        .map(|(v, p)| (bits(*p), v as u32))
+        .collect();
+    let Some(ends): Option<Vec<(u32, u32)>> = pieces
+        .iter()
+        .map(|(p, q)| Some((*at.get(&bits(*p))?, *at.get(&bits(*q))?)))
+        .collect()
+    else {
+        return false;
+    };
     for _ in 0..64 {
-        // The pieces between consecutive mesh vertices on each line segment.
-        let mut pieces: Vec<(u32, u32)> = Vec::new();
-        for line in region.embedded_lines() {
-            for (a, b) in line.segments() {
-                let along = |p: DVec2| (p - a).dot(b - a) / a.distance_squared(b);
-                let mut on: Vec<(f64, u32)> = mesh
-                    .points
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, p)| {
-                        let t = along(**p);
-                        (-1e-12..=1.0 + 1e-12).contains(&t)
-                            && closest_on_segment(a, b, **p).0.distance(**p) <= off
-                    })
-                    .map(|(v, p)| (along(*p), v as u32))
-                    .collect();
-                on.sort_by(|x, y| x.0.total_cmp(&y.0));
-                pieces.extend(on.windows(2).map(|w| (w[0].1, w[1].1)));
-            }
-        }
         let neighbours = neighbours(mesh);
-        let absent: Vec<(u32, u32)> = pieces
-            .into_iter()
+        let absent: Vec<(u32, u32)> = ends
+            .iter()
+            .copied()
             .filter(|&(u, v)| !neighbours[u as usize].contains(&v))
             .collect();
         if absent.is_empty() {
@@ -257,7 +256,7 @@ mod tests {
             }])
             .unwrap();
         assert!(line_edges(&mesh, &region).is_err());
-        assert!(restore_line_edges(&mut mesh, &region));
+        assert!(restore_line_edges(&mut mesh, &[(DVec2::X, DVec2::Y)]));
         assert_eq!(line_edges(&mesh, &region).unwrap(), [([1, 3], 3)]);
         assert!((mesh.area() - 1.0).abs() < 1e-15);
         for t in &mesh.triangles {

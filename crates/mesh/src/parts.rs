@@ -19,7 +19,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         (region, None)
     } else {
         with_points = crate::lines::with_line_points(region, request)?;
-        (&with_points, Some(region))
+        (&with_points.0, Some((region, &with_points.1)))
     };
     let (bent, unfitted) = match with_spacing_corners(region, request) {
         Fit::Added(b) => (Some(*b), None),
@@ -54,10 +54,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // A triangulation of points spaced along a line has the edges between them unless a point
     // off the line crowds one; flips restore those before the polish, which holds the line's
     // vertices.
-    if lines.is_some()
-        && crate::lines::line_edges(&result.mesh, region).is_err()
-        && !crate::lines::restore_line_edges(&mut result.mesh, region)
-    {
+    let missing = |mesh: &Mesh| crate::lines::line_edges(mesh, region).is_err();
+    if lines.is_some_and(|(_, pieces)| {
+        missing(&result.mesh) && !crate::lines::restore_line_edges(&mut result.mesh, pieces)
+    }) {
         return Err(MeshError::Failed {
             method: mesher.name().to_string(),
             message: "an embedded line has a piece between two of its vertices that no flip of \
@@ -179,7 +179,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     }
     // The line's pieces are edges still (the polish moves no vertex of a line): checked, as a
     // method's own triangulation could have lost one no flip restored.
-    if let Some(lines) = lines {
+    if let Some((lines, _)) = lines {
         crate::lines::line_edges(&result.mesh, lines).map_err(|e| match e {
             MeshError::Failed { message, .. } => MeshError::Failed {
                 method: mesher.name().to_string(),

@@ -357,9 +357,9 @@ fn walls_of(
         inner: super::inner_edges(mesh, &given.regions, &[]),
         ..Walls::default()
     };
-    if poly.contains(LOOP_SEGMENTS) {
-        return Ok(by_regions());
-    }
+    // cvtmesh's own `.poly` of a region that numbers no walls marks its boundary segments with
+    // their loop: no walls, but its segments inside the mesh are lines still.
+    let loop_markers = poly.contains(LOOP_SEGMENTS);
     let mut t = Tokens::new(poly, Some('#'), poly_path);
     let n = t.usize("the number of vertices")?;
     t.usize("the dimension")?;
@@ -424,7 +424,7 @@ fn walls_of(
         .collect();
     let inner_markers = super::inner_markers(&inner, &with_markers);
     let walls = match boundary_walls(mesh, &segments) {
-        Some(walls) if marked => walls,
+        Some(walls) if marked && !loop_markers => walls,
         // Not this mesh's segments: the region Triangle was given (its `.poly` beside the mesh
         // it made, which Triangle itself names `box.1.node`), or a file of another mesh.
         None => return Ok(by_regions()),
