@@ -66,6 +66,15 @@ fn bits(p: DVec2) -> (u64, u64) {
     (p.x.to_bits(), p.y.to_bits())
 }
 
+/// Each vertex by its coordinates' bits: a line's points are vertices at exactly their places.
+fn vertices_by_position(mesh: &Mesh) -> HashMap<(u64, u64), u32> {
+    mesh.points
+        .iter()
+        .enumerate()
+        .map(|(v, p)| (bits(*p), v as u32))
+        .collect()
+}
+
 /// The mesh edges along the region's embedded lines, each with its line's marker, line by
 /// line and in order along each; or where a line has no mesh edge running along it.
 ///
@@ -86,12 +95,7 @@ pub fn line_edges(mesh: &Mesh, region: &Region) -> Result<Vec<([u32; 2], i64)>, 
     if region.embedded_lines().is_empty() {
         return Ok(Vec::new());
     }
-    let at: HashMap<(u64, u64), u32> = mesh
-        .points
-        .iter()
-        .enumerate()
-        .map(|(v, p)| (bits(*p), v as u32))
-        .collect();
+    let at = vertices_by_position(mesh);
     let neighbours = neighbours(mesh);
     let off = 1e-9 * region.diameter();
     let missing = |i: usize, p: DVec2, what: &str| MeshError::Failed {
@@ -159,12 +163,7 @@ fn neighbours(mesh: &Mesh) -> Vec<Vec<u32>> {
 /// vertex). Each round is O(V + pieces), and each flip scans the triangles: O(T) per missing
 /// piece, for the rare mesh that [`line_edges`] finds missing one.
 pub(crate) fn restore_line_edges(mesh: &mut Mesh, pieces: &[(DVec2, DVec2)]) -> bool {
-    let at: HashMap<(u64, u64), u32> = mesh
-        .points
-        .iter()
-        .enumerate()
-        .map(|(v, p)| (bits(*p), v as u32))
-        .collect();
+    let at = vertices_by_position(mesh);
     let Some(ends): Option<Vec<(u32, u32)>> = pieces
         .iter()
         .map(|(p, q)| Some((*at.get(&bits(*p))?, *at.get(&bits(*q))?)))
