@@ -223,3 +223,29 @@ fn the_files_keep_the_lines_as_segments_and_physical_curves() {
     assert_eq!(walls.inner, edges);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_t_whose_stem_stops_at_the_bar_is_followed() {
+    let bar = EmbeddedLine {
+        points: vec![DVec2::new(0.0, 0.5), DVec2::new(1.0, 0.5)],
+        marker: 1,
+    };
+    let stem = EmbeddedLine {
+        points: vec![DVec2::new(0.4, 0.5), DVec2::new(0.4, 0.9)],
+        marker: 2,
+    };
+    let region = square().with_embedded_lines([bar, stem]).unwrap();
+    for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+        let r = method.run(&region, &MeshRequest::points(600)).unwrap();
+        let edges = line_edges(&r.mesh, &region).unwrap();
+        let length: f64 = edges
+            .iter()
+            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+            .sum();
+        assert!((length - 1.4).abs() < 1e-12, "{method}: {length}");
+        assert!(
+            (area_where(&r.mesh, |c| c.y < 0.5) - 0.5).abs() < 1e-12,
+            "{method}"
+        );
+    }
+}

@@ -290,6 +290,18 @@ impl Region {
             }
             added.push(line);
         }
+        // A line that ends on another line's segment (a T whose stem stops at the bar) splits
+        // that segment there, as Triangle splits a segment through a vertex.
+        let ends: Vec<DVec2> = self
+            .lines
+            .iter()
+            .chain(&added)
+            .filter(|l| !l.is_closed())
+            .flat_map(|l| [l.points[0], l.points[l.points.len() - 1]])
+            .collect();
+        for line in self.lines.iter_mut().chain(added.iter_mut()) {
+            line.points = split_at_ends(&line.points, &ends, off);
+        }
         // No two segments (of one line or of two) may cross, or touch except at a shared
         // vertex: the mesh could not have both as edges.
         let all: Vec<(usize, DVec2, DVec2)> = self
@@ -368,6 +380,28 @@ impl Region {
     pub(crate) fn is_line_vertex(&self, p: DVec2) -> bool {
         self.lines.iter().any(|l| l.points.contains(&p))
     }
+}
+
+/// `points` with each of `ends` that lies inside one of their segments (within `off`, off its
+/// ends) inserted there, in order along it.
+fn split_at_ends(points: &[DVec2], ends: &[DVec2], off: f64) -> Vec<DVec2> {
+    let mut out = vec![points[0]];
+    for w in points.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let mut inside: Vec<(f64, DVec2)> = ends
+            .iter()
+            .filter(|&&p| p != a && p != b && p.distance(a) > off && p.distance(b) > off)
+            .filter_map(|&p| {
+                let (q, t, _) = closest_on_segment(a, b, p);
+                (q.distance(p) <= off).then_some((t, p))
+            })
+            .collect();
+        inside.sort_by(|x, y| x.0.total_cmp(&y.0));
+        out.extend(inside.into_iter().map(|(_, p)| p));
+        out.push(b);
+    }
+    out.dedup();
+    out
 }
 
 /// A piece's ends, by their bits (a rebuilt region may start a loop at another piece).
@@ -650,6 +684,21 @@ mod tests {
     }
 
     #[test]
+    fn a_stem_ending_on_a_bar_splits_the_bar_there() {
+        let bar = line(&[(0.2, 0.5), (0.8, 0.5)], 1);
+        let stem = line(&[(0.5, 0.5), (0.5, 0.9)], 2);
+        let r = outline().with_embedded_lines([bar, stem]).unwrap();
+        assert_eq!(
+            r.embedded_lines()[0].points,
+            [(0.2, 0.5), (0.5, 0.5), (0.8, 0.5)].map(DVec2::from)
+        );
+        // A stem crossing the bar is still refused.
+        let through = line(&[(0.5, 0.2), (0.5, 0.9)], 2);
+        let bar = line(&[(0.2, 0.5), (0.8, 0.5)], 1);
+        assert!(outline().with_embedded_lines([bar, through]).is_err());
+    }
+
+    #[test]
     fn crossing_or_touching_lines_are_refused_and_shared_vertices_are_not() {
         let a = line(&[(0.2, 0.2), (0.8, 0.8)], 1);
         let crossing = line(&[(0.2, 0.8), (0.8, 0.2)], 2);
@@ -658,10 +707,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("cross or touch at (0.5, 0.5)"), "{e}");
+        // Ending on it splits it there instead (a T); touching it with a middle vertex does
+        // not.
         let touching = line(&[(0.5, 0.5), (0.8, 0.2)], 2);
-        assert!(outline()
-            .with_embedded_lines([a.clone(), touching])
-            .is_err());
+        assert!(outline().with_embedded_lines([a.clone(), touching]).is_ok());
+        let bent = line(&[(0.2, 0.6), (0.5, 0.5), (0.8, 0.6)], 2);
+        assert!(outline().with_embedded_lines([a.clone(), bent]).is_err());
         let overlapping = line(&[(0.8, 0.8), (0.5, 0.5)], 2);
         assert!(outline()
             .with_embedded_lines([a.clone(), overlapping])
