@@ -535,6 +535,12 @@ mod tests {
         Region::from_loops("sq", vec![(LoopRole::Outer, pts.map(DVec2::from).to_vec())]).unwrap()
     }
 
+    fn unit_square() -> Vec<DVec2> {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+            .map(DVec2::from)
+            .to_vec()
+    }
+
     fn line(pts: &[(f64, f64)], marker: i64) -> EmbeddedLine {
         EmbeddedLine {
             points: pts.iter().map(|&p| DVec2::from(p)).collect(),
@@ -582,13 +588,7 @@ mod tests {
         // Inside the bottom wall: the wall is split there, the halves keep its marker.
         let marked = Region::from_loops_marked(
             "sq",
-            vec![(
-                LoopRole::Outer,
-                [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-                    .map(DVec2::from)
-                    .to_vec(),
-                vec![4, 5, 5, 5],
-            )],
+            vec![(LoopRole::Outer, unit_square(), vec![4, 5, 5, 5])],
         )
         .unwrap();
         let r = marked
@@ -633,16 +633,7 @@ mod tests {
 
     #[test]
     fn a_laminate_splits_each_wall_at_every_interface_and_an_inclusion_may_touch_one() {
-        let square = Region::from_loops(
-            "sq",
-            vec![(
-                LoopRole::Outer,
-                [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-                    .map(DVec2::from)
-                    .to_vec(),
-            )],
-        )
-        .unwrap();
+        let square = Region::from_loops("sq", vec![(LoopRole::Outer, unit_square())]).unwrap();
         // Two interfaces, listed either way: both walls are split twice.
         let layers = [
             line(&[(0.3, 0.0), (0.3, 1.0)], 1),
