@@ -249,3 +249,36 @@ fn a_t_whose_stem_stops_at_the_bar_is_followed() {
         );
     }
 }
+
+#[test]
+fn a_laminate_whose_interfaces_meet_the_walls_at_three_and_seven_tenths_is_meshed_by_algorithm_2() {
+    // The walls' pieces end at x = 0.3 and 0.7, where the offsets of Ω_ε's pieces meet 10⁻¹⁷
+    // apart (0.7 − 0.3 rounds its unit normal below 1): Algorithm 2 once projected the cells
+    // of a whole piece onto the end of its neighbour and lost its generators there.
+    let line = |x: f64| EmbeddedLine {
+        points: vec![DVec2::new(x, 0.0), DVec2::new(x, 1.0)],
+        marker: 5,
+    };
+    let region = square()
+        .with_embedded_lines([line(0.3), line(0.7)])
+        .unwrap();
+    for method in [Method::Ccvt, Method::Ccvt2] {
+        for k in [500, 2000] {
+            let r = method
+                .run(&region, &MeshRequest::points(k))
+                .unwrap_or_else(|e| panic!("{method} at {k}: {e}"));
+            let what = format!("{method} at {k}");
+            assert!(r.converged, "{what}: {:?}", r.notes);
+            assert_eq!(r.mesh.points.len(), k, "{what}");
+            check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{what}: {e}"));
+            let smallest = r.mesh.min_angle_deg();
+            assert!(smallest > 30.0, "{what}: smallest angle {smallest}°");
+            let along: f64 = line_edges(&r.mesh, &region)
+                .unwrap_or_else(|e| panic!("{what}: {e}"))
+                .iter()
+                .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+                .sum();
+            assert!((along - 2.0).abs() < 1e-12, "{what}: lines {along} long");
+        }
+    }
+}

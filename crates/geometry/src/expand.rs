@@ -401,7 +401,12 @@ fn expand(region: &Region, eps: f64, tol: f64) -> Polygon {
     let dedupe = |(pts, pcs): (Vec<DVec2>, Vec<usize>)| {
         let (mut p2, mut c2) = (Vec::with_capacity(pts.len()), Vec::with_capacity(pts.len()));
         for (p, c) in pts.into_iter().zip(pcs) {
+            // Two points within `eta` make one: the edge between them vanishes and the edge
+            // from the merged point is the one from the second, with its piece (keeping the
+            // first's put a whole edge on the piece of a speck where two offsets meet, and
+            // Algorithm 2's constrained phase projected its cells onto the wrong piece).
             if p2.last().is_some_and(|q: &DVec2| q.distance(p) <= eta) {
+                *c2.last_mut().expect("a point was kept") = c;
                 continue;
             }
             p2.push(p);

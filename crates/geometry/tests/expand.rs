@@ -71,6 +71,19 @@ fn assert_distance_property(r: &Region, p: &Polygon, eps: f64, tol: f64, seed: u
                 r.name(),
                 b.distance
             );
+            // Along the edge too: Algorithm 2 projects a cell on this edge onto its piece.
+            let m = 0.5 * (*v + ring.points[(i + 1) % ring.points.len()]);
+            let (own, nearest) = (
+                r.project_onto_piece(m, ring.pieces[i]).distance,
+                r.signed_distance(m),
+            );
+            assert!(
+                own <= nearest + 2.0 * tol,
+                "{}: the edge from {v} is on piece {}, {own} from its midpoint, but Ω is \
+                 {nearest} from it",
+                r.name(),
+                ring.pieces[i]
+            );
         }
     }
     let (lo, hi) = p.bbox();
@@ -194,6 +207,41 @@ fn a_narrow_slot_closes_and_a_lagoon_becomes_a_hole() {
     let p = r.expand(1.05, tol);
     assert_eq!(p.rings.len(), 1);
     assert_simple(&p, "lagoon closed");
+}
+
+#[test]
+fn a_wall_split_into_pieces_keeps_each_piece_on_its_own_offset() {
+    // The bottom of the unit square in three pieces (wall markers that change at x = a and b):
+    // where a piece's length rounds its unit normal to 1 − 2⁻⁵³ (0.7 − 0.3), the offsets of two
+    // pieces meet 10⁻¹⁷ apart, and each offset edge must still carry its own piece.
+    let splits = (1..10)
+        .map(|i| f64::from(i) / 10.0)
+        .chain((1..20).map(|i| f64::from(i) / 20.0));
+    let splits: Vec<f64> = splits.collect();
+    for &a in &splits {
+        for &b in splits.iter().filter(|&&b| b > a) {
+            let r = Region::new(
+                "split bottom",
+                vec![(
+                    LoopRole::Outer,
+                    polyline(&[
+                        (0.0, 0.0),
+                        (a, 0.0),
+                        (b, 0.0),
+                        (1.0, 0.0),
+                        (1.0, 1.0),
+                        (0.0, 1.0),
+                    ]),
+                )],
+                None,
+            )
+            .unwrap();
+            for eps in [0.0343, 0.1] {
+                let p = r.expand(eps, 1e-4);
+                assert_distance_property(&r, &p, eps, 1e-4, 7);
+            }
+        }
+    }
 }
 
 #[test]
