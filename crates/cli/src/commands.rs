@@ -908,6 +908,13 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
             line.length()
         );
     }
+    for &(p, id) in region.subdomain_points() {
+        outln!(
+            "subdomain {id} holds ({}, {}): the number of its triangles in the files",
+            p.x,
+            p.y
+        );
+    }
     Ok(())
 }
 

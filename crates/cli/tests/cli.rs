@@ -2633,8 +2633,8 @@ fn measure_limits_the_gradation_as_mesh_does() {
     assert!((same[7] / same[6] - 1.0).abs() < 0.01, "{same:?}");
 }
 
-/// A `.poly`'s regional attributes and area constraints are not used (cvtmesh meshes one region
-/// from a size field): the user hears so, where they had been dropped without a word.
+/// A `.poly`'s area constraints are not used (cvtmesh takes sizes from a size field): the
+/// user hears so, where they had been dropped without a word.
 #[test]
 fn a_poly_s_regional_area_constraints_are_named_as_not_used() {
     let dir = scratch("regional");
@@ -2649,8 +2649,7 @@ fn a_poly_s_regional_area_constraints_are_named_as_not_used() {
     let o = cvtmesh(&["mesh", s(&poly), "-n", "100", "--quiet", "-o", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(
-        text(&o).contains("warning:")
-            && text(&o).contains("its 2 regional attributes or area constraints are not used"),
+        text(&o).contains("warning:") && text(&o).contains("its 2 area constraints are not used"),
         "{}",
         text(&o)
     );
@@ -3023,4 +3022,67 @@ fn a_poly_interface_is_listed_meshed_along_and_kept_in_the_file() {
     assert!(!o.status.success());
     assert!(!never.exists());
     assert!(text(&o).contains("(1.5, 0.5)"), "{}", text(&o));
+}
+
+/// A `.poly`'s regional attributes number the parts its interface cuts the region into: listed
+/// by `regions`, each triangle's `.ele` attribute (Triangle's `-A`), and kept by a polish.
+#[test]
+fn a_poly_s_regional_attributes_are_the_triangles_attributes() {
+    let dir = scratch("poly_subdomains");
+    let poly = dir.join("two.poly");
+    std::fs::write(
+        &poly,
+        "6 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0 0\n6 0.5 1 0\n\
+         7 1\n1 1 5 1\n2 5 2 1\n3 2 3 1\n4 3 6 1\n5 6 4 1\n6 4 1 1\n7 5 6 7\n0\n\
+         2\n1 0.25 0.5 3 -1\n2 0.75 0.5 4 -1\n",
+    )
+    .unwrap();
+    let o = cvtmesh(&["regions", s(&poly)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("subdomain 3 holds (0.25, 0.5)")
+            && text(&o).contains("subdomain 4 holds (0.75, 0.5)"),
+        "{}",
+        text(&o)
+    );
+    // The area of the triangles of each attribute, from the files as Triangle's readers see
+    // them.
+    let areas = |node: &std::path::Path| {
+        let nodes: Vec<Vec<f64>> = std::fs::read_to_string(node)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .skip(1)
+            .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+            .collect();
+        let ele = std::fs::read_to_string(node.with_extension("ele")).unwrap();
+        let mut rows = ele.lines().filter(|l| !l.starts_with('#'));
+        assert!(rows.next().unwrap().ends_with(" 3 1"));
+        let mut by = std::collections::BTreeMap::new();
+        for row in rows {
+            let v: Vec<f64> = row.split_whitespace().map(|w| w.parse().unwrap()).collect();
+            let p = |k: usize| &nodes[v[k] as usize - 1][1..3];
+            let (a, b, c) = (p(1), p(2), p(3));
+            let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+            *by.entry(v[4] as i64).or_insert(0.0) += area;
+        }
+        by
+    };
+    let out = dir.join("out.node");
+    let o = cvtmesh(&["mesh", s(&poly), "-n", "400", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let by = areas(&out);
+    assert_eq!(by.len(), 2, "{by:?}");
+    assert!(
+        (by[&3] - 0.5).abs() < 1e-12 && (by[&4] - 0.5).abs() < 1e-12,
+        "{by:?}"
+    );
+    let polished = dir.join("polished.node");
+    let o = cvtmesh(&["polish", s(&out), "--below", "45", "-o", s(&polished)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let by = areas(&polished);
+    assert!(
+        (by[&3] - 0.5).abs() < 1e-12 && (by[&4] - 0.5).abs() < 1e-12,
+        "{by:?}"
+    );
 }

@@ -61,12 +61,13 @@ pub use ::mesh::io;
 pub use ::mesh::{
     boundary_points_needed, check_conforming, chord_allowance, line_edges, looks_graded,
     measurable, memory_estimate, min_angle_and_slivers, polish, polish_restored,
-    polish_restored_holding, polish_within, refuse_embedded, short_coverage, slivers, thin_feature,
-    total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError, Dual, Mesh, MeshError,
-    MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic, ShortCoverage,
-    Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CHORD_ALLOWANCE,
-    CONFORMITY_CHECK_LIMIT, EDGE_ALLOWANCE, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS,
-    MIN_COVERAGE, POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
+    polish_restored_holding, polish_within, refuse_embedded, short_coverage, slivers,
+    subdomain_points_of, subdomains, thin_feature, total_memory, triangle_min_angle_deg,
+    BoundaryEdge, ConformityError, Dual, Mesh, MeshError, MeshRequest, MeshResult, Mesher,
+    PolishReport, Polished, Progress, Quadratic, ShortCoverage, Size, Slivers, ThinFeature,
+    VertexMarker, BYTES_PER_VERTEX, CHORD_ALLOWANCE, CONFORMITY_CHECK_LIMIT, EDGE_ALLOWANCE,
+    GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE, POLISH_BELOW_DEG, SIMPLIFY_SPACINGS,
+    SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;
@@ -155,7 +156,7 @@ pub fn region_of_mesh(
                 Some((tag, name)) => r.with_surface_group(*tag, name),
                 None => r,
             };
-            with_inner_lines(r, mesh, walls)
+            with_subdomains(with_inner_lines(r, mesh, walls), mesh, walls)
         })
         .map_err(|e| match e {
             GeometryError::Invalid { message, .. } => GeometryError::Invalid {
@@ -192,6 +193,24 @@ fn with_inner_lines(region: Region, mesh: &Mesh, walls: &io::Walls) -> Region {
             "the {} edges the mesh keeps inside it are not lines of the region ({e}): a new \
              mesh does not follow them",
             walls.inner.len()
+        )]),
+    }
+}
+
+/// `region` (the one `mesh`'s triangles cover) with a subdomain point in each part whose
+/// triangles the file numbers alike ([`io::Walls::subdomains`]), so that a new mesh and a
+/// polished one number their triangles as the file did; where the points are refused, the
+/// region without them and a note.
+fn with_subdomains(region: Region, mesh: &Mesh, walls: &io::Walls) -> Region {
+    let points = subdomain_points_of(mesh, &walls.subdomains);
+    if points.is_empty() {
+        return region;
+    }
+    match region.clone().with_subdomain_points(points) {
+        Ok(r) => r,
+        Err(e) => region.with_notes([format!(
+            "the file's numbers of its triangles' parts are not kept ({e}): a new mesh numbers \
+             its subdomains anew"
         )]),
     }
 }

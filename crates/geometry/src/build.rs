@@ -163,6 +163,7 @@ impl Region {
         merged.vertex_markers = self.vertex_markers.clone();
         merged.embedded = self.embedded.clone();
         merged.lines = self.lines.clone();
+        merged.subdomains = self.subdomains.clone();
         merged.notes = self.notes.clone();
         merged.surface_group = self.surface_group.clone();
         merged
@@ -680,6 +681,7 @@ pub(crate) fn assemble(
         vertex_markers: Vec::new(),
         embedded: Vec::new(),
         lines: Vec::new(),
+        subdomains: Vec::new(),
         inside_grid: Default::default(),
         notes: Vec::new(),
         surface_group: None,

@@ -24,6 +24,10 @@
 //! crack, an inclusion's outline), each `{"points": [[x, y], ...], "marker": m}` (`marker`
 //! optional; closed when the last point is the first): see [`Region::with_embedded_lines`].
 //!
+//! `subdomains` (optional) numbers the parts the lines cut the region into, each
+//! `{"point": [x, y], "id": n}` (the part holding the point gets `n`): see
+//! [`Region::with_subdomain_points`].
+//!
 //! `corners` (optional) lists every tangent discontinuity; an empty list means none, and
 //! without the field corners are computed. `name` (optional) names the region; otherwise
 //! the file stem. Every other field (`area`, `bbox`, `length`, ...) is ignored: all derived
@@ -221,9 +225,14 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         None | Some(Value::Null) => Vec::new(),
         Some(v) => embedded_lines(v).map_err(perr)?,
     };
+    let subdomains = match top.get("subdomains") {
+        None | Some(Value::Null) => Vec::new(),
+        Some(v) => subdomain_points(v).map_err(perr)?,
+    };
     if marks.iter().all(Option::is_none) {
         return crate::build::new_region(&name, loops, corners)
             .and_then(|r| r.with_embedded_lines(lines))
+            .and_then(|r| r.with_subdomain_points(subdomains))
             .map_err(located);
     }
     // Each piece's marker by its end points (either way round: loops are reoriented).
@@ -274,7 +283,33 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         again
     };
     region.markers = marker_of(&region);
-    region.with_embedded_lines(lines).map_err(located)
+    region
+        .with_embedded_lines(lines)
+        .and_then(|r| r.with_subdomain_points(subdomains))
+        .map_err(located)
+}
+
+/// The `subdomains` field: each an object with `point` and an integer `id`.
+fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64)>, String> {
+    let list = v.as_array().ok_or_else(|| {
+        "'subdomains' must be a list of {\"point\": [x, y], \"id\": n}".to_string()
+    })?;
+    list.iter()
+        .enumerate()
+        .map(|(i, sv)| {
+            let ctx = format!("subdomains[{i}]");
+            let field = |f: &str| {
+                sv.get(f)
+                    .ok_or_else(|| format!("{ctx}: missing field '{f}'"))
+            };
+            let point = point(field("point")?, &format!("{ctx}.point"))?;
+            let id = field("id")?;
+            let id = id
+                .as_i64()
+                .ok_or_else(|| format!("{ctx}.id is {id}; expected an integer"))?;
+            Ok((point, id))
+        })
+        .collect()
 }
 
 /// The `lines` field: each line an object with `points` (at least two) and an optional integer

@@ -395,16 +395,30 @@ fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, Geomet
             if poly.dropped == 1 { "is" } else { "are" }
         ));
     }
-    if poly.regional > 0 {
+    // A regional attribute in a hole or outside numbers no triangle in Triangle either.
+    let (kept, lost): (Vec<_>, Vec<_>) = poly
+        .subdomains
+        .iter()
+        .partition(|&&(p, _)| region.signed_distance(p) < -off);
+    region = region.with_subdomain_points(kept)?;
+    if !lost.is_empty() {
         region.notes.push(format!(
-            "{label}: its {} regional {} not used: cvtmesh meshes the region as one, its \
-             sizes from a size field (an area bound A is an edge length of about √(4A/√3): \
-             size, --size; size_field, --size-field for sizes that vary)",
-            poly.regional,
-            if poly.regional == 1 {
-                "attribute or area constraint is"
+            "{label}: {} regional attribute{} in a hole or outside the region, in no \
+             triangle: not used",
+            lost.len(),
+            if lost.len() == 1 { " lies" } else { "s lie" }
+        ));
+    }
+    if poly.area_constraints > 0 {
+        region.notes.push(format!(
+            "{label}: its {} area {} not used: cvtmesh takes sizes from a size field (an area \
+             bound A is an edge length of about √(4A/√3): size, --size; size_field, \
+             --size-field for sizes that vary)",
+            poly.area_constraints,
+            if poly.area_constraints == 1 {
+                "constraint is"
             } else {
-                "attributes or area constraints are"
+                "constraints are"
             }
         ));
     }
@@ -771,8 +785,10 @@ struct Poly {
     vertex_markers: VertexMarkers,
     /// The `.poly`'s own vertices on no segment, with their markers: points to keep inside.
     embedded: Vec<(DVec2, i64)>,
-    /// The number of regional attributes and area constraints after the holes.
-    regional: usize,
+    /// The regional attributes' points and numbers.
+    subdomains: Vec<(DVec2, i64)>,
+    /// How many regions have a positive area constraint.
+    area_constraints: usize,
     /// Segments with the region on both sides, joined into polylines.
     lines: Vec<crate::EmbeddedLine>,
     /// Segments with the region on neither side (in a hole or outside).
@@ -1043,13 +1059,49 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         })
         .collect();
     let lines = crate::EmbeddedLine::join(&verts, &marked_inner, |v| adj.contains_key(&v));
-    // Regional attributes and area constraints may follow; they do not change the region (the
-    // user hears that they are not used). Which loops are holes is for nesting to decide and
-    // the hole points to confirm (`poly_region`).
-    let regional = recs
+    // Regional attributes and area constraints may follow: `index x y attribute area`. An
+    // attribute numbers the subdomain holding the point, as Triangle's `-A` spreads it; an
+    // area constraint is not used (the user hears it). Which loops are holes is for nesting to
+    // decide and the hole points to confirm (`poly_region`).
+    let nregions = recs
         .next()
         .and_then(|(_, t)| t.first().and_then(|n| n.parse::<usize>().ok()))
         .unwrap_or(0);
+    let mut subdomains = Vec::new();
+    let mut area_constraints = 0;
+    for r in 0..nregions {
+        let (line, t) = recs.next().ok_or_else(|| {
+            parse_err(
+                label,
+                last_line,
+                format!("file ends after {r} of {nregions} regional attributes"),
+            )
+        })?;
+        let p = DVec2::new(
+            coord(label, line, t.get(1), "x")?,
+            coord(label, line, t.get(2), "y")?,
+        );
+        if t.get(3).is_some() {
+            let a: f64 = num(label, line, t.get(3), "a regional attribute")?;
+            if a.fract() != 0.0 || a.abs() > f64::from(i32::MAX) {
+                return Err(parse_err(
+                    label,
+                    line,
+                    format!(
+                        "regional attribute {a} is not a whole number within 32 bits: \
+                         cvtmesh numbers subdomains by integers, as Gmsh's physical surfaces"
+                    ),
+                ));
+            }
+            subdomains.push((p, a as i64));
+        }
+        if t.get(4)
+            .and_then(|s| s.parse::<f64>().ok())
+            .is_some_and(|x| x > 0.0)
+        {
+            area_constraints += 1;
+        }
+    }
     // A vertex repeated with equal coordinates keeps the first nonzero marker it is given.
     let mut vertex_markers = VertexMarkers::new();
     for (p, &m) in verts.iter().zip(&vertex_marks) {
@@ -1074,7 +1126,8 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         segment_markers: marked.then_some(markers),
         vertex_markers,
         embedded,
-        regional,
+        subdomains,
+        area_constraints,
         lines,
         dropped,
     })

@@ -370,6 +370,7 @@ impl Region {
         r.vertex_markers = self.vertex_markers.clone();
         r.embedded = self.embedded.clone();
         r.lines = self.lines.clone();
+        r.subdomains = self.subdomains.clone();
         r.notes = self.notes.clone();
         r.surface_group = self.surface_group.clone();
         Ok(r)

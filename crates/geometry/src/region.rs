@@ -89,6 +89,8 @@ pub struct Region {
     pub(crate) embedded: Vec<(DVec2, i64)>,
     /// Polylines inside Ω every mesh follows with its edges ([`Region::embedded_lines`]).
     pub(crate) lines: Vec<crate::EmbeddedLine>,
+    /// Points numbering the subdomains ([`Region::subdomain_points`]).
+    pub(crate) subdomains: Vec<(DVec2, i64)>,
     /// [`Region::inside_grid`], made on first use (shared by clones, which have the same loops).
     pub(crate) inside_grid: Arc<InsideGrid>,
     /// What the region's file held that the region does not use ([`Region::notes`]).
@@ -197,7 +199,7 @@ impl Region {
     }
 
     /// What the region's file held that the region does not use, for the user to hear (a
-    /// Triangle `.poly`'s regional attributes and area constraints); empty for most regions.
+    /// Triangle `.poly`'s area constraints); empty for most regions.
     ///
     /// ```
     /// use cvtmesh::geometry::formats::poly_from_str;
@@ -205,7 +207,7 @@ impl Region {
     /// assert!(poly_from_str(square, "sq.poly", "sq")?.notes().is_empty());
     /// let with_area = format!("{square}1\n1 0.5 0.5 7 0.001\n");
     /// let r = poly_from_str(&with_area, "sq.poly", "sq")?;
-    /// assert!(r.notes()[0].contains("1 regional attribute or area constraint"));
+    /// assert!(r.notes()[0].contains("1 area constraint is not used"));
     /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
     /// ```
     pub fn notes(&self) -> &[String] {
@@ -495,6 +497,12 @@ impl Region {
                     .iter()
                     .filter(|l| region.contains(0.5 * (l.points[0] + l.points[1])))
                     .cloned()
+                    .collect();
+                region.subdomains = self
+                    .subdomains
+                    .iter()
+                    .copied()
+                    .filter(|&(p, _)| region.contains(p))
                     .collect();
                 // Pieces and corners are numbered loop by loop, so a part's are a run of ours.
                 let pieces = loops

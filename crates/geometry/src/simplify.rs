@@ -206,7 +206,8 @@ impl Region {
                 let embedded = region
                     .clone()
                     .with_embedded_points(self.embedded.iter().copied())
-                    .and_then(|r| r.with_embedded_lines(self.lines.iter().cloned()));
+                    .and_then(|r| r.with_embedded_lines(self.lines.iter().cloned()))
+                    .and_then(|r| r.with_subdomain_points(self.subdomains.iter().copied()));
                 let Ok(mut region) = embedded else {
                     tol *= 0.5;
                     continue;

@@ -186,6 +186,10 @@ pub(crate) struct Nodes<'a> {
     /// line's marker: Triangle's `.poly` lists them as segments, Gmsh's files as line
     /// elements in a physical curve per marker.
     pub inner: Vec<(Vec<u32>, i64)>,
+    /// Each triangle's subdomain ([`crate::subdomains`]) where the region has lines or
+    /// subdomain points: Triangle's `.ele` then carries it as an attribute, Gmsh's files a
+    /// physical surface per subdomain, VTK's a cell array.
+    pub subdomains: Option<Vec<i64>>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -196,6 +200,14 @@ fn inner_lines(mesh: &Mesh, region: Option<&Region>) -> Vec<([u32; 2], i64)> {
     region
         .and_then(|r| crate::line_edges(mesh, r).ok())
         .unwrap_or_default()
+}
+
+/// Each triangle's subdomain, for the writers, where `region` has subdomains to number (and
+/// the mesh follows its lines).
+fn subdomains_of(mesh: &Mesh, region: Option<&Region>) -> Option<Vec<i64>> {
+    region
+        .filter(|r| crate::subdomains::has_subdomains(r))
+        .and_then(|r| crate::subdomains(mesh, r).ok())
 }
 
 /// The region's physical surface, for the writers.
@@ -221,6 +233,7 @@ impl<'a> Nodes<'a> {
                 .into_iter()
                 .map(|([a, b], m)| (vec![a, b], m))
                 .collect(),
+            subdomains: subdomains_of(mesh, region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -252,6 +265,7 @@ impl<'a> Nodes<'a> {
                     (vec![a, b, mid], m)
                 })
                 .collect(),
+            subdomains: subdomains_of(q.linear(), q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),
@@ -454,6 +468,11 @@ pub struct Walls {
     /// physical curve of a Gmsh line element; 0 where the file gives none (an edge between
     /// two regions). Empty when no inner edge has one.
     pub inner_markers: Vec<i64>,
+    /// Each triangle's number, where the file numbers its triangles as parts of the region (a
+    /// Triangle `.ele`'s first attribute where every one is a whole number, the physical
+    /// surface of each triangle of a Gmsh mesh with several): a new mesh of the region keeps
+    /// them as subdomains (`cvtmesh::subdomain_points_of`). Empty otherwise.
+    pub subdomains: Vec<i64>,
     /// The physical surface the file puts every triangle in, tag and name (a Gmsh mesh's one
     /// physical surface), which a region of the mesh keeps ([`Region::surface_group`]).
     pub surface_group: Option<(i64, String)>,
@@ -492,6 +511,18 @@ pub(crate) fn inner_markers(inner: &[[u32; 2]], given: &[([u32; 2], i64)]) -> Ve
         Vec::new()
     } else {
         markers
+    }
+}
+
+/// [`Walls::subdomains`] from the bits of each triangle's first `.ele` attribute: the
+/// attributes where every one is a whole number within 32 bits, else none.
+pub(crate) fn whole_numbers(bits: &[i64]) -> Vec<i64> {
+    let values = bits.iter().map(|&b| f64::from_bits(b as u64));
+    let whole = |a: f64| a.fract() == 0.0 && a.abs() <= f64::from(i32::MAX);
+    if values.clone().all(whole) {
+        values.map(|a| a as i64).collect()
+    } else {
+        Vec::new()
     }
 }
 

@@ -13,6 +13,7 @@ mod mesher;
 mod parts;
 mod polish;
 mod quadratic;
+mod subdomains;
 mod thin;
 mod types;
 
@@ -35,5 +36,6 @@ pub use polish::{
     Polished, GRADED_SPREAD, POLISH_BELOW_DEG,
 };
 pub use quadratic::Quadratic;
+pub use subdomains::{subdomain_points_of, subdomains};
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

@@ -1214,7 +1214,7 @@ def test_a_steep_field_notes_what_the_gradation_limit_added_and_is_measured_as_m
 def test_a_poly_s_area_constraints_are_named_as_not_used(tmp_path):
     poly = tmp_path / "sq.poly"
     poly.write_text("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n1\n1 0.5 0.5 10 0.001\n")
-    with pytest.warns(RuntimeWarning, match="1 regional attribute or area constraint is not used"):
+    with pytest.warns(RuntimeWarning, match="1 area constraint is not used"):
         m = cvtmesh.mesh(str(poly), n=100)
     assert len(m.points) == 100
 

@@ -208,6 +208,35 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
     let first_pin_phys = pins_named.iter().fold(0, |top, &m| top.max(m)).max(0) as usize + 1;
     let pin_tags = physical_tags(&pins_named, first_pin_phys);
     let pin_phys = move |m: i64| pin_tags[&m];
+    // Where the region's lines part it into subdomains, a surface per subdomain, in the
+    // physical surface its number tags (a number 0 or below, a tag past the others); else one
+    // surface for the whole region.
+    let mut subdomain_ids: Vec<i64> = nodes.subdomains.clone().unwrap_or_default();
+    subdomain_ids.sort_unstable();
+    subdomain_ids.dedup();
+    let first_free = subdomain_ids.iter().fold(0, |top, &m| top.max(m)).max(0) as usize + 1;
+    let subdomain_tags = physical_tags(&subdomain_ids, first_free);
+    let surfaces: Vec<(i64, String, Vec<usize>)> = match &nodes.subdomains {
+        Some(ids) => {
+            let mut members: Vec<Vec<usize>> = vec![Vec::new(); subdomain_ids.len()];
+            for (t, id) in ids.iter().enumerate() {
+                let s = subdomain_ids
+                    .binary_search(id)
+                    .expect("every number is listed");
+                members[s].push(t);
+            }
+            subdomain_ids
+                .iter()
+                .zip(members)
+                .map(|(id, ts)| (subdomain_tags[id] as i64, format!("subdomain{id}"), ts))
+                .collect()
+        }
+        None => vec![(
+            domain_tag,
+            domain_name.clone(),
+            (0..nodes.triangles.len()).collect(),
+        )],
+    };
     let marker_name = |m: i64| match nodes.marker_names.get(&m) {
         Some(name) => name.clone(),
         None => format!("marker{m}"),
@@ -217,7 +246,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         writeln!(
             w,
             "$PhysicalNames\n{}",
-            nloops + 1 + pieces_named.len() + markers_named.len() + pins_named.len()
+            nloops + surfaces.len() + pieces_named.len() + markers_named.len() + pins_named.len()
         )?;
         for &m in &pins_named {
             writeln!(w, "0 {} \"{}\"", pin_phys(m), marker_name(m))?;
@@ -231,12 +260,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         for &m in &markers_named {
             writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
-        writeln!(w, "2 {domain_tag} \"{domain_name}\"\n$EndPhysicalNames")?;
+        for (tag, name, _) in &surfaces {
+            writeln!(w, "2 {tag} \"{name}\"")?;
+        }
+        writeln!(w, "$EndPhysicalNames")?;
         writeln!(
             w,
-            "$Entities\n{} {} 1 0",
+            "$Entities\n{} {} {} 0",
             pins.len(),
-            curves.len() + inner_curves.len()
+            curves.len() + inner_curves.len(),
+            surfaces.len()
         )?;
         for (p, &(v, m)) in pins.iter().enumerate() {
             let x = nodes.points[v];
@@ -292,20 +325,34 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 marker_phys(*m)
             )?;
         }
-        let (lo, hi) = bbox(&mut (0..n));
-        write!(
-            w,
-            "1 {} {} 0 {} {} 0 1 {domain_tag} {}",
-            F(lo.x),
-            F(lo.y),
-            F(hi.x),
-            F(hi.y),
-            curves.len()
-        )?;
-        for c in 0..curves.len() {
-            write!(w, " {}", c + 1)?;
+        for (s, (tag, _, ts)) in surfaces.iter().enumerate() {
+            let (lo, hi) = bbox(
+                &mut ts
+                    .iter()
+                    .flat_map(|&t| nodes.triangles[t].iter().map(|&v| v as usize)),
+            );
+            write!(
+                w,
+                "{} {} {} 0 {} {} 0 1 {tag}",
+                s + 1,
+                F(lo.x),
+                F(lo.y),
+                F(hi.x),
+                F(hi.y),
+            )?;
+            // The whole region's surface is bounded by every wall's curve; a subdomain's
+            // curves are not worked out (readers take the elements' surfaces, not these).
+            if surfaces.len() == 1 {
+                write!(w, " {}", curves.len())?;
+                for c in 0..curves.len() {
+                    write!(w, " {}", c + 1)?;
+                }
+            } else {
+                write!(w, " 0")?;
+            }
+            writeln!(w)?;
         }
-        writeln!(w, "\n$EndEntities")?;
+        writeln!(w, "$EndEntities")?;
 
         let nonempty = blocks.iter().filter(|b| !b.is_empty()).count();
         writeln!(w, "$Nodes\n{nonempty} {n} {} {n}", n.min(1))?;
@@ -335,7 +382,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
         let total = nlines + nodes.inner.len() + nodes.triangles.len() + pins.len();
         let nblocks = curves.iter().filter(|c| !c.lines.is_empty()).count()
             + inner_curves.len()
-            + usize::from(!nodes.triangles.is_empty())
+            + surfaces.iter().filter(|s| !s.2.is_empty()).count()
             + pins.len();
         writeln!(w, "$Elements\n{nblocks} {total} {} {total}", total.min(1))?;
         let mut tag = 0;
@@ -366,12 +413,13 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
                 element(w, &nodes.inner[k].0)?;
             }
         }
-        if !nodes.triangles.is_empty() {
-            writeln!(w, "2 1 {triangle_type} {}", nodes.triangles.len())?;
+        for (s, (_, _, ts)) in surfaces.iter().enumerate().filter(|(_, s)| !s.2.is_empty()) {
+            writeln!(w, "2 {} {triangle_type} {}", s + 1, ts.len())?;
             let first = tag + 1;
-            write_lines(w, nodes.triangles.len(), |i, s| {
-                element_line(s, first + i, nodes.triangles[i])
+            write_lines(w, ts.len(), |i, line| {
+                element_line(line, first + i, nodes.triangles[ts[i]])
             })?;
+            tag += ts.len();
         }
         writeln!(w, "$EndElements")
     });
@@ -1348,12 +1396,25 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
             )
         })
         .collect();
+    // Several physical surfaces number the triangles as parts (a surface without a physical
+    // group leaves them unnumbered).
+    let physical = |r: i64| (r < 0).then_some(-(r + 1));
+    let subdomains = match raw.triangle_regions.first() {
+        Some(&r) if surface_group.is_none() && physical(r).is_some() => raw
+            .triangle_regions
+            .iter()
+            .map(|&q| physical(q))
+            .collect::<Option<Vec<i64>>>()
+            .unwrap_or_default(),
+        _ => Vec::new(),
+    };
     let walls = Walls {
         edges,
         points,
         names: std::mem::take(&mut raw.wall_names),
         inner,
         inner_markers,
+        subdomains,
         surface_group,
         notes,
     };

@@ -156,13 +156,25 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
             "# Triangle .ele written by cvtmesh: {} counter-clockwise triangles.",
             nodes.triangles.len()
         )?;
-        writeln!(w, "{} {} 0", nodes.triangles.len(), order.len())?;
+        // A subdomain's number is the triangle's attribute, as Triangle's -A writes it.
+        let subdomains = nodes.subdomains.as_deref();
+        writeln!(
+            w,
+            "{} {} {}",
+            nodes.triangles.len(),
+            order.len(),
+            usize::from(subdomains.is_some())
+        )?;
         write_lines(w, nodes.triangles.len(), |t, s| {
             let tri = &nodes.triangles[t];
             push_int(s, t as i64 + 1);
             for &k in order {
                 s.push(' ');
                 push_int(s, i64::from(tri[k]) + 1);
+            }
+            if let Some(ids) = subdomains {
+                s.push(' ');
+                push_int(s, ids[t]);
             }
             s.push('\n');
         })
@@ -296,13 +308,14 @@ pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError
     let ele = read_ele_of(&ele_path, node_path)?;
     let (mesh, given) = parse_mesh(&node, &ele, node_path, &ele_path)?;
     let poly_path = node_path.with_extension("poly");
-    let walls = match poly_path.is_file() {
+    let mut walls = match poly_path.is_file() {
         true => walls_of(&read_text(&poly_path)?, &poly_path, &given, &mesh)?,
         false => Walls {
             inner: super::inner_edges(&mesh, &given.regions, &[]),
             ..Walls::default()
         },
     };
+    walls.subdomains = super::whole_numbers(&given.regions);
     Ok(MeshFile {
         mesh,
         walls,
@@ -329,7 +342,9 @@ pub(crate) fn read_triangle_file(node_path: &Path) -> Result<MeshFile, MeshError
 pub fn triangle_walls_from_str(node: &str, ele: &str, poly: &str) -> Result<Walls, MeshError> {
     let paths = ["mesh.node", "mesh.ele", "mesh.poly"].map(Path::new);
     let (mesh, given) = parse_mesh(node, ele, paths[0], paths[1])?;
-    walls_of(poly, paths[2], &given, &mesh)
+    let mut walls = walls_of(poly, paths[2], &given, &mesh)?;
+    walls.subdomains = super::whole_numbers(&given.regions);
+    Ok(walls)
 }
 
 /// The `.node`'s own vertices (where they are not the mesh's: a six-node mesh's) and its

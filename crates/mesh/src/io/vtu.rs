@@ -98,6 +98,16 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             }
             writeln!(w, "        </DataArray>")?;
         }
+        if let Some(ids) = &nodes.subdomains {
+            writeln!(
+                w,
+                "        <DataArray type=\"Int32\" Name=\"subdomain\" format=\"ascii\">"
+            )?;
+            for id in ids {
+                writeln!(w, "{id}")?;
+            }
+            writeln!(w, "        </DataArray>")?;
+        }
         writeln!(w, "      </CellData>")?;
         writeln!(w, "      <Points>")?;
         writeln!(w, "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">")?;
