@@ -697,6 +697,45 @@ impl PyRegion {
         })
     }
 
+    /// The points that number the region's subdomains (the parts its embedded lines cut it
+    /// into), as `[((x, y), id), ...]`: a `.poly`'s regional attributes, a JSON region's
+    /// `subdomains`, or those given to `with_subdomain_points`.
+    #[getter]
+    fn subdomain_points(&self) -> Vec<((f64, f64), i64)> {
+        marked_points(self.inner.subdomain_points())
+    }
+
+    /// The same region with `points` (k, 2) numbering its subdomains by `ids` (k integers):
+    /// every triangle of a mesh that no embedded line, wall or hole parts from a point gets
+    /// its id (`Mesh.subdomains()`; in the files, the `.ele` attribute, a Gmsh physical surface
+    /// per id, a VTK cell array), as Triangle's `-A` spreads regional attributes; a part
+    /// without a point gets 0, and where two points share a part the later one's id holds. A
+    /// point outside the region, on its boundary or on a line raises `MeshError`.
+    fn with_subdomain_points(&self, points: Bound<'_, PyAny>, ids: Vec<i64>) -> PyResult<PyRegion> {
+        let np = points.py().import("numpy")?;
+        let points: PyReadonlyArray2<'_, f64> = np
+            .call_method1("asarray", (points, "float64"))?
+            .call_method1("reshape", (-1, 2))?
+            .extract()
+            .map_err(|_| err("points must be an array of shape (k, 2)"))?;
+        let pts = points_of(&points, "points")?;
+        if ids.len() != pts.len() {
+            return Err(err(format!(
+                "{} points and {} ids; give one id per point",
+                pts.len(),
+                ids.len()
+            )));
+        }
+        let region = (*self.inner).clone();
+        Ok(PyRegion {
+            inner: Arc::new(
+                region
+                    .with_subdomain_points(pts.into_iter().zip(ids))
+                    .map_err(err)?,
+            ),
+        })
+    }
+
     /// The boundary vertices with a marker of their own, as `[((x, y), marker), ...]`: a
     /// `.poly` vertex whose nonzero marker differs from both its segments' (a point where a
     /// solver pins a value). Each is a corner, so every mesh has a vertex there, and
@@ -1054,6 +1093,27 @@ impl PyMesh {
         read_only(&pairs)?;
         read_only(&markers)?;
         Ok((pairs, markers))
+    }
+
+    /// Each triangle's subdomain, an (T,) int64 array: the parts the region's embedded lines
+    /// cut it into, numbered by its subdomain points (`Region.subdomain_points`; 0 for a part
+    /// without one) or, where it has none, 1, 2, ... from the left. For a mesh read from a
+    /// file, the region its triangles cover, numbered as the file numbers them (a `.ele`'s
+    /// attribute, Gmsh's physical surfaces). A `MeshError` where the mesh does not follow a
+    /// line of the region.
+    #[pyo3(signature = (region = None))]
+    fn subdomains<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let region = self.region_or_covered(py, region, "subdomains")?;
+        let ids = py
+            .detach(|| cvtmesh::subdomains(&self.mesh, &region))
+            .map_err(err)?;
+        let ids = PyArray1::from_vec(py, ids);
+        read_only(&ids)?;
+        Ok(ids)
     }
 
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file

@@ -1328,3 +1328,48 @@ def test_the_dual_gives_finite_volume_cells_that_tile_the_mesh():
     np.testing.assert_allclose(net[inner], 4 * d["volumes"][inner], rtol=1e-9)
     assert not d["faces"].flags.writeable
     assert d["circumcentres"].shape == (len(m.triangles), 2)
+
+
+def _areas_by(m, ids):
+    tri = m.points[m.triangles]
+    u, v = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    area = 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+    return {int(n): float(area[ids == n].sum()) for n in np.unique(ids)}
+
+
+def test_subdomain_points_number_the_triangles_the_files_and_meshio(tmp_path):
+    path = tmp_path / "two.poly"
+    path.write_text(INTERFACE_POLY)
+    region = Region.load(str(path)).with_subdomain_points([[0.25, 0.5], [0.75, 0.5]], [3, 4])
+    assert region.subdomain_points == [((0.25, 0.5), 3), ((0.75, 0.5), 4)]
+    m = cvtmesh.mesh(region, n=400)
+    ids = m.subdomains()
+    assert ids.dtype == np.int64 and ids.shape == (len(m.triangles),) and not ids.flags.writeable
+    areas = _areas_by(m, ids)
+    assert set(areas) == {3, 4} and all(abs(a - 0.5) < 1e-12 for a in areas.values()), areas
+    # Without points, the two sides are 1 and 2 from the left.
+    plain = cvtmesh.mesh(Region.load(str(path)), n=400)
+    assert _areas_by(plain, plain.subdomains()).keys() == {1, 2}
+    # meshio: a cell array and a physical surface per number.
+    mm = m.to_meshio()
+    assert mm.cell_data["subdomain"][0].tolist() == ids.tolist()
+    assert mm.cell_data["gmsh:physical"][0].tolist() == ids.tolist()
+    assert mm.field_data["subdomain_4"].tolist() == [4, 2]
+    assert mm.cell_sets["subdomain_3"][0].tolist() == np.flatnonzero(ids == 3).tolist()
+    # The files keep them, and a mesh read back numbers its triangles as the file did.
+    for name in ("m.msh", "m.node"):
+        m.write(str(tmp_path / name))
+        back = cvtmesh.Mesh.read(str(tmp_path / name))
+        areas = _areas_by(back, back.subdomains())
+        assert set(areas) == {3, 4} and all(abs(a - 0.5) < 1e-12 for a in areas.values()), (name, areas)
+
+
+def test_bad_subdomain_points_raise_mesh_error():
+    square = Region.from_loops(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]))
+    split = square.with_embedded_lines([np.array([[0.5, 0.0], [0.5, 1.0]])])
+    with pytest.raises(MeshError, match="on an embedded line"):
+        split.with_subdomain_points([[0.5, 0.5]], [1])
+    with pytest.raises(MeshError, match="outside the region"):
+        split.with_subdomain_points([[2.0, 0.5]], [1])
+    with pytest.raises(MeshError, match="2 points and 1 ids"):
+        split.with_subdomain_points([[0.2, 0.5], [0.7, 0.5]], [1])

@@ -263,7 +263,10 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
     names the physical groups as the cell sets (``marker_4`` or ``boundary_0``, and
     ``domain``), which meshio reads back as cell sets. The edges along the region's embedded
     lines (:meth:`Mesh.line_edges`: an interface, a crack) follow as one ``line`` block per
-    marker, in the cell set ``marker_7`` of their marker and its physical group."""
+    marker, in the cell set ``marker_7`` of their marker and its physical group. Where the
+    region has lines or subdomain points, each triangle's subdomain (:meth:`Mesh.subdomains`)
+    is cell data ``subdomain`` (0 on the lines) and a cell set ``subdomain_3`` per number, and
+    the triangles' ``gmsh:physical`` tags are those numbers (Gmsh's physical surfaces)."""
     import meshio
 
     loops = np.asarray(self.boundary_loop)
@@ -354,6 +357,24 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
         cell_data["gmsh:physical"].append(np.full(len(rows), tag, dtype=np.int64))
         cell_data["gmsh:geometrical"].append(np.full(len(rows), len(runs) + 1 + i, dtype=np.int64))
         field_data[name] = np.array([tag, 1])
+    # Each triangle's subdomain, where the region's lines part it or its points number it: a
+    # physical surface per number (a number 0 or below takes a tag past the others).
+    try:
+        parts = np.asarray(self.subdomains(region))
+    except MeshError:  # no region, or one whose lines the mesh does not follow
+        parts = np.ones(len(tris), dtype=np.int64)
+    # One part numbered 1 is the whole region's surface, as without subdomains.
+    if len(inner) or np.any(parts != 1):
+        cell_data["subdomain"] = [parts] + [np.zeros(len(c[1]), dtype=np.int64) for c in cells[1:]]
+        numbers = np.unique(parts).tolist()
+        top = max([0] + [n for n in numbers if n > 0])
+        tags = {n: (n if n > 0 else top + 1 + k) for k, n in enumerate(numbers)}
+        cell_data["gmsh:physical"][0] = np.array([tags[n] for n in parts.tolist()], dtype=np.int64)
+        del field_data["domain"]
+        for n in numbers:
+            cell_sets[f"subdomain_{n}"] = [np.flatnonzero(parts == n)] + [
+                np.empty(0, dtype=np.int64) for _ in cells[1:]]
+            field_data[f"subdomain_{n}"] = np.array([tags[n], 2])
     if len(markers):
         # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
         # finite-element codes read facet tags from, keep cell data, not cell sets.
