@@ -1,6 +1,7 @@
 //! The conformity check every method's mesh must pass (and every test asserts).
 use crate::types::{maybe_below, rows_by_vertex, smallest_angle_cosines};
 use crate::{Mesh, MeshError, VertexMarker};
+use geometry::predicates::orient;
 use geometry::{DVec2, Region};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -481,10 +482,10 @@ fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
 }
 
 /// How `mesh` stands against `region` for measuring it: `Ok(None)` where it conforms,
-/// `Ok(Some(e))` where it only nearly does (its area within half the region's: a file's rounded
-/// coordinates, a polygon inscribed in a curve), and [`MeshError::BadRequest`] where it is no
-/// mesh of the region (covering an area more than half off the region's: its α would be below
-/// 0, its ν inf).
+/// `Ok(Some(e))` where it only nearly does (a file's rounded coordinates, a polygon inscribed
+/// in a curve), and [`MeshError::BadRequest`] where it is no mesh of the region: more than
+/// half the region's area left uncovered, or more than half the mesh's area outside the
+/// region (by each triangle's centroid; its α would be below 0, its ν inf).
 ///
 /// ```
 /// use cvtmesh::{measurable, Region};
@@ -493,6 +494,11 @@ fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
 /// assert!(measurable(&mesh, &disc)?.is_none());
 /// let e = measurable(&mesh, &Region::builtin("lake")?).unwrap_err();
 /// assert!(e.to_string().contains("not a mesh of that region"), "{e}");
+/// // A mesh of the same area as the disc, shifted off most of it.
+/// let mut off = mesh.clone();
+/// off.points.iter_mut().for_each(|p| p.x += 1.5);
+/// let e = measurable(&off, &disc).unwrap_err();
+/// assert!(e.to_string().contains("not a mesh of that region"), "{e}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn measurable(mesh: &Mesh, region: &Region) -> Result<Option<ConformityError>, MeshError> {
@@ -500,10 +506,15 @@ pub fn measurable(mesh: &Mesh, region: &Region) -> Result<Option<ConformityError
         return Ok(None);
     };
     let (covered, whole) = (mesh.area(), region.area());
-    if (covered - whole).abs() > 0.5 * whole {
+    let inside: f64 = (0..mesh.triangles.len())
+        .map(|t| mesh.triangle(t))
+        .filter(|q| region.contains((q[0] + q[1] + q[2]) / 3.0))
+        .map(|q| 0.5 * orient(q[0], q[1], q[2]).abs())
+        .sum();
+    if whole - inside > 0.5 * whole || covered - inside > 0.5 * covered {
         return Err(MeshError::BadRequest(format!(
-            "the mesh covers an area of {covered:.6e} and region '{}' {whole:.6e}: not a mesh \
-             of that region ({e})",
+            "the mesh covers an area of {covered:.6e}, {inside:.6e} of it inside region '{}' \
+             of area {whole:.6e}: not a mesh of that region ({e})",
             region.name()
         )));
     }
