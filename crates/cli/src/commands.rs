@@ -86,7 +86,8 @@ pub struct MeshArgs {
     /// DistMesh keeps its original dptol, refinement is not iterative).
     #[arg(long, default_value = "1e-4", allow_negative_numbers = true)]
     tol: f64,
-    /// Iteration cap.
+    /// Iteration cap of each phase: CCVT's Algorithm 2 runs several (ε-phases, then the
+    /// constrained one), and the iterations printed are their sum.
     #[arg(long, default_value_t = MeshRequest::points(0).max_iter)]
     max_iter: usize,
     /// Stop iterating after this many seconds and write the mesh reached, marked not
@@ -341,7 +342,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     );
     if a.strict && !result.converged {
         let why = if result.iterations >= a.max_iter {
-            format!("the iteration cap {} reached", a.max_iter)
+            format!("a phase reached the iteration cap {}", a.max_iter)
         } else if request.out_of_time() {
             "the time limit reached".to_string()
         } else {

@@ -511,7 +511,7 @@ fn strict_turns_a_capped_run_into_an_error_but_keeps_the_mesh() {
     ]);
     assert!(!o.status.success());
     assert!(
-        text(&o).contains("did not converge (2 iterations, the iteration cap 2 reached"),
+        text(&o).contains("did not converge (2 iterations, a phase reached the iteration cap 2"),
         "{}",
         text(&o)
     );

@@ -74,7 +74,9 @@ pub struct MeshRequest {
     /// generator's move against the local spacing its density asks for, which is the mean
     /// spacing for ρ ≡ 1).
     pub tol: f64,
-    /// Iteration cap; hitting it is reported as not converged.
+    /// Iteration cap of each phase of a method that runs several (CCVT's Algorithm 2: its
+    /// ε-phases, then the constrained one; [`MeshResult::iterations`] is their sum); hitting it
+    /// is reported as not converged.
     pub max_iter: usize,
     /// Density ρ.
     pub density: Density,
