@@ -1034,7 +1034,11 @@ impl PyMesh {
                 Some(r) => cvtmesh::io::write_mesh_on(&self.mesh, r, &path),
                 None => cvtmesh::io::write_mesh(&self.mesh, &path),
             }
-            .map_err(err),
+            .map_err(|e| match e.to_string() {
+                // The mesh formats' list, with the pictures this method writes too.
+                s if s.contains("supported: ") => err(format!("{s}, .png, .svg")),
+                _ => err(e),
+            }),
         })
     }
 

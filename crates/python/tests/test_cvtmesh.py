@@ -1373,3 +1373,22 @@ def test_bad_subdomain_points_raise_mesh_error():
         split.with_subdomain_points([[2.0, 0.5]], [1])
     with pytest.raises(MeshError, match="2 points and 1 ids"):
         split.with_subdomain_points([[0.2, 0.5], [0.7, 0.5]], [1])
+
+
+def test_mesh_methods_take_a_region_by_name_or_path_as_mesh_does(tmp_path):
+    m = cvtmesh.Mesh.read(str(_write(cvtmesh.mesh("circle", n=300), tmp_path / "c.msh")))
+    by_name, by_object = m.measures("circle"), m.measures(Region.builtin("circle"))
+    assert by_name == by_object
+    assert m.boundary_pieces("circle").tolist() == m.boundary_pieces(Region.builtin("circle")).tolist()
+    assert m.polished(region="circle").points.shape == m.points.shape
+    assert len(m.to_meshio(region="circle").cells_dict["triangle"]) == len(m.triangles)
+    # A mesh mostly off the region it is measured against is no mesh of it, whatever its area.
+    with pytest.raises(MeshError, match="not a mesh of that region"):
+        cvtmesh.measures(m.points + [1.5, 0.0], m.triangles, "circle")
+    with pytest.raises(MeshError, match="unknown|cannot|no built-in"):
+        m.measures("no_such_region")
+
+
+def _write(m, path):
+    m.write(str(path))
+    return path

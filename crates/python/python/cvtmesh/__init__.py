@@ -14,6 +14,7 @@ float64, ``triangles`` (M, 3) int64, 0-based and counter-clockwise.
 
 from __future__ import annotations
 
+import functools
 import os
 from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
@@ -124,7 +125,9 @@ def mesh(
         Stop when the largest vertex move is below ``tol`` times the mean spacing (for
         ``ccvt`` with a size field, the local spacing the field asks for).
     max_iter
-        Iteration cap; a capped run returns its mesh with ``converged = False``.
+        Iteration cap of each phase (``ccvt``'s Algorithm 2 runs several: its ε-phases, then
+        the constrained one; ``iterations`` is their sum); a capped run returns its mesh with
+        ``converged = False``.
     density
         A CVT density ρ instead of ``size`` (spacing ∝ ρ^(-1/4)); needs ``n``.
     corner_angle
@@ -241,7 +244,7 @@ def size_conformity(
     )
 
 
-def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> Any:
+def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) -> Any:
     """The mesh as a ``meshio.Mesh``: a ``triangle`` block, ``line`` blocks of boundary
     edges, one cell set per boundary loop (``boundary_0`` is the outer loop) and, for a mesh
     made here, one per piece (``piece_3``: a wall, numbered as ``Region.pieces``) and, where
@@ -269,6 +272,8 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
     the triangles' ``gmsh:physical`` tags are those numbers (Gmsh's physical surfaces)."""
     import meshio
 
+    if region is not None and not isinstance(region, Region):
+        region = _region(region, None, None)
     loops = np.asarray(self.boundary_loop)
     try:
         pieces = np.asarray(self.boundary_pieces(region))
@@ -400,3 +405,31 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[Region] = None) -> A
 
 
 Mesh.to_meshio = _to_meshio  # type: ignore[attr-defined]
+
+
+def _taking_region_names(name: str) -> None:
+    """Mesh.<name>(region=None, ...) taking a region as ``mesh`` does: a built-in name, a
+    file path (a mesh's too) or an outer loop's array as well as a Region."""
+    method = getattr(Mesh, name)
+
+    # The method's own name, documentation and signature (help() and inspect show them).
+    @functools.wraps(method)
+    def call(self: Mesh, region: Optional[RegionLike] = None, *args: Any, **kwargs: Any) -> Any:
+        if region is not None and not isinstance(region, Region):
+            region = _region(region, None, None)
+        return method(self, region, *args, **kwargs)
+
+    setattr(Mesh, name, call)
+
+
+for _name in (
+    "quadratic",
+    "boundary_pieces",
+    "boundary_markers",
+    "line_edges",
+    "subdomains",
+    "vertex_markers",
+    "measures",
+    "polished",
+):
+    _taking_region_names(_name)
