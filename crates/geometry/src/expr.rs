@@ -247,6 +247,9 @@ impl Parser {
                 _ => return Ok(lhs),
             };
             self.bump();
+            if op == BinOp::Mul && *self.peek() == Tok::Op('*') {
+                return self.err("'**' is Python's power; here a power is '^' (x^2)");
+            }
             let rhs = self.unary()?;
             lhs = Node::Bin(op, Box::new(lhs), Box::new(rhs));
         }
@@ -495,6 +498,10 @@ mod tests {
         assert_eq!(err("x + z").column, 5);
         assert!(err("x + z").message.contains("unknown name 'z'"));
         assert_eq!(err("x $ 2").column, 3);
+        // Python's power is named, with the one written here.
+        let e = err("0.1*x**2");
+        assert!(e.message.contains("a power is '^' (x^2)"), "{e}");
+        assert_eq!(e.column, 7);
         assert_eq!(err("").column, 1);
         assert_eq!(err("   ").message, "empty expression");
         assert_eq!(err("x)").column, 2);

@@ -93,7 +93,8 @@ pub enum SizeFieldError {
     Toward(String),
     /// A distance field names a wall marker no piece of the region has.
     #[error("size field: no boundary piece is marked {marker} ({})", match markers.is_empty() {
-        true => "the region file numbers no walls; only a .poly's segment markers do".to_string(),
+        true => "the region numbers no walls: a .poly's segment markers, a JSON segment's \
+                 \"marker\" or markers given with the loops number them".to_string(),
         false => format!("the region's markers are {}", markers.iter().map(i64::to_string).collect::<Vec<_>>().join(", ")),
     })]
     UnknownMarker {
