@@ -100,11 +100,11 @@ pub struct MeshArgs {
     /// region lists].
     #[arg(long, allow_negative_numbers = true)]
     corner_angle: Option<f64>,
-    /// Simplify a digitized boundary first (Douglas–Peucker): drop the vertices that lie within
-    /// TOL of the simplified boundary, so that a coastline with more corners than the mesh has
-    /// vertices can be meshed coarsely; `auto` is a quarter of the spacing. The mesh is of the
-    /// simplified region, which stays within the printed distance of the original [default:
-    /// none, the boundary as given].
+    /// Simplify a digitized boundary and lines inside first (Douglas–Peucker): drop the
+    /// vertices that lie within TOL of the simplified boundary or line, so that a coastline or
+    /// an interface with more vertices than the mesh has can be meshed coarsely; `auto` is a
+    /// quarter of the spacing. The mesh is of the simplified region, which stays within the
+    /// printed distance of the original [default: none, the boundary as given].
     #[arg(long, value_name = "TOL|auto", allow_negative_numbers = true)]
     simplify: Option<String>,
     /// Polish: move the vertices of triangles with an angle below this many degrees to raise

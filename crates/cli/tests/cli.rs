@@ -3024,6 +3024,78 @@ fn a_poly_interface_is_listed_meshed_along_and_kept_in_the_file() {
     assert!(text(&o).contains("(1.5, 0.5)"), "{}", text(&o));
 }
 
+/// A digitized interface of more vertices than the mesh has: refused as it is (every vertex of
+/// a line is a mesh vertex), meshed under `--simplify auto` with the line simplified too, and
+/// the mesh's interface within the printed distance of the given one.
+#[test]
+fn simplify_auto_simplifies_a_digitized_interface() {
+    let dir = scratch("digitized_interface");
+    let poly = dir.join("wave.poly");
+    let n = 3000;
+    let wave = |i: usize| {
+        let x = i as f64 / n as f64;
+        (x, 0.5 + 0.05 * (std::f64::consts::TAU * x).sin())
+    };
+    let mut file = format!("{} 2 0 1\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n", n + 5);
+    for i in 0..=n {
+        let (x, y) = wave(i);
+        file += &format!("{} {x} {y} 0\n", i + 5);
+    }
+    // The walls, the right and left ones split where the wave meets them, then the wave.
+    let last = n + 5;
+    file += &format!(
+        "{} 1\n1 1 2 1\n2 2 {last} 1\n3 {last} 3 1\n4 3 4 1\n",
+        n + 6
+    );
+    file += "5 4 5 1\n6 5 1 1\n";
+    for i in 0..n {
+        file += &format!("{} {} {} 7\n", i + 7, i + 5, i + 6);
+    }
+    file += "0\n";
+    std::fs::write(&poly, file).unwrap();
+    let out = dir.join("wave.msh");
+    let o = cvtmesh(&["mesh", s(&poly), "-n", "1500", "-o", s(&out)]);
+    assert!(!o.status.success() && !out.exists(), "{}", text(&o));
+    assert!(text(&o).contains("too small"), "{}", text(&o));
+    let o = cvtmesh(&[
+        "mesh",
+        s(&poly),
+        "-n",
+        "1500",
+        "--simplify",
+        "auto",
+        "-o",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let said = text(&o);
+    let lines = said
+        .split("its lines inside from 3001 to ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("{said}"));
+    let kept: usize = lines.split(';').next().unwrap().parse().unwrap();
+    assert!(kept < 100, "{said}");
+    let (mesh, walls) = cvtmesh::io::read_mesh_with_walls(&out).unwrap();
+    // Every vertex of the mesh's interface lies on the given wave, within the deviation.
+    let deviation: f64 = said
+        .split("stays within ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(!walls.inner.is_empty());
+    for v in walls.inner.iter().flatten() {
+        let p = mesh.points[*v as usize];
+        let on = 0.5 + 0.05 * (std::f64::consts::TAU * p.x).sin();
+        assert!(
+            (p.y - on).abs() <= deviation + 1e-3,
+            "{p} off the wave by {}",
+            p.y - on
+        );
+    }
+}
+
 /// A `.poly`'s regional attributes number the parts its interface cuts the region into: listed
 /// by `regions`, each triangle's `.ele` attribute (Triangle's `-A`), and kept by a polish.
 #[test]

@@ -256,39 +256,61 @@ impl Region {
                     w[0].x, w[0].y
                 )));
             }
-            // A segment whose ends are inside may still leave the region between them, or
-            // run outside between two corners of a notch.
-            let chord = 1e-6 * self.diameter();
-            let polygon = self.polygonize(chord);
-            let on_boundary = |p: DVec2| self.signed_distance(p).abs() <= off;
-            for (a, b) in line.segments() {
-                let mid = 0.5 * (a + b);
-                // A segment from a point of a curved piece crosses the piece's chords right
-                // beside that point, within their sag: not a crossing of the boundary.
-                let near_end = |x: DVec2| {
-                    (on_boundary(a) && x.distance(a) <= 1e3 * chord)
-                        || (on_boundary(b) && x.distance(b) <= 1e3 * chord)
-                };
-                let crossing = polygon.rings.iter().find_map(|r| {
-                    let m = r.points.len();
-                    (0..m).find_map(|j| {
-                        let (c, d) = (r.points[j], r.points[(j + 1) % m]);
-                        if !segments_cross(a, b, c, d) {
-                            return None;
-                        }
-                        let (o1, o2) = (orient(c, d, a), orient(c, d, b));
-                        let x = a + (b - a) * (o1 / (o1 - o2));
-                        (!near_end(x)).then_some(x)
-                    })
-                });
-                if crossing.is_some() || !self.contains(mid) {
-                    return Err(bad(format!(
-                        "embedded line {i}'s segment from ({}, {}) to ({}, {}) leaves the region",
-                        a.x, a.y, b.x, b.y
-                    )));
-                }
-            }
             added.push(line);
+        }
+        // A segment whose ends are inside may still leave the region between them, or run
+        // outside between two corners of a notch. The boundary's chords and the segments
+        // are paired by a grid of their boxes, not each with each (a digitized interface of
+        // 20 000 segments in a coastline of as many).
+        let chord = 1e-6 * self.diameter();
+        let polygon = self.polygonize(chord);
+        let boundary: Vec<(DVec2, DVec2)> = polygon
+            .rings
+            .iter()
+            .flat_map(|r| {
+                let m = r.points.len();
+                (0..m).map(move |j| (r.points[j], r.points[(j + 1) % m]))
+            })
+            .collect();
+        let segments: Vec<(usize, DVec2, DVec2)> = added
+            .iter()
+            .enumerate()
+            .flat_map(|(i, l)| l.segments().map(move |(a, b)| (i, a, b)))
+            .collect();
+        let on_boundary = |p: DVec2| self.signed_distance(p).abs() <= off;
+        let mut leaving: Option<usize> = segments
+            .iter()
+            .position(|&(_, a, b)| !self.contains(0.5 * (a + b)));
+        let boxes: Vec<(DVec2, DVec2)> = boundary
+            .iter()
+            .copied()
+            .chain(segments.iter().map(|&(_, a, b)| (a, b)))
+            .collect();
+        crate::crossings::candidate_pairs(&boxes, off, |e, k| {
+            // Boundary chords first, then the segments: a pair of a chord and a segment.
+            let Some(s) = k.checked_sub(boundary.len()).filter(|_| e < boundary.len()) else {
+                return true;
+            };
+            let ((c, d), (_, a, b)) = (boundary[e], segments[s]);
+            if leaving.is_some_and(|first| first <= s) || !segments_cross(a, b, c, d) {
+                return true;
+            }
+            // A segment from a point of a curved piece crosses the piece's chords right
+            // beside that point, within their sag: not a crossing of the boundary.
+            let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+            let x = a + (b - a) * (o1 / (o1 - o2));
+            let near_end = |p: DVec2| on_boundary(p) && x.distance(p) <= 1e3 * chord;
+            if !near_end(a) && !near_end(b) {
+                leaving = Some(s);
+            }
+            true
+        });
+        if let Some(s) = leaving {
+            let (i, a, b) = segments[s];
+            return Err(bad(format!(
+                "embedded line {i}'s segment from ({}, {}) to ({}, {}) leaves the region",
+                a.x, a.y, b.x, b.y
+            )));
         }
         // A line that ends on another line's segment (a T whose stem stops at the bar) splits
         // that segment there, as Triangle splits a segment through a vertex.
@@ -311,16 +333,25 @@ impl Region {
             .enumerate()
             .flat_map(|(i, l)| l.segments().map(move |(a, b)| (i, a, b)))
             .collect();
-        for (s, &(i, a, b)) in all.iter().enumerate() {
-            for &(j, c, d) in &all[s + 1..] {
-                if let Some(p) = meeting(a, b, c, d, off) {
-                    return Err(bad(format!(
-                        "embedded lines {i} and {j} cross or touch at ({}, {}); lines may \
-                         meet only at a vertex of both",
-                        p.x, p.y
-                    )));
+        // Pairs by a grid of their boxes padded by `off`; of the pairs that meet, the first in
+        // the order of the lines' segments is named.
+        let boxes: Vec<(DVec2, DVec2)> = all.iter().map(|&(_, a, b)| (a, b)).collect();
+        let mut first: Option<(usize, usize, DVec2)> = None;
+        crate::crossings::candidate_pairs(&boxes, off, |s, t| {
+            let ((_, a, b), (_, c, d)) = (all[s], all[t]);
+            if let Some(p) = meeting(a, b, c, d, off) {
+                if first.is_none_or(|(fs, ft, _)| (s, t) < (fs, ft)) {
+                    first = Some((s, t, p));
                 }
             }
+            true
+        });
+        if let Some((s, t, p)) = first {
+            return Err(bad(format!(
+                "embedded lines {} and {} cross or touch at ({}, {}); lines may meet only at a \
+                 vertex of both",
+                all[s].0, all[t].0, p.x, p.y
+            )));
         }
         if !new_corners.is_empty() {
             self = self.with_corners_at(&new_corners)?;

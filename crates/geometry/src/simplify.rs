@@ -4,15 +4,17 @@ use crate::error::GeometryError;
 use crate::piece::{douglas_peucker, Piece};
 use crate::predicates::closest_on_segment;
 use crate::region::Region;
+use crate::EmbeddedLine;
 use glam::DVec2;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 impl std::fmt::Display for Simplified {
     /// One line for a user: what was simplified, at which tolerance, and how far the new
     /// boundary is from the given one.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let (before, after) = self.vertices;
-        if before == after {
+        let (lines_before, lines_after) = self.line_vertices;
+        if before == after && lines_before == lines_after {
             return write!(
                 f,
                 "boundary: as given (no straight-edged loop has a vertex within {:.3e} of the rest)",
@@ -24,6 +26,9 @@ impl std::fmt::Display for Simplified {
             "boundary: simplified from {before} to {after} vertices at tolerance {:.3e}",
             self.tolerance
         )?;
+        if lines_before != lines_after {
+            write!(f, ", its lines inside from {lines_before} to {lines_after}")?;
+        }
         if self.tolerance < self.asked {
             write!(
                 f,
@@ -58,13 +63,18 @@ pub struct Simplified {
     pub deviation: f64,
     /// Boundary vertices before and after, over the simplified loops.
     pub vertices: (usize, usize),
+    /// The embedded lines' vertices before and after ([`Region::embedded_lines`]).
+    pub line_vertices: (usize, usize),
 }
 
 impl Region {
     /// The region with every loop made only of straight pieces (lines and chains: what
     /// polygon files give) simplified by Douglas–Peucker: each loop keeps the fewest of its
     /// own vertices such that every dropped vertex lies within `tolerance` of the result, and
-    /// at least three. Loops with curved pieces are kept as they are.
+    /// at least three. Loops with curved pieces are kept as they are. The embedded lines are
+    /// simplified alike, each keeping its ends, the vertices it shares with another line and
+    /// those on the boundary: a digitized interface of thousands of segments no longer forces a
+    /// vertex, and tiny angles, at each.
     ///
     /// The result is validated like any region: where the simplification made a loop cross
     /// itself or another loop, the tolerance is halved (up to 12 times) and
@@ -102,16 +112,19 @@ impl Region {
             .map(|l| self.straight_ring(l))
             .collect();
         let before: usize = rings.iter().flatten().map(Vec::len).sum();
+        let lines_before: usize = self.lines.iter().map(|l| l.points.len()).sum();
         let unchanged = Simplified {
             region: self.clone(),
             asked: tolerance,
             tolerance: 0.0,
             deviation: 0.0,
             vertices: (before, before),
+            line_vertices: (lines_before, lines_before),
         };
-        if tolerance == 0.0 || before == 0 {
+        if tolerance == 0.0 || before + lines_before == 0 {
             return Ok(unchanged);
         }
+        let line_fixed = self.line_vertices_to_keep();
         // Where the pieces carry markers, the vertices where the marker changes stay, and stay
         // corners, and each simplified edge keeps the marker of the edges it replaces.
         let ring_markers: Vec<Option<Vec<i64>>> = (0..self.loops.len())
@@ -143,6 +156,16 @@ impl Region {
             let mut markers = Vec::new();
             let mut corners = Vec::new();
             let (mut after, mut deviation) = (0, 0.0f64);
+            let lines: Vec<EmbeddedLine> = self
+                .lines
+                .iter()
+                .map(|line| {
+                    let (kept, d) = simplify_line(line, tol, &line_fixed);
+                    deviation = deviation.max(d);
+                    kept
+                })
+                .collect();
+            let lines_after: usize = lines.iter().map(|l| l.points.len()).sum();
             for (l, ring) in rings.iter().enumerate() {
                 let lp = &self.loops[l];
                 let pieces: Vec<Piece> = match ring {
@@ -184,7 +207,7 @@ impl Region {
                 }
                 loops.push((lp.role, pieces));
             }
-            if after == before {
+            if after == before && lines_after == lines_before {
                 return Ok(unchanged);
             }
             corners.sort_by_key(|p| (p.x.to_bits(), p.y.to_bits()));
@@ -206,7 +229,7 @@ impl Region {
                 let embedded = region
                     .clone()
                     .with_embedded_points(self.embedded.iter().copied())
-                    .and_then(|r| r.with_embedded_lines(self.lines.iter().cloned()))
+                    .and_then(|r| r.with_embedded_lines(lines))
                     .and_then(|r| r.with_subdomain_points(self.subdomains.iter().copied()));
                 let Ok(mut region) = embedded else {
                     tol *= 0.5;
@@ -221,11 +244,34 @@ impl Region {
                     tolerance: tol,
                     deviation,
                     vertices: (before, after),
+                    line_vertices: (lines_before, lines_after),
                 });
             }
             tol *= 0.5;
         }
         Ok(unchanged)
+    }
+
+    /// The vertices of the embedded lines that simplifying them keeps besides their ends: those
+    /// on the boundary (a wall is split there) and those two lines share (a junction).
+    fn line_vertices_to_keep(&self) -> HashSet<(u64, u64)> {
+        let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+        let off = 1e-9 * self.diameter();
+        let mut lines_at: HashMap<(u64, u64), usize> = HashMap::new();
+        for line in &self.lines {
+            let mut own: Vec<(u64, u64)> = line.points.iter().map(|&p| key(p)).collect();
+            own.sort_unstable();
+            own.dedup();
+            for k in own {
+                *lines_at.entry(k).or_insert(0) += 1;
+            }
+        }
+        self.lines
+            .iter()
+            .flat_map(|l| l.points.iter().copied())
+            .filter(|&p| lines_at[&key(p)] > 1 || self.signed_distance(p) > -off)
+            .map(key)
+            .collect()
     }
 
     /// Loop `l`'s vertices in order, if it is made of lines and chains only.
@@ -297,6 +343,65 @@ fn simplify_ring(ring: &[DVec2], tol: f64, fixed: &[usize]) -> Vec<DVec2> {
         kept.extend_from_slice(&part[..part.len() - 1]);
     }
     kept
+}
+
+/// `line` simplified by Douglas–Peucker at `tol`, keeping its ends and the vertices in `fixed`
+/// (a closed line as a ring, at least three vertices), and the largest distance from a dropped
+/// vertex to the result.
+fn simplify_line(
+    line: &EmbeddedLine,
+    tol: f64,
+    fixed: &HashSet<(u64, u64)>,
+) -> (EmbeddedLine, f64) {
+    let pts = &line.points;
+    let is_fixed = |p: DVec2| fixed.contains(&(p.x.to_bits(), p.y.to_bits()));
+    if line.is_closed() {
+        let ring = &pts[..pts.len() - 1];
+        let anchors: Vec<usize> = (0..ring.len()).filter(|&i| is_fixed(ring[i])).collect();
+        let mut kept = simplify_ring(ring, tol, &anchors);
+        let deviation = ring_deviation(ring, &kept);
+        // The ring starts where the line did, so that its first point is its last.
+        let start = kept.iter().position(|&p| p == pts[0]).unwrap_or(0);
+        kept.rotate_left(start);
+        kept.push(kept[0]);
+        return (
+            EmbeddedLine {
+                points: kept,
+                marker: line.marker,
+            },
+            deviation,
+        );
+    }
+    let mut points = vec![pts[0]];
+    let mut from = 0;
+    for i in 1..pts.len() {
+        if i == pts.len() - 1 || is_fixed(pts[i]) {
+            points.extend_from_slice(&douglas_peucker(&pts[from..=i], tol)[1..]);
+            from = i;
+        }
+    }
+    let deviation = polyline_deviation(pts, &points);
+    (
+        EmbeddedLine {
+            points,
+            marker: line.marker,
+        },
+        deviation,
+    )
+}
+
+/// The largest distance from a vertex of the open polyline `given` to `kept`, a subsequence of
+/// it with the same ends.
+fn polyline_deviation(given: &[DVec2], kept: &[DVec2]) -> f64 {
+    let mut worst = 0.0f64;
+    let mut j = 0;
+    for w in kept.windows(2) {
+        while j < given.len() && given[j] != w[1] {
+            worst = worst.max(closest_on_segment(w[0], w[1], given[j]).2.sqrt());
+            j += 1;
+        }
+    }
+    worst
 }
 
 /// The junctions of a loop's pieces where it turns (the corners a polygon file gets).
@@ -408,6 +513,62 @@ mod tests {
         let plain = poly.replace(&format!("{n} 1\n"), &format!("{n} 0\n"));
         let raw = crate::formats::poly_from_str(&plain, "wiggly.poly", "wiggly").unwrap();
         assert_eq!(raw.simplified(0.01).unwrap().vertices, (43, 4));
+    }
+
+    #[test]
+    fn digitized_lines_are_simplified_keeping_their_ends_junctions_and_closure() {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from);
+        let r = Region::from_loops("square", vec![(LoopRole::Outer, square.to_vec())]).unwrap();
+        // A wall-to-wall interface x = 0.5 wiggling by ±0.001 over 2001 points, a branch from
+        // its point (0.5, 0.5) to the right wall, and a wiggly closed inclusion.
+        let wiggle = |i: usize| 0.001 * (TAU * i as f64 / 9.0).sin();
+        let interface: Vec<DVec2> = (0..=2000)
+            .map(|i| {
+                let y = i as f64 / 2000.0;
+                DVec2::new(if i % 1000 == 0 { 0.5 } else { 0.5 + wiggle(i) }, y)
+            })
+            .collect();
+        let branch = vec![
+            DVec2::new(0.5, 0.5),
+            DVec2::new(0.75, 0.5),
+            DVec2::new(1.0, 0.5),
+        ];
+        let mut ring: Vec<DVec2> = wiggly_circle(600, 0.0005)
+            .iter()
+            .map(|p| DVec2::new(0.25, 0.5) + 0.1 * *p)
+            .collect();
+        ring.push(ring[0]);
+        let lines = [interface.clone(), branch, ring.clone()]
+            .map(|points| EmbeddedLine { points, marker: 3 });
+        let r = r.with_embedded_lines(lines).unwrap();
+        let s = r.simplified(0.01).unwrap();
+        let (before, after) = s.line_vertices;
+        assert_eq!(before, 2001 + 3 + 601);
+        assert!(after < 40, "{s}");
+        assert!(s
+            .to_string()
+            .contains(&format!("its lines inside from {before} to {after}")));
+        assert!(s.deviation <= 0.01, "{}", s.deviation);
+        let kept = s.region.embedded_lines();
+        // The straight interface's wiggles are all that was dropped from it.
+        let off = polyline_deviation(&interface, &kept[0].points);
+        assert!(off <= 0.001 + 1e-12 && off <= s.deviation, "{off}");
+        // The interface keeps its ends and the junction, the branch loses its middle vertex, the
+        // inclusion stays closed with at least three vertices, every line its marker.
+        let first = &kept[0].points;
+        assert_eq!(
+            (first[0], first[first.len() - 1]),
+            (interface[0], interface[2000])
+        );
+        assert!(first.contains(&DVec2::new(0.5, 0.5)));
+        assert_eq!(kept[1].points, [DVec2::new(0.5, 0.5), DVec2::new(1.0, 0.5)]);
+        assert!(kept[2].is_closed() && kept[2].points.len() >= 4);
+        assert!(kept.iter().all(|l| l.marker == 3));
+        // A tolerance below the wiggles keeps the interface's wiggles (only the vertices on
+        // the chord between their neighbours go).
+        let fine = r.simplified(1e-6).unwrap();
+        assert!(fine.region.embedded_lines()[0].points.len() > 1700);
+        assert!(fine.deviation <= 1e-6, "{}", fine.deviation);
     }
 
     #[test]

@@ -506,9 +506,11 @@ impl PyRegion {
         })
     }
 
-    /// The same region with every straight-edged loop simplified (Douglas–Peucker) so that
-    /// each dropped vertex lies within `tolerance` of the result; returns the region and the
-    /// largest distance between the given boundary and the simplified one. The corner angle
+    /// The same region with every straight-edged loop and every embedded line simplified
+    /// (Douglas–Peucker) so that each dropped vertex lies within `tolerance` of the result (a
+    /// line keeps its ends, its junctions with other lines and its points on the boundary);
+    /// returns the region and the largest distance between the given boundary or lines and
+    /// the simplified ones. The corner angle
     /// applied to this region applies to the result.
     fn simplified(&self, tolerance: f64) -> PyResult<(PyRegion, f64)> {
         let s = self.inner.simplified(tolerance).map_err(err)?;
