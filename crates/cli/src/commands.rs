@@ -50,13 +50,13 @@ pub struct MeshArgs {
     /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
     /// region of several parts each outer loop is followed by its holes), one boundary piece
     /// (`piece:J`, a wall: `cvtmesh regions REGION` lists them), the walls a `.poly` marks
-    /// with one number (`marker:M`, its segment marker) or a point (`point:X,Y`); repeat for
-    /// several. The size grows with the distance as
+    /// with one number (`marker:M`, its segment marker), a line inside (`line:L`, a material
+    /// interface: `regions` lists them too) or a point (`point:X,Y`); repeat for several. The size grows with the distance as
     /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
     /// --size-field is used [default: none].
     #[arg(
         long,
-        value_name = "loop:I|piece:J|marker:M|point:X,Y",
+        value_name = "loop:I|piece:J|marker:M|line:L|point:X,Y",
         conflicts_with = "density",
         requires = "size_threshold"
     )]
@@ -500,12 +500,12 @@ pub struct MeasureArgs {
     /// asks for [default: none].
     #[arg(long, value_name = "EXPR|MESH")]
     size_field: Option<String>,
-    /// As for `mesh`: measure against the distance field toward this loop, piece, marker or point (with
+    /// As for `mesh`: measure against the distance field toward this loop, piece, marker, line or point (with
     /// --size-threshold; the smaller of this and --size-field where both are given)
     /// [default: none].
     #[arg(
         long,
-        value_name = "loop:I|piece:J|marker:M|point:X,Y",
+        value_name = "loop:I|piece:J|marker:M|line:L|point:X,Y",
         requires = "size_threshold"
     )]
     size_toward: Vec<String>,

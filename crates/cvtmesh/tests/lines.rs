@@ -2,7 +2,7 @@
 //! followed by the edges of every mesh the methods that keep them make: no triangle crosses
 //! one, and each side's triangles cover exactly its share of the region.
 use cvtmesh::geometry::predicates::orient;
-use cvtmesh::geometry::{LoopRole, SizeField};
+use cvtmesh::geometry::{LoopRole, SizeField, Threshold};
 use cvtmesh::{
     check_conforming, line_edges, polish, DVec2, EmbeddedLine, MeshRequest, Method, Region,
 };
@@ -127,6 +127,49 @@ fn a_graded_mesh_follows_the_lines_at_the_local_spacing() {
     };
     let (h7, h8) = (mean(7), mean(8));
     assert!(h8 > 1.2 * h7, "interface {h7}, inclusion {h8}");
+}
+
+#[test]
+fn a_mesh_refined_toward_a_line_has_its_short_edges_along_it() {
+    let region = two_materials_and_an_inclusion();
+    // 0.01 along the interface (line 0), 0.08 from 0.3 away.
+    let t = Threshold {
+        size_min: 0.01,
+        size_max: 0.08,
+        dist_min: 0.0,
+        dist_max: 0.3,
+    };
+    let field = SizeField::threshold(&region, &["line:0".parse().unwrap()], t).unwrap();
+    let request = MeshRequest::size_field(&field, &region, None).unwrap();
+    let r = Method::Ccvt.run(&region, &request).unwrap();
+    assert_follows(&r.mesh, &region, "toward the interface");
+    let along: Vec<f64> = line_edges(&r.mesh, &region)
+        .unwrap()
+        .iter()
+        .filter(|e| e.1 == 7)
+        .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+        .collect();
+    let mean_along = along.iter().sum::<f64>() / along.len() as f64;
+    // Edges along the interface follow its 0.01 (within the unit mesh's √2); those by the left
+    // wall, 0.4 from it, the 0.08 far away.
+    assert!(
+        (0.01 / 2f64.sqrt()..0.01 * 2f64.sqrt()).contains(&mean_along),
+        "{mean_along}"
+    );
+    let by_wall: Vec<f64> = r
+        .mesh
+        .triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (r.mesh.points[a as usize], r.mesh.points[b as usize]))
+        .filter(|(p, q)| p.x.max(q.x) < 0.05)
+        .map(|(p, q)| p.distance(q))
+        .collect();
+    let mean_by_wall = by_wall.iter().sum::<f64>() / by_wall.len() as f64;
+    assert!(
+        mean_by_wall > 5.0 * mean_along,
+        "{mean_by_wall} by the wall, {mean_along} along"
+    );
 }
 
 #[test]

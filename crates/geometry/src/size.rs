@@ -89,7 +89,7 @@ pub enum SizeFieldError {
         dist_max: f64,
     },
     /// A distance target that is none of `loop:I`, `piece:J`, `marker:M`, `point:X,Y`.
-    #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J, marker:M or point:X,Y")]
+    #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J, marker:M, line:L or point:X,Y")]
     Toward(String),
     /// A distance field names a wall marker no piece of the region has.
     #[error("size field: no boundary piece is marked {marker} ({})", match markers.is_empty() {
@@ -110,6 +110,14 @@ pub enum SizeFieldError {
         index: usize,
         /// How many the region has.
         pieces: usize,
+    },
+    /// A distance field names an embedded line the region does not have.
+    #[error("size field: the region has {lines} embedded line{} (`cvtmesh regions REGION` lists them), so there is no line {index}", if *lines == 1 { "" } else { "s" })]
+    UnknownLine {
+        /// The line asked for.
+        index: usize,
+        /// How many the region has.
+        lines: usize,
     },
     /// A distance field with nothing to measure the distance to.
     #[error("size field: a distance field needs at least one loop or point to refine toward")]
@@ -747,19 +755,23 @@ pub enum Toward {
     /// Every piece with this marker, where the region file numbers its walls
     /// ([`Region::piece_markers`], a Triangle `.poly`'s segment markers).
     Marker(i64),
+    /// An embedded line (a material interface, a crack), numbered as
+    /// [`Region::embedded_lines`] lists them (`cvtmesh regions REGION` prints them).
+    Line(usize),
 }
 
 impl std::str::FromStr for Toward {
     type Err = SizeFieldError;
 
-    /// `loop:I` (0 the outer loop, then the holes), `piece:J`, `marker:M` or `point:X,Y`, as
-    /// the command line and the Python package take them.
+    /// `loop:I` (0 the outer loop, then the holes), `piece:J`, `marker:M`, `line:L` or
+    /// `point:X,Y`, as the command line and the Python package take them.
     ///
     /// ```
     /// use cvtmesh::geometry::{DVec2, Toward};
     /// assert_eq!("loop:1".parse::<Toward>()?, Toward::Loop(1));
     /// assert_eq!("piece:3".parse::<Toward>()?, Toward::Piece(3));
     /// assert_eq!("marker:-2".parse::<Toward>()?, Toward::Marker(-2));
+    /// assert_eq!("line:0".parse::<Toward>()?, Toward::Line(0));
     /// assert_eq!("point: 0.5, 0.25".parse::<Toward>()?, Toward::Point(DVec2::new(0.5, 0.25)));
     /// assert!("corner:1".parse::<Toward>().is_err());
     /// # Ok::<(), cvtmesh::geometry::SizeFieldError>(())
@@ -771,6 +783,7 @@ impl std::str::FromStr for Toward {
             "loop" => Ok(Toward::Loop(rest.trim().parse().map_err(|_| bad())?)),
             "piece" => Ok(Toward::Piece(rest.trim().parse().map_err(|_| bad())?)),
             "marker" => Ok(Toward::Marker(rest.trim().parse().map_err(|_| bad())?)),
+            "line" => Ok(Toward::Line(rest.trim().parse().map_err(|_| bad())?)),
             "point" => {
                 let (x, y) = rest.split_once(',').ok_or_else(bad)?;
                 let p = DVec2::new(
@@ -936,7 +949,8 @@ impl SizeField {
     }
 
     /// A distance field, as Gmsh's Distance + Threshold: h grows with the distance d to the
-    /// nearest of `toward` (boundary loops, points) as `threshold` says. Sampled once on a
+    /// nearest of `toward` (boundary loops, pieces, embedded lines, points) as `threshold`
+    /// says. Sampled once on a
     /// background grid over the region (at least 4 nodes per `size_min`, at most 1024 per
     /// side); distances to a loop are exact distances to its curved pieces.
     ///
@@ -973,6 +987,12 @@ impl SizeField {
                 Toward::Piece(index) if index >= pieces => {
                     return Err(SizeFieldError::UnknownPiece { index, pieces });
                 }
+                Toward::Line(index) if index >= region.embedded_lines().len() => {
+                    return Err(SizeFieldError::UnknownLine {
+                        index,
+                        lines: region.embedded_lines().len(),
+                    });
+                }
                 Toward::Marker(marker)
                     if !region.piece_markers().is_some_and(|m| m.contains(&marker)) =>
                 {
@@ -1004,22 +1024,46 @@ impl SizeField {
                         target_piece[j] |= pm == m;
                     }
                 }
-                Toward::Point(_) => {}
+                Toward::Point(_) | Toward::Line(_) => {}
             }
         }
         let to_loops = target_piece.iter().any(|&t| t);
+        // The target lines' segments, indexed for the nearest one: a digitized interface may
+        // have thousands, and the grid a million nodes.
+        let segments: Vec<(DVec2, DVec2)> = toward
+            .iter()
+            .filter_map(|t| match *t {
+                Toward::Line(l) => Some(&region.embedded_lines()[l]),
+                _ => None,
+            })
+            .flat_map(|line| line.segments())
+            .collect();
+        let boxes: Vec<(DVec2, DVec2)> = segments
+            .iter()
+            .map(|&(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        let to_lines = crate::index::Bvh::build(&boxes, (0..segments.len() as u32).collect());
         let distance = |p: DVec2| {
             let to_points = toward
                 .iter()
                 .filter_map(|t| match *t {
                     Toward::Point(q) => Some((p - q).length()),
-                    Toward::Loop(_) | Toward::Piece(_) | Toward::Marker(_) => None,
+                    Toward::Loop(_) | Toward::Piece(_) | Toward::Marker(_) | Toward::Line(_) => {
+                        None
+                    }
                 })
                 .fold(f64::INFINITY, f64::min);
+            let to_lines = to_lines
+                .nearest(p, |s, _| {
+                    let (a, b) = segments[s as usize];
+                    crate::predicates::closest_on_segment(a, b, p).2
+                })
+                .map_or(f64::INFINITY, |(_, d2)| d2.sqrt());
+            let near = to_points.min(to_lines);
             if to_loops {
-                to_points.min(region.distance_where(p, |piece| target_piece[piece]))
+                near.min(region.distance_where(p, |piece| target_piece[piece]))
             } else {
-                to_points
+                near
             }
         };
         // Up to a million nodes, each a nearest-piece query: in parallel, inside Ω only.
@@ -2166,6 +2210,56 @@ mod tests {
         let circle = Region::builtin("circle").unwrap();
         let e = SizeField::threshold(&circle, &[Toward::Marker(1)], t).unwrap_err();
         assert!(e.to_string().contains("numbers no walls"), "{e}");
+    }
+
+    #[test]
+    fn a_distance_field_toward_an_embedded_line_measures_the_distance_to_its_segments() {
+        // A bent interface (0.4, 0) → (0.6, 0.5) → (0.4, 1) across the unit square.
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from);
+        let line = crate::EmbeddedLine {
+            points: [(0.4, 0.0), (0.6, 0.5), (0.4, 1.0)]
+                .map(DVec2::from)
+                .to_vec(),
+            marker: 0,
+        };
+        let r = Region::from_loops("square", vec![(crate::LoopRole::Outer, square.to_vec())])
+            .unwrap()
+            .with_embedded_lines([line])
+            .unwrap();
+        let t = Threshold {
+            size_min: 0.01,
+            size_max: 0.1,
+            dist_min: 0.0,
+            dist_max: 0.5,
+        };
+        let h = SizeField::threshold(&r, &[Toward::Line(0)], t).unwrap();
+        let bend_to = |p: DVec2| {
+            [((0.4, 0.0), (0.6, 0.5)), ((0.6, 0.5), (0.4, 1.0))]
+                .map(|(a, b)| crate::predicates::closest_on_segment(a.into(), b.into(), p).2)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        };
+        for p in [
+            (0.6, 0.5),
+            (0.9, 0.5),
+            (0.1, 0.9),
+            (0.5, 0.25),
+            (0.95, 0.05),
+        ] {
+            let p = DVec2::from(p);
+            assert!(
+                (h.at(p) - t.at(bend_to(p))).abs() < 2e-3,
+                "{p}: {}",
+                h.at(p)
+            );
+        }
+        let e = SizeField::threshold(&r, &[Toward::Line(1)], t).unwrap_err();
+        assert!(matches!(
+            e,
+            SizeFieldError::UnknownLine { index: 1, lines: 1 }
+        ));
+        assert!(e.to_string().contains("1 embedded line (") && e.to_string().contains("no line 1"));
     }
 
     #[test]

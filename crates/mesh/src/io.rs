@@ -206,7 +206,7 @@ fn inner_lines(mesh: &Mesh, region: Option<&Region>) -> Vec<([u32; 2], i64)> {
 /// the mesh follows its lines).
 fn subdomains_of(mesh: &Mesh, region: Option<&Region>) -> Option<Vec<i64>> {
     region
-        .filter(|r| crate::subdomains::has_subdomains(r))
+        .filter(|r| crate::has_subdomains(r))
         .and_then(|r| crate::subdomains(mesh, r).ok())
 }
 

@@ -36,6 +36,6 @@ pub use polish::{
     Polished, GRADED_SPREAD, POLISH_BELOW_DEG,
 };
 pub use quadratic::Quadratic;
-pub use subdomains::{subdomain_points_of, subdomains};
+pub use subdomains::{has_subdomains, subdomain_points_of, subdomains};
 pub use thin::{thin_feature, ThinFeature};
 pub use types::{triangle_min_angle_deg, BoundaryEdge, Mesh, VertexMarker};

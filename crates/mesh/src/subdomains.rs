@@ -7,8 +7,17 @@ use geometry::{DVec2, Region};
 use std::collections::{HashMap, HashSet};
 
 /// Does a mesh of `region` have subdomains to number: embedded lines that part it, or points
-/// that number its parts? The writers number triangles only then.
-pub(crate) fn has_subdomains(region: &Region) -> bool {
+/// that number its parts? The files (and Python's `to_meshio`) number triangles only then, so
+/// that a region of one material writes its files as it always did.
+///
+/// ```
+/// use cvtmesh::geometry::{DVec2, Region};
+/// let disc = Region::builtin("circle")?;
+/// assert!(!cvtmesh::has_subdomains(&disc));
+/// assert!(cvtmesh::has_subdomains(&disc.with_subdomain_points([(DVec2::ZERO, 4)])?));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn has_subdomains(region: &Region) -> bool {
     !region.embedded_lines().is_empty() || !region.subdomain_points().is_empty()
 }
 

@@ -1122,6 +1122,21 @@ impl PyMesh {
         Ok(ids)
     }
 
+    /// `subdomains(region)` where the region has lines or subdomain points (what the files
+    /// number), else None: `to_meshio` adds cell data for the former only.
+    #[pyo3(signature = (region = None))]
+    fn _numbered_subdomains<'py>(
+        &self,
+        py: Python<'py>,
+        region: Option<&PyRegion>,
+    ) -> PyResult<Option<Bound<'py, PyArray1<i64>>>> {
+        let covered = self.region_or_covered(py, region, "subdomains")?;
+        if !cvtmesh::has_subdomains(&covered) {
+            return Ok(None);
+        }
+        self.subdomains(py, region).map(Some)
+    }
+
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file
     /// numbers its walls (`Region.piece_markers`, a Triangle `.poly`'s segment markers): the
     /// region the mesh was made for, or `region`. A `MeshError` where the region has none.
@@ -1311,7 +1326,7 @@ fn measures_dict<'py>(py: Python<'py>, m: &cvtmesh::Measures) -> PyResult<Bound<
 }
 
 /// Gmsh's Distance + Threshold: sizes from `threshold` = (h_min, h_max, d_min, d_max) by the
-/// distance to the loops and points of `toward` (`"loop:I"`, `"point:X,Y"`); `None` without
+/// distance to the loops, pieces, lines and points of `toward` (`"loop:I"`, `"line:L"`, `"point:X,Y"`); `None` without
 /// targets.
 fn distance_field(
     region: &Region,

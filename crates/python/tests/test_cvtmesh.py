@@ -1356,12 +1356,28 @@ def test_subdomain_points_number_the_triangles_the_files_and_meshio(tmp_path):
     assert mm.cell_data["gmsh:physical"][0].tolist() == ids.tolist()
     assert mm.field_data["subdomain_4"].tolist() == [4, 2]
     assert mm.cell_sets["subdomain_3"][0].tolist() == np.flatnonzero(ids == 3).tolist()
+    # A region of one material, or of two parts without lines, keeps its one surface.
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    two_parts = Region.from_parts([(square, []), (square + [2.0, 0.0], [])])
+    for plain in (cvtmesh.mesh("circle", n=200), cvtmesh.mesh(two_parts, n=200)):
+        assert "subdomain" not in plain.to_meshio().cell_data
     # The files keep them, and a mesh read back numbers its triangles as the file did.
     for name in ("m.msh", "m.node"):
         m.write(str(tmp_path / name))
         back = cvtmesh.Mesh.read(str(tmp_path / name))
         areas = _areas_by(back, back.subdomains())
         assert set(areas) == {3, 4} and all(abs(a - 0.5) < 1e-12 for a in areas.values()), (name, areas)
+
+
+def test_a_mesh_refined_toward_an_interface(tmp_path):
+    path = tmp_path / "two.poly"
+    path.write_text(INTERFACE_POLY)
+    m = cvtmesh.mesh(str(path), size_toward="line:0", size_threshold=(0.01, 0.08, 0.0, 0.3))
+    edges, _ = m.line_edges()
+    along = np.linalg.norm(np.diff(m.points[edges], axis=1)[:, 0], axis=1).mean()
+    assert 0.01 / np.sqrt(2) < along < 0.01 * np.sqrt(2), along
+    with pytest.raises(MeshError, match="no line 1"):
+        cvtmesh.mesh(str(path), size_toward="line:1", size_threshold=(0.01, 0.08, 0.0, 0.3))
 
 
 def test_bad_subdomain_points_raise_mesh_error():

@@ -146,7 +146,7 @@ def mesh(
         Refine toward boundary loops, pieces or points, as Gmsh's Distance + Threshold fields
         do: ``size_toward=["loop:1", "piece:0", "point:0.5,0.5"]`` (loop 0 is the outer
         boundary, then the holes; pieces are numbered as ``cvtmesh regions REGION`` lists
-        them; ``"marker:4"`` is every wall a ``.poly`` marks 4; one target may be a bare string) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
+        them; ``"marker:4"`` is every wall a ``.poly`` marks 4, ``"line:0"`` the first embedded line; one target may be a bare string) and ``size_threshold=(h_min, h_max, d_min, d_max)``: edge length ``h_min`` up
         to distance ``d_min``, ``h_max`` from ``d_max`` on, linear between. With ``size`` as
         well, the smaller of the two is used.
     simplify
@@ -365,11 +365,11 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
     # Each triangle's subdomain, where the region's lines part it or its points number it: a
     # physical surface per number (a number 0 or below takes a tag past the others).
     try:
-        parts = np.asarray(self.subdomains(region))
+        parts = self._numbered_subdomains(region)
     except MeshError:  # no region, or one whose lines the mesh does not follow
-        parts = np.ones(len(tris), dtype=np.int64)
-    # One part numbered 1 is the whole region's surface, as without subdomains.
-    if len(inner) or np.any(parts != 1):
+        parts = None
+    if parts is not None:
+        parts = np.asarray(parts)
         cell_data["subdomain"] = [parts] + [np.zeros(len(c[1]), dtype=np.int64) for c in cells[1:]]
         numbers = np.unique(parts).tolist()
         top = max([0] + [n for n in numbers if n > 0])
