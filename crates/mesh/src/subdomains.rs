@@ -98,10 +98,11 @@ pub fn subdomains(mesh: &Mesh, region: &Region) -> Result<Vec<i64>, MeshError> {
 /// its triangles as the file did. None where `numbers` is not one per triangle.
 ///
 /// ```
-/// use cvtmesh::{DVec2, Mesh};
+/// use cvtmesh::{io, DVec2, Mesh};
 /// // Two triangles of the unit square, numbered 10 and 20.
-/// let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
-/// let mesh = Mesh::from_triangles(square, vec![[0, 1, 2], [0, 2, 3]]);
+/// let points = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+/// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+/// let mesh = Mesh { markers: io::markers_from_topology(&points, &triangles), points, triangles };
 /// let points = cvtmesh::subdomain_points_of(&mesh, &[10, 20]);
 /// assert_eq!(points, [(DVec2::new(2.0, 1.0) / 3.0, 10), (DVec2::new(1.0, 2.0) / 3.0, 20)]);
 /// ```

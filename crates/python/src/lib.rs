@@ -235,6 +235,31 @@ fn marked_points(points: &[(DVec2, i64)]) -> Vec<((f64, f64), i64)> {
     points.iter().map(|&(p, m)| ((p.x, p.y), m)).collect()
 }
 
+/// The points of `points` (any array of shape (k, 2)), each with its number of `numbers`
+/// (k integers; 0 each where None), named `what` in the error for a count that differs.
+fn numbered_points(
+    points: &Bound<'_, PyAny>,
+    numbers: Option<Vec<i64>>,
+    what: &str,
+) -> PyResult<Vec<(DVec2, i64)>> {
+    let np = points.py().import("numpy")?;
+    let points: PyReadonlyArray2<'_, f64> = np
+        .call_method1("asarray", (points, "float64"))?
+        .call_method1("reshape", (-1, 2))?
+        .extract()
+        .map_err(|_| err("points must be an array of shape (k, 2)"))?;
+    let pts = points_of(&points, "points")?;
+    let numbers = numbers.unwrap_or_else(|| vec![0; pts.len()]);
+    if numbers.len() != pts.len() {
+        return Err(err(format!(
+            "{} points and {} {what}s; give one {what} per point",
+            pts.len(),
+            numbers.len()
+        )));
+    }
+    Ok(pts.into_iter().zip(numbers).collect())
+}
+
 /// Points of an (n, 2) float array, refusing other shapes and non-finite values.
 fn points_of(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
     let shape = a.shape();
@@ -618,28 +643,10 @@ impl PyRegion {
         points: Bound<'_, PyAny>,
         markers: Option<Vec<i64>>,
     ) -> PyResult<PyRegion> {
-        let np = points.py().import("numpy")?;
-        let points: PyReadonlyArray2<'_, f64> = np
-            .call_method1("asarray", (points, "float64"))?
-            .call_method1("reshape", (-1, 2))?
-            .extract()
-            .map_err(|_| err("points must be an array of shape (k, 2)"))?;
-        let pts = points_of(&points, "points")?;
-        let markers = markers.unwrap_or_else(|| vec![0; pts.len()]);
-        if markers.len() != pts.len() {
-            return Err(err(format!(
-                "{} points and {} markers; give one marker per point",
-                pts.len(),
-                markers.len()
-            )));
-        }
+        let pts = numbered_points(&points, markers, "marker")?;
         let region = (*self.inner).clone();
         Ok(PyRegion {
-            inner: Arc::new(
-                region
-                    .with_embedded_points(pts.into_iter().zip(markers))
-                    .map_err(err)?,
-            ),
+            inner: Arc::new(region.with_embedded_points(pts).map_err(err)?),
         })
     }
 
@@ -714,27 +721,10 @@ impl PyRegion {
     /// without a point gets 0, and where two points share a part the later one's id holds. A
     /// point outside the region, on its boundary or on a line raises `MeshError`.
     fn with_subdomain_points(&self, points: Bound<'_, PyAny>, ids: Vec<i64>) -> PyResult<PyRegion> {
-        let np = points.py().import("numpy")?;
-        let points: PyReadonlyArray2<'_, f64> = np
-            .call_method1("asarray", (points, "float64"))?
-            .call_method1("reshape", (-1, 2))?
-            .extract()
-            .map_err(|_| err("points must be an array of shape (k, 2)"))?;
-        let pts = points_of(&points, "points")?;
-        if ids.len() != pts.len() {
-            return Err(err(format!(
-                "{} points and {} ids; give one id per point",
-                pts.len(),
-                ids.len()
-            )));
-        }
+        let pts = numbered_points(&points, Some(ids), "id")?;
         let region = (*self.inner).clone();
         Ok(PyRegion {
-            inner: Arc::new(
-                region
-                    .with_subdomain_points(pts.into_iter().zip(ids))
-                    .map_err(err)?,
-            ),
+            inner: Arc::new(region.with_subdomain_points(pts).map_err(err)?),
         })
     }
 
