@@ -325,3 +325,35 @@ fn a_laminate_whose_interfaces_meet_the_walls_at_three_and_seven_tenths_is_meshe
         }
     }
 }
+
+#[test]
+fn a_chord_of_a_disc_ending_inside_its_arc_is_followed_whatever_the_corner_angle() {
+    // One arc round the whole disc, and a chord ending at 30° and 150°: the arc is split at
+    // each end, where it runs smoothly on, and both ends stay corners of the default angle.
+    let json = r#"{"loops": [{"segments": [{"kind": "arc", "center": [0, 0], "radius": 1,
+        "from_deg": -90, "to_deg": 270}]}],
+        "lines": [{"points": [[0.8660254037844387, 0.5], [-0.8660254037844387, 0.5]]}]}"#;
+    let region = Region::from_json_str(json, "chord")
+        .unwrap()
+        .with_default_corners();
+    assert_eq!(region.corners().len(), 2);
+    let ends = region.embedded_lines()[0].points.clone();
+    assert!(ends
+        .iter()
+        .all(|p| region.corners().iter().any(|c| c.pos == *p)));
+    for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+        let r = method
+            .run(&region, &MeshRequest::points(1000))
+            .unwrap_or_else(|e| panic!("{method}: {e}"));
+        check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
+        let along: f64 = line_edges(&r.mesh, &region)
+            .unwrap()
+            .iter()
+            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+            .sum();
+        assert!(
+            (along - ends[0].distance(ends[1])).abs() < 1e-12,
+            "{method}: {along}"
+        );
+    }
+}

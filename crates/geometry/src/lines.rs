@@ -355,6 +355,24 @@ impl Region {
         }
         if !new_corners.is_empty() {
             self = self.with_corners_at(&new_corners)?;
+            // An arc split at a line's end ends at its own point of that angle, a rounding
+            // away from the line's: the line ends where the pieces meet, so that the corner is
+            // the line's vertex (kept whatever the corner angle) and the mesh's.
+            let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+            let exact: std::collections::HashMap<(u64, u64), DVec2> = new_corners
+                .iter()
+                .filter_map(|&q| {
+                    let c = self.corners.iter().find(|c| c.pos.distance(q) <= off)?;
+                    Some((key(q), c.pos))
+                })
+                .collect();
+            for line in self.lines.iter_mut().chain(added.iter_mut()) {
+                for p in &mut line.points {
+                    if let Some(&c) = exact.get(&key(*p)) {
+                        *p = c;
+                    }
+                }
+            }
         }
         self.lines.extend(added);
         if self.markers.is_empty() && self.lines.iter().any(|l| l.marker != 0) {
