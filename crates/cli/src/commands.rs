@@ -50,7 +50,7 @@ pub struct MeshArgs {
     /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
     /// region of several parts each outer loop is followed by its holes), one boundary piece
     /// (`piece:J`, a wall: `cvtmesh regions REGION` lists them), the walls a `.poly` marks
-    /// with one number (`marker:M`, its segment marker), a line inside (`line:L`, a material
+    /// with one number (`marker:M`, its segment marker; lines so marked too), a line inside (`line:L`, a material
     /// interface: `regions` lists them too) or a point (`point:X,Y`); repeat for several. The size grows with the distance as
     /// --size-threshold says (Gmsh's Distance + Threshold), and the smaller of this and
     /// --size-field is used [default: none].

@@ -164,6 +164,9 @@ fn bad_subdomain_points_are_refused_by_name() {
     };
     let ok = Region::from_json_str(&json(r#"[{"point": [0.25, 0.5], "id": 4}]"#), "r").unwrap();
     assert_eq!(ok.subdomain_points(), &[(DVec2::new(0.25, 0.5), 4)]);
+    // A whole number written as a float is that number, as in a .poly.
+    let float = Region::from_json_str(&json(r#"[{"point": [0.25, 0.5], "id": 4.0}]"#), "r");
+    assert_eq!(float.unwrap().subdomain_points(), ok.subdomain_points());
     for (given, said) in [
         (r#"[{"point": [0.5, 0.5], "id": 4}]"#, "on an embedded line"),
         (r#"[{"point": [2, 0.5], "id": 4}]"#, "outside the region"),
@@ -192,4 +195,11 @@ fn bad_subdomain_points_are_refused_by_name() {
         "{e}"
     );
     assert!(e.contains("line 24"), "{e}");
+    // A region without its attribute is refused, as Triangle refuses it.
+    let bare = LAMINATE.replace("2 0.5 0.5 20 -1", "2 0.5 0.5");
+    let e = poly_from_str(&bare, "l.poly", "l").unwrap_err().to_string();
+    assert!(
+        e.contains("missing a regional attribute") && e.contains("line 24"),
+        "{e}"
+    );
 }

@@ -304,8 +304,15 @@ fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64)>, String> {
             };
             let point = point(field("point")?, &format!("{ctx}.point"))?;
             let id = field("id")?;
+            // A whole number written as a float (3.0, as a .poly's attributes are) is that
+            // number.
             let id = id
                 .as_i64()
+                .or_else(|| {
+                    id.as_f64()
+                        .filter(|v| v.fract() == 0.0 && v.abs() < 9e15)
+                        .map(|v| v as i64)
+                })
                 .ok_or_else(|| format!("{ctx}.id is {id}; expected an integer"))?;
             Ok((point, id))
         })

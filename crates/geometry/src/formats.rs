@@ -1081,20 +1081,19 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
             coord(label, line, t.get(1), "x")?,
             coord(label, line, t.get(2), "y")?,
         );
-        if t.get(3).is_some() {
-            let a: f64 = num(label, line, t.get(3), "a regional attribute")?;
-            if a.fract() != 0.0 || a.abs() > f64::from(i32::MAX) {
-                return Err(parse_err(
-                    label,
-                    line,
-                    format!(
-                        "regional attribute {a} is not a whole number within 32 bits: \
-                         cvtmesh numbers subdomains by integers, as Gmsh's physical surfaces"
-                    ),
-                ));
-            }
-            subdomains.push((p, a as i64));
+        // Triangle reads x, y, the attribute and the area bound of every region.
+        let a: f64 = num(label, line, t.get(3), "a regional attribute")?;
+        if a.fract() != 0.0 || a.abs() > f64::from(i32::MAX) {
+            return Err(parse_err(
+                label,
+                line,
+                format!(
+                    "regional attribute {a} is not a whole number within 32 bits: \
+                     cvtmesh numbers subdomains by integers, as Gmsh's physical surfaces"
+                ),
+            ));
         }
+        subdomains.push((p, a as i64));
         if t.get(4)
             .and_then(|s| s.parse::<f64>().ok())
             .is_some_and(|x| x > 0.0)

@@ -32,7 +32,8 @@ impl std::fmt::Display for Simplified {
         if self.tolerance < self.asked {
             write!(
                 f,
-                " (lowered from {:.3e}, where loops would have crossed)",
+                " (lowered from {:.3e}, where loops would have crossed or a line passed a \
+                 subdomain point)",
                 self.asked
             )?;
         }
@@ -150,7 +151,21 @@ impl Region {
             })
             .collect();
         let marked = self.piece_markers().is_some() || !self.lines.is_empty();
-        let mut tol = tolerance;
+        // A simplified line stays within the tolerance of the given one, so it can pass a
+        // subdomain point, and number the part beyond it, only where the point is nearer than
+        // that: the tolerance stays below half the nearest such distance.
+        let nearest_point = self
+            .subdomains
+            .iter()
+            .flat_map(|&(p, _)| {
+                self.lines.iter().flat_map(move |l| {
+                    l.segments()
+                        .map(move |(a, b)| closest_on_segment(a, b, p).2)
+                })
+            })
+            .fold(f64::INFINITY, f64::min)
+            .sqrt();
+        let mut tol = tolerance.min(0.5 * nearest_point);
         for _ in 0..=RETRIES {
             let mut loops = Vec::with_capacity(self.loops.len());
             let mut markers = Vec::new();
@@ -569,6 +584,41 @@ mod tests {
         let fine = r.simplified(1e-6).unwrap();
         assert!(fine.region.embedded_lines()[0].points.len() > 1700);
         assert!(fine.deviation <= 1e-6, "{}", fine.deviation);
+    }
+
+    #[test]
+    fn a_simplified_line_does_not_pass_a_subdomain_point() {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from);
+        let wave = |x: f64| 0.5 + 0.1 * (TAU * x).sin();
+        let line = EmbeddedLine {
+            points: (0..=2000)
+                .map(|i| i as f64 / 2000.0)
+                .map(|x| DVec2::new(x, wave(x)))
+                .collect(),
+            marker: 0,
+        };
+        // A point 0.0024 below the wave, where a chord at tolerance 0.01 passes above it.
+        let below = DVec2::new(0.2134, 0.595);
+        assert!(wave(below.x) - below.y > 0.002);
+        let r = Region::from_loops("square", vec![(LoopRole::Outer, square.to_vec())])
+            .unwrap()
+            .with_embedded_lines([line])
+            .unwrap()
+            .with_subdomain_points([(below, 1), (DVec2::new(0.5, 0.95), 2)])
+            .unwrap();
+        let s = r.simplified(0.01).unwrap();
+        assert!(s.tolerance < 0.5 * 0.0025, "{s}");
+        assert!(
+            s.to_string().contains("a line passed a subdomain point"),
+            "{s}"
+        );
+        let kept = &s.region.embedded_lines()[0].points;
+        assert!(kept.len() < 200, "{}", kept.len());
+        // The simplified wave still passes above the point.
+        let k = kept.iter().position(|p| p.x > below.x).unwrap();
+        let (a, b) = (kept[k - 1], kept[k]);
+        let at = a.y + (b.y - a.y) * (below.x - a.x) / (b.x - a.x);
+        assert!(at > below.y, "the line passes {at} at the point {below}");
     }
 
     #[test]

@@ -92,7 +92,7 @@ pub enum SizeFieldError {
     #[error("'{0}': expected loop:I (0 = outer, then the holes), piece:J, marker:M, line:L or point:X,Y")]
     Toward(String),
     /// A distance field names a wall marker no piece of the region has.
-    #[error("size field: no boundary piece is marked {marker} ({})", match markers.is_empty() {
+    #[error("size field: no boundary piece or line is marked {marker} ({})", match markers.is_empty() {
         true => "the region numbers no walls: a .poly's segment markers, a JSON segment's \
                  \"marker\" or markers given with the loops number them".to_string(),
         false => format!("the region's markers are {}", markers.iter().map(i64::to_string).collect::<Vec<_>>().join(", ")),
@@ -753,7 +753,8 @@ pub enum Toward {
     /// A point (a source, a re-entrant corner).
     Point(DVec2),
     /// Every piece with this marker, where the region file numbers its walls
-    /// ([`Region::piece_markers`], a Triangle `.poly`'s segment markers).
+    /// ([`Region::piece_markers`], a Triangle `.poly`'s segment markers), and every embedded
+    /// line with it.
     Marker(i64),
     /// An embedded line (a material interface, a crack), numbered as
     /// [`Region::embedded_lines`] lists them (`cvtmesh regions REGION` prints them).
@@ -994,9 +995,11 @@ impl SizeField {
                     });
                 }
                 Toward::Marker(marker)
-                    if !region.piece_markers().is_some_and(|m| m.contains(&marker)) =>
+                    if !region.piece_markers().is_some_and(|m| m.contains(&marker))
+                        && !region.embedded_lines().iter().any(|l| l.marker == marker) =>
                 {
                     let mut markers = region.piece_markers().unwrap_or_default().to_vec();
+                    markers.extend(region.embedded_lines().iter().map(|l| l.marker));
                     markers.sort_unstable();
                     markers.dedup();
                     return Err(SizeFieldError::UnknownMarker { marker, markers });
@@ -1030,13 +1033,17 @@ impl SizeField {
         let to_loops = target_piece.iter().any(|&t| t);
         // The target lines' segments, indexed for the nearest one: a digitized interface may
         // have thousands, and the grid a million nodes.
-        let segments: Vec<(DVec2, DVec2)> = toward
-            .iter()
-            .filter_map(|t| match *t {
-                Toward::Line(l) => Some(&region.embedded_lines()[l]),
-                _ => None,
+        let lines = region.embedded_lines();
+        let segments: Vec<(DVec2, DVec2)> = (0..lines.len())
+            .filter(|&l| {
+                toward.iter().any(|t| match *t {
+                    Toward::Line(i) => i == l,
+                    // A marker names the lines it marks as well as the walls.
+                    Toward::Marker(m) => lines[l].marker == m,
+                    _ => false,
+                })
             })
-            .flat_map(|line| line.segments())
+            .flat_map(|l| lines[l].segments())
             .collect();
         let boxes: Vec<(DVec2, DVec2)> = segments
             .iter()
@@ -2254,6 +2261,21 @@ mod tests {
                 h.at(p)
             );
         }
+        // A marker names the lines it marks too.
+        let marked = r
+            .clone()
+            .with_embedded_lines([crate::EmbeddedLine {
+                points: vec![DVec2::new(0.1, 0.2), DVec2::new(0.2, 0.2)],
+                marker: 5,
+            }])
+            .unwrap();
+        let by_marker = SizeField::threshold(&marked, &[Toward::Marker(5)], t).unwrap();
+        let p = DVec2::new(0.15, 0.5);
+        assert!(
+            (by_marker.at(p) - t.at(0.3)).abs() < 2e-3,
+            "{}",
+            by_marker.at(p)
+        );
         let e = SizeField::threshold(&r, &[Toward::Line(1)], t).unwrap_err();
         assert!(matches!(
             e,

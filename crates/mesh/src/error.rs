@@ -307,9 +307,10 @@ fn too_few_points(
         }
         None => s += "; ask for more points",
     }
-    if corners > 0 {
+    if corners > 0 || embedded > 0 {
         s += ", keep only the sharper corners (corner_angle, --corner-angle), or simplify a \
-              digitized boundary to the mesh's scale (simplify \"auto\", --simplify auto)";
+              digitized boundary or line inside to the mesh's scale (simplify \"auto\", \
+              --simplify auto)";
     }
     s
 }

@@ -1071,15 +1071,17 @@ impl PyMesh {
     /// The edges along the region's embedded lines (`Region.embedded_lines`), line by line
     /// and in order along each: `(edges, markers)`, an (E, 2) int64 array of vertex indices
     /// and the (E,) markers of their lines: where an interface condition or a flux across a
-    /// crack is set. Against the region the mesh was made for, or `region`; a `MeshError`
-    /// where the mesh does not follow a line.
+    /// crack is set. Against the region the mesh was made for, or `region`; for a mesh read
+    /// from a file, the lines the file keeps inside it (a `.poly`'s internal segments, an
+    /// `.ele`'s materials, Gmsh's physical surfaces). A `MeshError` where the mesh does not
+    /// follow a line.
     #[pyo3(signature = (region = None))]
     fn line_edges<'py>(
         &self,
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<EdgesAndMarkers<'py>> {
-        let region = self.region_or(region, "line_edges")?;
+        let region = self.region_or_covered(py, region, "line_edges")?;
         let edges = py
             .detach(|| cvtmesh::line_edges(&self.mesh, &region))
             .map_err(err)?;
