@@ -118,6 +118,16 @@ fn the_files_carry_the_numbers_and_a_new_mesh_of_a_file_keeps_them() {
             &format!("{name} meshed again"),
         );
     }
+    // The .poly beside the .node lists a point in each subdomain with its number, as
+    // Triangle's regional attributes: read as a region (Triangle's `-pA` input), it gives the
+    // same numbers to a new mesh.
+    let poly = Region::from_file(&dir.join("m.poly")).unwrap();
+    let mut numbers: Vec<i64> = poly.subdomain_points().iter().map(|p| p.1).collect();
+    numbers.sort_unstable();
+    assert_eq!(numbers, [10, 10, 20]);
+    let again = cvtmesh::mesh(&poly, 500).unwrap().mesh;
+    let ids = subdomains(&again, &poly).unwrap();
+    assert_layers(&area_by_number(&again, &ids), "the written .poly meshed");
     // VTK's cells carry them as a cell array.
     let vtu = dir.join("m.vtu");
     write_mesh_on(&mesh, &region, &vtu).unwrap();
