@@ -225,7 +225,10 @@ pub(crate) fn write_nodes(nodes: &Nodes, base: &Path) -> Result<(), MeshError> {
         // this file numbers its triangles as the `.ele` beside it does.
         if let Some(ids) = &nodes.subdomains {
             let points = crate::subdomain_points_of(nodes.linear, ids);
-            writeln!(w, "# regional attributes: a point in each subdomain, its number")?;
+            writeln!(
+                w,
+                "# regional attributes: a point in each subdomain, its number"
+            )?;
             writeln!(w, "{}", points.len())?;
             for (r, (p, id)) in points.iter().enumerate() {
                 writeln!(w, "{} {} {} {id} -1", r + 1, F(p.x), F(p.y))?;
