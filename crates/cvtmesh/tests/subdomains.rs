@@ -101,7 +101,7 @@ fn the_files_carry_the_numbers_and_a_new_mesh_of_a_file_keeps_them() {
     let mesh = cvtmesh::mesh(&region, 300).unwrap().mesh;
     let dir = std::env::temp_dir().join(format!("cvtmesh-subdomains-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    for name in ["m.node", "m.msh"] {
+    for name in ["m.node", "m.msh", "m.vtu"] {
         let path = dir.join(name);
         write_mesh_on(&mesh, &region, &path).unwrap();
         let (read, walls) = read_mesh_with_walls(&path).unwrap();

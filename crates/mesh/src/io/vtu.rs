@@ -156,7 +156,8 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
 /// their corners) make the mesh; vertices and lines are skipped; any other cell is an error.
 /// z must be 0. Markers come from the mesh topology ([`super::markers_from_topology`]); the
 /// file's point data (`boundary_marker`, `wall_marker`) is not read, and a `.vtu` carries no
-/// walls.
+/// walls; a cell array `subdomain` (whole numbers, as cvtmesh writes it) numbers the triangles'
+/// parts ([`super::read_mesh_with_walls`]).
 pub fn read_vtu(path: &Path) -> Result<Mesh, MeshError> {
     read_vtu_file(path).map(|f| f.mesh)
 }
@@ -198,13 +199,19 @@ pub fn vtu_from_bytes(bytes: &[u8]) -> Result<Mesh, MeshError> {
     Ok(parse(bytes, Path::new("mesh.vtu"))?.mesh)
 }
 
-/// [`read_vtu`], with the triangles' node count and a six-node file's edge nodes; no walls.
+/// [`read_vtu`], with the triangles' node count and a six-node file's edge nodes; no walls
+/// but the parts a `subdomain` cell array numbers (as [`super::write_mesh_on`] writes it): the
+/// edges between two of them are inner lines, and their numbers the triangles' subdomains.
 pub(crate) fn read_vtu_file(path: &Path) -> Result<MeshFile, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| io_err(path, "read", e))?;
     let parsed = parse(&bytes, path)?;
     Ok(MeshFile {
+        walls: Walls {
+            inner: super::inner_edges(&parsed.mesh, &parsed.subdomains, &[]),
+            subdomains: parsed.subdomains,
+            ..Walls::default()
+        },
         mesh: parsed.mesh,
-        walls: Walls::default(),
         triangle_nodes: parsed.triangle_nodes,
         edge_nodes: parsed.edge_nodes,
     })
@@ -215,6 +222,8 @@ struct Parsed {
     mesh: Mesh,
     triangle_nodes: usize,
     edge_nodes: Vec<([u32; 2], DVec2)>,
+    /// Each triangle's number from the `subdomain` cell array (empty without one).
+    subdomains: Vec<i64>,
 }
 
 /// A VTK cell type's name, for the refusal of a cell that is no triangle.
@@ -356,13 +365,14 @@ enum Format {
     Appended(u64),
 }
 
-/// The arrays of a piece that make the mesh.
+/// The arrays of a piece that make the mesh, and the cell array that numbers its parts.
 #[derive(Clone, Copy, PartialEq)]
 enum Role {
     Points,
     Connectivity,
     Offsets,
     Types,
+    Subdomain,
 }
 
 impl Role {
@@ -372,6 +382,7 @@ impl Role {
             Role::Connectivity => "connectivity",
             Role::Offsets => "offsets",
             Role::Types => "types",
+            Role::Subdomain => "subdomain",
         }
     }
 }
@@ -436,6 +447,8 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, MeshError> {
     // Six-node triangles' edge nodes: triangle, its edge (from corner k to k + 1), node.
     let mut edge_places: Vec<(usize, usize, u32)> = Vec::new();
     let mut quadratic = false;
+    // Each triangle's number where every piece with triangles has a `subdomain` cell array.
+    let mut numbers: Option<Vec<f64>> = Some(Vec::new());
     for (k, piece) in pieces.iter().enumerate() {
         let at = |m: String| {
             if pieces.len() > 1 {
@@ -495,6 +508,21 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, MeshError> {
         let conn = uints(need(Role::Connectivity)?, &layout).map_err(at)?;
         let offsets = uints(need(Role::Offsets)?, &layout).map_err(at)?;
         let types = uints(need(Role::Types)?, &layout).map_err(at)?;
+        let cell_numbers = match piece.array(Role::Subdomain) {
+            Some(a) => {
+                let v = floats(a, &layout).map_err(at)?;
+                if v.len() as u64 != piece.cells {
+                    return Err(at(format!(
+                        "line {}: the subdomain array holds {} values for NumberOfCells=\"{}\"",
+                        a.line,
+                        v.len(),
+                        piece.cells
+                    )));
+                }
+                Some(v)
+            }
+            None => None,
+        };
         if types.len() as u64 != piece.cells {
             return Err(at(format!(
                 "{} cell types for NumberOfCells=\"{}\"",
@@ -577,6 +605,10 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, MeshError> {
                 }
             };
             triangles.push(corners);
+            match (&mut numbers, &cell_numbers) {
+                (Some(n), Some(v)) => n.push(v[c]),
+                _ => numbers = None,
+            }
         }
         if start != conn.len() as u64 {
             return Err(at(format!(
@@ -611,10 +643,16 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Parsed, MeshError> {
         edge_nodes.sort_unstable_by_key(|e| e.0);
         edge_nodes.dedup_by_key(|e| e.0);
     }
+    let bits: Vec<i64> = numbers
+        .unwrap_or_default()
+        .iter()
+        .map(|v| v.to_bits() as i64)
+        .collect();
     Ok(Parsed {
         mesh: read_mesh_parts(points, triangles, None),
         triangle_nodes: if quadratic { 6 } else { 3 },
         edge_nodes,
+        subdomains: super::whole_numbers(&bits),
     })
 }
 
@@ -1122,6 +1160,9 @@ fn scan(s: &[u8]) -> Result<(Layout<'_>, Vec<Piece>), String> {
                             }
                             (b"Piece", Some(b"Cells"), Some(b"offsets")) => Some(Role::Offsets),
                             (b"Piece", Some(b"Cells"), Some(b"types")) => Some(Role::Types),
+                            (b"Piece", Some(b"CellData"), Some(b"subdomain")) => {
+                                Some(Role::Subdomain)
+                            }
                             _ => None,
                         };
                         if let Some(role) = role {
