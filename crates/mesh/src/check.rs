@@ -375,8 +375,9 @@ impl std::fmt::Display for Slivers {
             f,
             "{} of {} triangles have an angle under {SLIVER_ANGLE_DEG}° (the smallest {smallest}° near ({:.6}, {:.6})): \
              the region is about as narrow as the spacing there at K = {}, or points the mesh \
-             must keep (corners, embedded points) lie that close; ask for more points, or use \
-             another method",
+             must keep (corners, embedded points, the vertices of a line inside) lie that \
+             close; ask for more points, simplify a digitized boundary or line to the mesh's \
+             scale (simplify \"auto\", --simplify auto), or use another method",
             self.count, self.triangles, self.at.x, self.at.y, self.points
         )
     }
