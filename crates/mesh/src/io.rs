@@ -202,12 +202,18 @@ fn inner_lines(mesh: &Mesh, region: Option<&Region>) -> Vec<([u32; 2], i64)> {
         .unwrap_or_default()
 }
 
-/// Each triangle's subdomain, for the writers, where `region` has subdomains to number (and
-/// the mesh follows its lines).
-fn subdomains_of(mesh: &Mesh, region: Option<&Region>) -> Option<Vec<i64>> {
-    region
-        .filter(|r| crate::has_subdomains(r))
-        .and_then(|r| crate::subdomains(mesh, r).ok())
+/// Each triangle's subdomain, for the writers, where `region` has subdomains to number and
+/// the mesh follows its lines (`inner`: [`inner_lines`], empty where it does not).
+fn subdomains_of(
+    mesh: &Mesh,
+    region: Option<&Region>,
+    inner: &[([u32; 2], i64)],
+) -> Option<Vec<i64>> {
+    let region = region.filter(|r| crate::has_subdomains(r))?;
+    if inner.is_empty() && !region.embedded_lines().is_empty() {
+        return None;
+    }
+    Some(crate::subdomains::subdomains_cut_by(mesh, region, inner))
 }
 
 /// The region's physical surface, for the writers.
@@ -222,6 +228,7 @@ impl<'a> Nodes<'a> {
     /// `region` if given.
     pub fn linear(mesh: &'a Mesh, region: Option<&Region>) -> Nodes<'a> {
         let (groups, pieces, _) = edges_and_pieces_by_loop(mesh, region);
+        let inner = inner_lines(mesh, region);
         Nodes {
             pieces,
             piece_markers: region.and_then(Region::piece_markers).map(<[i64]>::to_vec),
@@ -229,11 +236,11 @@ impl<'a> Nodes<'a> {
             corner_markers: corner_markers(region),
             embedded: marked_embedded(region),
             surface_group: surface_group_of(region),
-            inner: inner_lines(mesh, region)
+            subdomains: subdomains_of(mesh, region, &inner),
+            inner: inner
                 .into_iter()
                 .map(|([a, b], m)| (vec![a, b], m))
                 .collect(),
-            subdomains: subdomains_of(mesh, region),
             points: &mesh.points,
             markers: &mesh.markers,
             triangles: mesh.triangles.iter().map(|t| &t[..]).collect(),
@@ -248,6 +255,7 @@ impl<'a> Nodes<'a> {
     /// The nodes of a mesh of six-node triangles.
     pub fn quadratic(q: &'a Quadratic) -> Nodes<'a> {
         let (groups, pieces, _) = edges_and_pieces_by_loop(q.linear(), q.region());
+        let inner = inner_lines(q.linear(), q.region());
         Nodes {
             pieces,
             piece_markers: q
@@ -258,14 +266,14 @@ impl<'a> Nodes<'a> {
             corner_markers: corner_markers(q.region()),
             embedded: marked_embedded(q.region()),
             surface_group: surface_group_of(q.region()),
-            inner: inner_lines(q.linear(), q.region())
+            subdomains: subdomains_of(q.linear(), q.region(), &inner),
+            inner: inner
                 .into_iter()
                 .map(|([a, b], m)| {
                     let mid = q.edge_node(a, b).expect("a line's piece is an edge");
                     (vec![a, b, mid], m)
                 })
                 .collect(),
-            subdomains: subdomains_of(q.linear(), q.region()),
             points: &q.points,
             markers: &q.markers,
             triangles: q.triangles.iter().map(|t| &t[..]).collect(),

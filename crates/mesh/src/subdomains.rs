@@ -48,9 +48,19 @@ pub fn has_subdomains(region: &Region) -> bool {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn subdomains(mesh: &Mesh, region: &Region) -> Result<Vec<i64>, MeshError> {
-    let cuts: HashSet<[u32; 2]> = line_edges(mesh, region)?
-        .into_iter()
-        .map(|([a, b], _)| [a.min(b), a.max(b)])
+    Ok(subdomains_cut_by(mesh, region, &line_edges(mesh, region)?))
+}
+
+/// [`subdomains`] with the mesh's edges along the region's lines given (`line_edges`, which
+/// a writer has found already).
+pub(crate) fn subdomains_cut_by(
+    mesh: &Mesh,
+    region: &Region,
+    line_edges: &[([u32; 2], i64)],
+) -> Vec<i64> {
+    let cuts: HashSet<[u32; 2]> = line_edges
+        .iter()
+        .map(|&([a, b], _)| [a.min(b), a.max(b)])
         .collect();
     let roots = components(mesh, |_, _, edge| !cuts.contains(&edge));
     let points = region.subdomain_points();
@@ -77,7 +87,7 @@ pub fn subdomains(mesh: &Mesh, region: &Region) -> Result<Vec<i64>, MeshError> {
             .enumerate()
             .map(|(k, &(r, _))| (r, k as i64 + 1))
             .collect();
-        return Ok(roots.iter().map(|r| number[r]).collect());
+        return roots.iter().map(|r| number[r]).collect();
     }
     let mut number: HashMap<usize, i64> = HashMap::new();
     for &(p, id) in points {
@@ -85,10 +95,10 @@ pub fn subdomains(mesh: &Mesh, region: &Region) -> Result<Vec<i64>, MeshError> {
             number.insert(roots[t], id);
         }
     }
-    Ok(roots
+    roots
         .iter()
         .map(|r| number.get(r).copied().unwrap_or(0))
-        .collect())
+        .collect()
 }
 
 /// One point in each part of `mesh` whose triangles a file numbers alike (`numbers`, one per
