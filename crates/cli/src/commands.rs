@@ -910,8 +910,11 @@ pub fn regions(a: RegionsArgs) -> Result<()> {
         );
     }
     for &(p, id) in region.subdomain_points() {
+        let name = region
+            .subdomain_name(id)
+            .map_or(String::new(), |n| format!(" ({n})"));
         outln!(
-            "subdomain {id} holds ({}, {}): the number of its triangles in the files",
+            "subdomain {id}{name} holds ({}, {}): the number of its triangles in the files",
             p.x,
             p.y
         );

@@ -207,7 +207,7 @@ fn with_subdomains(region: Region, mesh: &Mesh, walls: &io::Walls) -> Region {
         return region;
     }
     match region.clone().with_subdomain_points(points) {
-        Ok(r) => r,
+        Ok(r) => r.with_subdomain_names(walls.subdomain_names.clone()),
         Err(e) => region.with_notes([format!(
             "the file's numbers of its triangles' parts are not kept ({e}): a new mesh numbers \
              its subdomains anew"

@@ -213,3 +213,31 @@ fn bad_subdomain_points_are_refused_by_name() {
         "{e}"
     );
 }
+
+#[test]
+fn subdomain_names_are_the_physical_surfaces_names_and_survive_a_new_mesh() {
+    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
+        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
+        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
+        "subdomains": [{"point": [0.25, 0.5], "id": 10, "name": "steel"},
+                       {"point": [0.75, 0.5], "id": 20, "name": "rubber"}]}"#;
+    let region = Region::from_json_str(json, "two").unwrap();
+    assert_eq!(region.subdomain_name(10), Some("steel"));
+    let mesh = cvtmesh::mesh(&region, 300).unwrap().mesh;
+    let dir = std::env::temp_dir().join(format!("cvtmesh-subdomain-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let first = dir.join("first.msh");
+    write_mesh_on(&mesh, &region, &first).unwrap();
+    let text = std::fs::read_to_string(&first).unwrap();
+    assert!(text.contains("2 10 \"steel\"\n") && text.contains("2 20 \"rubber\"\n"));
+    // Read back, meshed again and written: the same names on the same numbers.
+    let (read, walls) = read_mesh_with_walls(&first).unwrap();
+    let again = region_of_mesh(&read, &walls, &first).unwrap();
+    assert_eq!(again.subdomain_name(20), Some("rubber"));
+    let second = dir.join("second.msh");
+    let finer = cvtmesh::mesh(&again, 600).unwrap().mesh;
+    write_mesh_on(&finer, &again, &second).unwrap();
+    let text = std::fs::read_to_string(&second).unwrap();
+    assert!(text.contains("2 10 \"steel\"\n") && text.contains("2 20 \"rubber\"\n"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -164,6 +164,7 @@ impl Region {
         merged.embedded = self.embedded.clone();
         merged.lines = self.lines.clone();
         merged.subdomains = self.subdomains.clone();
+        merged.subdomain_names = self.subdomain_names.clone();
         merged.notes = self.notes.clone();
         merged.surface_group = self.surface_group.clone();
         merged
@@ -682,6 +683,7 @@ pub(crate) fn assemble(
         embedded: Vec::new(),
         lines: Vec::new(),
         subdomains: Vec::new(),
+        subdomain_names: std::collections::BTreeMap::new(),
         inside_grid: Default::default(),
         notes: Vec::new(),
         surface_group: None,

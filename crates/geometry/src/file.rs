@@ -25,7 +25,8 @@
 //! optional; closed when the last point is the first): see [`Region::with_embedded_lines`].
 //!
 //! `subdomains` (optional) numbers the parts the lines cut the region into, each
-//! `{"point": [x, y], "id": n}` (the part holding the point gets `n`): see
+//! `{"point": [x, y], "id": n}` (the part holding the point gets `n`), with an optional
+//! `"name"` for the `.msh` files' physical surface: see
 //! [`Region::with_subdomain_points`].
 //!
 //! `corners` (optional) lists every tangent discontinuity; an empty list means none, and
@@ -229,10 +230,16 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         None | Some(Value::Null) => Vec::new(),
         Some(v) => subdomain_points(v).map_err(perr)?,
     };
+    let subdomain_names: Vec<(i64, String)> = subdomains
+        .iter()
+        .filter_map(|(_, id, name)| Some((*id, name.clone()?)))
+        .collect();
+    let subdomains: Vec<(DVec2, i64)> = subdomains.iter().map(|&(p, id, _)| (p, id)).collect();
     if marks.iter().all(Option::is_none) {
         return crate::build::new_region(&name, loops, corners)
             .and_then(|r| r.with_embedded_lines(lines))
             .and_then(|r| r.with_subdomain_points(subdomains))
+            .map(|r| r.with_subdomain_names(subdomain_names))
             .map_err(located);
     }
     // Each piece's marker by its end points (either way round: loops are reoriented).
@@ -286,11 +293,13 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
     region
         .with_embedded_lines(lines)
         .and_then(|r| r.with_subdomain_points(subdomains))
+        .map(|r| r.with_subdomain_names(subdomain_names))
         .map_err(located)
 }
 
-/// The `subdomains` field: each an object with `point` and an integer `id`.
-fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64)>, String> {
+/// The `subdomains` field: each an object with `point`, an integer `id` and optionally a
+/// `name`.
+fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64, Option<String>)>, String> {
     let list = v.as_array().ok_or_else(|| {
         "'subdomains' must be a list of {\"point\": [x, y], \"id\": n}".to_string()
     })?;
@@ -314,7 +323,15 @@ fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64)>, String> {
                         .map(|v| v as i64)
                 })
                 .ok_or_else(|| format!("{ctx}.id is {id}; expected an integer"))?;
-            Ok((point, id))
+            let name = match sv.get("name") {
+                None | Some(Value::Null) => None,
+                Some(n) => Some(
+                    n.as_str()
+                        .ok_or_else(|| format!("{ctx}.name is {n}; expected a string"))?
+                        .to_string(),
+                ),
+            };
+            Ok((point, id, name))
         })
         .collect()
 }

@@ -420,6 +420,7 @@ impl Region {
         r.embedded = self.embedded.clone();
         r.lines = self.lines.clone();
         r.subdomains = self.subdomains.clone();
+        r.subdomain_names = self.subdomain_names.clone();
         r.notes = self.notes.clone();
         r.surface_group = self.surface_group.clone();
         Ok(r)

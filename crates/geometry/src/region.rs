@@ -91,6 +91,8 @@ pub struct Region {
     pub(crate) lines: Vec<crate::EmbeddedLine>,
     /// Points numbering the subdomains ([`Region::subdomain_points`]).
     pub(crate) subdomains: Vec<(DVec2, i64)>,
+    /// Names of subdomain numbers ([`Region::subdomain_name`]).
+    pub(crate) subdomain_names: std::collections::BTreeMap<i64, String>,
     /// [`Region::inside_grid`], made on first use (shared by clones, which have the same loops).
     pub(crate) inside_grid: Arc<InsideGrid>,
     /// What the region's file held that the region does not use ([`Region::notes`]).
@@ -504,6 +506,7 @@ impl Region {
                     .copied()
                     .filter(|&(p, _)| region.contains(p))
                     .collect();
+                region.subdomain_names = self.subdomain_names.clone();
                 // Pieces and corners are numbered loop by loop, so a part's are a run of ours.
                 let pieces = loops
                     .iter()

@@ -245,7 +245,8 @@ impl Region {
                     .clone()
                     .with_embedded_points(self.embedded.iter().copied())
                     .and_then(|r| r.with_embedded_lines(lines))
-                    .and_then(|r| r.with_subdomain_points(self.subdomains.iter().copied()));
+                    .and_then(|r| r.with_subdomain_points(self.subdomains.iter().copied()))
+                    .map(|r| r.with_subdomain_names(self.subdomain_names.clone()));
                 let Ok(mut region) = embedded else {
                     tol *= 0.5;
                     continue;

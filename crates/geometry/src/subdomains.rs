@@ -23,6 +23,31 @@ impl Region {
         &self.subdomains
     }
 
+    /// The name of a subdomain number, where the region's file gives one (a Gmsh physical
+    /// surface's name, a JSON subdomain's `"name"`): the `.msh` files written for its meshes
+    /// name the physical surface so (else `subdomain<N>`).
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, Region};
+    /// let r = Region::builtin("circle")?
+    ///     .with_subdomain_points([(DVec2::ZERO, 10)])?
+    ///     .with_subdomain_names([(10, "steel".to_string())]);
+    /// assert_eq!((r.subdomain_name(10), r.subdomain_name(11)), (Some("steel"), None));
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn subdomain_name(&self, id: i64) -> Option<&str> {
+        self.subdomain_names.get(&id).map(String::as_str)
+    }
+
+    /// The same region with names for subdomain numbers ([`Region::subdomain_name`]).
+    pub fn with_subdomain_names(
+        mut self,
+        names: impl IntoIterator<Item = (i64, String)>,
+    ) -> Region {
+        self.subdomain_names.extend(names);
+        self
+    }
+
     /// The same region with `points` numbering its subdomains as well
     /// ([`Region::subdomain_points`]). Each must be finite and inside the region, off its
     /// boundary and its embedded lines by more than 10⁻⁹ of its diameter (on a line, it would

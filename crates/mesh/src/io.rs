@@ -190,6 +190,8 @@ pub(crate) struct Nodes<'a> {
     /// subdomain points: Triangle's `.ele` then carries it as an attribute, Gmsh's files a
     /// physical surface per subdomain, VTK's a cell array.
     pub subdomains: Option<Vec<i64>>,
+    /// The region's names for its subdomain numbers ([`Region::subdomain_name`]).
+    pub subdomain_names: BTreeMap<i64, String>,
     /// The three-node mesh of the corners.
     pub linear: &'a Mesh,
 }
@@ -216,6 +218,17 @@ fn subdomains_of(
     Some(crate::subdomains::subdomains_cut_by(mesh, region, inner))
 }
 
+/// The region's names for its subdomain numbers, for the writers.
+fn subdomain_names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
+    let Some(r) = region else {
+        return BTreeMap::new();
+    };
+    r.subdomain_points()
+        .iter()
+        .filter_map(|&(_, id)| Some((id, r.subdomain_name(id)?.to_string())))
+        .collect()
+}
+
 /// The region's physical surface, for the writers.
 fn surface_group_of(region: Option<&Region>) -> Option<(i64, String)> {
     region
@@ -237,6 +250,7 @@ impl<'a> Nodes<'a> {
             embedded: marked_embedded(region),
             surface_group: surface_group_of(region),
             subdomains: subdomains_of(mesh, region, &inner),
+            subdomain_names: subdomain_names_of(region),
             inner: inner
                 .into_iter()
                 .map(|([a, b], m)| (vec![a, b], m))
@@ -267,6 +281,7 @@ impl<'a> Nodes<'a> {
             embedded: marked_embedded(q.region()),
             surface_group: surface_group_of(q.region()),
             subdomains: subdomains_of(q.linear(), q.region(), &inner),
+            subdomain_names: subdomain_names_of(q.region()),
             inner: inner
                 .into_iter()
                 .map(|([a, b], m)| {
@@ -481,6 +496,8 @@ pub struct Walls {
     /// surface of each triangle of a Gmsh mesh with several): a new mesh of the region keeps
     /// them as subdomains (`cvtmesh::subdomain_points_of`). Empty otherwise.
     pub subdomains: Vec<i64>,
+    /// The file's name for a subdomain number, where it gives one (a Gmsh physical surface's).
+    pub subdomain_names: BTreeMap<i64, String>,
     /// The physical surface the file puts every triangle in, tag and name (a Gmsh mesh's one
     /// physical surface), which a region of the mesh keeps ([`Region::surface_group`]).
     pub surface_group: Option<(i64, String)>,

@@ -228,7 +228,13 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             subdomain_ids
                 .iter()
                 .zip(members)
-                .map(|(id, ts)| (subdomain_tags[id] as i64, format!("subdomain{id}"), ts))
+                .map(|(id, ts)| {
+                    let name = match nodes.subdomain_names.get(id) {
+                        Some(name) => name.clone(),
+                        None => format!("subdomain{id}"),
+                    };
+                    (subdomain_tags[id] as i64, name, ts)
+                })
                 .collect()
         }
         None => vec![(
@@ -1408,6 +1414,10 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
             .unwrap_or_default(),
         _ => Vec::new(),
     };
+    let subdomain_names = subdomains
+        .iter()
+        .filter_map(|&n| Some((n, raw.names.get(&(2, n))?.clone())))
+        .collect();
     let walls = Walls {
         edges,
         points,
@@ -1415,6 +1425,7 @@ fn assemble(mut raw: Raw, path: &Path) -> Result<Parsed, MeshError> {
         inner,
         inner_markers,
         subdomains,
+        subdomain_names,
         surface_group,
         notes,
     };
