@@ -870,6 +870,20 @@ impl PyMesh {
         Ok(py.detach(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref())))
     }
 
+    /// Each triangle's subdomain of `region`, as a read-only array.
+    fn subdomains_on<'py>(
+        &self,
+        py: Python<'py>,
+        region: &Region,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let ids = py
+            .detach(|| cvtmesh::subdomains(&self.mesh, region))
+            .map_err(err)?;
+        let ids = PyArray1::from_vec(py, ids);
+        read_only(&ids)?;
+        Ok(ids)
+    }
+
     /// `region` if given, else the region the mesh was made for; a mesh read from a file
     /// has none, and `call` (the method asking) names what to pass.
     fn region_or(&self, region: Option<&PyRegion>, call: &str) -> PyResult<Arc<Region>> {
@@ -1106,12 +1120,7 @@ impl PyMesh {
         region: Option<&PyRegion>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let region = self.region_or_covered(py, region, "subdomains")?;
-        let ids = py
-            .detach(|| cvtmesh::subdomains(&self.mesh, &region))
-            .map_err(err)?;
-        let ids = PyArray1::from_vec(py, ids);
-        read_only(&ids)?;
-        Ok(ids)
+        self.subdomains_on(py, &region)
     }
 
     /// `subdomains(region)` where the region has lines or subdomain points (what the files
@@ -1122,11 +1131,12 @@ impl PyMesh {
         py: Python<'py>,
         region: Option<&PyRegion>,
     ) -> PyResult<Option<Bound<'py, PyArray1<i64>>>> {
+        // A mesh read from a file: the region its triangles cover, made once.
         let covered = self.region_or_covered(py, region, "subdomains")?;
         if !cvtmesh::has_subdomains(&covered) {
             return Ok(None);
         }
-        self.subdomains(py, region).map(Some)
+        self.subdomains_on(py, &covered).map(Some)
     }
 
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file
