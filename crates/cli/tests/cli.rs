@@ -3098,6 +3098,64 @@ fn simplify_auto_simplifies_a_digitized_interface() {
 
 /// A `.poly`'s regional attributes number the parts its interface cuts the region into: listed
 /// by `regions`, each triangle's `.ele` attribute (Triangle's `-A`), and kept by a polish.
+/// The area of the triangles of each attribute of a Triangle `.node`/`.ele` pair, from the
+/// files as Triangle's readers see them.
+fn areas_by_attribute(node: &std::path::Path) -> std::collections::BTreeMap<i64, f64> {
+    let nodes: Vec<Vec<f64>> = std::fs::read_to_string(node)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    let ele = std::fs::read_to_string(node.with_extension("ele")).unwrap();
+    let mut rows = ele.lines().filter(|l| !l.starts_with('#'));
+    assert!(rows.next().unwrap().ends_with(" 3 1"));
+    let mut by = std::collections::BTreeMap::new();
+    for row in rows {
+        let v: Vec<f64> = row.split_whitespace().map(|w| w.parse().unwrap()).collect();
+        let p = |k: usize| &nodes[v[k] as usize - 1][1..3];
+        let (a, b, c) = (p(1), p(2), p(3));
+        let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        *by.entry(v[4] as i64).or_insert(0.0) += area;
+    }
+    by
+}
+
+#[test]
+fn a_poly_s_crossing_segments_are_split_as_triangle_splits_them() {
+    // Two interfaces crossing at the centre of the square, a regional attribute per quarter.
+    let dir = scratch("poly_crossing");
+    let poly = dir.join("cross.poly");
+    std::fs::write(
+        &poly,
+        "8 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0 1\n6 0.5 1 1\n7 0 0.5 1\n\
+         8 1 0.5 1\n10 1\n1 1 5 1\n2 5 2 1\n3 2 8 1\n4 8 3 1\n5 3 6 1\n6 6 4 1\n7 4 7 1\n\
+         8 7 1 1\n9 5 6 2\n10 7 8 3\n0\n4\n1 0.25 0.25 1 -1\n2 0.75 0.25 2 -1\n\
+         3 0.75 0.75 3 -1\n4 0.25 0.75 4 -1\n",
+    )
+    .unwrap();
+    let o = cvtmesh(&["regions", s(&poly)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("line 0 from (0.5, 0) to (0.5, 1), 3 vertices")
+            && text(&o).contains("line 1 from (0, 0.5) to (1, 0.5), 3 vertices"),
+        "{}",
+        text(&o)
+    );
+    for method in ["ccvt", "refine"] {
+        let out = dir.join(format!("{method}.node"));
+        let o = cvtmesh(&["mesh", s(&poly), "-n", "600", "-m", method, "-o", s(&out)]);
+        assert!(o.status.success(), "{method}: {}", text(&o));
+        let by = areas_by_attribute(&out);
+        assert_eq!(by.len(), 4, "{method}: {by:?}");
+        assert!(
+            by.values().all(|a| (a - 0.25).abs() < 1e-12),
+            "{method}: {by:?}"
+        );
+    }
+}
+
 #[test]
 fn a_poly_s_regional_attributes_are_the_triangles_attributes() {
     let dir = scratch("poly_subdomains");
@@ -3117,33 +3175,10 @@ fn a_poly_s_regional_attributes_are_the_triangles_attributes() {
         "{}",
         text(&o)
     );
-    // The area of the triangles of each attribute, from the files as Triangle's readers see
-    // them.
-    let areas = |node: &std::path::Path| {
-        let nodes: Vec<Vec<f64>> = std::fs::read_to_string(node)
-            .unwrap()
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .skip(1)
-            .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
-            .collect();
-        let ele = std::fs::read_to_string(node.with_extension("ele")).unwrap();
-        let mut rows = ele.lines().filter(|l| !l.starts_with('#'));
-        assert!(rows.next().unwrap().ends_with(" 3 1"));
-        let mut by = std::collections::BTreeMap::new();
-        for row in rows {
-            let v: Vec<f64> = row.split_whitespace().map(|w| w.parse().unwrap()).collect();
-            let p = |k: usize| &nodes[v[k] as usize - 1][1..3];
-            let (a, b, c) = (p(1), p(2), p(3));
-            let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-            *by.entry(v[4] as i64).or_insert(0.0) += area;
-        }
-        by
-    };
     let out = dir.join("out.node");
     let o = cvtmesh(&["mesh", s(&poly), "-n", "400", "-o", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));
-    let by = areas(&out);
+    let by = areas_by_attribute(&out);
     assert_eq!(by.len(), 2, "{by:?}");
     assert!(
         (by[&3] - 0.5).abs() < 1e-12 && (by[&4] - 0.5).abs() < 1e-12,
@@ -3152,7 +3187,7 @@ fn a_poly_s_regional_attributes_are_the_triangles_attributes() {
     let polished = dir.join("polished.node");
     let o = cvtmesh(&["polish", s(&out), "--below", "45", "-o", s(&polished)]);
     assert!(o.status.success(), "{}", text(&o));
-    let by = areas(&polished);
+    let by = areas_by_attribute(&polished);
     assert!(
         (by[&3] - 0.5).abs() < 1e-12 && (by[&4] - 0.5).abs() < 1e-12,
         "{by:?}"

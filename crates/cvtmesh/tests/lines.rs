@@ -357,3 +357,67 @@ fn a_chord_of_a_disc_ending_inside_its_arc_is_followed_whatever_the_corner_angle
         );
     }
 }
+
+#[test]
+fn crossing_lines_are_followed_through_their_crossings() {
+    // A fracture network: two wall-to-wall interfaces crossing at the centre, and three cracks
+    // inside crossing at one point of the vertical interface, as a `.poly`'s crossing segments
+    // or Gmsh's fragmented curves give it.
+    let line = |a: (f64, f64), b: (f64, f64), marker| EmbeddedLine {
+        points: vec![DVec2::from(a), DVec2::from(b)],
+        marker,
+    };
+    let c = DVec2::new(0.5, 0.3);
+    let crack = |angle: f64| {
+        let d = 0.15 * DVec2::from_angle(angle);
+        line((c - d).into(), (c + d).into(), 3)
+    };
+    let region = square()
+        .with_embedded_lines([
+            line((0.5, 0.0), (0.5, 1.0), 1),
+            line((0.0, 0.5), (1.0, 0.5), 2),
+            crack(0.3),
+            crack(1.1),
+        ])
+        .unwrap();
+    let length: f64 = region
+        .embedded_lines()
+        .iter()
+        .map(|l| l.length())
+        .sum::<f64>();
+    assert!((length - 2.6).abs() < 1e-12, "{length}");
+    for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+        let r = method
+            .run(&region, &MeshRequest::points(1500))
+            .unwrap_or_else(|e| panic!("{method}: {e}"));
+        let what = method.to_string();
+        check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{what}: {e}"));
+        // Both crossings are vertices of the mesh, once each.
+        for x in [DVec2::splat(0.5), c] {
+            let at = r
+                .mesh
+                .points
+                .iter()
+                .filter(|p| p.distance(x) < 1e-12)
+                .count();
+            assert_eq!(at, 1, "{what}: {at} vertices at {x}");
+        }
+        let along: f64 = line_edges(&r.mesh, &region)
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+            .iter()
+            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+            .sum();
+        assert!((along - length).abs() < 1e-9, "{what}: lines {along} long");
+        // The interfaces cut the square into its four quarters, each a subdomain.
+        let parts = cvtmesh::subdomains(&r.mesh, &region).unwrap();
+        let mut areas = [0.0; 5];
+        for (t, &s) in r.mesh.triangles.iter().zip(&parts) {
+            let p = t.map(|v| r.mesh.points[v as usize]);
+            areas[s as usize] += 0.5 * orient(p[0], p[1], p[2]);
+        }
+        assert_eq!(areas[0], 0.0, "{what}");
+        for a in &areas[1..] {
+            assert!((a - 0.25).abs() < 1e-12, "{what}: quarter areas {areas:?}");
+        }
+    }
+}

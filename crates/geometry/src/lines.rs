@@ -174,7 +174,9 @@ impl Region {
     /// diameter, or on a polygonal wall or an arc (an interface from wall to wall, an
     /// inclusion touching a wall), where the piece is split if need be and the point becomes
     /// a corner whatever the corner angle; no segment leaves the region. Lines may share vertices (three materials meeting at
-    /// a point) but not cross or touch elsewhere, each other or themselves. A marked line in
+    /// a point); where two cross, or a vertex of one lies on a segment of another, both get a
+    /// vertex there (as Triangle splits crossing segments), so each line lists it. Lines may
+    /// not overlap along a segment, or cross themselves. A marked line in
     /// a region that numbers no walls gives every piece Triangle's marker for a boundary, 1,
     /// as a marked embedded point does.
     pub fn with_embedded_lines(
@@ -312,18 +314,15 @@ impl Region {
                 a.x, a.y, b.x, b.y
             )));
         }
-        // A line that ends on another line's segment (a T whose stem stops at the bar) splits
-        // that segment there, as Triangle splits a segment through a vertex.
-        let ends: Vec<DVec2> = self
-            .lines
-            .iter()
-            .chain(&added)
-            .filter(|l| !l.is_closed())
-            .flat_map(|l| [l.points[0], l.points[l.points.len() - 1]])
-            .collect();
-        for line in self.lines.iter_mut().chain(added.iter_mut()) {
-            line.points = split_at_ends(&line.points, &ends, off);
-        }
+        // Where two lines cross, or a vertex of one lies on a segment of another (a T whose
+        // stem stops at the bar), both get a vertex there, as Triangle splits crossing
+        // segments and Gmsh's fragments do; a line's end on its own segment splits it too.
+        let mut lines: Vec<EmbeddedLine> = std::mem::take(&mut self.lines);
+        let existing = lines.len();
+        lines.extend(added);
+        split_where_lines_meet(&mut lines, off);
+        added = lines.split_off(existing);
+        self.lines = lines;
         // No two segments (of one line or of two) may cross, or touch except at a shared
         // vertex: the mesh could not have both as edges.
         let all: Vec<(usize, DVec2, DVec2)> = self
@@ -347,11 +346,21 @@ impl Region {
             true
         });
         if let Some((s, t, p)) = first {
-            return Err(bad(format!(
-                "embedded lines {} and {} cross or touch at ({}, {}); lines may meet only at a \
-                 vertex of both",
-                all[s].0, all[t].0, p.x, p.y
-            )));
+            let (i, j) = (all[s].0, all[t].0);
+            return Err(bad(if i == j {
+                format!(
+                    "embedded line {i} crosses or touches itself at ({}, {}); give it as two \
+                     lines that meet there",
+                    p.x, p.y
+                )
+            } else {
+                format!(
+                    "embedded lines {i} and {j} overlap or touch at ({}, {}) without a shared \
+                     vertex (closer than 10⁻⁹ of the region's diameter); lines may cross or \
+                     meet at a vertex, not run along each other",
+                    p.x, p.y
+                )
+            }));
         }
         if !new_corners.is_empty() {
             self = self.with_corners_at(&new_corners)?;
@@ -433,26 +442,103 @@ impl Region {
     }
 }
 
-/// `points` with each of `ends` that lies inside one of their segments (within `off`, off its
-/// ends) inserted there, in order along it.
-fn split_at_ends(points: &[DVec2], ends: &[DVec2], off: f64) -> Vec<DVec2> {
-    let mut out = vec![points[0]];
-    for w in points.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let mut inside: Vec<(f64, DVec2)> = ends
-            .iter()
-            .filter(|&&p| p != a && p != b && p.distance(a) > off && p.distance(b) > off)
-            .filter_map(|&p| {
-                let (q, t, _) = closest_on_segment(a, b, p);
-                (q.distance(p) <= off).then_some((t, p))
-            })
-            .collect();
-        inside.sort_by(|x, y| x.0.total_cmp(&y.0));
-        out.extend(inside.into_iter().map(|(_, p)| p));
-        out.push(b);
+/// Splits the lines where they meet other than at a shared vertex: where segments of two
+/// lines cross, both get the crossing point (the same bits in each); a vertex of one line
+/// within `off` of a segment of another, off its ends, is inserted into that segment; a
+/// line's end on one of its own segments splits that segment. Segments are paired by a grid
+/// of their boxes. What is left (a line crossing itself, segments overlapping along a line,
+/// points closer than `off` but apart) the caller refuses.
+fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
+    let segments: Vec<(usize, usize, DVec2, DVec2)> = lines
+        .iter()
+        .enumerate()
+        .flat_map(|(i, l)| {
+            l.segments()
+                .enumerate()
+                .map(move |(k, (a, b))| (i, k, a, b))
+        })
+        .collect();
+    let ends: Vec<[DVec2; 2]> = lines
+        .iter()
+        .map(|l| [l.points[0], l.points[l.points.len() - 1]])
+        .collect();
+    let boxes: Vec<(DVec2, DVec2)> = segments.iter().map(|&(_, _, a, b)| (a, b)).collect();
+    // Points to insert, by segment: (where along it, the point).
+    let mut inserted: Vec<Vec<(f64, DVec2)>> = vec![Vec::new(); segments.len()];
+    let apart = |p: DVec2, a: DVec2, b: DVec2| p.distance(a) > off && p.distance(b) > off;
+    let insert_on = |s: usize, p: DVec2, inserted: &mut Vec<Vec<(f64, DVec2)>>| {
+        let (_, _, a, b) = segments[s];
+        let (q, t, _) = closest_on_segment(a, b, p);
+        if q.distance(p) <= off && apart(p, a, b) {
+            inserted[s].push((t, p));
+        }
+    };
+    crate::crossings::candidate_pairs(&boxes, off, |s, t| {
+        let ((i, _, a, b), (j, _, c, d)) = (segments[s], segments[t]);
+        if i == j {
+            // A line's own end on its own segment (a loop closing on its side).
+            for p in ends[i] {
+                if p != c && p != d {
+                    insert_on(t, p, &mut inserted);
+                }
+                if p != a && p != b {
+                    insert_on(s, p, &mut inserted);
+                }
+            }
+            return true;
+        }
+        if segments_cross(a, b, c, d) {
+            let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+            let x = a + (b - a) * (o1 / (o1 - o2));
+            if apart(x, a, b) && apart(x, c, d) {
+                inserted[s].push((closest_on_segment(a, b, x).1, x));
+                inserted[t].push((closest_on_segment(c, d, x).1, x));
+                return true;
+            }
+        }
+        for p in [a, b] {
+            insert_on(t, p, &mut inserted);
+        }
+        for p in [c, d] {
+            insert_on(s, p, &mut inserted);
+        }
+        true
+    });
+    // Several lines crossing at one point give crossings a rounding apart: each point to
+    // insert becomes the first vertex or crossing within `off` of it, so that the lines share
+    // one vertex there.
+    let cell = |p: DVec2| ((p.x / off).floor() as i64, (p.y / off).floor() as i64);
+    let mut near: std::collections::HashMap<(i64, i64), Vec<DVec2>> =
+        std::collections::HashMap::new();
+    for p in lines.iter().flat_map(|l| l.points.iter()) {
+        near.entry(cell(*p)).or_default().push(*p);
     }
-    out.dedup();
-    out
+    let mut canonical = |p: DVec2| -> DVec2 {
+        let (cx, cy) = cell(p);
+        let found = (cx - 1..=cx + 1)
+            .flat_map(|x| (cy - 1..=cy + 1).map(move |y| (x, y)))
+            .filter_map(|c| near.get(&c))
+            .flatten()
+            .find(|q| q.distance(p) <= off)
+            .copied();
+        found.unwrap_or_else(|| {
+            near.entry((cx, cy)).or_default().push(p);
+            p
+        })
+    };
+    let mut next = 0;
+    for line in lines.iter_mut() {
+        let n = line.points.len() - 1;
+        let mut points = vec![line.points[0]];
+        for (k, list) in inserted[next..next + n].iter_mut().enumerate() {
+            list.sort_by(|x, y| x.0.total_cmp(&y.0));
+            points.extend(list.iter().map(|&(_, p)| canonical(p)));
+            points.push(line.points[k + 1]);
+        }
+        next += n;
+        points.dedup();
+        line.points = points;
+    }
 }
 
 /// A piece's ends, by their bits (a rebuilt region may start a loop at another piece).
@@ -734,31 +820,42 @@ mod tests {
             r.embedded_lines()[0].points,
             [(0.2, 0.5), (0.5, 0.5), (0.8, 0.5)].map(DVec2::from)
         );
-        // A stem crossing the bar is still refused.
+        // A stem through the bar: both get the crossing.
         let through = line(&[(0.5, 0.2), (0.5, 0.9)], 2);
         let bar = line(&[(0.2, 0.5), (0.8, 0.5)], 1);
-        assert!(outline().with_embedded_lines([bar, through]).is_err());
+        let r = outline().with_embedded_lines([bar, through]).unwrap();
+        let [bar, stem] = r.embedded_lines() else {
+            panic!("two lines")
+        };
+        assert_eq!(bar.points[1], DVec2::new(0.5, 0.5));
+        assert_eq!(stem.points[1], DVec2::new(0.5, 0.5));
     }
 
     #[test]
-    fn crossing_or_touching_lines_are_refused_and_shared_vertices_are_not() {
+    fn crossing_lines_are_split_and_overlapping_ones_refused() {
         let a = line(&[(0.2, 0.2), (0.8, 0.8)], 1);
         let crossing = line(&[(0.2, 0.8), (0.8, 0.2)], 2);
-        let e = outline()
+        let r = outline()
             .with_embedded_lines([a.clone(), crossing])
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("cross or touch at (0.5, 0.5)"), "{e}");
-        // Ending on it splits it there instead (a T); touching it with a middle vertex does
-        // not.
+            .unwrap();
+        let x = r.embedded_lines()[0].points[1];
+        assert!(x.distance(DVec2::splat(0.5)) < 1e-15, "{x}");
+        // The same bits in both, so the mesh has one vertex there.
+        assert_eq!(r.embedded_lines()[1].points[1], x);
+        assert!(r.embedded_lines().iter().all(|l| l.points.len() == 3));
+        // Ending on it splits it there (a T), and so does a middle vertex on it.
         let touching = line(&[(0.5, 0.5), (0.8, 0.2)], 2);
         assert!(outline().with_embedded_lines([a.clone(), touching]).is_ok());
         let bent = line(&[(0.2, 0.6), (0.5, 0.5), (0.8, 0.6)], 2);
-        assert!(outline().with_embedded_lines([a.clone(), bent]).is_err());
+        let r = outline().with_embedded_lines([a.clone(), bent]).unwrap();
+        assert_eq!(r.embedded_lines()[0].points[1], DVec2::splat(0.5));
+        // Running along it is refused, naming the place.
         let overlapping = line(&[(0.8, 0.8), (0.5, 0.5)], 2);
-        assert!(outline()
+        let e = outline()
             .with_embedded_lines([a.clone(), overlapping])
-            .is_err());
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("overlap or touch at (0.5, 0.5)"), "{e}");
         // Three lines meeting at a vertex of each: a triple junction.
         let star = [
             line(&[(0.5, 0.5), (0.5, 0.0)], 1),
@@ -775,7 +872,44 @@ mod tests {
         );
         // A line crossing itself.
         let bow = line(&[(0.2, 0.2), (0.8, 0.8), (0.8, 0.2), (0.2, 0.8)], 0);
-        assert!(outline().with_embedded_lines([bow]).is_err());
+        let e = outline()
+            .with_embedded_lines([bow])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("crosses or touches itself at (0.5, 0.5)"), "{e}");
+    }
+
+    #[test]
+    fn lines_crossing_at_one_point_share_one_vertex_there() {
+        // Three lines through one point, at angles whose crossings round apart.
+        let through = |angle: f64, m: i64| {
+            let c = DVec2::new(0.5, 0.5);
+            let d = 0.37 * DVec2::from_angle(angle);
+            line(&[((c - d).x, (c - d).y), ((c + d).x, (c + d).y)], m)
+        };
+        let lines = [through(0.1, 1), through(1.2, 2), through(2.3, 3)];
+        let r = outline().with_embedded_lines(lines).unwrap();
+        let centres: Vec<DVec2> = r.embedded_lines().iter().map(|l| l.points[1]).collect();
+        assert!(r.embedded_lines().iter().all(|l| l.points.len() == 3));
+        assert!(centres.iter().all(|&c| c == centres[0]), "{centres:?}");
+        assert!(centres[0].distance(DVec2::splat(0.5)) < 1e-12);
+    }
+
+    #[test]
+    fn a_segment_crossed_several_times_takes_the_crossings_in_order() {
+        // A comb: a spine crossed by three teeth, given in no particular order, and a tooth
+        // added to a region that has the spine already.
+        let spine = line(&[(0.1, 0.5), (0.9, 0.5)], 1);
+        let teeth = [0.7, 0.3, 0.5].map(|x| line(&[(x, 0.2), (x, 0.8)], 2));
+        let r = outline().with_embedded_lines([spine]).unwrap();
+        let r = r.with_embedded_lines(teeth).unwrap();
+        let xs: Vec<f64> = r.embedded_lines()[0].points.iter().map(|p| p.x).collect();
+        assert_eq!(xs, [0.1, 0.3, 0.5, 0.7, 0.9]);
+        assert!(r.embedded_lines()[0].points.iter().all(|p| p.y == 0.5));
+        for tooth in &r.embedded_lines()[1..] {
+            assert_eq!(tooth.points.len(), 3);
+            assert_eq!(tooth.points[1].y, 0.5);
+        }
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! optional arc edge): rigid-motion invariance, sign and projection consistency, Ω_ε,
 //! simplification.
 use cvtmesh_geometry::predicates::segments_cross;
-use cvtmesh_geometry::{DVec2, LoopRole, Piece, Region};
+use cvtmesh_geometry::{DVec2, EmbeddedLine, LoopRole, Piece, Region};
 use proptest::prelude::*;
 use std::f64::consts::TAU;
 
@@ -227,6 +227,78 @@ proptest! {
                 prop_assert_eq!(p.rings.len(), 2);
             } else if eps > h + 2.0 * tol {
                 prop_assert_eq!(p.rings.len(), 1);
+            }
+        }
+    }
+}
+
+/// Straight lines (two points each) inside the unit square, from random end points.
+fn straight_lines() -> impl Strategy<Value = Vec<[(f64, f64); 2]>> {
+    prop::collection::vec(
+        [
+            (0.05f64..0.95, 0.05f64..0.95),
+            (0.05f64..0.95, 0.05f64..0.95),
+        ],
+        1..12,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Crossing lines are split, not refused: each line keeps its ends and runs through the
+    /// same points, no two segments cross any more, and every crossing is a vertex of both
+    /// lines with the same bits.
+    #[test]
+    fn crossing_lines_become_lines_that_share_their_crossings(ends in straight_lines()) {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+        let region = Region::from_loops("square", vec![(LoopRole::Outer, square)]).unwrap();
+        let lines: Vec<EmbeddedLine> = ends
+            .iter()
+            .enumerate()
+            .map(|(i, [a, b])| EmbeddedLine { points: vec![DVec2::from(*a), DVec2::from(*b)], marker: i as i64 })
+            .collect();
+        // Near-parallel or near-touching pairs may still be refused (overlap, a touch without
+        // a shared vertex); what is accepted must hold the properties.
+        let Ok(r) = region.with_embedded_lines(lines.clone()) else { return Ok(()) };
+        let got = r.embedded_lines();
+        prop_assert_eq!(got.len(), lines.len());
+        for (line, given) in got.iter().zip(&lines) {
+            let (a, b) = (given.points[0], given.points[1]);
+            prop_assert_eq!(line.points[0], a);
+            prop_assert_eq!(*line.points.last().unwrap(), b);
+            for p in &line.points {
+                let t = (*p - a).dot(b - a) / a.distance_squared(b);
+                prop_assert!((a + (b - a) * t).distance(*p) < 1e-12);
+            }
+            let length: f64 = line.segments().map(|(p, q)| p.distance(q)).sum();
+            prop_assert!((length - a.distance(b)).abs() < 1e-12);
+        }
+        let segments: Vec<(usize, DVec2, DVec2)> = got
+            .iter()
+            .enumerate()
+            .flat_map(|(i, l)| l.segments().map(move |(a, b)| (i, a, b)))
+            .collect();
+        // Segments of one straight line are collinear, where the (inexact) orientation signs
+        // are noise: only segments whose boxes overlap can cross.
+        let boxes_meet = |a: DVec2, b: DVec2, c: DVec2, d: DVec2| {
+            a.min(b).cmple(c.max(d)).all() && c.min(d).cmple(a.max(b)).all()
+        };
+        for (s, &(i, a, b)) in segments.iter().enumerate() {
+            for &(j, c, d) in &segments[s + 1..] {
+                prop_assert!(
+                    !(boxes_meet(a, b, c, d) && segments_cross(a, b, c, d)),
+                    "lines {} and {} still cross", i, j
+                );
+            }
+        }
+        // Every pair of given lines that crossed shares a vertex now.
+        for (i, li) in lines.iter().enumerate() {
+            for (j, lj) in lines.iter().enumerate().skip(i + 1) {
+                let (a, b, c, d) = (li.points[0], li.points[1], lj.points[0], lj.points[1]);
+                if segments_cross(a, b, c, d) {
+                    prop_assert!(got[i].points.iter().any(|p| got[j].points.contains(p)));
+                }
             }
         }
     }

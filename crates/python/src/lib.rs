@@ -672,8 +672,9 @@ impl PyRegion {
     /// it has each line's vertices, more vertices along it at the local spacing, and edges
     /// running along it (`Mesh.line_edges()`; in the files, `.poly` segments and Gmsh physical
     /// curves of their markers). A line may end on a polygonal wall or an arc; lines may meet
-    /// at shared vertices but not cross. A line leaving the region, or crossing another,
-    /// raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
+    /// at shared vertices, and where two cross both get a vertex there (as Triangle splits
+    /// crossing segments), which `embedded_lines` lists. A line leaving the region, crossing
+    /// itself or running along another raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
     /// meshgen and vtm refuse such a region.
     #[pyo3(signature = (lines, markers = None))]
     fn with_embedded_lines(

@@ -656,8 +656,19 @@ def test_an_interface_and_an_inclusion_are_followed_by_edges(tmp_path):
         cvtmesh.mesh(region, n=1500, method="vtm")
     with pytest.raises(MeshError, match="leaves the region|outside the region"):
         region.with_embedded_lines([[[0.2, 0.2], [1.5, 0.2]]])
-    with pytest.raises(MeshError, match="cross or touch"):
-        region.with_embedded_lines([[[0.2, 0.2], [0.6, 0.6]], [[0.2, 0.6], [0.6, 0.2]]])
+    # Lines that cross, each other or the interface, are split there, as Triangle splits
+    # crossing segments; a line crossing itself is refused.
+    crossed = region.with_embedded_lines(
+        [[[0.2, 0.2], [0.4, 0.4]], [[0.2, 0.4], [0.4, 0.2]], [[0.4, 0.1], [0.6, 0.1]]]
+    )
+    lines = [pts.tolist() for pts, _ in crossed.embedded_lines]
+    assert lines[0] == [[0.5, 0.0], [0.5, 0.1], [0.5, 1.0]]
+    assert lines[2][1] == lines[3][1] and np.allclose(lines[2][1], [0.3, 0.3])
+    assert lines[4] == [[0.4, 0.1], [0.5, 0.1], [0.6, 0.1]]
+    m = cvtmesh.mesh(crossed, n=1500)
+    assert (np.abs(m.points - [0.3, 0.3]).max(axis=1) < 1e-15).sum() == 1
+    with pytest.raises(MeshError, match=r"crosses or touches itself at \(0\.3"):
+        region.with_embedded_lines([[[0.2, 0.2], [0.4, 0.4], [0.4, 0.2], [0.2, 0.4]]])
     with pytest.raises(MeshError, match="one marker per line"):
         region.with_embedded_lines([[[0.2, 0.2], [0.3, 0.3]]], markers=[1, 2])
 
