@@ -396,12 +396,13 @@ pub fn polish(a: PolishArgs) -> Result<()> {
         _ => mesh.points.clone(),
     };
     let start = Instant::now();
-    // Lines the file keeps inside the mesh (a material interface) stay where they are.
+    // Lines the file keeps inside the mesh (a material interface) stay where they are: their
+    // vertices are held, or slide along a straight run of a line of the region.
     let held = file.walls.inner_vertices();
     if !held.is_empty() {
         eprintln!(
-            "note: {} vertices held on the {} edges the file keeps inside the mesh (an \
-             interface, a line of its own)",
+            "note: {} vertices on the {} edges the file keeps inside the mesh (an \
+             interface, a line of its own) stay on them",
             held.len(),
             file.walls.inner.len()
         );

@@ -2708,7 +2708,7 @@ fn an_interface_between_materials_is_held_by_polish_and_kept_by_a_new_mesh() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(
-        text(&o).contains("note: 5 vertices held on the 4 edges"),
+        text(&o).contains("note: 5 vertices on the 4 edges"),
         "{}",
         text(&o)
     );

@@ -26,7 +26,7 @@ use geometry::predicates::circumcenter;
 use geometry::{DVec2, Region};
 use rayon::prelude::*;
 use std::cell::OnceCell;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// The default threshold (degrees): triangles with a smaller angle have their interior
 /// vertices polished. Above Gmsh Frontal-Delaunay's smallest angles on graded fields
@@ -212,8 +212,15 @@ fn sweep(
     };
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(sorted(a.1).cmp(&sorted(b.1))));
     let mut seen = vec![false; mesh.num_vertices()];
-    // So do the vertices of the mesh on its embedded lines.
+    // The other vertices of the mesh on its embedded lines stay, as the points it embeds do.
     let on_lines = crate::lines::line_edges(mesh, region).unwrap_or_default();
+    let slides = line_slides(mesh, region, &on_lines);
+    // A line's edges are constrained: the triangles either side of one need not pass the
+    // Delaunay test across it, as the boundary's need not.
+    let constrained: std::collections::HashSet<[u32; 2]> = on_lines
+        .iter()
+        .map(|&([a, b], _)| [a.min(b), a.max(b)])
+        .collect();
     let fixed: std::collections::HashSet<(u64, u64)> = region
         .embedded_points()
         .iter()
@@ -230,8 +237,13 @@ fn sweep(
     for (_, t) in bad {
         for v in sorted(t) {
             let v = v as usize;
-            let movable = !hold[v]
+            let slide = slides.get(&(v as u32)).copied();
+            // A held vertex inside a straight run of a line slides along it: what holding it
+            // keeps, the interface, it keeps.
+            let movable = (!hold[v] || slide.is_some())
                 && match mesh.markers[v] {
+                    // A line's vertex slides with the boundary's, after the interior's.
+                    VertexMarker::Interior if slide.is_some() => boundary,
                     // A point the region embeds stays, as a corner does.
                     VertexMarker::Interior => !boundary && !embedded(mesh.points[v]),
                     VertexMarker::Boundary { .. } => boundary,
@@ -241,7 +253,8 @@ fn sweep(
                 continue;
             }
             seen[v] = true;
-            if let Some(p) = best_place(mesh, (stars, bounds), v, region) {
+            let slide = slide.map(|[u, w]| [u, w].map(|x| mesh.points[x as usize]));
+            if let Some(p) = best_place(mesh, (stars, bounds), v, region, (slide, &constrained)) {
                 if !moved.flag[v] {
                     moved.flag[v] = true;
                     moved
@@ -366,8 +379,11 @@ pub fn polish_restored(
 
 /// [`polish_restored`] with the vertices `held` where they are: the ends of the edges a file
 /// keeps inside the mesh ([`Walls::inner`](crate::io::Walls::inner): a material interface),
-/// which moving would take off their line. What `cvtmesh polish` and Python's
-/// `Mesh.polished` run on a mesh read from a file.
+/// which moving would take off their line. Those inside a straight run of one of the
+/// region's embedded lines (the region the file's triangles cover has its interfaces as
+/// lines) slide along it, as boundary vertices slide along the boundary: the interface stays
+/// where it is. What `cvtmesh polish` and Python's `Mesh.polished` run on a mesh read from a
+/// file.
 ///
 /// ```
 /// use cvtmesh::{polish_restored, polish_restored_holding, MeshRequest, Method, Region};
@@ -963,13 +979,41 @@ fn longest_side2(q: [DVec2; 3]) -> f64 {
     a.max(b).max(c)
 }
 
+/// The vertices of the mesh that may slide along an embedded line, each with its two
+/// neighbours along it: those inside a straight run of a line (its vertices are placed between
+/// the line's own, which stay, with the ends, junctions and crossings).
+fn line_slides(mesh: &Mesh, region: &Region, edges: &[([u32; 2], i64)]) -> HashMap<u32, [u32; 2]> {
+    let bits = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+    let kept: std::collections::HashSet<(u64, u64)> = region
+        .embedded_lines()
+        .iter()
+        .flat_map(|l| l.points.iter().copied())
+        .chain(region.embedded_points().iter().map(|(q, _)| *q))
+        .map(bits)
+        .collect();
+    let mut along: HashMap<u32, Vec<u32>> = HashMap::new();
+    for ([a, b], _) in edges {
+        along.entry(*a).or_default().push(*b);
+        along.entry(*b).or_default().push(*a);
+    }
+    along
+        .into_iter()
+        .filter_map(|(v, n)| match n[..] {
+            [u, w] if !kept.contains(&bits(mesh.points[v as usize])) => Some((v, [u, w])),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Where `v` raises its star's smallest angle most, by a pattern search (None if nowhere
-/// better was found, or the vertex has no triangles).
+/// better was found, or the vertex has no triangles). With `slide` (the vertex's neighbours
+/// along an embedded line) it moves along the line between them.
 fn best_place(
     mesh: &Mesh,
     (stars, bounds): (&Stars, &Bounds),
     v: usize,
     region: &Region,
+    (slide, constrained): (Option<[DVec2; 2]>, &std::collections::HashSet<[u32; 2]>),
 ) -> Option<DVec2> {
     let mut verts: Vec<u32> = vec![v as u32];
     // In one order whatever order the triangles are listed in: the cells are sums.
@@ -986,9 +1030,12 @@ fn best_place(
             StarTriangle {
                 corners: c,
                 across: [0, 1, 2].map(|i| {
-                    stars
-                        .across(mesh, t, c[i], c[(i + 1) % 3])
-                        .unwrap_or(u32::MAX)
+                    let (a, b) = (c[i], c[(i + 1) % 3]);
+                    if constrained.contains(&[a.min(b), a.max(b)]) {
+                        u32::MAX
+                    } else {
+                        stars.across(mesh, t, a, b).unwrap_or(u32::MAX)
+                    }
                 }),
                 slot: c.map(|u| match verts.iter().position(|&w| w == u) {
                     Some(s) => s as u8,
@@ -1059,8 +1106,12 @@ fn best_place(
             }
         }
     }
-    let dirs: Vec<DVec2> = match piece {
-        None => {
+    let dirs: Vec<DVec2> = match (piece, slide) {
+        (None, Some([u, w])) => {
+            let d = (w - u).try_normalize()?;
+            vec![d, -d]
+        }
+        (None, None) => {
             let axis = first?.1.try_normalize()?;
             (0..DIRECTIONS)
                 .map(|k| {
@@ -1069,10 +1120,17 @@ fn best_place(
                 })
                 .collect()
         }
-        Some(_) => along,
+        (Some(_), _) => along,
     };
     let place = |p: DVec2, q: DVec2| -> Option<DVec2> {
         match piece {
+            // Back onto the line (a rounding away), strictly between the neighbours.
+            None if slide.is_some() => {
+                let [u, w] = slide?;
+                let t = (q - u).dot(w - u) / u.distance_squared(w);
+                let r = u + (w - u) * t;
+                (t > 0.0 && t < 1.0 && region.contains(r)).then_some(r)
+            }
             None => region.contains(q).then_some(q),
             // Not onto a corner, nor past a bend of a sampled piece (the edge would cut it).
             Some(j) => {

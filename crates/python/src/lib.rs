@@ -1248,7 +1248,9 @@ impl PyMesh {
     /// against `region`, else the region the mesh was made for, else (a mesh read from a file)
     /// the region its triangles cover, with the walls the file numbers, as `cvtmesh polish`
     /// takes it: every vertex of its boundary is a corner of that region and stays where it is
-    /// (pass the region to let them slide along it). Its notes say how many moved.
+    /// (pass the region to let them slide along it). The vertices on the lines the file keeps
+    /// inside the mesh (an interface) stay on them, sliding along their straight runs. Its
+    /// notes say how many moved.
     #[pyo3(signature = (region = None, below = cvtmesh::POLISH_BELOW_DEG),
         text_signature = "(self, region=None, below=40.0)")]
     fn polished(&self, py: Python<'_>, region: Option<&PyRegion>, below: f64) -> PyResult<PyMesh> {
