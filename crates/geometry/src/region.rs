@@ -286,6 +286,18 @@ impl Region {
         self.marker_names.get(&marker).map(String::as_str)
     }
 
+    /// Every marker's name ([`Region::marker_name`]), by marker.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::Region;
+    /// let r = Region::builtin("circle")?.with_marker_names([(2, "inlet".to_string())]);
+    /// assert_eq!(r.marker_names().get(&2).map(String::as_str), Some("inlet"));
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn marker_names(&self) -> &std::collections::BTreeMap<i64, String> {
+        &self.marker_names
+    }
+
     /// The same region with names for its markers, as a mesh file gives them (Gmsh's physical
     /// curves have a tag and a name): the files written for its meshes name the walls so.
     ///

@@ -39,6 +39,11 @@ impl Region {
         self.subdomain_names.get(&id).map(String::as_str)
     }
 
+    /// Every subdomain number's name ([`Region::subdomain_name`]), by number.
+    pub fn subdomain_names(&self) -> &std::collections::BTreeMap<i64, String> {
+        &self.subdomain_names
+    }
+
     /// The same region with names for subdomain numbers ([`Region::subdomain_name`]).
     pub fn with_subdomain_names(
         mut self,

@@ -16,6 +16,7 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -721,12 +722,40 @@ impl PyRegion {
     /// per id, a VTK cell array), as Triangle's `-A` spreads regional attributes; a part
     /// without a point gets 0, and where two points share a part the later one's id holds. A
     /// point outside the region, on its boundary or on a line raises `MeshError`.
-    fn with_subdomain_points(&self, points: Bound<'_, PyAny>, ids: Vec<i64>) -> PyResult<PyRegion> {
+    ///
+    /// `names={3: "steel"}` names ids (`subdomain_names`): the `.msh` files' physical
+    /// surfaces and `Mesh.to_meshio()`'s groups take the names.
+    #[pyo3(signature = (points, ids, names = None))]
+    fn with_subdomain_points(
+        &self,
+        points: Bound<'_, PyAny>,
+        ids: Vec<i64>,
+        names: Option<BTreeMap<i64, String>>,
+    ) -> PyResult<PyRegion> {
         let pts = numbered_points(&points, Some(ids), "id")?;
         let region = (*self.inner).clone();
         Ok(PyRegion {
-            inner: Arc::new(region.with_subdomain_points(pts).map_err(err)?),
+            inner: Arc::new(
+                region
+                    .with_subdomain_points(pts)
+                    .map_err(err)?
+                    .with_subdomain_names(names.unwrap_or_default()),
+            ),
         })
+    }
+
+    /// The names of subdomain ids, `{id: name}`: a JSON region's subdomain `"name"`s, a Gmsh
+    /// file's physical-surface names, or those given to `with_subdomain_points`.
+    #[getter]
+    fn subdomain_names(&self) -> BTreeMap<i64, String> {
+        self.inner.subdomain_names().clone()
+    }
+
+    /// The names of wall markers, `{marker: name}`: a Gmsh file's physical-curve names, or
+    /// those given as `names` to `from_loops` or `from_triangles`.
+    #[getter]
+    fn marker_names(&self) -> BTreeMap<i64, String> {
+        self.inner.marker_names().clone()
     }
 
     /// The boundary vertices with a marker of their own, as `[((x, y), marker), ...]`: a
@@ -1124,20 +1153,31 @@ impl PyMesh {
         self.subdomains_on(py, &region)
     }
 
-    /// `subdomains(region)` where the region has lines or subdomain points (what the files
-    /// number), else None: `to_meshio` adds cell data for the former only.
+    /// What `to_meshio` groups the triangles and edges by, from one region: `subdomains(region)`
+    /// where the region has lines or subdomain points (what the files number), else None;
+    /// the region's marker names and subdomain names.
     #[pyo3(signature = (region = None))]
-    fn _numbered_subdomains<'py>(
+    #[allow(clippy::type_complexity)]
+    fn _groups<'py>(
         &self,
         py: Python<'py>,
         region: Option<&PyRegion>,
-    ) -> PyResult<Option<Bound<'py, PyArray1<i64>>>> {
+    ) -> PyResult<(
+        Option<Bound<'py, PyArray1<i64>>>,
+        BTreeMap<i64, String>,
+        BTreeMap<i64, String>,
+    )> {
         // A mesh read from a file: the region its triangles cover, made once.
         let covered = self.region_or_covered(py, region, "subdomains")?;
+        let names = (
+            covered.marker_names().clone(),
+            covered.subdomain_names().clone(),
+        );
         if !cvtmesh::has_subdomains(&covered) {
-            return Ok(None);
+            return Ok((None, names.0, names.1));
         }
-        self.subdomains_on(py, &covered).map(Some)
+        let parts = self.subdomains_on(py, &covered)?;
+        Ok((Some(parts), names.0, names.1))
     }
 
     /// The marker of the wall each row of `boundary_edges` lies on, where the region file

@@ -1361,12 +1361,27 @@ def test_subdomain_points_number_the_triangles_the_files_and_meshio(tmp_path):
     # Without points, the two sides are 1 and 2 from the left.
     plain = cvtmesh.mesh(Region.load(str(path)), n=400)
     assert _areas_by(plain, plain.subdomains()).keys() == {1, 2}
-    # meshio: a cell array and a physical surface per number.
+    # meshio: a cell array, and a triangle block (a Gmsh surface) and physical surface per
+    # number, each block's triangles in the mesh's order.
     mm = m.to_meshio()
-    assert mm.cell_data["subdomain"][0].tolist() == ids.tolist()
-    assert mm.cell_data["gmsh:physical"][0].tolist() == ids.tolist()
+    order = np.concatenate([np.flatnonzero(ids == 3), np.flatnonzero(ids == 4)])
+    assert (mm.cells_dict["triangle"] == m.triangles[order]).all()
+    assert mm.cell_data_dict["subdomain"]["triangle"].tolist() == ids[order].tolist()
+    assert mm.cell_data_dict["gmsh:physical"]["triangle"].tolist() == ids[order].tolist()
     assert mm.field_data["subdomain_4"].tolist() == [4, 2]
-    assert mm.cell_sets["subdomain_3"][0].tolist() == np.flatnonzero(ids == 3).tolist()
+    assert mm.cell_sets["subdomain_3"][0].tolist() == list(range((ids == 3).sum()))
+    assert mm.cell_sets["subdomain_3"][1].size == 0
+    # Written by meshio's Gmsh 4.1 writer, each surface keeps its number (one block of several
+    # numbers had the first triangle's for all), and the interface its curve.
+    meshio = pytest.importorskip("meshio")
+    mm.write(str(tmp_path / "meshio.msh"), file_format="gmsh")
+    back = meshio.read(str(tmp_path / "meshio.msh"))
+    for n in (3, 4):
+        got = back.cells_dict["triangle"][back.cell_sets_dict[f"subdomain_{n}"]["triangle"]]
+        assert triangle_set(back.points[:, :2], got) == triangle_set(m.points, m.triangles[ids == n])
+    edges, _ = m.line_edges()
+    got = back.cells_dict["line"][back.cell_sets_dict["marker_7"]["line"]]
+    assert edge_set(back.points, got) == edge_set(m.points, edges)
     # A region of one material, or of two parts without lines, keeps its one surface.
     square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     two_parts = Region.from_parts([(square, []), (square + [2.0, 0.0], [])])
@@ -1378,6 +1393,40 @@ def test_subdomain_points_number_the_triangles_the_files_and_meshio(tmp_path):
         back = cvtmesh.Mesh.read(str(tmp_path / name))
         areas = _areas_by(back, back.subdomains())
         assert set(areas) == {3, 4} and all(abs(a - 0.5) < 1e-12 for a in areas.values()), (name, areas)
+
+
+def test_named_subdomains_and_walls_name_the_meshio_groups(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    path = tmp_path / "two.poly"
+    path.write_text(INTERFACE_POLY)
+    named = Region.load(str(path)).with_subdomain_points(
+        [[0.25, 0.5], [0.75, 0.5]], [3, 4], names={4: "steel"}
+    )
+    assert named.subdomain_names == {4: "steel"} and named.marker_names == {}
+    m = cvtmesh.mesh(named, n=400)
+    mm = m.to_meshio()
+    # The named group by its name, in the cell sets beside its number and as the physical
+    # group's name; the unnamed one by its number.
+    assert mm.field_data["steel"].tolist() == [4, 2] and "subdomain_4" not in mm.field_data
+    assert mm.field_data["subdomain_3"].tolist() == [3, 2]
+    assert mm.cell_sets["steel"][0].tolist() == mm.cell_sets["subdomain_4"][0].tolist()
+    out = tmp_path / "meshio.msh"
+    mm.write(str(out), file_format="gmsh")
+    back = meshio.read(str(out))
+    steel = back.cells_dict["triangle"][back.cell_sets_dict["steel"]["triangle"]]
+    assert triangle_set(back.points[:, :2], steel) == triangle_set(
+        m.points, m.triangles[m.subdomains() == 4])
+    # cvtmesh's own .msh names the surface, and a mesh read back has the names.
+    m.write(str(tmp_path / "own.msh"))
+    back = cvtmesh.Mesh.read(str(tmp_path / "own.msh"))
+    assert back.to_meshio().field_data["steel"].tolist() == [4, 2]
+    # Named walls likewise.
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    walls = Region.from_loops(square, markers=[[11, 12, 12, 12]], names={11: "inlet"})
+    assert walls.marker_names == {11: "inlet"}
+    wm = cvtmesh.mesh(walls, n=200).to_meshio()
+    assert wm.field_data["inlet"].tolist() == [11, 1] and wm.field_data["marker_12"].tolist() == [12, 1]
+    assert [len(b) for b in wm.cell_sets["inlet"]] == [len(b) for b in wm.cell_sets["marker_11"]]
 
 
 def test_a_mesh_refined_toward_an_interface(tmp_path):

@@ -269,7 +269,14 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
     marker, in the cell set ``marker_7`` of their marker and its physical group. Where the
     region has lines or subdomain points, each triangle's subdomain (:meth:`Mesh.subdomains`)
     is cell data ``subdomain`` (0 on the lines) and a cell set ``subdomain_3`` per number, and
-    the triangles' ``gmsh:physical`` tags are those numbers (Gmsh's physical surfaces)."""
+    the triangles' ``gmsh:physical`` tags are those numbers (Gmsh's physical surfaces); with
+    several numbers the triangles come in a block per number, in increasing order (each a
+    Gmsh surface, the triangles of each in the mesh's order), as Gmsh files and meshio's Gmsh
+    writer, which gives a block one physical tag, need them. A
+    marker or subdomain the region names (``Region.marker_names``, ``Region.subdomain_names``:
+    a Gmsh file's physical names, a JSON subdomain's ``"name"``) has a cell set by its name
+    beside the numbered one, and its physical group in ``field_data`` takes the name, as a
+    Gmsh file names it."""
     import meshio
 
     if region is not None and not isinstance(region, Region):
@@ -365,9 +372,9 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
     # Each triangle's subdomain, where the region's lines part it or its points number it: a
     # physical surface per number (a number 0 or below takes a tag past the others).
     try:
-        parts = self._numbered_subdomains(region)
+        parts, marker_names, subdomain_names = self._groups(region)
     except MeshError:  # no region, or one whose lines the mesh does not follow
-        parts = None
+        parts, marker_names, subdomain_names = None, {}, {}
     if parts is not None:
         parts = np.asarray(parts)
         cell_data["subdomain"] = [parts] + [np.zeros(len(c[1]), dtype=np.int64) for c in cells[1:]]
@@ -380,6 +387,15 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
             cell_sets[f"subdomain_{n}"] = [np.flatnonzero(parts == n)] + [
                 np.empty(0, dtype=np.int64) for _ in cells[1:]]
             field_data[f"subdomain_{n}"] = np.array([tags[n], 2])
+    # A group the region names (a Gmsh physical name, a JSON subdomain's "name") is a cell
+    # set by that name as well, and the name of its physical group: what Gmsh users read.
+    for kind, names in (("marker", marker_names), ("subdomain", subdomain_names)):
+        for n, name in names.items():
+            numbered = f"{kind}_{n}"
+            if numbered in cell_sets and name not in cell_sets:
+                cell_sets[name] = list(cell_sets[numbered])
+                if numbered in field_data:
+                    field_data[name] = field_data.pop(numbered)
     if len(markers):
         # The walls' numbers as cell data too (0 on the triangles): XDMF and VTU, which
         # finite-element codes read facet tags from, keep cell data, not cell sets.
@@ -394,6 +410,26 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
         own = np.asarray(self.vertex_markers(region))
         marks[: len(own)] = own
         point_data["marker"] = marks
+    # Gmsh gives an entity one physical tag, and meshio's Gmsh writer takes each block's first:
+    # each line block along an embedded line gets a node on its curve (one inside the line,
+    # on no other curve), and triangles of several subdomains become a block (a surface) per
+    # subdomain, so that a file meshio writes names every curve and surface it lists.
+    on_curves = np.zeros(len(points), dtype=bool)
+    on_curves[lines.ravel()] = True
+    for i in range(len(cells) - 1 - len(runs)):
+        rows = cells[1 + len(runs) + i][1]
+        if rows.shape[1] > 2:  # order 2: the first edge's own node
+            node = rows[0, 2]
+        else:  # a node two of the block's edges share, on no boundary curve
+            nodes, counts = np.unique(rows, return_counts=True)
+            inside = nodes[(counts == 2) & ~on_curves[nodes]]
+            node = inside[0] if len(inside) else rows[0, 0]
+        dim_tags[node] = [1, len(runs) + 1 + i]
+        on_curves[rows.ravel()] = True
+    if parts is not None and len(np.unique(parts)) > 1:
+        cells, cell_sets, cell_data = _surface_per_subdomain(
+            parts, kinds[0], cells, cell_sets, cell_data, dim_tags, on_curves
+        )
     return meshio.Mesh(
         points,
         cells,
@@ -405,6 +441,29 @@ def _to_meshio(self: Mesh, order: int = 1, region: Optional[RegionLike] = None) 
 
 
 Mesh.to_meshio = _to_meshio  # type: ignore[attr-defined]
+
+
+def _surface_per_subdomain(parts, kind, cells, cell_sets, cell_data, dim_tags, on_curves):
+    """The first (triangle) block of ``to_meshio``'s lists split into one block per subdomain
+    number, in increasing order, each its own Gmsh surface holding a node of its own."""
+    numbers = np.unique(parts)
+    where = [np.flatnonzero(parts == n) for n in numbers]
+    tris = cells[0][1]
+    new_cells = [(kind, tris[w]) for w in where] + cells[1:]
+    sets = {
+        name: [np.flatnonzero(np.isin(w, blocks[0])) for w in where] + blocks[1:]
+        for name, blocks in cell_sets.items()
+    }
+    data = {name: [blocks[0][w] for w in where] + blocks[1:] for name, blocks in cell_data.items()}
+    data["gmsh:geometrical"][: len(where)] = [
+        np.full(len(w), s + 1, dtype=np.int64) for s, w in enumerate(where)
+    ]
+    for s, w in enumerate(where):
+        nodes = np.unique(tris[w][:, :3])
+        free = nodes[~on_curves[nodes]]
+        if len(free):
+            dim_tags[free[0]] = [2, s + 1]
+    return new_cells, sets, data
 
 
 def _taking_region_names(name: str) -> None:
