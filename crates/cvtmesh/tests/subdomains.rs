@@ -241,3 +241,44 @@ fn subdomain_names_are_the_physical_surfaces_names_and_survive_a_new_mesh() {
     assert!(text.contains("2 10 \"steel\"\n") && text.contains("2 20 \"rubber\"\n"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_catch_all_physical_surface_beside_the_materials_leaves_them_apart() {
+    // Gmsh users often put every surface in a "domain" group as well as one per material:
+    // each surface is then in two groups, and the catch-all one, listed first, made the whole
+    // mesh one material.
+    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
+        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
+        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
+        "subdomains": [{"point": [0.25, 0.5], "id": 10}, {"point": [0.75, 0.5], "id": 20}]}"#;
+    let region = Region::from_json_str(json, "two").unwrap();
+    let mesh = cvtmesh::mesh(&region, 200).unwrap().mesh;
+    let dir = std::env::temp_dir().join(format!("cvtmesh-catch-all-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("two.msh");
+    write_mesh_on(&mesh, &region, &path).unwrap();
+    // Each surface entity's physical tags: the catch-all 100 first, then its material.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let entities = lines.iter().position(|l| l == "$Entities").unwrap();
+    let counts: Vec<usize> = lines[entities + 1]
+        .split(' ')
+        .map(|w| w.parse().unwrap())
+        .collect();
+    let surfaces = entities + 2 + counts[0] + counts[1];
+    for line in &mut lines[surfaces..surfaces + counts[2]] {
+        let w: Vec<&str> = line.split(' ').collect();
+        assert_eq!(w[7], "1", "one physical tag: {line}");
+        *line = [&w[..7], &["2", "100"], &w[8..]].concat().join(" ");
+    }
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let (read, walls) = read_mesh_with_walls(&path).unwrap();
+    let areas = area_by_number(&read, &walls.subdomains);
+    assert_eq!(
+        areas.keys().copied().collect::<Vec<_>>(),
+        [10, 20],
+        "{areas:?}"
+    );
+    assert!(areas.values().all(|a| (a - 0.5).abs() < 1e-12), "{areas:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

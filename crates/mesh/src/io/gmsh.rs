@@ -1009,7 +1009,7 @@ fn parse_entities(
         t.usize("the number of volume entities")?,
     ];
     let mut curve_phys = HashMap::new();
-    let mut surface_phys = HashMap::new();
+    let mut surface_lists: Vec<(i64, Vec<i64>)> = Vec::new();
     for (dim, &count) in counts.iter().enumerate() {
         for _ in 0..count {
             let tag = t.i64("an entity tag")?;
@@ -1025,8 +1025,8 @@ fn parse_entities(
             if dim <= 1 && !phys.is_empty() {
                 curve_phys.insert((dim, tag), curve_groups(names, dim as i64, &phys));
             }
-            if let (2, Some(&first)) = (dim, phys.first()) {
-                surface_phys.insert(tag, first);
+            if dim == 2 && !phys.is_empty() {
+                surface_lists.push((tag, phys));
             }
             if dim > 0 {
                 let nb = t.usize("the number of bounding entities")?;
@@ -1036,6 +1036,27 @@ fn parse_entities(
             }
         }
     }
+    // A surface in several physical groups takes the first, but not one that every surface
+    // is in beside groups of their own (a catch-all "domain" over per-material groups), which
+    // would make the materials one.
+    let mut holding: HashMap<i64, usize> = HashMap::new();
+    for (_, phys) in &surface_lists {
+        let mut own = phys.clone();
+        own.sort_unstable();
+        own.dedup();
+        for p in own {
+            *holding.entry(p).or_default() += 1;
+        }
+    }
+    let several = surface_lists.iter().any(|(_, l)| l.len() > 1);
+    let everywhere = |p: i64| several && holding[&p] == surface_lists.len();
+    let surface_phys = surface_lists
+        .iter()
+        .map(|(tag, phys)| {
+            let own = phys.iter().copied().find(|&p| !everywhere(p));
+            (*tag, own.unwrap_or(phys[0]))
+        })
+        .collect();
     Ok(Entities {
         curve_phys,
         surface_phys,
