@@ -469,3 +469,39 @@ fn a_triangle_mesh_s_interface_vertices_slide_along_it_in_the_polish() {
     let left = area_where(&mesh, |c| c.x < 0.2 + 0.4 * c.y);
     assert!((left - 0.4).abs() < 1e-12, "{left}");
 }
+
+#[test]
+fn many_crossing_lines_give_the_same_mesh_every_run() {
+    // 25 fractures from a fixed sequence: many crossings, and segments a point off the line
+    // crowds, which flips restore; which crossing edge a flip took once followed a hash map's
+    // order, different from run to run.
+    let mut state: u64 = 1;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        0.05 + 0.9 * ((state >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let lines: Vec<EmbeddedLine> = (0..25)
+        .map(|i| EmbeddedLine {
+            points: vec![DVec2::new(next(), next()), DVec2::new(next(), next())],
+            marker: 1 + i % 3,
+        })
+        .collect();
+    let region = square().with_embedded_lines(lines).unwrap();
+    for method in [Method::Refine, Method::Ccvt] {
+        let run = || {
+            method
+                .run(&region, &MeshRequest::points(1500))
+                .unwrap_or_else(|e| panic!("{method}: {e}"))
+                .mesh
+        };
+        let first = run();
+        line_edges(&first, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
+        for _ in 0..3 {
+            let again = run();
+            assert_eq!(first.points, again.points, "{method}");
+            assert_eq!(first.triangles, again.triangles, "{method}");
+        }
+    }
+}

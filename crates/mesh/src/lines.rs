@@ -211,7 +211,12 @@ fn flip_one_crossing(mesh: &mut Mesh, u: u32, v: u32) -> bool {
             by_edge.insert((tri[k], tri[(k + 1) % 3]), (t, tri[(k + 2) % 3]));
         }
     }
-    for (&(p, q), &(t1, w)) in &by_edge {
+    // In the triangles' order, not the map's: the same mesh flips the same edge every run.
+    let edges = near.iter().flat_map(|&t| {
+        let tri = mesh.triangles[t];
+        (0..3).map(move |k| (tri[k], tri[(k + 1) % 3], t, tri[(k + 2) % 3]))
+    });
+    for (p, q, t1, w) in edges {
         let Some(&(t2, x)) = by_edge.get(&(q, p)) else {
             continue;
         };
