@@ -505,3 +505,45 @@ fn many_crossing_lines_give_the_same_mesh_every_run() {
         }
     }
 }
+
+#[test]
+fn a_line_crossing_itself_is_followed_through_its_crossing_and_simplified_around_it() {
+    // A figure of eight: the crossing is a vertex visited twice, as Triangle splits a .poly's
+    // crossing segments.
+    let eight = EmbeddedLine {
+        points: [(0.2, 0.2), (0.8, 0.8), (0.8, 0.2), (0.2, 0.8), (0.2, 0.2)]
+            .map(DVec2::from)
+            .to_vec(),
+        marker: 4,
+    };
+    let length = eight.length();
+    let region = square().with_embedded_lines([eight]).unwrap();
+    assert_eq!(region.embedded_lines()[0].points.len(), 7);
+    for method in [Method::Ccvt, Method::Refine] {
+        let r = method.run(&region, &MeshRequest::points(800)).unwrap();
+        let along: f64 = line_edges(&r.mesh, &region)
+            .unwrap()
+            .iter()
+            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
+            .sum();
+        assert!(
+            (along - length).abs() < 1e-12,
+            "{method}: {along} of {length}"
+        );
+        // The two loops of the eight and the rest of the square: three parts.
+        let parts = cvtmesh::subdomains(&r.mesh, &region).unwrap();
+        let mut numbers = parts.clone();
+        numbers.sort_unstable();
+        numbers.dedup();
+        assert_eq!(numbers, [1, 2, 3], "{method}");
+    }
+    // Simplified, the crossing stays.
+    let simplified = region.simplified(0.01).unwrap();
+    let kept = &simplified.region.embedded_lines()[0].points;
+    assert_eq!(
+        kept.iter()
+            .filter(|p| p.distance(DVec2::splat(0.5)) < 1e-12)
+            .count(),
+        2
+    );
+}

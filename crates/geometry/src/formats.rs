@@ -235,11 +235,13 @@ pub(crate) fn marked_polygon_region(
 ) -> Result<Region, GeometryError> {
     // Triangle's markers and Gmsh's physical tags are 32-bit integers: a wider number could
     // not be written as one.
+    // The smallest such number is named, whatever order the maps list them in.
     let wide = markers
         .iter()
         .flat_map(|m| m.values())
         .chain(vertex_markers.values())
-        .find(|&&m| i32::try_from(m).is_err());
+        .filter(|&&m| i32::try_from(m).is_err())
+        .min();
     if let Some(m) = wide {
         return Err(invalid(
             label,
@@ -305,8 +307,12 @@ pub(crate) fn marked_polygon_region(
         // A piece is one segment or a straight run of them, all with one marker (a change is
         // a corner): the marker of the segment that leaves its start along it. 0 (Triangle's
         // "no marker") where that segment has none.
+        // In the segments' sorted order, not the map's: of two segments leaving a vertex in
+        // the same direction (an overlap), the same one gives its marker every run.
+        let mut sorted: Vec<(&(Key, Key), &i64)> = m.iter().collect();
+        sorted.sort_unstable();
         let mut leaving: HashMap<Key, Vec<(DVec2, i64)>> = HashMap::new();
-        for (&(a, b), &marker) in &m {
+        for (&(a, b), &marker) in sorted {
             let (pa, pb) = (from_key(a), from_key(b));
             leaving.entry(a).or_default().push((pb, marker));
             leaving.entry(b).or_default().push((pa, marker));

@@ -175,8 +175,8 @@ impl Region {
     /// inclusion touching a wall), where the piece is split if need be and the point becomes
     /// a corner whatever the corner angle; no segment leaves the region. Lines may share vertices (three materials meeting at
     /// a point); where two cross, or a vertex of one lies on a segment of another, both get a
-    /// vertex there (as Triangle splits crossing segments), so each line lists it. Lines may
-    /// not overlap along a segment, or cross themselves. A marked line in
+    /// vertex there (as Triangle splits crossing segments), so each line lists it (a line that
+    /// crosses itself, twice). Lines may not overlap along a segment. A marked line in
     /// a region that numbers no walls gives every piece Triangle's marker for a boundary, 1,
     /// as a marked embedded point does.
     pub fn with_embedded_lines(
@@ -316,7 +316,8 @@ impl Region {
         }
         // Where two lines cross, or a vertex of one lies on a segment of another (a T whose
         // stem stops at the bar), both get a vertex there, as Triangle splits crossing
-        // segments and Gmsh's fragments do; a line's end on its own segment splits it too.
+        // segments and Gmsh's fragments do; a line crossing itself visits its crossing twice,
+        // and a line's end on its own segment splits it.
         let mut lines: Vec<EmbeddedLine> = std::mem::take(&mut self.lines);
         let existing = lines.len();
         lines.extend(added);
@@ -349,8 +350,8 @@ impl Region {
             let (i, j) = (all[s].0, all[t].0);
             return Err(bad(if i == j {
                 format!(
-                    "embedded line {i} crosses or touches itself at ({}, {}); give it as two \
-                     lines that meet there",
+                    "embedded line {i} touches or runs along itself at ({}, {}) without a \
+                     vertex there; give it as two lines that meet there",
                     p.x, p.y
                 )
             } else {
@@ -442,12 +443,12 @@ impl Region {
     }
 }
 
-/// Splits the lines where they meet other than at a shared vertex: where segments of two
-/// lines cross, both get the crossing point (the same bits in each); a vertex of one line
-/// within `off` of a segment of another, off its ends, is inserted into that segment; a
-/// line's end on one of its own segments splits that segment. Segments are paired by a grid
-/// of their boxes. What is left (a line crossing itself, segments overlapping along a line,
-/// points closer than `off` but apart) the caller refuses.
+/// Splits the lines where they meet other than at a shared vertex: where two segments cross
+/// (of two lines, or of one), both get the crossing point (the same bits in each); a vertex
+/// of one line within `off` of a segment of another, off its ends, is inserted into that
+/// segment; a line's end on one of its own segments splits that segment. Segments are paired
+/// by a grid of their boxes. What is left (segments overlapping along a line, points closer
+/// than `off` but apart) the caller refuses.
 fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
     let segments: Vec<(usize, usize, DVec2, DVec2)> = lines
         .iter()
@@ -475,6 +476,17 @@ fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
     };
     crate::crossings::candidate_pairs(&boxes, off, |s, t| {
         let ((i, _, a, b), (j, _, c, d)) = (segments[s], segments[t]);
+        // Two segments crossing, of two lines or of one (a line crossing itself visits the
+        // crossing twice).
+        if segments_cross(a, b, c, d) {
+            let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+            let x = a + (b - a) * (o1 / (o1 - o2));
+            if apart(x, a, b) && apart(x, c, d) {
+                inserted[s].push((closest_on_segment(a, b, x).1, x));
+                inserted[t].push((closest_on_segment(c, d, x).1, x));
+                return true;
+            }
+        }
         if i == j {
             // A line's own end on its own segment (a loop closing on its side).
             for p in ends[i] {
@@ -486,15 +498,6 @@ fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
                 }
             }
             return true;
-        }
-        if segments_cross(a, b, c, d) {
-            let (o1, o2) = (orient(c, d, a), orient(c, d, b));
-            let x = a + (b - a) * (o1 / (o1 - o2));
-            if apart(x, a, b) && apart(x, c, d) {
-                inserted[s].push((closest_on_segment(a, b, x).1, x));
-                inserted[t].push((closest_on_segment(c, d, x).1, x));
-                return true;
-            }
         }
         for p in [a, b] {
             insert_on(t, p, &mut inserted);
@@ -870,13 +873,25 @@ mod tests {
                 .len(),
             3
         );
-        // A line crossing itself.
+        // A line crossing itself visits the crossing twice; one whose middle vertex touches
+        // its own segment is refused.
         let bow = line(&[(0.2, 0.2), (0.8, 0.8), (0.8, 0.2), (0.2, 0.8)], 0);
+        let r = outline().with_embedded_lines([bow]).unwrap();
+        let points = &r.embedded_lines()[0].points;
+        assert_eq!(points.len(), 6);
+        assert!(points[1] == points[4] && points[1].distance(DVec2::splat(0.5)) < 1e-15);
+        let kink = line(
+            &[(0.2, 0.5), (0.8, 0.5), (0.8, 0.8), (0.5, 0.5), (0.5, 0.9)],
+            0,
+        );
         let e = outline()
-            .with_embedded_lines([bow])
+            .with_embedded_lines([kink])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("crosses or touches itself at (0.5, 0.5)"), "{e}");
+        assert!(
+            e.contains("touches or runs along itself at (0.5, 0.5)"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -269,17 +269,17 @@ impl Region {
     }
 
     /// The vertices of the embedded lines that simplifying them keeps besides their ends: those
-    /// on the boundary (a wall is split there) and those two lines share (a junction).
+    /// on the boundary (a wall is split there) and those two lines share (a junction) or one
+    /// line visits twice (where it crosses itself).
     fn line_vertices_to_keep(&self) -> HashSet<(u64, u64)> {
         let key = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
         let off = 1e-9 * self.diameter();
+        // Visits of each point: a junction of two lines, or a crossing one line makes with
+        // itself, is visited twice or more (a closed line's ends, kept anyway, twice).
         let mut lines_at: HashMap<(u64, u64), usize> = HashMap::new();
         for line in &self.lines {
-            let mut own: Vec<(u64, u64)> = line.points.iter().map(|&p| key(p)).collect();
-            own.sort_unstable();
-            own.dedup();
-            for k in own {
-                *lines_at.entry(k).or_insert(0) += 1;
+            for p in &line.points {
+                *lines_at.entry(key(*p)).or_insert(0) += 1;
             }
         }
         self.lines

@@ -674,8 +674,8 @@ impl PyRegion {
     /// running along it (`Mesh.line_edges()`; in the files, `.poly` segments and Gmsh physical
     /// curves of their markers). A line may end on a polygonal wall or an arc; lines may meet
     /// at shared vertices, and where two cross both get a vertex there (as Triangle splits
-    /// crossing segments), which `embedded_lines` lists. A line leaving the region, crossing
-    /// itself or running along another raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
+    /// crossing segments), which `embedded_lines` lists (a line crossing itself, twice). A
+    /// line leaving the region or running along another raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
     /// meshgen and vtm refuse such a region.
     #[pyo3(signature = (lines, markers = None))]
     fn with_embedded_lines(

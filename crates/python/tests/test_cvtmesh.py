@@ -656,8 +656,8 @@ def test_an_interface_and_an_inclusion_are_followed_by_edges(tmp_path):
         cvtmesh.mesh(region, n=1500, method="vtm")
     with pytest.raises(MeshError, match="leaves the region|outside the region"):
         region.with_embedded_lines([[[0.2, 0.2], [1.5, 0.2]]])
-    # Lines that cross, each other or the interface, are split there, as Triangle splits
-    # crossing segments; a line crossing itself is refused.
+    # Lines that cross, each other, the interface or themselves, are split there, as Triangle
+    # splits crossing segments; a line whose vertex touches its own segment is refused.
     crossed = region.with_embedded_lines(
         [[[0.2, 0.2], [0.4, 0.4]], [[0.2, 0.4], [0.4, 0.2]], [[0.4, 0.1], [0.6, 0.1]]]
     )
@@ -667,8 +667,11 @@ def test_an_interface_and_an_inclusion_are_followed_by_edges(tmp_path):
     assert lines[4] == [[0.4, 0.1], [0.5, 0.1], [0.6, 0.1]]
     m = cvtmesh.mesh(crossed, n=1500)
     assert (np.abs(m.points - [0.3, 0.3]).max(axis=1) < 1e-15).sum() == 1
-    with pytest.raises(MeshError, match=r"crosses or touches itself at \(0\.3"):
-        region.with_embedded_lines([[[0.2, 0.2], [0.4, 0.4], [0.4, 0.2], [0.2, 0.4]]])
+    bow = region.with_embedded_lines([[[0.2, 0.2], [0.4, 0.4], [0.4, 0.2], [0.2, 0.4]]])
+    pts = bow.embedded_lines[2][0]
+    assert len(pts) == 6 and (pts[1] == pts[4]).all() and np.allclose(pts[1], [0.3, 0.3])
+    with pytest.raises(MeshError, match=r"touches or runs along itself at \(0\.3"):
+        region.with_embedded_lines([[[0.2, 0.3], [0.4, 0.3], [0.4, 0.4], [0.3, 0.3], [0.3, 0.45]]])
     with pytest.raises(MeshError, match="one marker per line"):
         region.with_embedded_lines([[[0.2, 0.2], [0.3, 0.3]]], markers=[1, 2])
 
