@@ -47,6 +47,14 @@ fn area_where(mesh: &cvtmesh::Mesh, side: impl Fn(DVec2) -> bool) -> f64 {
         .sum()
 }
 
+/// The length of the mesh's edges along the region's lines, or where a line has none.
+fn length_along_lines(mesh: &cvtmesh::Mesh, region: &Region) -> Result<f64, cvtmesh::MeshError> {
+    Ok(line_edges(mesh, region)?
+        .iter()
+        .map(|&([a, b], _)| mesh.points[a as usize].distance(mesh.points[b as usize]))
+        .sum())
+}
+
 fn left_of_interface(c: DVec2) -> bool {
     // Left of the polyline (0.4, 0) → (0.6, 0.5) → (0.4, 1).
     let x = if c.y < 0.5 {
@@ -334,11 +342,8 @@ fn a_laminate_whose_interfaces_meet_the_walls_at_three_and_seven_tenths_is_meshe
             check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{what}: {e}"));
             let smallest = r.mesh.min_angle_deg();
             assert!(smallest > 30.0, "{what}: smallest angle {smallest}°");
-            let along: f64 = line_edges(&r.mesh, &region)
-                .unwrap_or_else(|e| panic!("{what}: {e}"))
-                .iter()
-                .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
-                .sum();
+            let along =
+                length_along_lines(&r.mesh, &region).unwrap_or_else(|e| panic!("{what}: {e}"));
             assert!((along - 2.0).abs() < 1e-12, "{what}: lines {along} long");
         }
     }
@@ -364,11 +369,7 @@ fn a_chord_of_a_disc_ending_inside_its_arc_is_followed_whatever_the_corner_angle
             .run(&region, &MeshRequest::points(1000))
             .unwrap_or_else(|e| panic!("{method}: {e}"));
         check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{method}: {e}"));
-        let along: f64 = line_edges(&r.mesh, &region)
-            .unwrap()
-            .iter()
-            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
-            .sum();
+        let along = length_along_lines(&r.mesh, &region).unwrap();
         assert!(
             (along - ends[0].distance(ends[1])).abs() < 1e-12,
             "{method}: {along}"
@@ -420,11 +421,7 @@ fn crossing_lines_are_followed_through_their_crossings() {
                 .count();
             assert_eq!(at, 1, "{what}: {at} vertices at {x}");
         }
-        let along: f64 = line_edges(&r.mesh, &region)
-            .unwrap_or_else(|e| panic!("{what}: {e}"))
-            .iter()
-            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
-            .sum();
+        let along = length_along_lines(&r.mesh, &region).unwrap_or_else(|e| panic!("{what}: {e}"));
         assert!((along - length).abs() < 1e-9, "{what}: lines {along} long");
         // The interfaces cut the square into its four quarters, each a subdomain.
         let parts = cvtmesh::subdomains(&r.mesh, &region).unwrap();
@@ -460,11 +457,7 @@ fn a_triangle_mesh_s_interface_vertices_slide_along_it_in_the_polish() {
     assert!(after > 37.0, "{before}° -> {after}°");
     // The interface is where it was: its edges run from wall to wall along it, and the
     // triangles left of it cover exactly its trapezoid.
-    let length: f64 = line_edges(&mesh, &region)
-        .unwrap()
-        .iter()
-        .map(|&([a, b], _)| mesh.points[a as usize].distance(mesh.points[b as usize]))
-        .sum();
+    let length = length_along_lines(&mesh, &region).unwrap();
     assert!((length - 1.16f64.sqrt()).abs() < 1e-12, "{length}");
     let left = area_where(&mesh, |c| c.x < 0.2 + 0.4 * c.y);
     assert!((left - 0.4).abs() < 1e-12, "{left}");
@@ -521,11 +514,7 @@ fn a_line_crossing_itself_is_followed_through_its_crossing_and_simplified_around
     assert_eq!(region.embedded_lines()[0].points.len(), 7);
     for method in [Method::Ccvt, Method::Refine] {
         let r = method.run(&region, &MeshRequest::points(800)).unwrap();
-        let along: f64 = line_edges(&r.mesh, &region)
-            .unwrap()
-            .iter()
-            .map(|&([a, b], _)| r.mesh.points[a as usize].distance(r.mesh.points[b as usize]))
-            .sum();
+        let along = length_along_lines(&r.mesh, &region).unwrap();
         assert!(
             (along - length).abs() < 1e-12,
             "{method}: {along} of {length}"
