@@ -151,6 +151,9 @@ pub(crate) fn polish_with(
     if below_deg > 0.0 && cosine.iter().any(|&c| c > limit) {
         let stars = Stars::new(mesh);
         let mut bounds = Bounds::of(mesh, &stars, sized);
+        // The polish keeps the triangles and a line's vertices on it: its edges are the same
+        // in every sweep.
+        let lines = Lines::of(mesh, region);
         // Each round moves interior vertices first, then boundary vertices only for the
         // triangles still below the threshold (a boundary vertex off its place costs the cells
         // around it more: see design-notes, "Polish").
@@ -159,7 +162,7 @@ pub(crate) fn polish_with(
                 let stars = (&stars, &mut bounds);
                 sweep(
                     mesh,
-                    region,
+                    (region, &lines),
                     stars,
                     (&mut cosine, limit),
                     (&mut moved, &hold),
@@ -191,7 +194,7 @@ struct Moved {
 /// best place. Whether any moved.
 fn sweep(
     mesh: &mut Mesh,
-    region: &Region,
+    (region, lines): (&Region, &Lines),
     (stars, bounds): (&Stars, &mut Bounds),
     (cosine, limit): (&mut [f64], f64),
     (moved, hold): (&mut Moved, &[bool]),
@@ -212,32 +215,12 @@ fn sweep(
     };
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(sorted(a.1).cmp(&sorted(b.1))));
     let mut seen = vec![false; mesh.num_vertices()];
-    // The other vertices of the mesh on its embedded lines stay, as the points it embeds do.
-    let on_lines = crate::lines::line_edges(mesh, region).unwrap_or_default();
-    let slides = line_slides(mesh, region, &on_lines);
-    // A line's edges are constrained: the triangles either side of one need not pass the
-    // Delaunay test across it, as the boundary's need not.
-    let constrained: std::collections::HashSet<[u32; 2]> = on_lines
-        .iter()
-        .map(|&([a, b], _)| [a.min(b), a.max(b)])
-        .collect();
-    let fixed: std::collections::HashSet<(u64, u64)> = region
-        .embedded_points()
-        .iter()
-        .map(|(q, _)| *q)
-        .chain(
-            on_lines
-                .iter()
-                .flat_map(|(e, _)| e.map(|v| mesh.points[v as usize])),
-        )
-        .map(|q| (q.x.to_bits(), q.y.to_bits()))
-        .collect();
-    let embedded = |p: DVec2| fixed.contains(&(p.x.to_bits(), p.y.to_bits()));
+    let embedded = |p: DVec2| lines.fixed.contains(&(p.x.to_bits(), p.y.to_bits()));
     let mut any = false;
     for (_, t) in bad {
         for v in sorted(t) {
             let v = v as usize;
-            let slide = slides.get(&(v as u32)).copied();
+            let slide = lines.slides.get(&(v as u32)).copied();
             // A held vertex inside a straight run of a line slides along it: what holding it
             // keeps, the interface, it keeps.
             let movable = (!hold[v] || slide.is_some())
@@ -254,7 +237,13 @@ fn sweep(
             }
             seen[v] = true;
             let slide = slide.map(|[u, w]| [u, w].map(|x| mesh.points[x as usize]));
-            if let Some(p) = best_place(mesh, (stars, bounds), v, region, (slide, &constrained)) {
+            if let Some(p) = best_place(
+                mesh,
+                (stars, bounds),
+                v,
+                region,
+                (slide, &lines.constrained),
+            ) {
                 if !moved.flag[v] {
                     moved.flag[v] = true;
                     moved
@@ -979,30 +968,62 @@ fn longest_side2(q: [DVec2; 3]) -> f64 {
     a.max(b).max(c)
 }
 
-/// The vertices of the mesh that may slide along an embedded line, each with its two
-/// neighbours along it: those inside a straight run of a line (its vertices are placed between
-/// the line's own, which stay, with the ends, junctions and crossings).
-fn line_slides(mesh: &Mesh, region: &Region, edges: &[([u32; 2], i64)]) -> HashMap<u32, [u32; 2]> {
-    let bits = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
-    let kept: std::collections::HashSet<(u64, u64)> = region
-        .embedded_lines()
-        .iter()
-        .flat_map(|l| l.points.iter().copied())
-        .chain(region.embedded_points().iter().map(|(q, _)| *q))
-        .map(bits)
-        .collect();
-    let mut along: HashMap<u32, Vec<u32>> = HashMap::new();
-    for ([a, b], _) in edges {
-        along.entry(*a).or_default().push(*b);
-        along.entry(*b).or_default().push(*a);
+/// What the polish keeps of the region's embedded lines, found once per polish.
+struct Lines {
+    /// The vertices that may slide along a line, each with its two neighbours along it:
+    /// those inside a straight run of a line (placed between the line's own vertices, which
+    /// stay, with its ends, junctions and crossings).
+    slides: HashMap<u32, [u32; 2]>,
+    /// A line's edges, by their sorted ends: constrained, the triangles either side of one
+    /// need not pass the Delaunay test across it, as the boundary's need not.
+    constrained: std::collections::HashSet<[u32; 2]>,
+    /// Where the other vertices on the lines and the points the region embeds are, by their
+    /// coordinates' bits: they stay.
+    fixed: std::collections::HashSet<(u64, u64)>,
+}
+
+impl Lines {
+    fn of(mesh: &Mesh, region: &Region) -> Lines {
+        let edges = crate::lines::line_edges(mesh, region).unwrap_or_default();
+        let bits = |p: DVec2| (p.x.to_bits(), p.y.to_bits());
+        let kept: std::collections::HashSet<(u64, u64)> = region
+            .embedded_lines()
+            .iter()
+            .flat_map(|l| l.points.iter().copied())
+            .chain(region.embedded_points().iter().map(|(q, _)| *q))
+            .map(bits)
+            .collect();
+        let mut along: HashMap<u32, Vec<u32>> = HashMap::new();
+        for ([a, b], _) in &edges {
+            along.entry(*a).or_default().push(*b);
+            along.entry(*b).or_default().push(*a);
+        }
+        let slides = along
+            .into_iter()
+            .filter_map(|(v, n)| match n[..] {
+                [u, w] if !kept.contains(&bits(mesh.points[v as usize])) => Some((v, [u, w])),
+                _ => None,
+            })
+            .collect();
+        Lines {
+            slides,
+            constrained: edges
+                .iter()
+                .map(|&([a, b], _)| [a.min(b), a.max(b)])
+                .collect(),
+            fixed: region
+                .embedded_points()
+                .iter()
+                .map(|(q, _)| *q)
+                .chain(
+                    edges
+                        .iter()
+                        .flat_map(|(e, _)| e.map(|v| mesh.points[v as usize])),
+                )
+                .map(bits)
+                .collect(),
+        }
     }
-    along
-        .into_iter()
-        .filter_map(|(v, n)| match n[..] {
-            [u, w] if !kept.contains(&bits(mesh.points[v as usize])) => Some((v, [u, w])),
-            _ => None,
-        })
-        .collect()
 }
 
 /// Where `v` raises its star's smallest angle most, by a pattern search (None if nowhere
