@@ -282,3 +282,31 @@ fn a_catch_all_physical_surface_beside_the_materials_leaves_them_apart() {
     assert!(areas.values().all(|a| (a - 0.5).abs() < 1e-12), "{areas:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_named_line_and_a_name_with_quotes_are_written_so_gmsh_reads_them() {
+    // A solver selects the interface by its name: the .msh names the line's physical curve as
+    // the region names its marker, and a double quote in a name (which would end it for Gmsh)
+    // becomes a single one.
+    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
+        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
+        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
+        "subdomains": [{"point": [0.25, 0.5], "id": 10, "name": "my \"rock\""}]}"#;
+    let region = Region::from_json_str(json, "two")
+        .unwrap()
+        .with_marker_names([(7, "interface".to_string())]);
+    let mesh = cvtmesh::mesh(&region, 200).unwrap().mesh;
+    let dir = std::env::temp_dir().join(format!("cvtmesh-line-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("two.msh");
+    write_mesh_on(&mesh, &region, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("1 7 \"interface\"\n"), "{text}");
+    assert!(text.contains("2 10 \"my 'rock'\"\n"));
+    let (_, walls) = read_mesh_with_walls(&path).unwrap();
+    assert_eq!(
+        walls.subdomain_names.get(&10).map(String::as_str),
+        Some("my 'rock'")
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -413,18 +413,8 @@ fn corner_markers(region: Option<&Region>) -> Vec<Option<i64>> {
 
 /// The names `region` gives its markers.
 fn names_of(region: Option<&Region>) -> BTreeMap<i64, String> {
-    let Some(r) = region else {
-        return BTreeMap::new();
-    };
-    let mut markers = r.piece_markers().unwrap_or_default().to_vec();
-    markers.extend(r.vertex_markers().iter().map(|&(_, m)| m));
-    markers.extend(r.embedded_points().iter().map(|&(_, m)| m));
-    markers.sort_unstable();
-    markers.dedup();
-    markers
-        .into_iter()
-        .filter_map(|m| Some((m, r.marker_name(m)?.to_string())))
-        .collect()
+    // Every name the region has, its lines' markers' too: the writers look up those they use.
+    region.map_or_else(BTreeMap::new, |r| r.marker_names().clone())
 }
 
 /// The files [`write_mesh`] writes for `path`: `.node`, `.ele` and `.poly` of its stem for

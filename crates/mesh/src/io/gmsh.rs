@@ -243,8 +243,10 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             (0..nodes.triangles.len()).collect(),
         )],
     };
+    // Gmsh reads a name up to the next double quote: one inside a name is written as a
+    // single quote.
     let marker_name = |m: i64| match nodes.marker_names.get(&m) {
-        Some(name) => name.clone(),
+        Some(name) => name.replace('"', "'"),
         None => format!("marker{m}"),
     };
     let produce: Producer = Box::new(move |w: &mut dyn Write| {
@@ -267,7 +269,7 @@ pub(crate) fn write_nodes(nodes: &Nodes, path: &Path) -> Result<(), MeshError> {
             writeln!(w, "1 {} \"{}\"", marker_phys(m), marker_name(m))?;
         }
         for (tag, name, _) in &surfaces {
-            writeln!(w, "2 {tag} \"{name}\"")?;
+            writeln!(w, "2 {tag} \"{}\"", name.replace('"', "'"))?;
         }
         writeln!(w, "$EndPhysicalNames")?;
         writeln!(
