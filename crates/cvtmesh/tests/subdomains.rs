@@ -23,6 +23,24 @@ fn area_by_number(mesh: &cvtmesh::Mesh, ids: &[i64]) -> BTreeMap<i64, f64> {
     areas
 }
 
+/// The unit square parted at x = 0.5 by a line marked 7, with the JSON `subdomains` given.
+fn square_split_at_half(subdomains: &str) -> Region {
+    let json = format!(
+        r#"{{"loops": [{{"segments": [{{"kind": "polyline",
+        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}}]}}],
+        "lines": [{{"points": [[0.5, 0], [0.5, 1]], "marker": 7}}],
+        "subdomains": {subdomains}}}"#
+    );
+    Region::from_json_str(&json, "two").unwrap()
+}
+
+/// A fresh directory of this test process, named for `what`.
+fn scratch(what: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("cvtmesh-{what}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 fn assert_layers(areas: &BTreeMap<i64, f64>, what: &str) {
     assert_eq!(areas.len(), 2, "{what}: {areas:?}");
     assert!((areas[&10] - 0.6).abs() < 1e-12, "{what}: {areas:?}");
@@ -99,8 +117,7 @@ fn without_points_the_parts_are_numbered_from_the_left_whatever_the_method() {
 fn the_files_carry_the_numbers_and_a_new_mesh_of_a_file_keeps_them() {
     let region = poly_from_str(LAMINATE, "laminate.poly", "laminate").unwrap();
     let mesh = cvtmesh::mesh(&region, 300).unwrap().mesh;
-    let dir = std::env::temp_dir().join(format!("cvtmesh-subdomains-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("subdomains");
     for name in ["m.node", "m.msh", "m.vtu"] {
         let path = dir.join(name);
         write_mesh_on(&mesh, &region, &path).unwrap();
@@ -150,8 +167,7 @@ fn the_files_carry_the_numbers_and_a_new_mesh_of_a_file_keeps_them() {
 fn a_region_without_lines_or_points_writes_its_files_as_before() {
     let square = Region::builtin("square_hole").unwrap();
     let mesh = cvtmesh::mesh(&square, 200).unwrap().mesh;
-    let dir = std::env::temp_dir().join(format!("cvtmesh-no-subdomains-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("no-subdomains");
     write_mesh_on(&mesh, &square, &dir.join("m.node")).unwrap();
     let ele = std::fs::read_to_string(dir.join("m.ele")).unwrap();
     assert!(ele
@@ -216,16 +232,13 @@ fn bad_subdomain_points_are_refused_by_name() {
 
 #[test]
 fn subdomain_names_are_the_physical_surfaces_names_and_survive_a_new_mesh() {
-    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
-        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
-        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
-        "subdomains": [{"point": [0.25, 0.5], "id": 10, "name": "steel"},
-                       {"point": [0.75, 0.5], "id": 20, "name": "rubber"}]}"#;
-    let region = Region::from_json_str(json, "two").unwrap();
+    let region = square_split_at_half(
+        r#"[{"point": [0.25, 0.5], "id": 10, "name": "steel"},
+            {"point": [0.75, 0.5], "id": 20, "name": "rubber"}]"#,
+    );
     assert_eq!(region.subdomain_name(10), Some("steel"));
     let mesh = cvtmesh::mesh(&region, 300).unwrap().mesh;
-    let dir = std::env::temp_dir().join(format!("cvtmesh-subdomain-names-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("subdomain-names");
     let first = dir.join("first.msh");
     write_mesh_on(&mesh, &region, &first).unwrap();
     let text = std::fs::read_to_string(&first).unwrap();
@@ -247,14 +260,11 @@ fn a_catch_all_physical_surface_beside_the_materials_leaves_them_apart() {
     // Gmsh users often put every surface in a "domain" group as well as one per material:
     // each surface is then in two groups, and the catch-all one, listed first, made the whole
     // mesh one material.
-    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
-        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
-        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
-        "subdomains": [{"point": [0.25, 0.5], "id": 10}, {"point": [0.75, 0.5], "id": 20}]}"#;
-    let region = Region::from_json_str(json, "two").unwrap();
+    let region = square_split_at_half(
+        r#"[{"point": [0.25, 0.5], "id": 10}, {"point": [0.75, 0.5], "id": 20}]"#,
+    );
     let mesh = cvtmesh::mesh(&region, 200).unwrap().mesh;
-    let dir = std::env::temp_dir().join(format!("cvtmesh-catch-all-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("catch-all");
     let path = dir.join("two.msh");
     write_mesh_on(&mesh, &region, &path).unwrap();
     // Each surface entity's physical tags: the catch-all 100 first, then its material.
@@ -288,16 +298,11 @@ fn a_named_line_and_a_name_with_quotes_are_written_so_gmsh_reads_them() {
     // A solver selects the interface by its name: the .msh names the line's physical curve as
     // the region names its marker, and a double quote in a name (which would end it for Gmsh)
     // becomes a single one.
-    let json = r#"{"loops": [{"segments": [{"kind": "polyline",
-        "points": [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]}]}],
-        "lines": [{"points": [[0.5, 0], [0.5, 1]], "marker": 7}],
-        "subdomains": [{"point": [0.25, 0.5], "id": 10, "name": "my \"rock\""}]}"#;
-    let region = Region::from_json_str(json, "two")
-        .unwrap()
-        .with_marker_names([(7, "interface".to_string())]);
+    let region =
+        square_split_at_half(r#"[{"point": [0.25, 0.5], "id": 10, "name": "my \"rock\""}]"#)
+            .with_marker_names([(7, "interface".to_string())]);
     let mesh = cvtmesh::mesh(&region, 200).unwrap().mesh;
-    let dir = std::env::temp_dir().join(format!("cvtmesh-line-names-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("line-names");
     let path = dir.join("two.msh");
     write_mesh_on(&mesh, &region, &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
