@@ -27,24 +27,7 @@ pub(crate) fn with_line_points(
         for (a, b) in line.segments() {
             let first = points.len();
             points.push((a, line.marker));
-            let h = |t: f64| spacing(a + (b - a) * t);
-            // ∫ ds / h by the midpoint rule, cumulated.
-            let len = a.distance(b);
-            let mut cumulative = [0.0; SAMPLES + 1];
-            for k in 0..SAMPLES {
-                let t = (k as f64 + 0.5) / SAMPLES as f64;
-                cumulative[k + 1] = cumulative[k] + len / SAMPLES as f64 / h(t);
-            }
-            let n = cumulative[SAMPLES].round().max(1.0) as usize;
-            for i in 1..n {
-                let target = cumulative[SAMPLES] * i as f64 / n as f64;
-                let k = cumulative
-                    .partition_point(|&c| c < target)
-                    .clamp(1, SAMPLES);
-                let (c0, c1) = (cumulative[k - 1], cumulative[k]);
-                let t = ((k - 1) as f64 + (target - c0) / (c1 - c0)) / SAMPLES as f64;
-                points.push((a + (b - a) * t, line.marker));
-            }
+            points.extend(split_at_spacing(a, b, &spacing).map(|p| (p, line.marker)));
             let along: Vec<DVec2> = points[first..].iter().map(|&(p, _)| p).chain([b]).collect();
             pieces.extend(along.windows(2).map(|w| (w[0], w[1])));
         }
@@ -60,6 +43,43 @@ pub(crate) fn with_line_points(
         .with_embedded_points(points)
         .map_err(|e| MeshError::BadRequest(e.to_string()))?;
     Ok((region, pieces))
+}
+
+/// The points strictly between `a` and `b` that cut the segment into pieces of about the local
+/// spacing `h` (equal shares of ∫ ds / h, by the midpoint rule on 16 samples), in order from
+/// `a`; none where the segment is shorter than about one spacing.
+///
+/// ```
+/// use cvtmesh::geometry::DVec2;
+/// let (a, b) = (DVec2::ZERO, DVec2::new(1.0, 0.0));
+/// let points: Vec<DVec2> = cvtmesh::split_at_spacing(a, b, |_| 0.25).collect();
+/// assert_eq!(points, [0.25, 0.5, 0.75].map(|x| DVec2::new(x, 0.0)));
+/// // Finer where h is smaller: the left half holds most of the points.
+/// let graded: Vec<DVec2> = cvtmesh::split_at_spacing(a, b, |p| 0.02 + 0.2 * p.x).collect();
+/// assert!(graded.iter().filter(|p| p.x < 0.5).count() > 2 * graded.iter().filter(|p| p.x >= 0.5).count());
+/// ```
+pub fn split_at_spacing(
+    a: DVec2,
+    b: DVec2,
+    h: impl Fn(DVec2) -> f64,
+) -> impl Iterator<Item = DVec2> {
+    // ∫ ds / h, cumulated.
+    let len = a.distance(b);
+    let mut cumulative = [0.0; SAMPLES + 1];
+    for k in 0..SAMPLES {
+        let t = (k as f64 + 0.5) / SAMPLES as f64;
+        cumulative[k + 1] = cumulative[k] + len / SAMPLES as f64 / h(a + (b - a) * t);
+    }
+    let n = cumulative[SAMPLES].round().max(1.0) as usize;
+    (1..n).map(move |i| {
+        let target = cumulative[SAMPLES] * i as f64 / n as f64;
+        let k = cumulative
+            .partition_point(|&c| c < target)
+            .clamp(1, SAMPLES);
+        let (c0, c1) = (cumulative[k - 1], cumulative[k]);
+        let t = ((k - 1) as f64 + (target - c0) / (c1 - c0)) / SAMPLES as f64;
+        a + (b - a) * t
+    })
 }
 
 fn bits(p: DVec2) -> (u64, u64) {

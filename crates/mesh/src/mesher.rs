@@ -958,6 +958,21 @@ pub trait Mesher: Sync {
     fn follows_size_fields(&self) -> bool {
         true
     }
+
+    /// Whether the method keeps the region's embedded lines ([`Region::embedded_lines`]) as
+    /// edges itself. For those that do not (the default), [`Mesher::mesh_parts`] places each
+    /// line's vertices at the local spacing as embedded points first and restores the edges
+    /// between them by flips after; one that does is handed the lines as they are.
+    ///
+    /// ```
+    /// use cvtmesh::{Mesher, Method};
+    /// assert!("refine".parse::<Method>()?.mesher().meshes_embedded_lines());
+    /// assert!(!"ccvt".parse::<Method>()?.mesher().meshes_embedded_lines());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn meshes_embedded_lines(&self) -> bool {
+        false
+    }
 }
 
 #[cfg(test)]

@@ -13,13 +13,15 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     request: &MeshRequest,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<MeshResult, MeshError> {
-    // An embedded line's vertices, placed at the local spacing, are points every mesh keeps.
+    // An embedded line's vertices, placed at the local spacing, are points every mesh keeps,
+    // unless the method keeps the lines as it meshes.
     let with_points;
-    let (region, lines) = if region.embedded_lines().is_empty() {
+    let lined = (!region.embedded_lines().is_empty()).then_some(region);
+    let (region, pieces) = if lined.is_none() || mesher.meshes_embedded_lines() {
         (region, None)
     } else {
         with_points = crate::lines::with_line_points(region, request)?;
-        (&with_points.0, Some((region, &with_points.1)))
+        (&with_points.0, Some(&with_points.1))
     };
     let (bent, unfitted) = match with_spacing_corners(region, request) {
         Fit::Added(b) => (Some(*b), None),
@@ -55,7 +57,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     // off the line crowds one; flips restore those before the polish, which holds the line's
     // vertices.
     let missing = |mesh: &Mesh| crate::lines::line_edges(mesh, region).is_err();
-    if lines.is_some_and(|(_, pieces)| {
+    if pieces.is_some_and(|pieces| {
         missing(&result.mesh) && !crate::lines::restore_line_edges(&mut result.mesh, pieces)
     }) {
         return Err(MeshError::Failed {
@@ -179,7 +181,7 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
     }
     // The line's pieces are edges still (the polish moves no vertex of a line): checked, as a
     // method's own triangulation could have lost one no flip restored.
-    if let Some((lines, _)) = lines {
+    if let Some(lines) = lined {
         crate::lines::line_edges(&result.mesh, lines).map_err(|e| match e {
             MeshError::Failed { message, .. } => MeshError::Failed {
                 method: mesher.name().to_string(),

@@ -1,9 +1,11 @@
 //! The input PSLG handed to the refinement: the region's boundary loops as vertices and
 //! directed segments (domain on the left), with every curved piece pre-split into chords whose
-//! end points lie on the exact curve.
-use geometry::predicates::{ring_signed_area, segment_distance};
+//! end points lie on the exact curve, and its embedded lines as segments inside.
+use crate::grid::SegGrid;
+use geometry::predicates::{closest_on_segment, ring_signed_area, segment_distance};
 use geometry::{DVec2, Density, LoopRole, Piece, PieceId, Region};
 use mesh::MeshError;
+use std::collections::HashMap;
 
 /// What a vertex is, as far as the refinement needs to know.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -12,16 +14,20 @@ pub(crate) enum VKind {
     Corner(usize),
     /// A point on the given boundary piece.
     Boundary(PieceId),
+    /// A point on an embedded line, inside the region.
+    Line,
     /// A Steiner point inside the region.
     Interior,
 }
 
-/// A planar straight-line graph: the boundary loops of the region.
+/// A planar straight-line graph: the boundary loops of the region and its embedded lines.
 pub(crate) struct Pslg {
     pub points: Vec<DVec2>,
     pub kinds: Vec<VKind>,
     /// Directed segments `(from, to, piece)` in loop order, so the region is on their left.
     pub segments: Vec<(usize, usize, PieceId)>,
+    /// Segments of the embedded lines, the region on both sides.
+    pub lines: Vec<(usize, usize)>,
 }
 
 /// True for pieces that are not straight: their subsegments are chords and split points are
@@ -51,6 +57,7 @@ pub(crate) fn build(
         points: Vec::new(),
         kinds: Vec::new(),
         segments: Vec::new(),
+        lines: Vec::new(),
     };
     for (li, lp) in region.loops().iter().enumerate() {
         let first = pslg.points.len();
@@ -112,10 +119,14 @@ pub(crate) fn build(
         .filter(|&&(_, _, piece)| is_curved(&region.pieces()[piece]))
         .map(|&(a, b, _)| (pslg.points[b] - pslg.points[a]).length())
         .fold(0.0, f64::max);
+    let chords: Vec<(DVec2, DVec2)> = pslg
+        .segments
+        .iter()
+        .map(|&(a, b, _)| (pslg.points[a], pslg.points[b]))
+        .collect();
     let outside_chords = |p: DVec2| {
         let mut crossings = 0;
-        for &(a, b, _) in &pslg.segments {
-            let (a, b) = (pslg.points[a], pslg.points[b]);
+        for &(a, b) in &chords {
             if geometry::predicates::orient(a, b, p) == 0.0 && (p - a).dot(p - b) <= 0.0 {
                 return true;
             }
@@ -125,9 +136,80 @@ pub(crate) fn build(
         }
         crossings % 2 == 0
     };
-    let mut inside = Vec::with_capacity(region.embedded_points().len());
+    let between_chords = |p: DVec2| region.signed_distance(p) >= -reach && outside_chords(p);
+    let off = 1e-9 * diam;
+    // Every boundary vertex by its bits, and a line's by its bits once placed: a line's end on
+    // ∂Ω is the corner there, and lines share their crossings' bits.
+    let mut at: HashMap<(u64, u64), usize> = pslg
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (bits(*p), i))
+        .collect();
+    // The lines' own segments, between their own vertices.
+    let mut own: Vec<(usize, usize)> = Vec::new();
+    for (i, line) in region.embedded_lines().iter().enumerate() {
+        let mut previous = None;
+        for &p in &line.points {
+            let v = match at.get(&bits(p)) {
+                Some(&v) => v,
+                None => {
+                    if let Some(c) = region
+                        .corners()
+                        .iter()
+                        .position(|c| c.pos.distance(p) <= off)
+                    {
+                        pslg.kinds
+                            .iter()
+                            .position(|k| *k == VKind::Corner(c))
+                            .expect("every corner is a vertex of the boundary")
+                    } else {
+                        if between_chords(p) {
+                            return Err(MeshError::Failed {
+                                method: "refine".into(),
+                                message: format!(
+                                    "embedded line {i} has its point ({}, {}) between a curved \
+                                     boundary and its chords at this spacing; move it inward, or \
+                                     use ccvt or distmesh",
+                                    p.x, p.y
+                                ),
+                            });
+                        }
+                        pslg.points.push(p);
+                        pslg.kinds.push(VKind::Line);
+                        pslg.points.len() - 1
+                    }
+                }
+            };
+            at.insert(bits(p), v);
+            if let Some(u) = previous.filter(|&u| u != v) {
+                own.push((u, v));
+            }
+            previous = Some(v);
+        }
+    }
+    // Embedded points on a line split it there (found through a grid of the line segments).
+    let grid = (!own.is_empty()).then(|| {
+        let (lo, hi) = region.bbox();
+        let pad = DVec2::splat(1e-6 * diam);
+        let mut g = SegGrid::new(lo - pad, hi + pad, 4 * own.len());
+        for (s, &(a, b)) in own.iter().enumerate() {
+            let (pa, pb) = (pslg.points[a], pslg.points[b]);
+            let slack = DVec2::splat(2.0 * off);
+            g.insert((s as u32, s as u32), pa.min(pb) - slack, pa.max(pb) + slack);
+        }
+        g
+    });
+    // (own segment, parameter along it, vertex) for each point that splits a line.
+    let mut splits: Vec<(usize, f64, usize)> = Vec::new();
     for &(p, _) in region.embedded_points() {
-        if region.signed_distance(p) >= -reach && outside_chords(p) {
+        if at
+            .get(&bits(p))
+            .is_some_and(|&v| pslg.kinds[v] == VKind::Line)
+        {
+            continue;
+        }
+        if between_chords(p) {
             return Err(MeshError::Failed {
                 method: "refine".into(),
                 message: format!(
@@ -137,13 +219,59 @@ pub(crate) fn build(
                 ),
             });
         }
-        inside.push(p);
-    }
-    for p in inside {
+        let on = grid.as_ref().and_then(|g| {
+            g.near(p).iter().find_map(|&(s, _)| {
+                let (a, b) = own[s as usize];
+                let (q, t, _) = closest_on_segment(pslg.points[a], pslg.points[b], p);
+                (q.distance(p) <= off && t > 0.0 && t < 1.0).then_some((s as usize, t))
+            })
+        });
+        at.insert(bits(p), pslg.points.len());
         pslg.points.push(p);
-        pslg.kinds.push(VKind::Interior);
+        pslg.kinds.push(if on.is_some() {
+            VKind::Line
+        } else {
+            VKind::Interior
+        });
+        if let Some((s, t)) = on {
+            splits.push((s, t, pslg.points.len() - 1));
+        }
+    }
+    splits.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    // Each own segment through the points on it, and between those split at the boundary's
+    // spacing, as the curved pieces are: the refinement splits further only where something
+    // encroaches.
+    let local = |q: DVec2| {
+        if density.is_uniform() {
+            spacing
+        } else {
+            spacing / density.at(q).max(1e-300).powf(0.25)
+        }
+    };
+    let mut next = 0;
+    for (s, &(a, b)) in own.iter().enumerate() {
+        let mut chain = vec![a];
+        while next < splits.len() && splits[next].0 == s {
+            chain.push(splits[next].2);
+            next += 1;
+        }
+        chain.push(b);
+        for w in chain.windows(2) {
+            let mut from = w[0];
+            for q in mesh::split_at_spacing(pslg.points[w[0]], pslg.points[w[1]], local) {
+                pslg.points.push(q);
+                pslg.kinds.push(VKind::Line);
+                pslg.lines.push((from, pslg.points.len() - 1));
+                from = pslg.points.len() - 1;
+            }
+            pslg.lines.push((from, w[1]));
+        }
     }
     Ok(Some(pslg))
+}
+
+fn bits(p: DVec2) -> (u64, u64) {
+    (p.x.to_bits(), p.y.to_bits())
 }
 
 /// `split` (a chain's interior split points, in order) with the chain's vertices added where
@@ -428,6 +556,54 @@ mod tests {
             (area - region.area()).abs() < 0.01 * region.area(),
             "{area}"
         );
+    }
+
+    /// A line from a corner of the square through the end of another, and a point placed on
+    /// the second: the line's end is the corner's vertex, the other's end one vertex of both,
+    /// the point splits the second line, and every piece is about the spacing long.
+    #[test]
+    fn lines_enter_as_segments_split_at_the_spacing_through_their_points() {
+        let v = DVec2::new;
+        let square = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
+        let line = |pts: &[(f64, f64)]| geometry::EmbeddedLine {
+            points: pts.iter().map(|&(x, y)| v(x, y)).collect(),
+            marker: 1,
+        };
+        let region = Region::from_loops("square", vec![(LoopRole::Outer, square)])
+            .unwrap()
+            .with_embedded_lines([
+                line(&[(1.0, 0.0), (0.5, 0.5)]),
+                line(&[(0.2, 0.8), (0.8, 0.8), (0.8, 0.2)]),
+            ])
+            .unwrap()
+            .with_embedded_points([(v(0.8, 0.5), 3)])
+            .unwrap();
+        let h = 0.1;
+        let g = build(&region, h, &Density::Uniform, &[]).unwrap().unwrap();
+        let at = |p: DVec2| g.points.iter().position(|q| *q == p).unwrap();
+        let corner = at(v(1.0, 0.0));
+        assert!(matches!(g.kinds[corner], VKind::Corner(_)));
+        assert_eq!(g.points.iter().filter(|q| **q == v(1.0, 0.0)).count(), 1);
+        let point = at(v(0.8, 0.5));
+        assert_eq!(g.kinds[point], VKind::Line);
+        // Each vertex's pieces: two along a line, one at a line's end.
+        let degree = |i: usize| g.lines.iter().filter(|&&(a, b)| a == i || b == i).count();
+        assert_eq!(degree(corner), 1);
+        assert_eq!(degree(point), 2);
+        assert_eq!(degree(at(v(0.8, 0.8))), 2);
+        assert_eq!(degree(at(v(0.2, 0.8))), 1);
+        let total: f64 = region.embedded_lines().iter().map(|l| l.length()).sum();
+        let pieces: Vec<f64> = g
+            .lines
+            .iter()
+            .map(|&(a, b)| g.points[a].distance(g.points[b]))
+            .collect();
+        assert!((pieces.iter().sum::<f64>() - total).abs() < 1e-12);
+        assert!(
+            pieces.iter().all(|&l| (0.6 * h..1.5 * h).contains(&l)),
+            "{pieces:?}"
+        );
+        assert_eq!(degree(at(v(0.8, 0.2))), 3);
     }
 
     #[test]

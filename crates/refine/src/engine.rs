@@ -64,11 +64,20 @@ pub(crate) struct Refined {
     pub given_up: usize,
 }
 
+/// What a subsegment is part of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum On {
+    /// A boundary piece: the region lies on the subsegment's left only.
+    Piece(PieceId),
+    /// An embedded line: the region lies on both sides.
+    Line,
+}
+
 #[derive(Clone, Copy, Debug)]
 struct Seg {
     from: u32,
     to: u32,
-    piece: PieceId,
+    on: On,
     /// The input (PSLG) segment this subsegment is part of.
     input: u32,
     frozen: bool,
@@ -132,10 +141,15 @@ pub(crate) fn refine(
 ) -> Result<Option<Refined>, MeshError> {
     let n = pslg.points.len();
     let verts: Vec<Point2<f64>> = pslg.points.iter().map(|p| pt(*p)).collect();
-    let edges: Vec<[usize; 2]> = pslg.segments.iter().map(|s| [s.0, s.1]).collect();
+    let edges: Vec<[usize; 2]> = pslg
+        .segments
+        .iter()
+        .map(|s| [s.0, s.1])
+        .chain(pslg.lines.iter().map(|&(a, b)| [a, b]))
+        .collect();
     // spade's `bulk_load_cdt` panics on crossing segments; this one reports them.
     let mut crossing = false;
-    let cdt = Cdt::try_bulk_load_cdt(verts, edges, |_| crossing = true)
+    let cdt = Cdt::try_bulk_load_cdt(verts, edges.clone(), |_| crossing = true)
         .map_err(|e| failed(format!("initial triangulation: {e:?}")))?;
     if cdt.num_vertices() != n {
         return Err(failed(
@@ -147,7 +161,7 @@ pub(crate) fn refine(
     // until its vertex budget ran out. Neither is an edge of the triangulation, nor is either
     // of two that cross. In a valid region only the chords of curved pieces, which a finer
     // spacing moves, can do that.
-    let missing = pslg.segments.iter().any(|&(a, b, _)| {
+    let missing = edges.iter().any(|&[a, b]| {
         !cdt.get_edge_from_neighbors(vh(a as u32), vh(b as u32))
             .is_some_and(|e| e.is_constraint_edge())
     });
@@ -163,7 +177,7 @@ pub(crate) fn refine(
             "boundary segments cross or run through a boundary vertex".into(),
         ));
     }
-    if cdt.num_constraints() != pslg.segments.len() {
+    if cdt.num_constraints() != edges.len() {
         return Err(failed(
             "boundary vertices coincide or boundary segments cross".into(),
         ));
@@ -176,8 +190,13 @@ pub(crate) fn refine(
         4 * pslg.segments.len().max(16),
     );
     let mut segs = BTreeMap::new();
-    let mut inputs = Vec::with_capacity(pslg.segments.len());
-    for (i, &(a, b, piece)) in pslg.segments.iter().enumerate() {
+    let mut inputs = Vec::with_capacity(edges.len());
+    let owners = pslg
+        .segments
+        .iter()
+        .map(|&(_, _, piece)| On::Piece(piece))
+        .chain(pslg.lines.iter().map(|_| On::Line));
+    for (i, (&[a, b], on)) in edges.iter().zip(owners).enumerate() {
         let (a, b) = (a as u32, b as u32);
         inputs.push((a, b));
         segs.insert(
@@ -185,12 +204,15 @@ pub(crate) fn refine(
             Seg {
                 from: a,
                 to: b,
-                piece,
+                on,
                 input: i as u32,
                 frozen: false,
             },
         );
-        grid.insert(key(a, b), pslg.points[a as usize], pslg.points[b as usize]);
+        // The even-odd test counts the boundary only.
+        if on != On::Line {
+            grid.insert(key(a, b), pslg.points[a as usize], pslg.points[b as usize]);
+        }
     }
     let theta = bounds.min_angle_deg.to_radians();
     let cos = theta.cos();
@@ -284,7 +306,8 @@ impl Engine<'_> {
         !self.enc.is_empty() || !self.bad.is_empty()
     }
 
-    /// Is subsegment `k` encroached by the apex of the triangle on its domain side?
+    /// Is subsegment `k` encroached by the apex of a triangle on its domain side (either side
+    /// of a line's)?
     fn encroached(&self, k: SegKey) -> bool {
         let Some(s) = self.segs.get(&k) else {
             return false;
@@ -292,13 +315,11 @@ impl Engine<'_> {
         if s.frozen {
             return false;
         }
-        match self.apex(s) {
-            Some(x) => {
-                let (a, b, p) = (self.pos(s.from), self.pos(s.to), self.pos(x));
-                (a - p).dot(b - p) < 0.0
-            }
-            None => false,
-        }
+        let (a, b) = (self.pos(s.from), self.pos(s.to));
+        self.apexes(s).into_iter().flatten().any(|x| {
+            let p = self.pos(x);
+            (a - p).dot(b - p) < 0.0
+        })
     }
 
     /// Does subsegment `k` of a polyline piece stray from it by more than [`CHAIN_BEND`] of
@@ -308,17 +329,26 @@ impl Engine<'_> {
         let Some(s) = self.segs.get(&k) else {
             return false;
         };
-        let Piece::Chain(pts) = &self.region.pieces()[s.piece] else {
+        let On::Piece(piece) = s.on else {
+            return false;
+        };
+        let Piece::Chain(pts) = &self.region.pieces()[piece] else {
             return false;
         };
         let (a, b) = (self.pos(s.from), self.pos(s.to));
         farthest_between(pts, a, b).is_some_and(|(_, d)| d > CHAIN_BEND * a.distance(b))
     }
 
-    /// Apex of the triangle left of the subsegment (inside the domain).
-    fn apex(&self, s: &Seg) -> Option<u32> {
-        let e = self.cdt.get_edge_from_neighbors(vh(s.from), vh(s.to))?;
-        e.opposite_vertex().map(|v| v.fix().index() as u32)
+    /// Apexes of the triangles on the subsegment inside the domain: the one on its left, and
+    /// for a line's the one on its right as well.
+    fn apexes(&self, s: &Seg) -> [Option<u32>; 2] {
+        let Some(e) = self.cdt.get_edge_from_neighbors(vh(s.from), vh(s.to)) else {
+            return [None, None];
+        };
+        let apex = |e: spade::handles::DirectedEdgeHandle<_, _, _, _>| {
+            e.opposite_vertex().map(|v| v.fix().index() as u32)
+        };
+        [apex(e), (s.on == On::Line).then(|| apex(e.rev())).flatten()]
     }
 
     /// Is the CCW face (a, b, c) inside the region's current subsegment polygon?
@@ -366,13 +396,15 @@ impl Engine<'_> {
 
     /// The class of a face from its own vertices and edges, if they decide it.
     fn classify_local(&self, f: [u32; 3]) -> Option<bool> {
-        if f.iter().any(|&v| self.kinds[v as usize] == VKind::Interior) {
+        if f.iter()
+            .any(|&v| matches!(self.kinds[v as usize], VKind::Interior | VKind::Line))
+        {
             return Some(true);
         }
         for i in 0..3 {
             let (a, b) = (f[i], f[(i + 1) % 3]);
-            if let Some(s) = self.segs.get(&key(a, b)) {
-                // The region lies left of each subsegment's loop direction.
+            if let Some(s) = self.segs.get(&key(a, b)).filter(|s| s.on != On::Line) {
+                // The region lies left of each boundary subsegment's loop direction.
                 return Some(s.from == a);
             }
         }
@@ -428,9 +460,11 @@ impl Engine<'_> {
                     continue;
                 }
                 let ((o1, d1), (o2, d2)) = (self.inputs[s1 as usize], self.inputs[s2 as usize]);
-                let join = if d1 == o2 {
+                // Consecutive along a loop, or lines (and a line and a wall) that meet at an end
+                // or a crossing, which they share in either direction.
+                let join = if d1 == o2 || d1 == d2 {
                     d1
-                } else if o1 == d2 {
+                } else if o1 == d2 || o1 == o2 {
                     o1
                 } else {
                     continue;
@@ -738,9 +772,15 @@ impl Engine<'_> {
         }
         // Concentric shells: if the domain triangle on this subsegment has another segment at
         // one end, split at a power of two from that end (Triangle's rule).
-        let apex = self.apex(&s);
-        let acute_a = apex.is_some_and(|x| self.segs.contains_key(&key(a, x)));
-        let acute_b = apex.is_some_and(|x| self.segs.contains_key(&key(b, x)));
+        let apexes = self.apexes(&s);
+        let acute_a = apexes
+            .iter()
+            .flatten()
+            .any(|&x| self.segs.contains_key(&key(a, x)));
+        let acute_b = apexes
+            .iter()
+            .flatten()
+            .any(|&x| self.segs.contains_key(&key(b, x)));
         let mut split = 0.5;
         if acute_a || acute_b {
             let mut p2 = 1.0f64;
@@ -755,41 +795,9 @@ impl Engine<'_> {
                 split = 1.0 - split;
             }
         }
-        let piece = &self.region.pieces()[s.piece];
-        let bend = match piece {
-            Piece::Chain(pts) => farthest_between(pts, pa, pb)
-                .filter(|&(_, d)| d > CHAIN_BEND * len)
-                .map(|(v, _)| v),
-            _ => None,
-        };
-        let m = if let Some(v) = bend {
-            v
-        } else if !is_curved(piece) {
-            pa.lerp(pb, split)
-        } else if split == 0.5 {
-            self.region
-                .project_point_onto_piece(pa.lerp(pb, 0.5), s.piece)
-        } else {
-            // On the curve at the shell's Euclidean distance from the shell's centre end.
-            let (centre, other, r) = if acute_b {
-                (pb, pa, (1.0 - split) * len)
-            } else {
-                (pa, pb, split * len)
-            };
-            let (mut lo, mut hi) = (0.0, 1.0);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                let q = self
-                    .region
-                    .project_point_onto_piece(centre.lerp(other, mid), s.piece);
-                if (q - centre).length() < r {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            self.region
-                .project_point_onto_piece(centre.lerp(other, 0.5 * (lo + hi)), s.piece)
+        let m = match s.on {
+            On::Line => pa.lerp(pb, split),
+            On::Piece(piece) => self.split_point_on_piece(piece, pa, pb, split, acute_b),
         };
         let (dm_a, dm_b) = ((m - pa).length(), (m - pb).length());
         if !m.is_finite() || dm_a < 0.05 * len || dm_b < 0.05 * len {
@@ -830,7 +838,10 @@ impl Engine<'_> {
             self.freeze(k);
             return Ok(());
         };
-        self.kinds.push(VKind::Boundary(s.piece));
+        self.kinds.push(match s.on {
+            On::Piece(piece) => VKind::Boundary(piece),
+            On::Line => VKind::Line,
+        });
         let vi = v.index() as u32;
         let e1 = self.cdt.try_add_constraint(vh(a), v);
         let e2 = self.cdt.try_add_constraint(v, vh(b));
@@ -841,7 +852,9 @@ impl Engine<'_> {
             )));
         }
         self.segs.remove(&k);
-        self.grid.remove(k, pa, pb);
+        if s.on != On::Line {
+            self.grid.remove(k, pa, pb);
+        }
         for (x, y) in [(a, vi), (vi, b)] {
             self.segs.insert(
                 key(x, y),
@@ -852,7 +865,9 @@ impl Engine<'_> {
                     ..s
                 },
             );
-            self.grid.insert(key(x, y), self.pos(x), self.pos(y));
+            if s.on != On::Line {
+                self.grid.insert(key(x, y), self.pos(x), self.pos(y));
+            }
         }
         for kk in [key(a, vi), key(vi, b)] {
             if self.strays(kk) {
@@ -868,6 +883,56 @@ impl Engine<'_> {
         Ok(())
     }
 
+    /// Where a subsegment of boundary piece `piece` from `pa` to `pb` is split: at `split` of
+    /// its length (from `pb`'s end when `from_b`, a concentric shell there), on the curve for
+    /// a curved piece, at a polyline's farthest vertex when the chord strays from it.
+    fn split_point_on_piece(
+        &self,
+        piece: PieceId,
+        pa: DVec2,
+        pb: DVec2,
+        split: f64,
+        from_b: bool,
+    ) -> DVec2 {
+        let len = pa.distance(pb);
+        let curve = &self.region.pieces()[piece];
+        let bend = match curve {
+            Piece::Chain(pts) => farthest_between(pts, pa, pb)
+                .filter(|&(_, d)| d > CHAIN_BEND * len)
+                .map(|(v, _)| v),
+            _ => None,
+        };
+        if let Some(v) = bend {
+            v
+        } else if !is_curved(curve) {
+            pa.lerp(pb, split)
+        } else if split == 0.5 {
+            self.region
+                .project_point_onto_piece(pa.lerp(pb, 0.5), piece)
+        } else {
+            // On the curve at the shell's Euclidean distance from the shell's centre end.
+            let (centre, other, r) = if from_b {
+                (pb, pa, (1.0 - split) * len)
+            } else {
+                (pa, pb, split * len)
+            };
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                let q = self
+                    .region
+                    .project_point_onto_piece(centre.lerp(other, mid), piece);
+                if (q - centre).length() < r {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            self.region
+                .project_point_onto_piece(centre.lerp(other, 0.5 * (lo + hi)), piece)
+        }
+    }
+
     fn freeze(&mut self, k: SegKey) {
         if let Some(s) = self.segs.get_mut(&k) {
             s.frozen = true;
@@ -876,7 +941,7 @@ impl Engine<'_> {
     }
 
     /// The faces inside the region: flood fill from the domain side of every subsegment,
-    /// never crossing a subsegment (topological, so exact).
+    /// never crossing a boundary subsegment (topological, so exact).
     fn inside_triangles(&self) -> Vec<[u32; 3]> {
         let mut seen = vec![false; self.cdt.num_all_faces()];
         let mut stack = Vec::new();
@@ -891,7 +956,16 @@ impl Engine<'_> {
         }
         while let Some(f) = stack.pop() {
             for e in self.cdt.face(f).adjacent_edges() {
-                if e.is_constraint_edge() {
+                // The region lies on both sides of a line.
+                if e.is_constraint_edge()
+                    && self
+                        .segs
+                        .get(&key(
+                            e.from().fix().index() as u32,
+                            e.to().fix().index() as u32,
+                        ))
+                        .is_none_or(|s| s.on != On::Line)
+                {
                     continue;
                 }
                 if let Some(g) = e.rev().face().as_inner() {

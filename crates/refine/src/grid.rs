@@ -1,5 +1,6 @@
 //! A uniform grid over the current boundary subsegments, answering "is this point inside the
-//! polygon of subsegments?" by casting a ray to the right (even-odd rule) through one grid row.
+//! polygon of subsegments?" by casting a ray to the right (even-odd rule) through one grid row,
+//! and "which segments come near this point?" by its cell.
 use geometry::DVec2;
 
 /// Unordered subsegment key (smaller vertex index first).
@@ -65,6 +66,11 @@ impl SegGrid {
                 self.cells[r * self.nx + c].retain(|k| *k != key);
             }
         }
+    }
+
+    /// The keys in the cell that holds `p` (the nearest cell for a point outside the grid).
+    pub(crate) fn near(&self, p: DVec2) -> &[SegKey] {
+        &self.cells[self.row(p.y) * self.nx + self.col(p.x)]
     }
 
     /// Even-odd test of `p` against the subsegments; `pos` gives vertex coordinates.

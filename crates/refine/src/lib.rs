@@ -11,6 +11,11 @@
 //!   is what a Triangle user does with a curved domain (the polygon is all Triangle sees), and it
 //!   keeps each arc inside its chord's diametral circle, so a Steiner point in the sliver between
 //!   chord and curve always encroaches that chord and is never inserted outside Ω.
+//! * The region's embedded lines (an interface, a crack, a fracture network) are segments with
+//!   the region on both sides, as a `.poly`'s segments inside the domain are to Triangle:
+//!   pre-split at the boundary spacing, then split wherever encroached from either side, so
+//!   that lines crossing at a small angle get small triangles there rather than slivers
+//!   ([`Mesher::meshes_embedded_lines`]). An embedded point on a line splits it.
 //!   A loop that is one closed curve (a circle, a super-ellipse) has no corner to start its
 //!   chords from: by default they start at the curve's own start, and with
 //!   [`CurveStart::Seeded`] at a seeded fraction of a chord past it, as a user's polygon of
@@ -232,7 +237,7 @@ impl Refine {
             .iter()
             .zip(&r.kinds)
             .map(|(p, k)| match *k {
-                VKind::Interior => VertexMarker::Interior,
+                VKind::Interior | VKind::Line => VertexMarker::Interior,
                 VKind::Corner(c) => VertexMarker::at_corner(region, c),
                 VKind::Boundary(piece) => VertexMarker::on_piece(region, *p, piece),
             })
@@ -278,6 +283,12 @@ fn too_coarse(max_area: f64) -> MeshError {
 impl Mesher for Refine {
     fn name(&self) -> &'static str {
         "refine"
+    }
+
+    /// The region's embedded lines are segments of the refinement's input, split where
+    /// encroached, as Triangle refines a `.poly`'s segments inside the domain.
+    fn meshes_embedded_lines(&self) -> bool {
+        true
     }
 
     /// Search the area bound until the refined mesh has the requested K (see the crate
