@@ -297,10 +297,13 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
     }
     let (min_angle, slivers) = cvtmesh::min_angle_and_slivers(&result.mesh);
     if let Some(slivers) = slivers {
+        let advice = cvtmesh::sliver_advice(&region, method.as_ref())
+            .map(|a| format!("; {a}"))
+            .unwrap_or_default();
         if a.strict {
-            bail!("--strict: {slivers}; nothing written");
+            bail!("--strict: {slivers}{advice}; nothing written");
         }
-        eprintln!("warning: {slivers}");
+        eprintln!("warning: {slivers}{advice}");
     }
     // `mesh_parts` has checked that the mesh conforms (up to CONFORMITY_CHECK_LIMIT vertices).
     let title = format!(

@@ -1695,6 +1695,35 @@ fn slivers_are_named_and_refused_under_strict() {
     );
 }
 
+/// A fracture whose end stops a ten-thousandth short of another: the CVT places both lines'
+/// points at the spacing, and the triangles between the end and the other line are slivers,
+/// which the warning names with the method that leaves none; Delaunay refinement splits the
+/// lines there, as Triangle does, and keeps its 20° bound.
+#[test]
+fn a_near_miss_of_two_fractures_is_refined_by_refine_and_named_for_ccvt() {
+    let dir = scratch("near_miss");
+    let poly = dir.join("near.poly");
+    std::fs::write(
+        &poly,
+        "8 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 0.1 0.5\n6 0.9 0.5\n7 0.5 0.5001\n\
+         8 0.55 0.9\n6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 7 8\n0\n",
+    )
+    .unwrap();
+    let out = dir.join("m.node");
+    let o = quiet_mesh(s(&poly), "1000", &[], &out);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("triangles have an angle under 1°")
+            && text(&o).contains("the refine method (--method refine"),
+        "{}",
+        text(&o)
+    );
+    let o = quiet_mesh(s(&poly), "1000", &["--method", "refine"], &out);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("warning"), "{}", text(&o));
+    assert!(printed_min_angle(&o) >= 20.0, "{}", text(&o));
+}
+
 /// `-o coast.node` writes `coast.poly` beside it: meshing `coast.poly` that way would replace
 /// the region with the mesh's boundary. It is refused before any work, the region untouched.
 #[test]

@@ -61,8 +61,8 @@ pub use ::mesh::io;
 pub use ::mesh::{
     boundary_points_needed, check_conforming, chord_allowance, has_subdomains, line_edges,
     looks_graded, measurable, memory_estimate, min_angle_and_slivers, polish, polish_restored,
-    polish_restored_holding, polish_within, refuse_embedded, short_coverage, slivers,
-    split_at_spacing, subdomain_points_of, subdomains, thin_feature, total_memory,
+    polish_restored_holding, polish_within, refuse_embedded, short_coverage, sliver_advice,
+    slivers, split_at_spacing, subdomain_points_of, subdomains, thin_feature, total_memory,
     triangle_min_angle_deg, BoundaryEdge, ConformityError, Dual, Mesh, MeshError, MeshRequest,
     MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic, ShortCoverage, Size, Slivers,
     ThinFeature, VertexMarker, BYTES_PER_VERTEX, CHORD_ALLOWANCE, CONFORMITY_CHECK_LIMIT,

@@ -614,3 +614,28 @@ fn refinement_keeps_a_fracture_network_s_lines_as_segments_and_its_angles_as_tri
         angles.len()
     );
 }
+
+#[test]
+fn lines_crossing_at_a_small_angle_leave_refinement_that_angle_and_no_smaller() {
+    // Two fractures crossing at 2.86°: the split pieces either side of the crossing meet
+    // there, and Triangle's exemption for the triangles between them holds along the whole
+    // of each line, whatever the pieces it was split into first (Triangle `-pq`: 2.857°).
+    let line = |a: (f64, f64), b: (f64, f64)| EmbeddedLine {
+        points: vec![DVec2::from(a), DVec2::from(b)],
+        marker: 1,
+    };
+    let region = square()
+        .with_embedded_lines([line((0.1, 0.5), (0.9, 0.52)), line((0.1, 0.52), (0.9, 0.5))])
+        .unwrap();
+    let crossing = (2.0f64 * 0.01 / 0.4).atan().to_degrees();
+    let r = Method::Refine
+        .run(&region, &MeshRequest::points(1000).polish(0.0))
+        .unwrap();
+    check_conforming(&r.mesh, &region).unwrap();
+    let min = r.mesh.min_angle_deg();
+    // 2.857° here, as Triangle's; 1.93° when each split piece counted as a segment of its own.
+    assert!(
+        min > 0.99 * crossing,
+        "{min}° against the crossing's {crossing}°"
+    );
+}

@@ -24,7 +24,7 @@ pub use check::{
 };
 pub use dual::Dual;
 pub use error::MeshError;
-pub use lines::{line_edges, split_at_spacing};
+pub use lines::{line_edges, sliver_advice, split_at_spacing};
 pub use mesher::{
     boundary_points_needed, memory_estimate, refuse_embedded, total_memory, MeshRequest,
     MeshResult, Mesher, Progress, Size, BYTES_PER_VERTEX, GRADATION_NOTE, MAX_POINTS,

@@ -1,7 +1,7 @@
 //! Embedded lines in meshes ([`geometry::Region::embedded_lines`]): where their vertices go
 //! before a method runs, the edges that follow them after, and the flips that restore one a
 //! method's triangulation missed.
-use crate::{Mesh, MeshError, MeshRequest};
+use crate::{Mesh, MeshError, MeshRequest, Mesher};
 use geometry::predicates::{closest_on_segment, orient, segments_cross};
 #[cfg(test)]
 use geometry::EmbeddedLine;
@@ -43,6 +43,30 @@ pub(crate) fn with_line_points(
         .with_embedded_points(points)
         .map_err(|e| MeshError::BadRequest(e.to_string()))?;
     Ok((region, pieces))
+}
+
+/// What to add to a [`slivers`](crate::slivers) warning on a mesh of `region` by `mesher`:
+/// where lines inside cross at a small angle or pass close by each other, a method that places
+/// their points at the spacing first leaves slivers, which Delaunay refinement does not
+/// ([`Mesher::meshes_embedded_lines`]). `None` for a region without lines, or a method that
+/// keeps them itself.
+///
+/// ```
+/// use cvtmesh::geometry::{DVec2, EmbeddedLine, Region};
+/// use cvtmesh::{sliver_advice, Method};
+/// let crack = EmbeddedLine { points: vec![DVec2::new(-0.5, 0.0), DVec2::new(0.5, 0.1)], marker: 1 };
+/// let region = Region::builtin("circle")?.with_embedded_lines([crack])?;
+/// assert!(sliver_advice(&region, Method::Ccvt.mesher().as_ref()).is_some());
+/// assert!(sliver_advice(&region, Method::Refine.mesher().as_ref()).is_none());
+/// assert!(sliver_advice(&Region::builtin("circle")?, Method::Ccvt.mesher().as_ref()).is_none());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn sliver_advice(region: &Region, mesher: &dyn Mesher) -> Option<&'static str> {
+    (!region.embedded_lines().is_empty() && !mesher.meshes_embedded_lines()).then_some(
+        "where lines inside cross at a small angle or pass close by each other, the refine \
+         method (--method refine, method=\"refine\") splits them as Triangle does and leaves \
+         no sliver",
+    )
 }
 
 /// The points strictly between `a` and `b` that cut the segment into pieces of about the local

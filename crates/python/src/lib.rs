@@ -1627,7 +1627,10 @@ fn mesh(
     // has triangles flatter than a degree, is named in a warning.
     let findings = [
         cvtmesh::short_coverage(&r.mesh, &region).map(|s| s.to_string()),
-        cvtmesh::slivers(&r.mesh).map(|s| s.to_string()),
+        cvtmesh::slivers(&r.mesh).map(|s| {
+            let advice = cvtmesh::sliver_advice(&region, method.mesher().as_ref());
+            s.to_string() + &advice.map(|a| format!("; {a}")).unwrap_or_default()
+        }),
     ];
     for finding in findings.into_iter().flatten() {
         let warnings = py.import("warnings")?;

@@ -880,6 +880,21 @@ def test_slivers_are_named_in_a_warning():
         cvtmesh.mesh(strip, n=300, method="distmesh")
 
 
+def test_a_near_miss_of_two_fractures_names_refine_which_leaves_no_sliver():
+    # A fracture stopping a ten-thousandth short of another: the CVT's points along both
+    # leave slivers there; Delaunay refinement splits the lines and keeps its 20° bound.
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    lines = [np.array([[0.1, 0.5], [0.9, 0.5]]), np.array([[0.5, 0.5001], [0.55, 0.9]])]
+    region = cvtmesh.Region.from_loops(square).with_embedded_lines(lines)
+    with pytest.warns(RuntimeWarning, match=r"under 1° .* the refine method"):
+        cvtmesh.mesh(region, n=1000)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = cvtmesh.mesh(region, n=1000, method="refine")
+    edges, _ = m.line_edges()
+    assert len(edges) > 0 and min_angles(m.points, m.triangles).min() >= 20.0
+
+
 def test_regions_of_several_parts_from_arrays_mesh_every_part():
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     frame = np.array([[2, 0], [4, 0], [4, 2], [2, 2]], float)

@@ -26,8 +26,13 @@ pub(crate) struct Pslg {
     pub kinds: Vec<VKind>,
     /// Directed segments `(from, to, piece)` in loop order, so the region is on their left.
     pub segments: Vec<(usize, usize, PieceId)>,
-    /// Segments of the embedded lines, the region on both sides.
-    pub lines: Vec<(usize, usize)>,
+    /// Segments of the embedded lines `(from, to, own)`, the region on both sides; `own`
+    /// indexes `line_inputs`.
+    pub lines: Vec<(usize, usize, usize)>,
+    /// The lines' own segments, between their vertices (and crossings): the input segments
+    /// whose meeting makes the small angles the refinement leaves as they are, however the
+    /// pieces along them were split.
+    pub line_inputs: Vec<(usize, usize)>,
 }
 
 /// True for pieces that are not straight: their subsegments are chords and split points are
@@ -58,6 +63,7 @@ pub(crate) fn build(
         kinds: Vec::new(),
         segments: Vec::new(),
         lines: Vec::new(),
+        line_inputs: Vec::new(),
     };
     for (li, lp) in region.loops().iter().enumerate() {
         let first = pslg.points.len();
@@ -261,12 +267,13 @@ pub(crate) fn build(
             for q in mesh::split_at_spacing(pslg.points[w[0]], pslg.points[w[1]], local) {
                 pslg.points.push(q);
                 pslg.kinds.push(VKind::Line);
-                pslg.lines.push((from, pslg.points.len() - 1));
+                pslg.lines.push((from, pslg.points.len() - 1, s));
                 from = pslg.points.len() - 1;
             }
-            pslg.lines.push((from, w[1]));
+            pslg.lines.push((from, w[1], s));
         }
     }
+    pslg.line_inputs = own;
     Ok(Some(pslg))
 }
 
@@ -587,7 +594,12 @@ mod tests {
         let point = at(v(0.8, 0.5));
         assert_eq!(g.kinds[point], VKind::Line);
         // Each vertex's pieces: two along a line, one at a line's end.
-        let degree = |i: usize| g.lines.iter().filter(|&&(a, b)| a == i || b == i).count();
+        let degree = |i: usize| {
+            g.lines
+                .iter()
+                .filter(|&&(a, b, _)| a == i || b == i)
+                .count()
+        };
         assert_eq!(degree(corner), 1);
         assert_eq!(degree(point), 2);
         assert_eq!(degree(at(v(0.8, 0.8))), 2);
@@ -596,7 +608,7 @@ mod tests {
         let pieces: Vec<f64> = g
             .lines
             .iter()
-            .map(|&(a, b)| g.points[a].distance(g.points[b]))
+            .map(|&(a, b, _)| g.points[a].distance(g.points[b]))
             .collect();
         assert!((pieces.iter().sum::<f64>() - total).abs() < 1e-12);
         assert!(

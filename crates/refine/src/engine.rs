@@ -145,7 +145,7 @@ pub(crate) fn refine(
         .segments
         .iter()
         .map(|s| [s.0, s.1])
-        .chain(pslg.lines.iter().map(|&(a, b)| [a, b]))
+        .chain(pslg.lines.iter().map(|&(a, b, _)| [a, b]))
         .collect();
     // spade's `bulk_load_cdt` panics on crossing segments; this one reports them.
     let mut crossing = false;
@@ -190,22 +190,34 @@ pub(crate) fn refine(
         4 * pslg.segments.len().max(16),
     );
     let mut segs = BTreeMap::new();
-    let mut inputs = Vec::with_capacity(edges.len());
+    // A boundary segment is its own input; a line's piece is part of the line's own segment.
+    let n_boundary = pslg.segments.len();
+    let inputs: Vec<(u32, u32)> = pslg
+        .segments
+        .iter()
+        .map(|&(a, b, _)| (a, b))
+        .chain(pslg.line_inputs.iter().copied())
+        .map(|(a, b)| (a as u32, b as u32))
+        .collect();
     let owners = pslg
         .segments
         .iter()
-        .map(|&(_, _, piece)| On::Piece(piece))
-        .chain(pslg.lines.iter().map(|_| On::Line));
-    for (i, (&[a, b], on)) in edges.iter().zip(owners).enumerate() {
+        .enumerate()
+        .map(|(i, &(_, _, piece))| (On::Piece(piece), i))
+        .chain(
+            pslg.lines
+                .iter()
+                .map(|&(_, _, own)| (On::Line, n_boundary + own)),
+        );
+    for (&[a, b], (on, input)) in edges.iter().zip(owners) {
         let (a, b) = (a as u32, b as u32);
-        inputs.push((a, b));
         segs.insert(
             key(a, b),
             Seg {
                 from: a,
                 to: b,
                 on,
-                input: i as u32,
+                input: input as u32,
                 frozen: false,
             },
         );
