@@ -109,3 +109,31 @@ fn a_point_far_outside_is_outside_however_near_rounding_makes_every_piece() {
     }
     assert!(r.contains(DVec2::new(3.0, 0.5)));
 }
+
+/// `mesh_lines`: a line running along a wall of a thin triangle, from a corner to a point the
+/// line makes a corner. Delaunay refinement took the line's piece as a segment of its own on
+/// top of the wall's, and never finished (over two minutes at K = 39); a line's piece along
+/// a wall is the wall's segment.
+#[test]
+fn a_line_along_a_wall_is_the_wall_s_segment_for_delaunay_refinement() {
+    let pts = [(12.0, 1.0), (0.0, 0.0), (15.0, 0.0)]
+        .map(DVec2::from)
+        .to_vec();
+    let region = Region::from_loops("sliver", vec![(LoopRole::Outer, pts)])
+        .unwrap()
+        .with_default_corners()
+        .with_embedded_lines([cvtmesh::EmbeddedLine {
+            points: vec![DVec2::new(4.25, 0.0), DVec2::new(0.0, 0.0)],
+            marker: 1,
+        }])
+        .unwrap();
+    let request = MeshRequest::points(39).tol(1e-2).max_iter(8);
+    for m in Method::ALL {
+        if let Ok(r) = m.run(&region, &request) {
+            check_conforming(&r.mesh, &region).unwrap_or_else(|e| panic!("{m}: {e}"));
+            cvtmesh::line_edges(&r.mesh, &region).unwrap_or_else(|e| panic!("{m}: {e}"));
+        }
+    }
+    let r = Method::Refine.run(&region, &request).unwrap();
+    assert!(r.mesh.min_angle_deg() > 1.0);
+}

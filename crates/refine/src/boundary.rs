@@ -188,8 +188,18 @@ pub(crate) fn build(
                 }
             };
             at.insert(bits(p), v);
+            // A piece of a line running along a wall is that wall's segment already.
+            let on_boundary = |w: usize| !matches!(pslg.kinds[w], VKind::Line | VKind::Interior);
             if let Some(u) = previous.filter(|&u| u != v) {
-                own.push((u, v));
+                let along_wall = on_boundary(u)
+                    && on_boundary(v)
+                    && region
+                        .signed_distance(0.5 * (pslg.points[u] + pslg.points[v]))
+                        .abs()
+                        <= off;
+                if !along_wall {
+                    own.push((u, v));
+                }
             }
             previous = Some(v);
         }
