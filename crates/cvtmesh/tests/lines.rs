@@ -639,3 +639,56 @@ fn lines_crossing_at_a_small_angle_leave_refinement_that_angle_and_no_smaller() 
         "{min}° against the crossing's {crossing}°"
     );
 }
+
+#[test]
+fn a_json_region_s_named_lines_and_walls_are_physical_curves_of_those_names() {
+    // A wall named with its marker, an interface named with none (it gets the next number
+    // past the file's markers, 10), and two fractures sharing the name "fault".
+    let json = r#"{"loops": [{"segments": [
+            {"kind": "polyline", "points": [[0, 0], [1, 0]], "marker": 9, "name": "bottom"},
+            {"kind": "polyline", "points": [[1, 0], [1, 1], [0, 1], [0, 0]], "marker": 2}]}],
+        "lines": [{"points": [[0.5, 0], [0.5, 1]], "name": "interface"},
+                  {"points": [[0.1, 0.2], [0.3, 0.4]], "name": "fault"},
+                  {"points": [[0.7, 0.2], [0.9, 0.5]], "name": "fault"},
+                  {"points": [[0.7, 0.8], [0.9, 0.9]], "marker": 4}]}"#;
+    let region = Region::from_json_str(json, "named").unwrap();
+    let names: Vec<(i64, &str)> = region
+        .marker_names()
+        .iter()
+        .map(|(m, n)| (*m, n.as_str()))
+        .collect();
+    assert_eq!(names, [(9, "bottom"), (10, "interface"), (11, "fault")]);
+    let markers: Vec<i64> = region.embedded_lines().iter().map(|l| l.marker).collect();
+    assert_eq!(markers, [10, 11, 11, 4]);
+    let r = cvtmesh::mesh(&region, 800).unwrap();
+    let dir = std::env::temp_dir().join(format!("cvtmesh-named-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("m.msh");
+    cvtmesh::io::write_mesh_on(&r.mesh, &region, &path).unwrap();
+    let msh = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    for group in [
+        "1 9 \"bottom\"",
+        "1 10 \"interface\"",
+        "1 11 \"fault\"",
+        "1 4 \"marker4\"",
+    ] {
+        assert!(
+            msh.contains(group),
+            "{group} not in\n{}",
+            &msh[..msh.len().min(600)]
+        );
+    }
+    // One marker with two names is refused, naming both.
+    let clash = json.replace(
+        r#""name": "interface""#,
+        r#""marker": 9, "name": "interface""#,
+    );
+    let e = Region::from_json_str(&clash, "clash")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("names marker 9 \"interface\"") && e.contains("\"bottom\""),
+        "{e}"
+    );
+}

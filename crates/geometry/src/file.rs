@@ -24,6 +24,11 @@
 //! crack, an inclusion's outline), each `{"points": [[x, y], ...], "marker": m}` (`marker`
 //! optional; closed when the last point is the first): see [`Region::with_embedded_lines`].
 //!
+//! A segment or a line may carry `name` as well (`"inlet"`, `"fault"`): the name of its marker
+//! ([`Region::marker_names`]), which a `.msh` file gives its physical curve, as Gmsh's physical
+//! names do. A name without a marker gets the next number past every marker the file gives,
+//! one per name (two lines named `"fault"` share it); one marker with two names is refused.
+//!
 //! `subdomains` (optional) numbers the parts the lines cut the region into, each
 //! `{"point": [x, y], "id": n}` (the part holding the point gets `n`), with an optional
 //! `"name"` for the `.msh` files' physical surface: see
@@ -202,11 +207,13 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
     }
     let mut loops = Vec::with_capacity(loops_v.len());
     let mut marks: Vec<Option<i64>> = Vec::new();
+    let mut piece_names: Vec<(Option<String>, String)> = Vec::new();
     for (i, lv) in loops_v.iter().enumerate() {
         let ctx = format!("loops[{i}]");
-        let (role, pieces, m) = parse_loop(lv, &ctx).map_err(perr)?;
+        let (role, pieces, m, names) = parse_loop(lv, &ctx).map_err(perr)?;
         loops.push((role, pieces));
         marks.extend(m);
+        piece_names.extend(names.into_iter().map(|n| (n, ctx.clone())));
     }
     if loops.iter().all(|l| l.0 == Some(LoopRole::Hole)) {
         return Err(perr("no loop has role 'outer'".into()));
@@ -222,10 +229,42 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         },
         other => other,
     };
-    let lines = match top.get("lines") {
+    let mut lines = match top.get("lines") {
         None | Some(Value::Null) => Vec::new(),
         Some(v) => embedded_lines(v).map_err(perr)?,
     };
+    // Names give markers to the pieces and lines that have none.
+    let named: Vec<(Option<i64>, String, String)> = piece_names
+        .iter()
+        .zip(&marks)
+        .filter_map(|((n, at), m)| Some((*m, n.clone()?, at.clone())))
+        .chain(lines.iter().enumerate().filter_map(|(i, (l, has, n))| {
+            Some((has.then_some(l.marker), n.clone()?, format!("lines[{i}]")))
+        }))
+        .collect();
+    let given = marks
+        .iter()
+        .flatten()
+        .copied()
+        .chain(lines.iter().filter(|l| l.1).map(|l| l.0.marker));
+    let marker_names = name_markers(&named, given).map_err(perr)?;
+    let marker_of_name = |n: &str| marker_names.iter().find(|(_, m)| m == n).map(|(k, _)| *k);
+    for (m, (n, _)) in marks.iter_mut().zip(&piece_names) {
+        if m.is_none() {
+            *m = n.as_deref().and_then(marker_of_name);
+        }
+    }
+    let lines: Vec<crate::EmbeddedLine> = lines
+        .drain(..)
+        .map(|(mut l, has, n)| {
+            if !has {
+                if let Some(m) = n.as_deref().and_then(marker_of_name) {
+                    l.marker = m;
+                }
+            }
+            l
+        })
+        .collect();
     let subdomains = match top.get("subdomains") {
         None | Some(Value::Null) => Vec::new(),
         Some(v) => subdomain_points(v).map_err(perr)?,
@@ -239,7 +278,10 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         return crate::build::new_region(&name, loops, corners)
             .and_then(|r| r.with_embedded_lines(lines))
             .and_then(|r| r.with_subdomain_points(subdomains))
-            .map(|r| r.with_subdomain_names(subdomain_names))
+            .map(|r| {
+                r.with_subdomain_names(subdomain_names)
+                    .with_marker_names(marker_names)
+            })
             .map_err(located);
     }
     // Each piece's marker by its end points (either way round: loops are reoriented).
@@ -293,7 +335,10 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
     region
         .with_embedded_lines(lines)
         .and_then(|r| r.with_subdomain_points(subdomains))
-        .map(|r| r.with_subdomain_names(subdomain_names))
+        .map(|r| {
+            r.with_subdomain_names(subdomain_names)
+                .with_marker_names(marker_names)
+        })
         .map_err(located)
 }
 
@@ -323,22 +368,14 @@ fn subdomain_points(v: &Value) -> Result<Vec<(DVec2, i64, Option<String>)>, Stri
                         .map(|v| v as i64)
                 })
                 .ok_or_else(|| format!("{ctx}.id is {id}; expected an integer"))?;
-            let name = match sv.get("name") {
-                None | Some(Value::Null) => None,
-                Some(n) => Some(
-                    n.as_str()
-                        .ok_or_else(|| format!("{ctx}.name is {n}; expected a string"))?
-                        .to_string(),
-                ),
-            };
-            Ok((point, id, name))
+            Ok((point, id, optional_name(sv, &ctx)?))
         })
         .collect()
 }
 
-/// The `lines` field: each line an object with `points` (at least two) and an optional integer
-/// `marker`.
-fn embedded_lines(v: &Value) -> Result<Vec<crate::EmbeddedLine>, String> {
+/// The `lines` field: each line an object with `points` (at least two), an optional integer
+/// `marker` and an optional `name`; each line with whether it gave a marker, and its name.
+fn embedded_lines(v: &Value) -> Result<Vec<(crate::EmbeddedLine, bool, Option<String>)>, String> {
     let list = v.as_array().ok_or_else(|| {
         "'lines' must be a list of {\"points\": [...], \"marker\": m}".to_string()
     })?;
@@ -353,18 +390,32 @@ fn embedded_lines(v: &Value) -> Result<Vec<crate::EmbeddedLine>, String> {
                 2,
             )?;
             let marker = match lv.get("marker") {
-                None | Some(Value::Null) => 0,
-                Some(m) => m
-                    .as_i64()
-                    .ok_or_else(|| format!("{ctx}.marker is {m}; expected an integer"))?,
+                None | Some(Value::Null) => None,
+                Some(m) => Some(
+                    m.as_i64()
+                        .ok_or_else(|| format!("{ctx}.marker is {m}; expected an integer"))?,
+                ),
             };
-            Ok(crate::EmbeddedLine { points, marker })
+            Ok((
+                crate::EmbeddedLine {
+                    points,
+                    marker: marker.unwrap_or(0),
+                },
+                marker.is_some(),
+                optional_name(lv, &ctx)?,
+            ))
         })
         .collect()
 }
 
-/// A loop's role, its pieces, and each piece's marker (its segment's `marker`, if any).
-type ParsedLoop = (Option<LoopRole>, Vec<Piece>, Vec<Option<i64>>);
+/// A loop's role, its pieces, and each piece's marker and name (its segment's `marker` and
+/// `name`, if any).
+type ParsedLoop = (
+    Option<LoopRole>,
+    Vec<Piece>,
+    Vec<Option<i64>>,
+    Vec<Option<String>>,
+);
 
 fn parse_loop(lv: &Value, ctx: &str) -> Result<ParsedLoop, String> {
     let obj = lv
@@ -398,7 +449,7 @@ fn parse_loop(lv: &Value, ctx: &str) -> Result<ParsedLoop, String> {
     if segs.is_empty() {
         return Err(format!("{ctx}.segments is empty"));
     }
-    let (mut pieces, mut marks) = (Vec::new(), Vec::new());
+    let (mut pieces, mut marks, mut names) = (Vec::new(), Vec::new(), Vec::new());
     for (k, sv) in segs.iter().enumerate() {
         let sctx = format!("{ctx}.segments[{k}]");
         parse_segment(sv, ccw, &sctx, &mut pieces)?;
@@ -416,8 +467,51 @@ fn parse_loop(lv: &Value, ctx: &str) -> Result<ParsedLoop, String> {
             ),
         };
         marks.resize(pieces.len(), marker);
+        names.resize(pieces.len(), optional_name(sv, &sctx)?);
     }
-    Ok((role, pieces, marks))
+    Ok((role, pieces, marks, names))
+}
+
+/// The optional `name` field of a segment, a line or a subdomain.
+fn optional_name(v: &Value, ctx: &str) -> Result<Option<String>, String> {
+    match v.get("name") {
+        None | Some(Value::Null) => Ok(None),
+        Some(n) => Ok(Some(
+            n.as_str()
+                .ok_or_else(|| format!("{ctx}.name is {n}; expected a string"))?
+                .to_string(),
+        )),
+    }
+}
+
+/// Each name's marker, given or assigned: a name without a marker takes the next number past
+/// every marker given (`given`), one per name; a marker given two names is refused.
+/// `items` are (marker, name, where) of every named segment or line, in the file's order.
+fn name_markers(
+    items: &[(Option<i64>, String, String)],
+    given: impl Iterator<Item = i64>,
+) -> Result<Vec<(i64, String)>, String> {
+    let mut named: std::collections::BTreeMap<i64, (String, &str)> = Default::default();
+    for (marker, name, at) in items {
+        if let Some(m) = marker {
+            if let Some((other, there)) = named.get(m).filter(|(n, _)| n != name) {
+                return Err(format!(
+                    "{at} names marker {m} \"{name}\", which {there} names \"{other}\"; one \
+                     marker has one name"
+                ));
+            }
+            named.insert(*m, (name.clone(), at));
+        }
+    }
+    let mut next = given.chain(named.keys().copied()).max().unwrap_or(0).max(0) + 1;
+    let mut out: Vec<(i64, String)> = named.into_iter().map(|(m, (n, _))| (m, n)).collect();
+    for (marker, name, _) in items {
+        if marker.is_none() && !out.iter().any(|(_, n)| n == name) {
+            out.push((next, name.clone()));
+            next += 1;
+        }
+    }
+    Ok(out)
 }
 
 const KINDS: &str = "polyline, arc, circle, superellipse, parametric";
