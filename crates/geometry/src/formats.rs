@@ -389,16 +389,24 @@ fn poly_region(name: &str, label: &str, mut poly: Poly) -> Result<Region, Geomet
         .copied()
         .filter(|&(p, _)| region.signed_distance(p) < -off)
         .collect();
+    // Segments in a hole or outside are in no triangle of Triangle's mesh, and one leaving
+    // the region keeps its part inside: cut at the boundary.
+    let given: f64 = poly.lines.iter().map(|l| l.length()).sum();
+    let (lines, cut) = region.cut_lines(std::mem::take(&mut poly.lines));
+    let kept: f64 = lines.iter().map(|l| l.length()).sum();
     let mut region = region
         .with_embedded_points(inside)?
-        .with_embedded_lines(std::mem::take(&mut poly.lines))?;
-    if poly.dropped > 0 {
+        .with_embedded_lines(lines)?;
+    if cut > 0 {
         region.notes.push(format!(
-            "{label}: {} segment{} in a hole or outside the region {} in no triangle, as \
-             Triangle eats them: not kept",
-            poly.dropped,
-            if poly.dropped == 1 { "" } else { "s" },
-            if poly.dropped == 1 { "is" } else { "are" }
+            "{label}: {cut} segment{} in a hole or outside the region, wholly or in part ({:.6} \
+             of the {:.6} total length of the segments inside), {} in no triangle there, as \
+             Triangle eats {}: only the parts inside are kept",
+            if cut == 1 { "" } else { "s" },
+            given - kept,
+            given,
+            if cut == 1 { "is" } else { "are" },
+            if cut == 1 { "it" } else { "them" },
         ));
     }
     // A regional attribute in a hole or outside numbers no triangle in Triangle either.
@@ -795,10 +803,9 @@ struct Poly {
     subdomains: Vec<(DVec2, i64)>,
     /// How many regions have a positive area constraint.
     area_constraints: usize,
-    /// Segments with the region on both sides, joined into polylines.
+    /// Segments that bound no loop (with the region on both sides, on neither, or crossing
+    /// the boundary), joined into polylines: the region keeps their parts inside.
     lines: Vec<crate::EmbeddedLine>,
-    /// Segments with the region on neither side (in a hole or outside).
-    dropped: usize,
 }
 
 /// A `.poly`'s nonzero vertex markers, by the vertex's coordinates.
@@ -941,7 +948,8 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
     }
     // As Triangle reads the segments: those with the region on one side bound it, those with
     // the region on both sides are lines inside it to keep (a material interface, a crack, an
-    // inclusion's outline), and those in a hole or outside are dropped.
+    // inclusion's outline), and of those in a hole, outside or leaving the region the parts
+    // inside are kept.
     let hole_points: Vec<DVec2> = holes.iter().map(|&(_, h)| h).collect();
     let pairs: Vec<(usize, usize)> = segments.iter().map(|&(a, b, _)| (a, b)).collect();
     let sides = crate::faces::classify(&verts, &pairs, &hole_points);
@@ -1047,14 +1055,12 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
              neither (a hole point in every face?)",
         ));
     }
-    let dropped = sides
-        .iter()
-        .filter(|&&side| side == crate::faces::Side::Outside)
-        .count();
+    // Lines inside, and segments in a hole, outside or leaving the region, whose parts inside
+    // Triangle keeps (`poly_region` cuts them at the boundary).
     let inner: Vec<(usize, usize)> = pairs
         .iter()
         .zip(&sides)
-        .filter(|(_, &side)| side == crate::faces::Side::Inside)
+        .filter(|(_, &side)| side != crate::faces::Side::Boundary)
         .map(|(&p, _)| p)
         .collect();
     let marked_inner: Vec<(usize, usize, i64)> = inner
@@ -1134,7 +1140,6 @@ fn parse_poly(text: &str, label: &str, node_file: &mut NodeSource) -> Result<Pol
         subdomains,
         area_constraints,
         lines,
-        dropped,
     })
 }
 

@@ -264,16 +264,8 @@ impl Region {
         // outside between two corners of a notch. The boundary's chords and the segments
         // are paired by a grid of their boxes, not each with each (a digitized interface of
         // 20 000 segments in a coastline of as many).
+        let boundary = self.boundary_chords();
         let chord = 1e-6 * self.diameter();
-        let polygon = self.polygonize(chord);
-        let boundary: Vec<(DVec2, DVec2)> = polygon
-            .rings
-            .iter()
-            .flat_map(|r| {
-                let m = r.points.len();
-                (0..m).map(move |j| (r.points[j], r.points[(j + 1) % m]))
-            })
-            .collect();
         let segments: Vec<(usize, DVec2, DVec2)> = added
             .iter()
             .enumerate()
@@ -434,6 +426,141 @@ impl Region {
         r.notes = self.notes.clone();
         r.surface_group = self.surface_group.clone();
         Ok(r)
+    }
+
+    /// The parts of `lines` inside the region, as Triangle keeps the part of a `.poly` segment
+    /// inside the domain and eats the rest with the triangles outside: each line cut where it
+    /// crosses the boundary (the cut on the boundary, where [`Region::with_embedded_lines`]
+    /// makes it a corner), each run inside a line of its own with the line's marker, the runs
+    /// outside or in a hole dropped. For fractures generated in a box larger than the region.
+    /// Pieces shorter than 10⁻⁹ of the diameter are dropped. O((S + B) log) for S segments
+    /// and B boundary chords, as [`Region::with_embedded_lines`] pairs them.
+    ///
+    /// ```
+    /// use cvtmesh::geometry::{DVec2, EmbeddedLine, Region};
+    /// let square = Region::from_loops(
+    ///     "square",
+    ///     vec![(cvtmesh::geometry::LoopRole::Outer,
+    ///           [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec())],
+    /// )?;
+    /// // A fracture through the square and out, and one wholly outside.
+    /// let through = EmbeddedLine { points: vec![DVec2::new(-0.5, 0.5), DVec2::new(1.5, 0.5)], marker: 3 };
+    /// let away = EmbeddedLine { points: vec![DVec2::new(2.0, 0.0), DVec2::new(3.0, 1.0)], marker: 4 };
+    /// let kept = square.lines_inside([through, away]);
+    /// assert_eq!(kept.len(), 1);
+    /// assert_eq!(kept[0].points, [DVec2::new(0.0, 0.5), DVec2::new(1.0, 0.5)]);
+    /// let region = square.with_embedded_lines(kept)?;
+    /// assert_eq!(region.embedded_lines()[0].marker, 3);
+    /// # Ok::<(), cvtmesh::geometry::GeometryError>(())
+    /// ```
+    pub fn lines_inside(&self, lines: impl IntoIterator<Item = EmbeddedLine>) -> Vec<EmbeddedLine> {
+        self.cut_lines(lines.into_iter().collect()).0
+    }
+
+    /// [`Region::lines_inside`], and how many of the lines' segments lay in part or wholly
+    /// outside (or in a hole).
+    pub(crate) fn cut_lines(&self, lines: Vec<EmbeddedLine>) -> (Vec<EmbeddedLine>, usize) {
+        let off = 1e-9 * self.diameter();
+        let boundary = self.boundary_chords();
+        let segments: Vec<(usize, usize, DVec2, DVec2)> = lines
+            .iter()
+            .enumerate()
+            .flat_map(|(i, l)| {
+                l.segments()
+                    .enumerate()
+                    .map(move |(k, (a, b))| (i, k, a, b))
+            })
+            .collect();
+        // Where along each segment the boundary crosses it.
+        let mut cuts: Vec<Vec<f64>> = vec![Vec::new(); segments.len()];
+        let boxes: Vec<(DVec2, DVec2)> = boundary
+            .iter()
+            .copied()
+            .chain(segments.iter().map(|&(_, _, a, b)| (a, b)))
+            .collect();
+        crate::crossings::candidate_pairs(&boxes, off, |e, k| {
+            let Some(s) = k.checked_sub(boundary.len()).filter(|_| e < boundary.len()) else {
+                return true;
+            };
+            let ((c, d), (_, _, a, b)) = (boundary[e], segments[s]);
+            let (o1, o2) = (orient(c, d, a), orient(c, d, b));
+            let (o3, o4) = (orient(a, b, c), orient(a, b, d));
+            if o1 * o2 < 0.0 && o3 * o4 <= 0.0 {
+                cuts[s].push(o1 / (o1 - o2));
+            }
+            true
+        });
+        // The point where a cut lies, on the boundary itself (a chord of a curve is not it).
+        let on_boundary = |p: DVec2| self.project(p).point;
+        let mut out = Vec::new();
+        let mut cut = 0;
+        let mut s = 0;
+        for (i, line) in lines.iter().enumerate() {
+            let mut run: Vec<DVec2> = Vec::new();
+            let flush = |run: &mut Vec<DVec2>, out: &mut Vec<EmbeddedLine>| {
+                run.dedup_by(|a, b| a.distance(*b) <= off);
+                if run.len() >= 2 {
+                    out.push(EmbeddedLine {
+                        points: std::mem::take(run),
+                        marker: line.marker,
+                    });
+                }
+                run.clear();
+            };
+            while s < segments.len() && segments[s].0 == i {
+                let (_, _, a, b) = segments[s];
+                let mut ts = std::mem::take(&mut cuts[s]);
+                ts.sort_by(f64::total_cmp);
+                let at = |t: f64, cut: bool| {
+                    let p = a + (b - a) * t;
+                    if cut {
+                        on_boundary(p)
+                    } else {
+                        p
+                    }
+                };
+                let bounds: Vec<(f64, bool)> = std::iter::once((0.0, false))
+                    .chain(ts.iter().map(|&t| (t, true)))
+                    .chain(std::iter::once((1.0, false)))
+                    .collect();
+                let mut whole = ts.is_empty();
+                for w in bounds.windows(2) {
+                    let ((t0, c0), (t1, c1)) = (w[0], w[1]);
+                    if t1 <= t0 {
+                        continue;
+                    }
+                    // A run along a wall is the wall's to judge (`with_embedded_lines`).
+                    let inside = self.signed_distance(a + (b - a) * (0.5 * (t0 + t1))) <= off;
+                    whole &= inside;
+                    if inside {
+                        if run.is_empty() || c0 {
+                            flush(&mut run, &mut out);
+                            run.push(at(t0, c0));
+                        }
+                        run.push(at(t1, c1));
+                    } else {
+                        flush(&mut run, &mut out);
+                    }
+                }
+                cut += usize::from(!whole);
+                s += 1;
+            }
+            flush(&mut run, &mut out);
+        }
+        (out, cut)
+    }
+
+    /// The boundary's polygon as segments, curves cut into chords within 10⁻⁶ of the diameter:
+    /// what lines are paired with to find where they cross the boundary.
+    fn boundary_chords(&self) -> Vec<(DVec2, DVec2)> {
+        self.polygonize(1e-6 * self.diameter())
+            .rings
+            .iter()
+            .flat_map(|r| {
+                let m = r.points.len();
+                (0..m).map(move |j| (r.points[j], r.points[(j + 1) % m]))
+            })
+            .collect()
     }
 
     /// Is `p` a vertex of an embedded line (on the boundary, a corner every corner angle

@@ -187,3 +187,34 @@ fn segment_markers_number_the_walls_and_keep_their_junctions() {
     let e = Region::from_json_str(&arcs([r#", "marker": 1.5"#, ""]), "disc").unwrap_err();
     assert!(e.to_string().contains("segments[0].marker is 1.5"), "{e}");
 }
+
+/// A `.poly`'s segments that leave the square keep their parts inside, as Triangle eats the
+/// triangles outside and the segments with them: one from inside out, one through the whole
+/// square (its vertices both outside), and one wholly outside; a note gives the length cut.
+#[test]
+fn a_poly_s_segments_leaving_the_region_keep_their_parts_inside() {
+    let text = "9 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 0.5 0.25\n6 1.5 0.25\n\
+                7 -0.5 0.5\n8 1.5 0.75\n9 2 2\n\
+                7 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 7 8\n7 8 9\n0\n";
+    let region = cvtmesh_geometry::formats::poly_from_str(text, "cut.poly", "cut").unwrap();
+    let lines: Vec<Vec<DVec2>> = region
+        .embedded_lines()
+        .iter()
+        .map(|l| l.points.clone())
+        .collect();
+    let v = DVec2::new;
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    assert_eq!(lines[0], [v(0.5, 0.25), v(1.0, 0.25)]);
+    let through = &lines[1];
+    assert_eq!(through.len(), 2);
+    assert!(through[0].distance(v(0.0, 0.5625)) < 1e-15, "{through:?}");
+    assert!(through[1].distance(v(1.0, 0.6875)) < 1e-15, "{through:?}");
+    // The cuts are corners of the walls, where the lines end.
+    for p in [lines[0][1], through[0], through[1]] {
+        assert!(region.corners().iter().any(|c| c.pos == p), "{p}");
+    }
+    let cut =
+        0.5 + (4.0f64 + 0.0625).sqrt() - (1.0f64 + 0.015625).sqrt() + (0.25f64 + 1.5625).sqrt();
+    let note = region.notes().join("\n");
+    assert!(note.contains(&format!("{cut:.6} of the")), "{note}");
+}

@@ -303,3 +303,56 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Lines drawn in a box three times the square's keep exactly their parts inside it: each
+    /// kept line lies in the square, runs along its given line, and the kept lengths add up to
+    /// the clipped lengths (Liang–Barsky); what is kept is a valid set of lines.
+    #[test]
+    fn lines_from_a_larger_box_keep_exactly_their_parts_inside(
+        ends in prop::collection::vec([(-1.0f64..2.0, -1.0f64..2.0), (-1.0f64..2.0, -1.0f64..2.0)], 1..10)
+    ) {
+        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+        let region = Region::from_loops("square", vec![(LoopRole::Outer, square)]).unwrap();
+        let lines: Vec<EmbeddedLine> = ends
+            .iter()
+            .enumerate()
+            .map(|(i, [a, b])| EmbeddedLine { points: vec![DVec2::from(*a), DVec2::from(*b)], marker: i as i64 })
+            .collect();
+        let kept = region.lines_inside(lines.clone());
+        let clipped = |a: DVec2, b: DVec2| {
+            let d = b - a;
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            for (p, q) in [(-d.x, a.x), (d.x, 1.0 - a.x), (-d.y, a.y), (d.y, 1.0 - a.y)] {
+                if p == 0.0 {
+                    if q < 0.0 { return 0.0; }
+                } else if p < 0.0 {
+                    t0 = t0.max(q / p);
+                } else {
+                    t1 = t1.min(q / p);
+                }
+            }
+            (t1 - t0).max(0.0) * d.length()
+        };
+        for line in &lines {
+            let (a, b) = (line.points[0], line.points[1]);
+            let length: f64 = kept
+                .iter()
+                .filter(|l| l.marker == line.marker)
+                .map(|l| l.length())
+                .sum();
+            prop_assert!((length - clipped(a, b)).abs() < 1e-9, "{} against {}", length, clipped(a, b));
+            for l in kept.iter().filter(|l| l.marker == line.marker) {
+                for p in &l.points {
+                    prop_assert!(p.cmpge(DVec2::splat(-1e-12)).all() && p.cmple(DVec2::splat(1.0 + 1e-12)).all());
+                    let t = (*p - a).dot(b - a) / a.distance_squared(b);
+                    prop_assert!((a + (b - a) * t).distance(*p) < 1e-9);
+                }
+            }
+        }
+        // Kept lines that run along a wall, cross or touch may be refused; none may panic.
+        let _ = region.with_embedded_lines(kept);
+    }
+}

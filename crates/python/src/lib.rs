@@ -675,13 +675,17 @@ impl PyRegion {
     /// curves of their markers). A line may end on a polygonal wall or an arc; lines may meet
     /// at shared vertices, and where two cross both get a vertex there (as Triangle splits
     /// crossing segments), which `embedded_lines` lists (a line crossing itself, twice). A
-    /// line leaving the region or running along another raises `MeshError` naming the place. The methods ccvt, refine and distmesh keep them;
-    /// meshgen and vtm refuse such a region.
-    #[pyo3(signature = (lines, markers = None))]
+    /// line leaving the region or running along another raises `MeshError` naming the place,
+    /// unless `clip=True`: then each line is cut where it crosses the boundary and only its
+    /// parts inside are kept, as Triangle keeps a `.poly` segment's (fractures generated in a
+    /// larger box). The methods ccvt, refine and distmesh keep them; meshgen and vtm refuse
+    /// such a region.
+    #[pyo3(signature = (lines, markers = None, clip = false))]
     fn with_embedded_lines(
         &self,
         lines: Vec<Bound<'_, PyAny>>,
         markers: Option<Vec<i64>>,
+        clip: bool,
     ) -> PyResult<PyRegion> {
         let markers = markers.unwrap_or_else(|| vec![0; lines.len()]);
         if markers.len() != lines.len() {
@@ -703,6 +707,11 @@ impl PyRegion {
             })
             .collect::<PyResult<Vec<_>>>()?;
         let region = (*self.inner).clone();
+        let lines = if clip {
+            region.lines_inside(lines)
+        } else {
+            lines
+        };
         Ok(PyRegion {
             inner: Arc::new(region.with_embedded_lines(lines).map_err(err)?),
         })

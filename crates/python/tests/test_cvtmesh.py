@@ -895,6 +895,25 @@ def test_a_near_miss_of_two_fractures_names_refine_which_leaves_no_sliver():
     assert len(edges) > 0 and min_angles(m.points, m.triangles).min() >= 20.0
 
 
+def test_fractures_from_a_larger_box_are_clipped_to_the_region():
+    # Fractures drawn in [-1, 2]² and clipped to the unit square keep their parts inside,
+    # which every mesh follows; without clip a fracture leaving the square is refused.
+    rng = np.random.default_rng(3)
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    lines = [rng.uniform(-1, 2, (2, 2)) for _ in range(30)]
+    region = cvtmesh.Region.from_loops(square)
+    with pytest.raises(cvtmesh.MeshError, match="outside the region"):
+        region.with_embedded_lines(lines)
+    clipped = region.with_embedded_lines(lines, markers=list(range(1, 31)), clip=True)
+    kept = clipped.embedded_lines
+    assert 0 < len(kept) and all(((p >= -1e-12) & (p <= 1 + 1e-12)).all() for p, _ in kept)
+    m = cvtmesh.mesh(clipped, n=2000, method="refine")
+    edges, _ = m.line_edges()
+    along = np.linalg.norm(m.points[edges[:, 0]] - m.points[edges[:, 1]], axis=1).sum()
+    total = sum(np.linalg.norm(np.diff(p, axis=0), axis=1).sum() for p, _ in kept)
+    assert abs(along - total) < 1e-9
+
+
 def test_regions_of_several_parts_from_arrays_mesh_every_part():
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     frame = np.array([[2, 0], [4, 0], [4, 2], [2, 2]], float)
