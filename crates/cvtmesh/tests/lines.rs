@@ -692,3 +692,57 @@ fn a_json_region_s_named_lines_and_walls_are_physical_curves_of_those_names() {
         "{e}"
     );
 }
+
+#[test]
+fn fractures_enclosing_a_triangle_a_ten_millionth_across_are_refined_as_triangle_refines_them() {
+    // Three fractures at 0°, 60° and 120° bounding an equilateral triangle of side 10⁻⁷, and
+    // a fourth stopping 10⁻⁷ short of the first: triangles of 10⁻¹⁴ in area there, well
+    // shaped (Triangle `-pq`: 21.2° with 147 vertices). They were refused as degenerate
+    // against the mesh's mean area.
+    let s = 1e-7;
+    let c = DVec2::new(0.5, 0.5);
+    let corners: Vec<DVec2> = (0..3)
+        .map(|k| c + s / 3f64.sqrt() * DVec2::from_angle(std::f64::consts::TAU * k as f64 / 3.0))
+        .collect();
+    let mut lines: Vec<EmbeddedLine> = (0..3)
+        .map(|k| {
+            let (p, q) = (corners[k], corners[(k + 1) % 3]);
+            let (m, d) = (0.5 * (p + q), (q - p).normalize());
+            EmbeddedLine {
+                points: vec![m - 0.3 * d, m + 0.3 * d],
+                marker: 1 + k as i64,
+            }
+        })
+        .collect();
+    let (p, q) = (corners[0], corners[1]);
+    let (m, normal) = (0.5 * (p + q), (q - p).normalize().perp());
+    let side = if normal.dot(corners[2] - m) > 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let foot = m + 0.1 * (q - p).normalize();
+    lines.push(EmbeddedLine {
+        points: vec![foot + s * side, foot + 0.2 * side],
+        marker: 4,
+    });
+    let region = square().with_embedded_lines(lines).unwrap();
+    let r = Method::Refine
+        .run(&region, &MeshRequest::points(800))
+        .unwrap_or_else(|e| panic!("{e}"));
+    check_conforming(&r.mesh, &region).unwrap();
+    let total: f64 = region.embedded_lines().iter().map(|l| l.length()).sum();
+    let along = length_along_lines(&r.mesh, &region).unwrap();
+    assert!((along - total).abs() < 1e-12, "{along} of {total}");
+    assert!(r.mesh.min_angle_deg() > 20.0, "{}°", r.mesh.min_angle_deg());
+    let smallest_area = r
+        .mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| r.mesh.points[v as usize]);
+            0.5 * orient(p[0], p[1], p[2])
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(smallest_area < 1e-13, "{smallest_area}");
+}

@@ -511,13 +511,11 @@ impl Region {
                 let (_, _, a, b) = segments[s];
                 let mut ts = std::mem::take(&mut cuts[s]);
                 ts.sort_by(f64::total_cmp);
-                let at = |t: f64, cut: bool| {
-                    let p = a + (b - a) * t;
-                    if cut {
-                        on_boundary(p)
-                    } else {
-                        p
-                    }
+                // The segment's own ends exactly, a cut on the boundary itself.
+                let at = |t: f64, cut: bool| match (t, cut) {
+                    (_, true) => on_boundary(a + (b - a) * t),
+                    (0.0, false) => a,
+                    _ => b,
                 };
                 let bounds: Vec<(f64, bool)> = std::iter::once((0.0, false))
                     .chain(ts.iter().map(|&t| (t, true)))
@@ -848,6 +846,20 @@ mod tests {
                 .to_string();
             assert!(e.contains(says), "{pts:?}: {e}");
         }
+    }
+
+    /// A line wholly inside is kept to the bit: its ends are where other lines cross or meet
+    /// it (a + (b − a)·1 is not b for these two points).
+    #[test]
+    fn a_line_inside_is_kept_to_the_bit() {
+        let (a, b) = (
+            DVec2::new(0.02693213872252037, 0.48320643259543933),
+            DVec2::new(0.011058913144804573, 0.4886578946384607),
+        );
+        assert_ne!(a + (b - a) * 1.0, b);
+        let kept = outline().lines_inside([line(&[(a.x, a.y), (b.x, b.y)], 3)]);
+        assert_eq!(kept.len(), 1);
+        assert_eq!(kept[0].points, [a, b]);
     }
 
     #[test]

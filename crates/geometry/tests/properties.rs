@@ -352,6 +352,11 @@ proptest! {
                 }
             }
         }
+        // A line wholly inside comes back as it was, to the bit (its ends are other lines'
+        // crossings and junctions).
+        for line in lines.iter().filter(|l| l.points.iter().all(|p| p.cmpgt(DVec2::ZERO).all() && p.cmplt(DVec2::ONE).all())) {
+            prop_assert!(kept.iter().any(|k| k.points == line.points), "{:?} changed", line.points);
+        }
         // Kept lines that run along a wall, cross or touch may be refused; none may panic.
         let _ = region.with_embedded_lines(kept);
     }

@@ -117,7 +117,6 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
         return Err(ConformityError::LoopUncovered(l, n));
     }
     let n = mesh.points.len() as u32;
-    let mean_area = region.area() / mesh.triangles.len().max(1) as f64;
     let order = LoopOrder::new(&mesh.markers, region.loops().len());
     // Each triangle on its own (in parallel, the first problem in triangle order reported).
     let bad = (0..mesh.triangles.len())
@@ -133,12 +132,15 @@ pub fn check_conforming(mesh: &Mesh, region: &Region) -> Result<(), ConformityEr
             }
             let [a, b, c] = mesh.triangle(t);
             let area = 0.5 * (b - a).perp_dot(c - a);
-            if area <= 1e-10 * mean_area {
-                return Some(ConformityError::Degenerate(t, area));
-            }
             let longest = [a.distance(b), b.distance(c), c.distance(a)]
                 .into_iter()
                 .fold(0.0, f64::max);
+            // Flat as rounding leaves three points on a line (its height 10⁻¹² of its longest
+            // side), whatever its size: a well-shaped triangle 10⁻⁷ across, where fractures
+            // nearly meet, is a triangle of the mesh as Triangle's is.
+            if area <= 0.5e-12 * longest * longest {
+                return Some(ConformityError::Degenerate(t, area));
+            }
             // Signed distance is 1-Lipschitz and every point of the triangle lies within its
             // longest edge of each corner: a triangle that deep inside needs no query of its
             // own (all but the boundary layer).

@@ -63,7 +63,10 @@ pub(crate) fn mesh_parts<M: Mesher + ?Sized>(
         return Err(MeshError::Failed {
             method: mesher.name().to_string(),
             message: "an embedded line has a piece between two of its vertices that no flip of \
-                      the mesh's edges could make an edge; ask for more points"
+                      the mesh's edges could make an edge (lines nearly meeting there, closer \
+                      than the spacing); ask for more points, or use the refine method \
+                      (--method refine, method=\"refine\"), which splits lines where they \
+                      nearly meet as Triangle does"
                 .into(),
         });
     }
