@@ -3038,19 +3038,31 @@ fn a_poly_interface_is_listed_meshed_along_and_kept_in_the_file() {
     assert!(std::fs::read_to_string(&out)
         .unwrap()
         .contains("1 7 \"marker7\""));
-    // The same interface run past the right wall.
-    let bad = dir.join("bad.poly");
+    // A crack run past the right wall keeps its part inside, cut at the wall, as Triangle
+    // keeps it; the note gives the length cut off.
+    let past = dir.join("past.poly");
     std::fs::write(
-        &bad,
+        &past,
         "7 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n5 0.5 0.5 0\n6 1.5 0.5 0\n7 0.5 0.2 0\n\
          5 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n5 5 6 7\n0\n",
     )
     .unwrap();
-    let never = dir.join("never.msh");
-    let o = cvtmesh(&["mesh", s(&bad), "-n", "400", "-o", s(&never)]);
-    assert!(!o.status.success());
-    assert!(!never.exists());
-    assert!(text(&o).contains("(1.5, 0.5)"), "{}", text(&o));
+    let cut = dir.join("cut.msh");
+    let o = cvtmesh(&["mesh", s(&past), "-n", "400", "-q", "-o", s(&cut)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("1 segment in a hole or outside the region, wholly or in part (0.500000"),
+        "{}",
+        text(&o)
+    );
+    let (mesh, walls) = cvtmesh::io::read_mesh_with_walls(&cut).unwrap();
+    let length: f64 = walls
+        .inner
+        .iter()
+        .map(|&[a, b]| mesh.points[a as usize].distance(mesh.points[b as usize]))
+        .sum();
+    assert!((length - 0.5).abs() < 1e-12, "{length}");
+    assert!(mesh.points.contains(&cvtmesh::DVec2::new(1.0, 0.5)));
 }
 
 /// A digitized interface of more vertices than the mesh has: refused as it is (every vertex of

@@ -462,15 +462,7 @@ impl Region {
     pub(crate) fn cut_lines(&self, lines: Vec<EmbeddedLine>) -> (Vec<EmbeddedLine>, usize) {
         let off = 1e-9 * self.diameter();
         let boundary = self.boundary_chords();
-        let segments: Vec<(usize, usize, DVec2, DVec2)> = lines
-            .iter()
-            .enumerate()
-            .flat_map(|(i, l)| {
-                l.segments()
-                    .enumerate()
-                    .map(move |(k, (a, b))| (i, k, a, b))
-            })
-            .collect();
+        let segments = numbered_segments(&lines);
         // Where along each segment the boundary crosses it.
         let mut cuts: Vec<Vec<f64>> = vec![Vec::new(); segments.len()];
         let boxes: Vec<(DVec2, DVec2)> = boundary
@@ -568,14 +560,9 @@ impl Region {
     }
 }
 
-/// Splits the lines where they meet other than at a shared vertex: where two segments cross
-/// (of two lines, or of one), both get the crossing point (the same bits in each); a vertex
-/// of one line within `off` of a segment of another, off its ends, is inserted into that
-/// segment; a line's end on one of its own segments splits that segment. Segments are paired
-/// by a grid of their boxes. What is left (segments overlapping along a line, points closer
-/// than `off` but apart) the caller refuses.
-fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
-    let segments: Vec<(usize, usize, DVec2, DVec2)> = lines
+/// Every segment of `lines` as (line, segment within it, from, to), line by line.
+fn numbered_segments(lines: &[EmbeddedLine]) -> Vec<(usize, usize, DVec2, DVec2)> {
+    lines
         .iter()
         .enumerate()
         .flat_map(|(i, l)| {
@@ -583,7 +570,17 @@ fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
                 .enumerate()
                 .map(move |(k, (a, b))| (i, k, a, b))
         })
-        .collect();
+        .collect()
+}
+
+/// Splits the lines where they meet other than at a shared vertex: where two segments cross
+/// (of two lines, or of one), both get the crossing point (the same bits in each); a vertex
+/// of one line within `off` of a segment of another, off its ends, is inserted into that
+/// segment; a line's end on one of its own segments splits that segment. Segments are paired
+/// by a grid of their boxes. What is left (segments overlapping along a line, points closer
+/// than `off` but apart) the caller refuses.
+fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
+    let segments = numbered_segments(lines);
     let ends: Vec<[DVec2; 2]> = lines
         .iter()
         .map(|l| [l.points[0], l.points[l.points.len() - 1]])

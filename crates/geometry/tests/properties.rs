@@ -232,6 +232,23 @@ proptest! {
     }
 }
 
+/// The unit square, and a line (marked by its index) from each pair of ends.
+fn square_with(ends: &[[(f64, f64); 2]]) -> (Region, Vec<EmbeddedLine>) {
+    let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+        .map(DVec2::from)
+        .to_vec();
+    let region = Region::from_loops("square", vec![(LoopRole::Outer, square)]).unwrap();
+    let lines = ends
+        .iter()
+        .enumerate()
+        .map(|(i, [a, b])| EmbeddedLine {
+            points: vec![DVec2::from(*a), DVec2::from(*b)],
+            marker: i as i64,
+        })
+        .collect();
+    (region, lines)
+}
+
 /// Straight lines (two points each) inside the unit square, from random end points.
 fn straight_lines() -> impl Strategy<Value = Vec<[(f64, f64); 2]>> {
     prop::collection::vec(
@@ -251,13 +268,7 @@ proptest! {
     /// lines with the same bits.
     #[test]
     fn crossing_lines_become_lines_that_share_their_crossings(ends in straight_lines()) {
-        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
-        let region = Region::from_loops("square", vec![(LoopRole::Outer, square)]).unwrap();
-        let lines: Vec<EmbeddedLine> = ends
-            .iter()
-            .enumerate()
-            .map(|(i, [a, b])| EmbeddedLine { points: vec![DVec2::from(*a), DVec2::from(*b)], marker: i as i64 })
-            .collect();
+        let (region, lines) = square_with(&ends);
         // Near-parallel or near-touching pairs may still be refused (overlap, a touch without
         // a shared vertex); what is accepted must hold the properties.
         let Ok(r) = region.with_embedded_lines(lines.clone()) else { return Ok(()) };
@@ -314,13 +325,7 @@ proptest! {
     fn lines_from_a_larger_box_keep_exactly_their_parts_inside(
         ends in prop::collection::vec([(-1.0f64..2.0, -1.0f64..2.0), (-1.0f64..2.0, -1.0f64..2.0)], 1..10)
     ) {
-        let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
-        let region = Region::from_loops("square", vec![(LoopRole::Outer, square)]).unwrap();
-        let lines: Vec<EmbeddedLine> = ends
-            .iter()
-            .enumerate()
-            .map(|(i, [a, b])| EmbeddedLine { points: vec![DVec2::from(*a), DVec2::from(*b)], marker: i as i64 })
-            .collect();
+        let (region, lines) = square_with(&ends);
         let kept = region.lines_inside(lines.clone());
         let clipped = |a: DVec2, b: DVec2| {
             let d = b - a;
