@@ -229,7 +229,7 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         },
         other => other,
     };
-    let mut lines = match top.get("lines") {
+    let lines = match top.get("lines") {
         None | Some(Value::Null) => Vec::new(),
         Some(v) => embedded_lines(v).map_err(perr)?,
     };
@@ -255,7 +255,7 @@ pub(crate) fn parse(text: &str, label: &str, default_name: &str) -> Result<Regio
         }
     }
     let lines: Vec<crate::EmbeddedLine> = lines
-        .drain(..)
+        .into_iter()
         .map(|(mut l, has, n)| {
             if !has {
                 if let Some(m) = n.as_deref().and_then(marker_of_name) {
