@@ -378,6 +378,47 @@ fn a_chord_of_a_disc_ending_inside_its_arc_is_followed_whatever_the_corner_angle
 }
 
 #[test]
+fn cracks_ending_on_a_circle_loop_are_followed_and_split_the_disc_at_their_ends() {
+    // Two radial cracks of the unit disc from the circle, one at 90°, one at 233.13°, and one
+    // from the hole of the annulus to its outer circle: every circle is cut at the cracks'
+    // ends, which stay mesh vertices at corners.
+    let crack = |from: (f64, f64), to: (f64, f64)| EmbeddedLine {
+        points: vec![DVec2::from(from), DVec2::from(to)],
+        marker: 5,
+    };
+    let disc = Region::builtin("circle")
+        .unwrap()
+        .with_embedded_lines([
+            crack((0.0, 1.0), (0.0, 0.3)),
+            crack((-0.6, -0.8), (-0.3, -0.4)),
+        ])
+        .unwrap();
+    let ring = Region::builtin("annulus")
+        .unwrap()
+        .with_embedded_lines([crack((0.0, -0.4), (0.0, -1.0))])
+        .unwrap();
+    for (region, length) in [(&disc, 0.7 + 0.5), (&ring, 0.6)] {
+        for method in [Method::Ccvt, Method::Refine, Method::Distmesh] {
+            let r = method
+                .run(region, &MeshRequest::points(800).seed(2))
+                .unwrap_or_else(|e| panic!("{method}: {e}"));
+            check_conforming(&r.mesh, region).unwrap_or_else(|e| panic!("{method}: {e}"));
+            let along = length_along_lines(&r.mesh, region).unwrap();
+            assert!((along - length).abs() < 1e-12, "{method}: {along}");
+            for line in region.embedded_lines() {
+                let end = line.points[0];
+                let v = r.mesh.points.iter().position(|&p| p == end);
+                let marker = v.map(|v| r.mesh.markers[v]);
+                assert!(
+                    matches!(marker, Some(cvtmesh::VertexMarker::Corner { .. })),
+                    "{method}: {end} {marker:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn crossing_lines_are_followed_through_their_crossings() {
     // A fracture network: two wall-to-wall interfaces crossing at the centre, and three cracks
     // inside crossing at one point of the vertical interface, as a `.poly`'s crossing segments

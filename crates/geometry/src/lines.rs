@@ -171,7 +171,7 @@ impl Region {
 
     /// The same region with `lines` embedded as well ([`Region::embedded_lines`]). Every
     /// vertex of a line lies inside the region, off its boundary by more than 10⁻⁹ of its
-    /// diameter, or on a polygonal wall or an arc (an interface from wall to wall, an
+    /// diameter, or on a polygonal wall, an arc or a circle (an interface from wall to wall, an
     /// inclusion touching a wall), where the piece is split if need be and the point becomes
     /// a corner whatever the corner angle; no segment leaves the region. Lines may share vertices (three materials meeting at
     /// a point); where two cross, or a vertex of one lies on a segment of another, both get a
@@ -242,8 +242,8 @@ impl Region {
                         let place = if sd > off {
                             "outside the region"
                         } else {
-                            "on a closed curve of the region's boundary (a circle or \
-                             super-ellipse loop: a line may meet a polygonal wall or an arc)"
+                            "on a super-ellipse loop of the region's boundary (a line may \
+                             meet a polygonal wall, an arc or a circle)"
                         };
                         return Err(bad(format!(
                             "embedded line {i} has the point ({}, {}) {place}",
@@ -685,14 +685,38 @@ fn split_at_all(piece: crate::Piece, points: &[DVec2], off: f64) -> Vec<crate::P
 }
 
 /// `piece` split in two at `p`, where `p` lies on it within `off` and not at its ends: a line
-/// or a chain at the point, an arc at the angle of `p`. `None` otherwise (and for closed
-/// curves, which have no ends to split between).
+/// or a chain at the point, an arc at the angle of `p`, a circle into two half-circle arcs
+/// from `p` (so that `p` is where pieces meet). `None` otherwise (and for a super-ellipse,
+/// which has no arcs to be cut into).
 fn split_point(piece: &crate::Piece, p: DVec2, off: f64) -> Option<(crate::Piece, crate::Piece)> {
     use crate::Piece;
     if piece.start().distance(p) <= off || piece.end().distance(p) <= off {
         return None;
     }
     match piece {
+        Piece::Circle {
+            center,
+            radius,
+            ccw,
+        } => {
+            if ((p - *center).length() - radius).abs() > off {
+                return None;
+            }
+            let d = p - *center;
+            let t = d.y.atan2(d.x);
+            let half = if *ccw {
+                std::f64::consts::PI
+            } else {
+                -std::f64::consts::PI
+            };
+            let arc = |from: f64, to: f64| Piece::Arc {
+                center: *center,
+                radius: *radius,
+                from,
+                to,
+            };
+            Some((arc(t, t + half), arc(t + half, t + 2.0 * half)))
+        }
         Piece::Line { a, b } => (closest_on_segment(*a, *b, p).0.distance(p) <= off)
             .then_some((Piece::Line { a: *a, b: p }, Piece::Line { a: p, b: *b })),
         Piece::Chain(pts) => {
@@ -860,7 +884,7 @@ mod tests {
     }
 
     #[test]
-    fn a_line_may_end_inside_a_wall_or_an_arc_but_not_on_a_circle() {
+    fn a_line_may_end_inside_a_wall_an_arc_or_a_circle_but_not_a_super_ellipse() {
         // Inside the bottom wall: the wall is split there, the halves keep its marker.
         let marked = Region::from_loops_marked(
             "sq",
@@ -898,13 +922,46 @@ mod tests {
         let split = split.unwrap();
         assert!((split.area() - half.area()).abs() < 1e-12 * half.area());
         assert_eq!(split.pieces().len(), half.pieces().len() + 1);
-        // On a circle loop there are no ends to split between.
-        let e = Region::builtin("circle")
+        // On a circle loop, anywhere round it: the circle becomes two half-circle arcs from
+        // the point, which is a corner; a second line ending opposite adds nothing more.
+        let disc = Region::builtin("circle").unwrap();
+        for (x, y) in [(0.0, 1.0), (-0.6, -0.8), (1.0, 0.0)] {
+            let r = disc
+                .clone()
+                .with_embedded_lines([line(&[(x, y), (0.0, 0.0)], 0)])
+                .unwrap();
+            assert!(
+                (r.area() - disc.area()).abs() < 1e-12 * disc.area(),
+                "{x} {y}"
+            );
+            let end = r.embedded_lines()[0].points[0];
+            assert!(end.distance(DVec2::new(x, y)) < 1e-15, "{end}");
+            assert!(r.corners().iter().any(|c| c.pos == end), "{x} {y}");
+        }
+        let both = disc
+            .clone()
+            .with_embedded_lines([
+                line(&[(0.0, 1.0), (0.0, 0.5)], 0),
+                line(&[(0.0, -1.0), (0.0, -0.5)], 0),
+            ])
+            .unwrap();
+        assert_eq!(both.pieces().len(), 2);
+        assert_eq!(both.corners().len(), 2);
+        // A hole's circle runs clockwise: its halves too.
+        let annulus = Region::builtin("annulus").unwrap();
+        let r = annulus
+            .clone()
+            .with_embedded_lines([line(&[(0.0, 0.4), (0.0, 1.0)], 0)])
+            .unwrap();
+        assert!((r.area() - annulus.area()).abs() < 1e-12 * annulus.area());
+        assert_eq!(r.corners().len(), 2);
+        // A super-ellipse is not cut into arcs.
+        let e = Region::builtin("superellipse")
             .unwrap()
             .with_embedded_lines([line(&[(0.0, 1.0), (0.0, 0.0)], 0)])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("closed curve"), "{e}");
+        assert!(e.contains("super-ellipse"), "{e}");
     }
 
     #[test]

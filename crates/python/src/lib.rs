@@ -672,7 +672,7 @@ impl PyRegion {
     /// inclusion's outline), with `markers` (one integer per line, default 0). Every mesh of
     /// it has each line's vertices, more vertices along it at the local spacing, and edges
     /// running along it (`Mesh.line_edges()`; in the files, `.poly` segments and Gmsh physical
-    /// curves of their markers). A line may end on a polygonal wall or an arc; lines may meet
+    /// curves of their markers). A line may end on a polygonal wall, an arc or a circle; lines may meet
     /// at shared vertices, and where two cross both get a vertex there (as Triangle splits
     /// crossing segments), which `embedded_lines` lists (a line crossing itself, twice). A
     /// line leaving the region or running along another raises `MeshError` naming the place,
