@@ -295,7 +295,7 @@ pub fn mesh(a: MeshArgs) -> Result<()> {
         }
         eprintln!("warning: {short}");
     }
-    let (min_angle, slivers) = cvtmesh::min_angle_and_slivers(&result.mesh);
+    let (min_angle, slivers) = cvtmesh::min_angle_and_slivers(&result.mesh, &region);
     if let Some(slivers) = slivers {
         let advice = cvtmesh::sliver_advice(&region, method.as_ref())
             .map(|a| format!("; {a}"))
@@ -562,7 +562,7 @@ pub fn measure(a: MeasureArgs) -> Result<()> {
             region.name()
         );
     }
-    if let Some(slivers) = cvtmesh::slivers(&mesh) {
+    if let Some(slivers) = cvtmesh::slivers_in_region(&mesh, &region) {
         eprintln!("warning: {slivers}");
     }
     let m = cvtmesh::metrics::measures(&mesh, &region)?;

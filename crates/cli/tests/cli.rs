@@ -1724,6 +1724,38 @@ fn a_near_miss_of_two_fractures_is_refined_by_refine_and_named_for_ccvt() {
     assert!(printed_min_angle(&o) >= 20.0, "{}", text(&o));
 }
 
+/// Two fractures crossing at half a degree: every mesh that keeps both has that angle, so
+/// Delaunay refinement's mesh, which has no smaller one, is neither warned about nor refused
+/// under --strict, nor is it when measured (the CVT's slivers beside a line, which no input
+/// forces, are still named: the near miss above).
+#[test]
+fn an_angle_the_input_lines_force_is_no_sliver_even_under_strict() {
+    let dir = scratch("forced");
+    let (c, s5) = (0.5f64.to_radians().cos(), 0.5f64.to_radians().sin());
+    let poly = dir.join("cross.poly");
+    std::fs::write(
+        &poly,
+        format!(
+            "8 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n5 0.1 0.5\n6 0.9 0.5\n7 {} {}\n8 {} {}\n\
+             6 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 7 8\n0\n",
+            0.5 - 0.4 * c,
+            0.5 - 0.4 * s5,
+            0.5 + 0.4 * c,
+            0.5 + 0.4 * s5
+        ),
+    )
+    .unwrap();
+    let out = dir.join("m.node");
+    let o = quiet_mesh(s(&poly), "2000", &["--method", "refine", "--strict"], &out);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("warning"), "{}", text(&o));
+    let angle = printed_min_angle(&o);
+    assert!((angle - 0.5).abs() < 0.01, "{}", text(&o));
+    let o = cvtmesh(&["measure", s(&out), "--region", s(&poly)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("under 1°"), "{}", text(&o));
+}
+
 /// `-o coast.node` writes `coast.poly` beside it: meshing `coast.poly` that way would replace
 /// the region with the mesh's boundary. It is refused before any work, the region untouched.
 #[test]

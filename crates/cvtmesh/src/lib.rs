@@ -62,12 +62,12 @@ pub use ::mesh::{
     boundary_points_needed, check_conforming, chord_allowance, has_subdomains, line_edges,
     looks_graded, measurable, memory_estimate, min_angle_and_slivers, polish, polish_restored,
     polish_restored_holding, polish_within, refuse_embedded, short_coverage, sliver_advice,
-    slivers, split_at_spacing, subdomain_points_of, subdomains, thin_feature, total_memory,
-    triangle_min_angle_deg, BoundaryEdge, ConformityError, Dual, Mesh, MeshError, MeshRequest,
-    MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic, ShortCoverage, Size, Slivers,
-    ThinFeature, VertexMarker, BYTES_PER_VERTEX, CHORD_ALLOWANCE, CONFORMITY_CHECK_LIMIT,
-    EDGE_ALLOWANCE, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS, MIN_COVERAGE, POLISH_BELOW_DEG,
-    SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
+    slivers, slivers_in_region, split_at_spacing, subdomain_points_of, subdomains, thin_feature,
+    total_memory, triangle_min_angle_deg, BoundaryEdge, ConformityError, Dual, Mesh, MeshError,
+    MeshRequest, MeshResult, Mesher, PolishReport, Polished, Progress, Quadratic, ShortCoverage,
+    Size, Slivers, ThinFeature, VertexMarker, BYTES_PER_VERTEX, CHORD_ALLOWANCE,
+    CONFORMITY_CHECK_LIMIT, EDGE_ALLOWANCE, GRADATION_NOTE, GRADED_SPREAD, MAX_POINTS,
+    MIN_COVERAGE, POLISH_BELOW_DEG, SIMPLIFY_SPACINGS, SLIVER_ANGLE_DEG,
 };
 pub use ccvt::Ccvt;
 pub use distmesh::DistMesh;

@@ -408,32 +408,133 @@ impl std::fmt::Display for Slivers {
 /// assert_eq!(slivers(&alone), None);
 /// ```
 pub fn slivers(mesh: &Mesh) -> Option<Slivers> {
-    slivers_in(mesh, &smallest_angle_cosines(mesh))
+    slivers_in(mesh, &smallest_angle_cosines(mesh), &|_, _| false)
 }
 
-/// The mesh's smallest angle in degrees ([`Mesh::min_angle_deg`]) and its [`slivers`], from
-/// one pass over the triangles' cosines instead of one each (a command reports both).
+/// [`slivers`] of `mesh` as a mesh of `region`, where the input forces small angles as well:
+/// a triangle is left out when its shortest side runs between two segments of the input (the
+/// embedded lines' segments and the straight walls) that share an end, and its smallest angle
+/// is no smaller than theirs there. Two fractures crossing at half a degree, or a crack
+/// meeting a wall at a grazing angle, give every mesh that keeps them such triangles, as
+/// Triangle's refinement leaves them (its exemption for small input angles). O(M) plus, for
+/// each triangle under the bound, a pass over the input's segments.
 ///
 /// ```
-/// use cvtmesh::{min_angle_and_slivers, slivers, Mesh, VertexMarker};
-/// use cvtmesh::geometry::DVec2;
+/// use cvtmesh::geometry::{DVec2, EmbeddedLine, LoopRole, Region};
+/// use cvtmesh::{slivers, slivers_in_region, MeshRequest, Method};
+/// // Two cracks crossing at half a degree in the unit square.
+/// let crack = |d: DVec2, marker| EmbeddedLine {
+///     points: vec![DVec2::splat(0.5) - 0.4 * d, DVec2::splat(0.5) + 0.4 * d],
+///     marker,
+/// };
+/// let square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(DVec2::from).to_vec();
+/// let across = DVec2::from_angle(0.5f64.to_radians());
+/// let region = Region::from_loops("cracks", vec![(LoopRole::Outer, square)])?
+///     .with_embedded_lines([crack(DVec2::X, 1), crack(across, 2)])?;
+/// let mesh = Method::Refine.run(&region, &MeshRequest::points(1000))?.mesh;
+/// // Delaunay refinement leaves the crossing's angle and no smaller one.
+/// assert!((mesh.min_angle_deg() - 0.5).abs() < 1e-6);
+/// assert!(slivers(&mesh).is_some());
+/// assert_eq!(slivers_in_region(&mesh, &region), None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn slivers_in_region(mesh: &Mesh, region: &Region) -> Option<Slivers> {
+    slivers_of_input(mesh, &smallest_angle_cosines(mesh), region)
+}
+
+/// [`slivers_in_region`] from the triangles' cosines.
+fn slivers_of_input(mesh: &Mesh, cos: &[f64], region: &Region) -> Option<Slivers> {
+    // Only a mesh with slivers pays for the input's segments.
+    slivers_in(mesh, cos, &|_, _| false)?;
+    let segments: Vec<(DVec2, DVec2)> = region
+        .embedded_lines()
+        .iter()
+        .flat_map(|l| l.segments())
+        .chain(region.pieces().iter().filter_map(|p| match p {
+            geometry::Piece::Line { a, b } => Some((*a, *b)),
+            _ => None,
+        }))
+        .collect();
+    if segments.is_empty() {
+        return slivers_in(mesh, cos, &|_, _| false);
+    }
+    let off = 1e-9 * region.diameter();
+    let on = |p: DVec2| {
+        segments.iter().filter(move |&&(a, b)| {
+            geometry::predicates::closest_on_segment(a, b, p)
+                .0
+                .distance(p)
+                <= off
+        })
+    };
+    // The angle at a shared end of two segments, in degrees.
+    let between = |(a, b): (DVec2, DVec2), (c, d): (DVec2, DVec2)| -> Option<f64> {
+        let (apex, u, v) = if a == c {
+            (a, b, d)
+        } else if a == d {
+            (a, b, c)
+        } else if b == c {
+            (b, a, d)
+        } else if b == d {
+            (b, a, c)
+        } else {
+            return None;
+        };
+        let (u, v) = (u - apex, v - apex);
+        Some(u.perp_dot(v).abs().atan2(u.dot(v)).to_degrees())
+    };
+    slivers_in(mesh, cos, &|t, angle| {
+        let p = mesh.triangle(t);
+        let k = (0..3)
+            .min_by(|&i, &j| {
+                let side = |i: usize| p[i].distance_squared(p[(i + 1) % 3]);
+                side(i).total_cmp(&side(j))
+            })
+            .expect("three sides");
+        let (u, v) = (p[k], p[(k + 1) % 3]);
+        on(u).any(|&s| {
+            on(v).any(|&r| {
+                s != r && between(s, r).is_some_and(|input| angle >= input * (1.0 - 1e-9))
+            })
+        })
+    })
+}
+
+/// The mesh's smallest angle in degrees ([`Mesh::min_angle_deg`]) and its slivers as a mesh
+/// of `region` ([`slivers_in_region`]), from one pass over the triangles' cosines instead of
+/// one each (a command reports both).
+///
+/// ```
+/// use cvtmesh::{min_angle_and_slivers, slivers, Mesh, Region, VertexMarker};
+/// use cvtmesh::geometry::{DVec2, LoopRole};
 /// let p = |x: f64, y: f64| DVec2::new(x, y);
 /// let mesh = Mesh {
 ///     points: vec![p(0.0, 0.0), p(1.0, 0.0), p(0.5, 0.001), p(0.5, 1.0)],
 ///     triangles: vec![[0, 1, 2], [0, 2, 3], [2, 1, 3]],
 ///     markers: vec![VertexMarker::Interior; 4],
 /// };
-/// let (angle, flat) = min_angle_and_slivers(&mesh);
+/// let outline = vec![p(0.0, 0.0), p(1.0, 0.0), p(0.5, 1.0)];
+/// let region = Region::from_loops("triangle", vec![(LoopRole::Outer, outline)])?;
+/// let (angle, flat) = min_angle_and_slivers(&mesh, &region);
 /// assert_eq!(angle, mesh.min_angle_deg());
 /// assert_eq!(flat, slivers(&mesh));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn min_angle_and_slivers(mesh: &Mesh) -> (f64, Option<Slivers>) {
+pub fn min_angle_and_slivers(mesh: &Mesh, region: &Region) -> (f64, Option<Slivers>) {
     let cos = smallest_angle_cosines(mesh);
-    (mesh.min_angle_deg_in(&cos), slivers_in(mesh, &cos))
+    (
+        mesh.min_angle_deg_in(&cos),
+        slivers_of_input(mesh, &cos, region),
+    )
 }
 
-/// [`slivers`] from the triangles' cosines ([`smallest_angle_cosines`]).
-fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
+/// [`slivers`] from the triangles' cosines ([`smallest_angle_cosines`]), a triangle also left
+/// out where `forced(triangle, its smallest angle in degrees)` says the input has that angle.
+fn slivers_in(
+    mesh: &Mesh,
+    cos: &[f64],
+    forced: &(dyn Fn(usize, f64) -> bool + Sync),
+) -> Option<Slivers> {
     // (angle, triangle, corner at the angle) of every triangle with an angle under the bound;
     // a triangle with a zero-length side has no angle (NaN) and counts as 0°.
     // The angles themselves only of triangles whose smallest angle's cosine says they may be
@@ -464,9 +565,10 @@ fn slivers_in(mesh: &Mesh, cos: &[f64]) -> Option<Slivers> {
     let on_boundary = |a: u32, b: u32| boundary.contains(&(a.min(b), a.max(b)));
     let unforced: Vec<&(f64, usize, usize)> = flat
         .iter()
-        .filter(|&&(_, t, i)| {
+        .filter(|&&(angle, t, i)| {
             let v = mesh.triangles[t];
-            !(on_boundary(v[i], v[(i + 1) % 3]) && on_boundary(v[i], v[(i + 2) % 3]))
+            let wedge = on_boundary(v[i], v[(i + 1) % 3]) && on_boundary(v[i], v[(i + 2) % 3]);
+            !(wedge || forced(t, angle))
         })
         .collect();
     let &&(smallest_deg, worst, _) = unforced.iter().min_by(|x, y| x.0.total_cmp(&y.0))?;

@@ -19,8 +19,8 @@ mod types;
 
 pub use check::{
     check_conforming, chord_allowance, measurable, min_angle_and_slivers, short_coverage, slivers,
-    ConformityError, ShortCoverage, Slivers, CHORD_ALLOWANCE, EDGE_ALLOWANCE, MIN_COVERAGE,
-    SLIVER_ANGLE_DEG,
+    slivers_in_region, ConformityError, ShortCoverage, Slivers, CHORD_ALLOWANCE, EDGE_ALLOWANCE,
+    MIN_COVERAGE, SLIVER_ANGLE_DEG,
 };
 pub use dual::Dual;
 pub use error::MeshError;

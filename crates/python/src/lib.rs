@@ -1636,7 +1636,7 @@ fn mesh(
     // has triangles flatter than a degree, is named in a warning.
     let findings = [
         cvtmesh::short_coverage(&r.mesh, &region).map(|s| s.to_string()),
-        cvtmesh::slivers(&r.mesh).map(|s| {
+        cvtmesh::slivers_in_region(&r.mesh, &region).map(|s| {
             let advice = cvtmesh::sliver_advice(&region, method.mesher().as_ref());
             s.to_string() + &advice.map(|a| format!("; {a}")).unwrap_or_default()
         }),
