@@ -29,6 +29,7 @@ mod se;
 mod simplify;
 mod size;
 mod spacing_corners;
+mod state;
 mod subdomains;
 mod triangulated;
 mod types;

@@ -387,45 +387,20 @@ impl Region {
     /// one split there), everything else kept.
     fn with_corners_at(&self, extra: &[DVec2]) -> Result<Region, GeometryError> {
         let off = 1e-9 * self.diameter();
-        // The marker of each piece by its ends, the halves of a split piece keeping its own.
-        let mut marker_by_ends = std::collections::HashMap::new();
-        let mut loops = Vec::with_capacity(self.loops.len());
-        for lp in &self.loops {
-            let mut pieces = Vec::new();
-            for &j in &lp.pieces {
-                let m = self.markers.get(j).copied().unwrap_or(0);
-                for piece in split_at_all(self.pieces[j].clone(), extra, off) {
-                    marker_by_ends.insert(ends(&piece), m);
-                    pieces.push(piece);
-                }
-            }
-            loops.push((Some(lp.role), pieces));
-        }
-        let listed: Vec<DVec2> = self
-            .corners
-            .iter()
-            .map(|c| c.pos)
-            .chain(extra.iter().copied())
-            .collect();
-        let mut r = crate::build::new_region(&self.name, loops, Some(listed))?;
-        if !self.markers.is_empty() {
-            r.markers = r
-                .pieces
-                .iter()
-                .map(|p| marker_by_ends.get(&ends(p)).copied().unwrap_or(0))
+        let mut recipe = self.recipe();
+        // The halves of a split piece keep its marker.
+        for (_, pieces) in &mut recipe.loops {
+            *pieces = std::mem::take(pieces)
+                .into_iter()
+                .flat_map(|(piece, m)| {
+                    split_at_all(piece, extra, off)
+                        .into_iter()
+                        .map(move |half| (half, m))
+                })
                 .collect();
         }
-        r.corner_threshold = self.corner_threshold;
-        r.corners_computed = self.corners_computed;
-        r.marker_names = self.marker_names.clone();
-        r.vertex_markers = self.vertex_markers.clone();
-        r.embedded = self.embedded.clone();
-        r.lines = self.lines.clone();
-        r.subdomains = self.subdomains.clone();
-        r.subdomain_names = self.subdomain_names.clone();
-        r.notes = self.notes.clone();
-        r.surface_group = self.surface_group.clone();
-        Ok(r)
+        recipe.corners.extend_from_slice(extra);
+        Region::assembled(recipe)
     }
 
     /// The parts of `lines` inside the region, as Triangle keeps the part of a `.poly` segment
@@ -664,12 +639,6 @@ fn split_where_lines_meet(lines: &mut [EmbeddedLine], off: f64) {
         points.dedup();
         line.points = points;
     }
-}
-
-/// A piece's ends, by their bits (a rebuilt region may start a loop at another piece).
-fn ends(p: &crate::Piece) -> ((u64, u64), (u64, u64)) {
-    let bits = |q: DVec2| (q.x.to_bits(), q.y.to_bits());
-    (bits(p.start()), bits(p.end()))
 }
 
 /// `piece` split at every one of `points` on it, in order along it.

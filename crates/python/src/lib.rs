@@ -21,6 +21,8 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+mod pickle;
+
 create_exception!(
     _cvtmesh,
     MeshError,
@@ -822,6 +824,11 @@ impl PyRegion {
         Ok(PyArray1::from_vec(py, d))
     }
 
+    /// Pickling (`multiprocessing`, joblib, dask): the region saved whole, to the bit.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
+        pickle::reduce_region(py, self)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Region('{}', area={}, parts={}, loops={}, corners={})",
@@ -1357,6 +1364,16 @@ impl PyMesh {
         Ok(mesh)
     }
 
+    /// Pickling (`multiprocessing`, joblib, dask): the mesh saved whole, its region and the
+    /// file it was read from with it, every number to the bit.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (pickle::MeshState<'py>,))> {
+        pickle::reduce_mesh(py, self)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Mesh(points={}, triangles={}, converged={}, iterations={})",
@@ -1792,5 +1809,7 @@ fn _cvtmesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(regions, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(cli, m)?)?;
+    m.add_function(wrap_pyfunction!(pickle::_region_from_state, m)?)?;
+    m.add_function(wrap_pyfunction!(pickle::_mesh_from_state, m)?)?;
     Ok(())
 }

@@ -1505,3 +1505,55 @@ def test_mesh_methods_take_a_region_by_name_or_path_as_mesh_does(tmp_path):
 def _write(m, path):
     m.write(str(path))
     return path
+
+
+def _cracked_disc():
+    crack = np.array([[0.0, 1.0], [0.0, 0.2]])
+    return Region.load("circle").with_embedded_lines([crack], markers=[4])
+
+
+def _mesh_in_another_process(seed):
+    return cvtmesh.mesh(_cracked_disc(), n=400, seed=seed)
+
+
+def test_regions_and_meshes_pickle_to_the_bit_and_cross_processes(tmp_path):
+    import multiprocessing
+    import pickle
+    from concurrent.futures import ProcessPoolExecutor
+
+    region = _cracked_disc()
+    back = pickle.loads(pickle.dumps(region))
+    assert repr(back) == repr(region)
+    assert back.piece_markers == region.piece_markers
+    assert back.pieces == region.pieces
+    np.testing.assert_array_equal(back.corners, region.corners)
+    assert [m for _, m in back.embedded_lines] == [4]
+    # The region that comes back meshes to the same bits.
+    m = cvtmesh.mesh(region, n=400, seed=3)
+    np.testing.assert_array_equal(cvtmesh.mesh(back, n=400, seed=3).points, m.points)
+    again = pickle.loads(pickle.dumps(m))
+    for name in ["points", "triangles", "boundary_edges", "boundary_loop", "energy_history"]:
+        np.testing.assert_array_equal(getattr(again, name), getattr(m, name))
+    assert (again.converged, again.iterations, again.notes) == (m.converged, m.iterations, m.notes)
+    # What the mesh answers from its region and markers is the same.
+    for a, b in zip(again.line_edges(), m.line_edges()):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(again.boundary_pieces(), m.boundary_pieces())
+    assert again.measures() == m.measures()
+    np.testing.assert_array_equal(again.polished().points, m.polished().points)
+    # A mesh read from a file keeps its walls and the interface it holds in the polish.
+    m.write(tmp_path / "m.msh")
+    read = cvtmesh.Mesh.read(tmp_path / "m.msh")
+    read_again = pickle.loads(pickle.dumps(read))
+    np.testing.assert_array_equal(read_again.boundary_markers(region), read.boundary_markers(region))
+    np.testing.assert_array_equal(read_again.polished().points, read.polished().points)
+    # Meshes made in worker processes come back as the same meshes made here.
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
+        made = list(pool.map(_mesh_in_another_process, [1, 2]))
+    for seed, there in zip([1, 2], made):
+        here = _mesh_in_another_process(seed)
+        np.testing.assert_array_equal(there.points, here.points)
+        np.testing.assert_array_equal(there.triangles, here.triangles)
+    # A state that is not one is refused as a MeshError.
+    with pytest.raises(MeshError, match="not a region's saved state"):
+        cvtmesh._cvtmesh._region_from_state("{}")
