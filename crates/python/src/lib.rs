@@ -23,6 +23,48 @@ use std::sync::Arc;
 
 mod pickle;
 
+/// This process's own thread pool, which every call's parallel work runs on: rayon's global
+/// pool would not survive `os.fork` (the default start method of `multiprocessing` on Linux),
+/// whose child has the parent's pool but none of its threads, so a call there would wait for
+/// them forever. A child forked from a process that had one builds its own.
+fn pool() -> Arc<rayon::ThreadPool> {
+    static POOL: std::sync::Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> =
+        std::sync::Mutex::new(None);
+    let pid = std::process::id();
+    let mut slot = POOL.lock().unwrap_or_else(|e| e.into_inner());
+    match &*slot {
+        Some((owner, pool)) if *owner == pid => pool.clone(),
+        _ => {
+            // A parent's pool is left alone: its threads are not in this process, so there is
+            // nothing to stop, and stopping it would wait for them.
+            if let Some(parent) = slot.take() {
+                std::mem::forget(parent);
+            }
+            let pool = Arc::new(
+                rayon::ThreadPoolBuilder::new()
+                    .thread_name(|i| format!("cvtmesh-{i}"))
+                    .build()
+                    .expect("threads for the pool"),
+            );
+            *slot = Some((pid, pool.clone()));
+            pool
+        }
+    }
+}
+
+/// [`Python::detach`] with the work on [`pool`]: the interpreter released while it runs, as
+/// it must be even for work that needs no Python, since the pool's threads may be busy with
+/// another thread's mesh whose progress reports need the interpreter.
+trait Detached {
+    fn detached<T: Send>(self, f: impl FnOnce() -> T + Send) -> T;
+}
+
+impl Detached for Python<'_> {
+    fn detached<T: Send>(self, f: impl FnOnce() -> T + Send) -> T {
+        self.detach(|| pool().install(f))
+    }
+}
+
 create_exception!(
     _cvtmesh,
     MeshError,
@@ -65,7 +107,7 @@ fn whole_numbers<'py>(a: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, 
 fn fit_to_measure(py: Python<'_>, mesh: &Mesh, region: &Region) -> PyResult<()> {
     let mut placed = mesh.clone();
     let fit = py
-        .detach(|| {
+        .detached(|| {
             cvtmesh::io::restore_markers(&mut placed, region);
             cvtmesh::measurable(&placed, region)
         })
@@ -487,7 +529,7 @@ impl PyRegion {
             Some((vertices, markers)) => pinned_of(&vertices, &markers, pts.len())?,
         };
         let region = py
-            .detach(|| Region::from_triangles_pinned(name, &pts, &tris, &walls, &pinned))
+            .detached(|| Region::from_triangles_pinned(name, &pts, &tris, &walls, &pinned))
             .map_err(err)?
             .with_marker_names(names.unwrap_or_default());
         Ok(PyRegion {
@@ -807,7 +849,8 @@ impl PyRegion {
         xy: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let pts = xy_of(xy, "xy")?;
-        let inside: Vec<bool> = py.detach(|| pts.iter().map(|&p| self.inner.contains(p)).collect());
+        let inside: Vec<bool> =
+            py.detached(|| pts.iter().map(|&p| self.inner.contains(p)).collect());
         Ok(PyArray1::from_vec(py, inside))
     }
 
@@ -820,7 +863,7 @@ impl PyRegion {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let pts = xy_of(xy, "xy")?;
         let d: Vec<f64> =
-            py.detach(|| pts.iter().map(|&p| self.inner.signed_distance(p)).collect());
+            py.detached(|| pts.iter().map(|&p| self.inner.signed_distance(p)).collect());
         Ok(PyArray1::from_vec(py, d))
     }
 
@@ -896,7 +939,7 @@ impl PyMesh {
         region: &Region,
         label: impl Fn(usize) -> i64,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let pieces = py.detach(|| self.mesh.boundary_pieces(region));
+        let pieces = py.detached(|| self.mesh.boundary_pieces(region));
         let a = PyArray1::from_vec(py, pieces.into_iter().map(label).collect());
         read_only(&a)?;
         Ok(a)
@@ -913,7 +956,7 @@ impl PyMesh {
             (None, None) => None,
             _ => Some(self.conforming_region_or(py, region, "quadratic")?),
         };
-        Ok(py.detach(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref())))
+        Ok(py.detached(|| cvtmesh::Quadratic::new(&self.mesh, region.as_deref())))
     }
 
     /// Each triangle's subdomain of `region`, as a read-only array.
@@ -923,7 +966,7 @@ impl PyMesh {
         region: &Region,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let ids = py
-            .detach(|| cvtmesh::subdomains(&self.mesh, region))
+            .detached(|| cvtmesh::subdomains(&self.mesh, region))
             .map_err(err)?;
         let ids = PyArray1::from_vec(py, ids);
         read_only(&ids)?;
@@ -952,7 +995,7 @@ impl PyMesh {
     ) -> PyResult<Arc<Region>> {
         match (region, &self.region, &self.read_from) {
             (None, None, Some((path, walls))) => py
-                .detach(|| cvtmesh::region_of_mesh(&self.mesh, walls, path))
+                .detached(|| cvtmesh::region_of_mesh(&self.mesh, walls, path))
                 .map(Arc::new)
                 .map_err(|e| {
                     err(format!(
@@ -990,7 +1033,7 @@ impl PyMesh {
             return Ok((checked, None));
         }
         let mut mesh = self.mesh.clone();
-        py.detach(|| {
+        py.detached(|| {
             cvtmesh::io::restore_markers(&mut mesh, &checked);
             cvtmesh::check_conforming(&mesh, &checked)
         })
@@ -1014,7 +1057,7 @@ impl PyMesh {
             .flat_map(|t| t.map(i64::from))
             .collect();
         let triangles = PyArray1::from_vec(py, tri).reshape([mesh.triangles.len(), 3])?;
-        let edges = mesh.boundary_edges();
+        let edges = py.detached(|| mesh.boundary_edges());
         let flat: Vec<i64> = edges
             .iter()
             .flat_map(|e| [i64::from(e.a), i64::from(e.b)])
@@ -1060,13 +1103,13 @@ impl PyMesh {
         if order == 2 {
             let q = self.quadratic_mesh(py, None)?;
             return py
-                .detach(|| cvtmesh::io::write_quadratic(&q, &path))
+                .detached(|| cvtmesh::io::write_quadratic(&q, &path))
                 .map_err(err);
         }
         if order != 1 {
             return Err(err(format!("order must be 1 or 2, got {order}")));
         }
-        py.detach(|| match ext.as_deref() {
+        py.detached(|| match ext.as_deref() {
             Some(kind @ ("png" | "svg")) => {
                 let title = path
                     .file_stem()
@@ -1143,7 +1186,7 @@ impl PyMesh {
     ) -> PyResult<EdgesAndMarkers<'py>> {
         let region = self.region_or_covered(py, region, "line_edges")?;
         let edges = py
-            .detach(|| cvtmesh::line_edges(&self.mesh, &region))
+            .detached(|| cvtmesh::line_edges(&self.mesh, &region))
             .map_err(err)?;
         let flat: Vec<i64> = edges.iter().flat_map(|(e, _)| e.map(i64::from)).collect();
         let pairs = PyArray1::from_vec(py, flat).reshape([edges.len(), 2])?;
@@ -1228,7 +1271,7 @@ impl PyMesh {
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let (region, restored) = self.conforming_mesh_or(py, region, "vertex_markers")?;
         let mesh = restored.as_ref().unwrap_or(&self.mesh);
-        let markers = py.detach(|| cvtmesh::io::vertex_markers(mesh, &region));
+        let markers = py.detached(|| cvtmesh::io::vertex_markers(mesh, &region));
         let Some(markers) = markers else {
             return Err(no_walls(&region, ""));
         };
@@ -1247,7 +1290,9 @@ impl PyMesh {
     /// Delaunay) or a boundary edge of a triangle obtuse there; the volumes always sum to the
     /// mesh's area.
     fn dual<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = py.detach(|| cvtmesh::Dual::new(&self.mesh)).map_err(err)?;
+        let d = py
+            .detached(|| cvtmesh::Dual::new(&self.mesh))
+            .map_err(err)?;
         let out = PyDict::new(py);
         let edges: Vec<i64> = d.edges.iter().flatten().map(|&v| v as i64).collect();
         let centres: Vec<f64> = d.circumcentres.iter().flat_map(|c| [c.x, c.y]).collect();
@@ -1293,7 +1338,7 @@ impl PyMesh {
         }
         let region = self.region_or_covered(py, region, "measures")?;
         let m = py
-            .detach(|| cvtmesh::measures(&self.mesh, &region))
+            .detached(|| cvtmesh::measures(&self.mesh, &region))
             .map_err(err)?;
         measures_dict(py, &m)
     }
@@ -1317,7 +1362,7 @@ impl PyMesh {
             )));
         }
         let mut mesh = self.mesh.clone();
-        let note = py.detach(|| {
+        let note = py.detached(|| {
             cvtmesh::polish_restored_holding(&mut mesh, &region, below, &self.held)
                 .map(|report| report.to_string())
                 .map_err(|e| not_conforming(&region, e))
@@ -1344,7 +1389,7 @@ impl PyMesh {
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
         let file = py
-            .detach(|| cvtmesh::io::read_mesh_file(&path))
+            .detached(|| cvtmesh::io::read_mesh_file(&path))
             .map_err(err)?;
         if file.triangle_nodes > 3 {
             let warnings = py.import("warnings")?;
@@ -1400,6 +1445,7 @@ fn measures_dict<'py>(py: Python<'py>, m: &cvtmesh::Measures) -> PyResult<Bound<
 /// distance to the loops, pieces, lines and points of `toward` (`"loop:I"`, `"line:L"`, `"point:X,Y"`); `None` without
 /// targets.
 fn distance_field(
+    py: Python<'_>,
     region: &Region,
     toward: &[String],
     threshold: Option<(f64, f64, f64, f64)>,
@@ -1427,7 +1473,7 @@ fn distance_field(
         dist_min,
         dist_max,
     };
-    SizeField::threshold(region, &targets, t)
+    py.detached(|| SizeField::threshold(region, &targets, t))
         .map(Some)
         .map_err(|e| err(format!("size_toward: {e}")))
 }
@@ -1450,7 +1496,7 @@ fn scalar_field(
             }
             let (mesh, sizes) = (file.mesh, file.sizes);
             return py
-                .detach(|| SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes))
+                .detached(|| SizeField::from_mesh(region, &mesh.points, &mesh.triangles, &sizes))
                 .map_err(|e| err(format!("{what} {text}: {e}")));
         }
         return SizeField::from_expr(&text).map_err(|e| err(format!("{what}: {e}")));
@@ -1466,7 +1512,7 @@ fn scalar_field(
         let values: PyReadonlyArray1<'_, f64> = values.extract()?;
         let values = values.as_array().to_vec();
         return py
-            .detach(|| SizeField::from_mesh(region, &pts, &tris, &values))
+            .detached(|| SizeField::from_mesh(region, &pts, &tris, &values))
             .map_err(|e| err(format!("{what}: {e}")));
     }
     if spec.is_callable() {
@@ -1487,6 +1533,12 @@ fn scalar_field(
         }
         .map_err(|e: SizeFieldError| err(format!("{what}: {e}")))?;
         return sampled;
+    }
+    // True is an int to Python, and would be a size of 1.
+    if spec.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(err(format!(
+            "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array, not a bool"
+        )));
     }
     let h: f64 = spec.extract().map_err(|_| {
         err(format!(
@@ -1547,7 +1599,7 @@ fn mesh(
             "give size (an edge length) or density (a CVT density), not both",
         ));
     }
-    let toward = distance_field(&region, &size_toward, size_threshold)?;
+    let toward = distance_field(py, &region, &size_toward, size_threshold)?;
     if toward.is_some() && density.is_some() {
         return Err(err(
             "give size_toward (an edge length) or density (a CVT density), not both",
@@ -1557,7 +1609,7 @@ fn mesh(
         .map(|s| scalar_field(py, &region, s, "size"))
         .transpose()?;
     let graded = match (by_size, toward) {
-        (Some(a), Some(b)) => Some(a.min(&b, &region).map_err(err)?),
+        (Some(a), Some(b)) => Some(py.detached(|| a.min(&b, &region)).map_err(err)?),
         (a, b) => a.or(b),
     };
     if graded.is_none() && (size_min.is_some() || size_max.is_some()) {
@@ -1569,13 +1621,17 @@ fn mesh(
     let mut field_note = None;
     let request = match (graded, density) {
         (Some(field), _) => {
-            let (request, field, note) =
-                MeshRequest::bounded_size_field(&field, &region, size_min, size_max, gradation, n)
-                    .map_err(err)?;
+            let (request, field, note) = py
+                .detached(|| {
+                    MeshRequest::bounded_size_field(
+                        &field, &region, size_min, size_max, gradation, n,
+                    )
+                })
+                .map_err(err)?;
             field_note = note;
             // Sizes that change faster than the field's background grid follows: say where,
             // as the command line does.
-            if let Some(u) = field.unresolved(&region) {
+            if let Some(u) = py.detached(|| field.unresolved(&region)) {
                 let warnings = py.import("warnings")?;
                 let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
                 warnings.call_method1("warn", (u.for_mesh(), category))?;
@@ -1604,7 +1660,7 @@ fn mesh(
     };
     // A region narrower than half the spacing somewhere meshes into slivers there: say where,
     // and what K would resolve it, as the command line does.
-    if let Some(thin) = cvtmesh::thin_feature(&region, &request) {
+    if let Some(thin) = py.detached(|| cvtmesh::thin_feature(&region, &request)) {
         let warnings = py.import("warnings")?;
         let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
         warnings.call_method1("warn", (thin.to_string(), category))?;
@@ -1640,7 +1696,23 @@ fn mesh(
                     cancel.store(true, Ordering::Relaxed);
                 }
             };
-            method.mesher().mesh_parts(&region, &request, &mut report)
+            // The mesh is made on the pool, its progress reported here, on the calling thread:
+            // the only one where Python sees Ctrl-C.
+            let (tx, rx) = std::sync::mpsc::channel();
+            let mut made = None;
+            pool().in_place_scope(|s| {
+                let (made, region, request) = (&mut made, &region, &request);
+                s.spawn(move |_| {
+                    *made = Some(method.mesher().mesh_parts(region, request, &mut |p| {
+                        // The receiver outlives the mesh (it drains until this sender drops).
+                        let _ = tx.send(p);
+                    }));
+                });
+                for p in rx {
+                    report(p);
+                }
+            });
+            made.expect("the scope waits for the mesh")
         })
     };
     if let Some(e) = stopped {
@@ -1651,13 +1723,15 @@ fn mesh(
         .splice(0..0, simplified.into_iter().chain(field_note));
     // As the command line does: a mesh that leaves out a band along a curved boundary, or
     // has triangles flatter than a degree, is named in a warning.
-    let findings = [
-        cvtmesh::short_coverage(&r.mesh, &region).map(|s| s.to_string()),
-        cvtmesh::slivers_in_region(&r.mesh, &region).map(|s| {
-            let advice = cvtmesh::sliver_advice(&region, method.mesher().as_ref());
-            s.to_string() + &advice.map(|a| format!("; {a}")).unwrap_or_default()
-        }),
-    ];
+    let findings = py.detached(|| {
+        [
+            cvtmesh::short_coverage(&r.mesh, &region).map(|s| s.to_string()),
+            cvtmesh::slivers_in_region(&r.mesh, &region).map(|s| {
+                let advice = cvtmesh::sliver_advice(&region, method.mesher().as_ref());
+                s.to_string() + &advice.map(|a| format!("; {a}")).unwrap_or_default()
+            }),
+        ]
+    });
     for finding in findings.into_iter().flatten() {
         let warnings = py.import("warnings")?;
         let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
@@ -1733,7 +1807,7 @@ fn measures<'py>(
     let region = region.inner.clone();
     fit_to_measure(py, &mesh, &region)?;
     let m = py
-        .detach(|| cvtmesh::measures(&mesh, &region))
+        .detached(|| cvtmesh::measures(&mesh, &region))
         .map_err(err)?;
     measures_dict(py, &m)
 }
@@ -1765,7 +1839,7 @@ fn size_conformity<'py>(
         .check(&region)
         .map_err(|e| err(format!("size: {e}")))?;
     let c = py
-        .detach(|| cvtmesh::metrics::size_conformity(&mesh, &field, &region))
+        .detached(|| cvtmesh::metrics::size_conformity(&mesh, &field, &region))
         .map_err(err)?;
     let d = PyDict::new(py);
     for (name, value) in cvtmesh::metrics::SizeConformity::NAMES
@@ -1794,7 +1868,7 @@ fn methods() -> Vec<&'static str> {
 /// package's `cvtmesh` entry point and `python -m cvtmesh` call this.
 #[pyfunction]
 fn cli(py: Python<'_>, argv: Vec<std::ffi::OsString>) -> i32 {
-    py.detach(|| cvtmesh_cli::run(argv))
+    py.detached(|| cvtmesh_cli::run(argv))
 }
 
 #[pymodule]

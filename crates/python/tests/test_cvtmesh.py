@@ -295,6 +295,25 @@ def test_progress_is_called_and_can_stop_the_run():
     assert calls[-1] == 3 and calls.count(3) == 1
 
 
+def test_ctrl_c_stops_a_long_mesh():
+    import os
+    import signal
+    import time
+
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signals reach the main thread only")
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            cvtmesh.mesh("lake", n=400_000)
+    finally:
+        timer.cancel()
+    # Stopped at the next report, long before the mesh would be done.
+    assert time.monotonic() - start < 10
+
+
 def test_threads_mesh_in_parallel_with_the_same_results():
     seeds = (1, 2, 1)
     out = {}
@@ -348,6 +367,8 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, max_iter=-1), "max_iter must be an iteration cap, a positive"),
         (dict(region="circle", n=100, max_iter=np.int64(-3)), "got -3"),
         (dict(region="circle", size=-0.1), "size is -0.1"),
+        (dict(region="circle", size=True), "not a bool"),
+        (dict(region="circle", size="min(0.1)"), "2 or more arguments"),
         (dict(region="circle", n=100, size=-1), "size is -1"),
         (dict(region=SQUARE, n=100, holes=np.array([[0.5, 0.5]])), "not by a point inside it"),
         (dict(region=SQUARE, n=100, holes=[(0.5, 0.5)]), "not by a point inside it"),
@@ -1557,3 +1578,38 @@ def test_regions_and_meshes_pickle_to_the_bit_and_cross_processes(tmp_path):
     # A state that is not one is refused as a MeshError.
     with pytest.raises(MeshError, match="not a region's saved state"):
         cvtmesh._cvtmesh._region_from_state("{}")
+
+
+def _calls_after_a_fork(out):
+    """What a worker of a parameter sweep calls, its results sent back through `out`."""
+    square = cvtmesh.mesh(SQUARE, holes=[HOLE], n=300, seed=2)
+    graded = cvtmesh.mesh("circle", size_toward=["point:0,0"], size_threshold=(0.02, 0.1, 0, 1))
+    expr = cvtmesh.mesh("lake", size="3 + 0.02*abs(x)", n=500)
+    by_call = cvtmesh.mesh(SQUARE, size=lambda xy: 0.03 + 0.05 * xy[:, 0])
+    measured = square.measures()
+    polished = square.polished()
+    out.send([square.points.tobytes(), len(graded.points), len(expr.points), len(by_call.points),
+              measured["lambda"], polished.points.tobytes()])
+
+
+def test_a_process_forked_after_meshing_meshes_too():
+    # multiprocessing's default start method on Linux forks: the child has the parent's memory
+    # but none of its threads. Meshing there, after the parent meshed, must not wait for them.
+    import multiprocessing
+
+    if "fork" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork here")
+    here_pipe = multiprocessing.Pipe()
+    cvtmesh.mesh("circle", n=300)
+    _calls_after_a_fork(here_pipe[1])
+    here = here_pipe[0].recv()
+    ctx = multiprocessing.get_context("fork")
+    receive, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_calls_after_a_fork, args=(send,))
+    child.start()
+    child.join(120)
+    if child.is_alive():
+        child.kill()
+        pytest.fail("the forked process hung")
+    assert child.exitcode == 0
+    assert receive.recv() == here
