@@ -45,7 +45,12 @@ pub struct MeshArgs {
     /// linear on its triangles, as an adaptive solver leaves them or Gmsh takes a background
     /// mesh; K follows from the field, (2/√3)∫h⁻², unless --points is given [default: none,
     /// a uniform mesh].
-    #[arg(long, value_name = "EXPR|MESH", conflicts_with = "density")]
+    #[arg(
+        long,
+        value_name = "EXPR|MESH",
+        conflicts_with = "density",
+        allow_hyphen_values = true
+    )]
     size_field: Option<String>,
     /// Refine toward a boundary loop (`loop:0` the outer one, `loop:1` the first hole, ...; in a
     /// region of several parts each outer loop is followed by its holes), one boundary piece
@@ -63,7 +68,12 @@ pub struct MeshArgs {
     size_toward: Vec<String>,
     /// For --size-toward: HMIN,HMAX,DMIN,DMAX: edge length HMIN up to distance DMIN, HMAX from
     /// DMAX on, linear between [default: none].
-    #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
+    #[arg(
+        long,
+        value_name = "HMIN,HMAX,DMIN,DMAX",
+        requires = "size_toward",
+        allow_hyphen_values = true
+    )]
     size_threshold: Option<String>,
     /// A point inside the region that the mesh keeps as a vertex (a source, a probe), with an
     /// optional marker for the files (`X,Y:M`); repeat for several. A `.poly`'s vertices on no
@@ -502,7 +512,7 @@ pub struct MeasureArgs {
     /// with a size at each vertex, as for `mesh`): the share of edges with length/h in
     /// [1/√2, √2], the efficiency index, the smallest angles, and the vertex count the field
     /// asks for [default: none].
-    #[arg(long, value_name = "EXPR|MESH")]
+    #[arg(long, value_name = "EXPR|MESH", allow_hyphen_values = true)]
     size_field: Option<String>,
     /// As for `mesh`: measure against the distance field toward this loop, piece, marker, line or point (with
     /// --size-threshold; the smaller of this and --size-field where both are given)
@@ -514,7 +524,12 @@ pub struct MeasureArgs {
     )]
     size_toward: Vec<String>,
     /// As for `mesh`: HMIN,HMAX,DMIN,DMAX of --size-toward's field [default: none].
-    #[arg(long, value_name = "HMIN,HMAX,DMIN,DMAX", requires = "size_toward")]
+    #[arg(
+        long,
+        value_name = "HMIN,HMAX,DMIN,DMAX",
+        requires = "size_toward",
+        allow_hyphen_values = true
+    )]
     size_threshold: Option<String>,
     /// As for `mesh`: the corner angle that numbers the pieces --size-toward piece:J names
     /// [default: as `mesh` does].

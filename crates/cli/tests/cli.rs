@@ -763,6 +763,28 @@ fn bad_input_is_refused_with_a_clear_message() {
     assert_eq!(negative.status.code(), Some(1), "{}", text(&negative));
     assert!(text(&negative).contains("size"), "{}", text(&negative));
     assert!(!out.exists());
+    // So is a negative size field or threshold, whose value starts with a minus.
+    for args in [
+        &["--size-field", "-0.1"][..],
+        &["--size-field", "-0.1 + x"],
+        &[
+            "--size-toward",
+            "loop:0",
+            "--size-threshold",
+            "-0.01,0.1,0,0.5",
+        ],
+    ] {
+        let mut all = vec!["mesh", "circle"];
+        all.extend_from_slice(args);
+        all.extend(["-o", o]);
+        let t = text(&cvtmesh(&all));
+        assert!(!t.contains("unexpected argument"), "{args:?}: {t}");
+        assert!(
+            t.contains("positive") || t.contains("size_min"),
+            "{args:?}: {t}"
+        );
+        assert!(!out.exists());
+    }
     // A uniform size and a density contradict each other, as in Python.
     assert_refused(
         &[

@@ -11,7 +11,7 @@
 //! atom    := number | 'x' | 'y' | 'pi' | 'e' | name '(' sum (',' sum)* ')' | '(' sum ')'
 //! ```
 //!
-//! Functions: `exp log sqrt sin cos tan tanh abs` (one argument), `min max` (two).
+//! Functions: `exp log sqrt sin cos tan tanh abs` (one argument), `min max` (two or more: the smallest of several sources' sizes).
 use crate::density::Density;
 use glam::DVec2;
 use std::sync::Arc;
@@ -343,33 +343,49 @@ impl Parser {
         while self.eat(',') {
             args.push(self.sum()?);
         }
-        let want = if f1.is_some() { 1 } else { 2 };
-        if args.len() != want {
-            return Err(ExprError {
-                message: format!(
-                    "{name} takes {want} argument{}, found {}",
-                    if want == 1 { "" } else { "s" },
+        let arity_error = |message: String| ExprError {
+            message,
+            column: col,
+        };
+        match f1 {
+            Some(_) if args.len() != 1 => {
+                return Err(arity_error(format!(
+                    "{name} takes 1 argument, found {}",
                     args.len()
-                ),
-                column: col,
-            });
+                )))
+            }
+            None if args.len() < 2 => {
+                return Err(arity_error(format!(
+                    "{name} takes 2 or more arguments, found {}",
+                    args.len()
+                )))
+            }
+            _ => {}
         }
         self.expect(')')?;
-        let mut args = args.into_iter().map(Box::new);
-        let a = args.next().expect("one argument checked above");
         Ok(match f1 {
-            Some(f) => Node::Call1(f, a),
+            Some(f) => Node::Call1(f, Box::new(args.pop().expect("one argument checked above"))),
             None => {
-                let b = args.next().expect("two arguments checked above");
-                Node::Call2(
-                    if name == "min" {
-                        Func2::Min
-                    } else {
-                        Func2::Max
-                    },
-                    a,
-                    b,
-                )
+                let f = if name == "min" {
+                    Func2::Min
+                } else {
+                    Func2::Max
+                };
+                // min(a, b, c, ...) as a balanced tree of pairs: a field of many sources (the
+                // smallest of fifty distances) stays a few levels deep.
+                let mut level = args;
+                while level.len() > 1 {
+                    let mut next = Vec::with_capacity(level.len().div_ceil(2));
+                    let mut it = level.into_iter();
+                    while let Some(a) = it.next() {
+                        next.push(match it.next() {
+                            Some(b) => Node::Call2(f, Box::new(a), Box::new(b)),
+                            None => a,
+                        });
+                    }
+                    level = next;
+                }
+                level.pop().expect("two or more arguments checked above")
             }
         })
     }
@@ -472,6 +488,12 @@ mod tests {
         assert_eq!(ev("min(x, y)", x, y), y);
         assert_eq!(ev("max(x, y)", x, y), x);
         assert_eq!(ev("max(min(x,1), 2*y) + 1", x, y), 1.3);
+        // Any number of arguments from two: the smallest of several sources' sizes.
+        assert_eq!(ev("min(3, x, 2, y, 5)", x, y), y);
+        assert_eq!(ev("max(3, x, 2, y, 5)", x, y), 5.0);
+        let fifty: Vec<String> = (0..50).map(|k| format!("{k}+x")).collect();
+        assert_eq!(ev(&format!("min({})", fifty.join(",")), x, y), x);
+        assert_eq!(ev(&format!("max({})", fifty.join(",")), x, y), 49.0 + x);
         assert_eq!(ev("sqrt(x^2 + y^2)", 3.0, 4.0), 5.0);
         assert!(ev("log(-1)", x, y).is_nan());
     }
@@ -509,7 +531,7 @@ mod tests {
         assert_eq!(err("2 x").column, 3);
         assert_eq!(err("sin x").column, 5);
         assert_eq!(err("min(1)").column, 1);
-        assert!(err("min(1)").message.contains("2 arguments"));
+        assert!(err("min(1)").message.contains("2 or more arguments"));
         assert!(err("exp(1, 2)").message.contains("1 argument"));
         assert_eq!(err("1 +").column, 4);
         assert_eq!(err("1..2").column, 1);
