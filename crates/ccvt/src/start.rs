@@ -337,6 +337,20 @@ pub(crate) fn graded(
         area *= got as f64 / k as f64;
         s = seeds(area)?;
     }
+    // Sizes along ∂Ω far finer than the field's background grid follows: the grid's count of
+    // the whole region falls short of what ∂Ω alone takes at its own sizes, and a start of
+    // boundary points only would be a triangulation of long collinear runs, minutes per
+    // evaluation (a wall layer of 10⁻⁵ on the unit square: 274 292 boundary points for K =
+    // 138 141).
+    let boundary = s.on_boundary.iter().filter(|&&b| b).count();
+    if boundary >= k {
+        return Err(MeshError::BadRequest(format!(
+            "the size field asks for about {boundary} vertices along the boundary alone, more \
+             than the {k} it asks for in all: its sizes along the boundary are finer than its \
+             background grid follows (the warning says where), so its count of the region is \
+             far too low; a smallest size nearer the grid's step meshes"
+        )));
+    }
     Ok(fit_count(region, scale, s, k, request.seed))
 }
 

@@ -1310,6 +1310,34 @@ fn pieces_are_numbered_alike_by_regions_mesh_measure_and_simplify() {
     }
 }
 
+/// A wall layer of 10⁻⁵ on the unit square is a hundred times finer than the size field's
+/// background grid: the grid counts 138 141 vertices where the walls alone take about 274 000.
+/// Refused, naming both counts, instead of a start of boundary points whose first
+/// triangulation took minutes.
+#[test]
+fn a_wall_layer_finer_than_the_field_s_grid_is_refused_naming_the_counts() {
+    let d = scratch("wall_layer");
+    let square = d.join("square.txt");
+    std::fs::write(&square, "0 0\n1 0\n1 1\n0 1\n").unwrap();
+    let out = d.join("m.msh");
+    let o = cvtmesh(&[
+        "mesh",
+        s(&square),
+        "--size-toward",
+        "loop:0",
+        "--size-threshold",
+        "1e-5,0.1,0,0.5",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(t.contains("vertices along the boundary alone"), "{t}");
+    assert!(t.contains("more than the 138141 it asks for in all"), "{t}");
+    assert!(!out.exists());
+}
+
 #[test]
 fn bad_size_fields_are_refused_before_any_work() {
     let dir = scratch("bad_size_field");

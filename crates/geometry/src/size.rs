@@ -77,7 +77,7 @@ pub enum SizeFieldError {
         loops: usize,
     },
     /// A threshold whose sizes or distances are not positive, finite and ordered.
-    #[error("size threshold: need 0 < size_min <= size_max and 0 <= dist_min <= dist_max, all finite; got sizes {size_min}, {size_max} and distances {dist_min}, {dist_max}")]
+    #[error("size threshold: need 0 < h_min <= h_max and 0 <= d_min <= d_max (HMIN,HMAX,DMIN,DMAX), all finite; got sizes {size_min}, {size_max} and distances {dist_min}, {dist_max}")]
     Threshold {
         /// Size within `dist_min`.
         size_min: f64,

@@ -40,20 +40,39 @@ type MarkersState<'py> = (
 
 /// Everything a `Mesh` holds: the state's layout, the points and triangles, the markers, the
 /// region's state, the held vertices, the file it was read from with its walls, converged,
-/// iterations, notes and the energies.
-pub(crate) type MeshState<'py> = (
+/// iterations, notes and the energies; the arrays as written (`P`, `T`, `M`, `E`) or read.
+type MeshStateOf<P, T, M, E> = (
     u32,
-    Py<PyAny>,
-    Py<PyAny>,
-    MarkersState<'py>,
+    P,
+    T,
+    M,
     Option<String>,
     Vec<u32>,
     Option<(PathBuf, WallsState)>,
     bool,
     usize,
     Vec<String>,
-    Py<PyAny>,
+    E,
 );
+
+/// A mesh's markers as read back ([`MarkersState`]).
+type MarkersRead<'py> = (
+    PyReadonlyArray1<'py, u8>,
+    PyReadonlyArray1<'py, u64>,
+    PyReadonlyArray1<'py, u64>,
+    PyReadonlyArray1<'py, f64>,
+);
+
+/// A mesh's state as read back.
+type MeshStateRead<'py> = MeshStateOf<
+    PyReadonlyArray2<'py, f64>,
+    PyReadonlyArray2<'py, i64>,
+    MarkersRead<'py>,
+    PyReadonlyArray1<'py, f64>,
+>;
+
+/// A mesh's state as written.
+pub(crate) type MeshState<'py> = MeshStateOf<Py<PyAny>, Py<PyAny>, MarkersState<'py>, Py<PyAny>>;
 
 /// The `Region` a pickle saved ([`Region::to_state`]).
 #[pyfunction]
@@ -159,28 +178,7 @@ pub(crate) fn reduce_mesh<'py>(
 
 /// The `Mesh` a pickle saved.
 #[pyfunction]
-#[allow(clippy::type_complexity)]
-pub(crate) fn _mesh_from_state(
-    py: Python<'_>,
-    state: (
-        u32,
-        PyReadonlyArray2<'_, f64>,
-        PyReadonlyArray2<'_, i64>,
-        (
-            PyReadonlyArray1<'_, u8>,
-            PyReadonlyArray1<'_, u64>,
-            PyReadonlyArray1<'_, u64>,
-            PyReadonlyArray1<'_, f64>,
-        ),
-        Option<String>,
-        Vec<u32>,
-        Option<(PathBuf, WallsState)>,
-        bool,
-        usize,
-        Vec<String>,
-        PyReadonlyArray1<'_, f64>,
-    ),
-) -> PyResult<PyMesh> {
+pub(crate) fn _mesh_from_state(py: Python<'_>, state: MeshStateRead<'_>) -> PyResult<PyMesh> {
     let (
         version,
         points,

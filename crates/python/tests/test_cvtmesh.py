@@ -368,6 +368,10 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="circle", n=100, max_iter=np.int64(-3)), "got -3"),
         (dict(region="circle", size=-0.1), "size is -0.1"),
         (dict(region="circle", size=True), "not a bool"),
+        (
+            dict(region=SQUARE, size_toward=["loop:0"], size_threshold=(1e-5, 0.1, 0, 0.5)),
+            "vertices along the boundary alone",
+        ),
         (dict(region="circle", size="min(0.1)"), "2 or more arguments"),
         (dict(region="circle", n=100, size=-1), "size is -1"),
         (dict(region=SQUARE, n=100, holes=np.array([[0.5, 0.5]])), "not by a point inside it"),
@@ -376,6 +380,7 @@ def test_threads_mesh_in_parallel_with_the_same_results():
         (dict(region="square_hole", n=3), "(corner_angle,"),
     ],
 )
+@pytest.mark.filterwarnings("ignore:size field.*background grid:RuntimeWarning")
 def test_bad_input_raises_mesh_error_naming_the_problem(kwargs, words):
     region = kwargs.pop("region")
     with pytest.raises(MeshError) as e:
