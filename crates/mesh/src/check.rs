@@ -445,7 +445,7 @@ pub fn slivers_in_region(mesh: &Mesh, region: &Region) -> Option<Slivers> {
 /// [`slivers_in_region`] from the triangles' cosines.
 fn slivers_of_input(mesh: &Mesh, cos: &[f64], region: &Region) -> Option<Slivers> {
     // Only a mesh with slivers pays for the input's segments.
-    slivers_in(mesh, cos, &|_, _| false)?;
+    let plain = slivers_in(mesh, cos, &|_, _| false)?;
     let segments: Vec<(DVec2, DVec2)> = region
         .embedded_lines()
         .iter()
@@ -456,7 +456,7 @@ fn slivers_of_input(mesh: &Mesh, cos: &[f64], region: &Region) -> Option<Slivers
         }))
         .collect();
     if segments.is_empty() {
-        return slivers_in(mesh, cos, &|_, _| false);
+        return Some(plain);
     }
     let off = 1e-9 * region.diameter();
     let on = |p: DVec2| {

@@ -1534,17 +1534,16 @@ fn scalar_field(
         .map_err(|e: SizeFieldError| err(format!("{what}: {e}")))?;
         return sampled;
     }
+    let not_a_field = |tail: &str| {
+        err(format!(
+            "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array{tail}"
+        ))
+    };
     // True is an int to Python, and would be a size of 1.
     if spec.is_instance_of::<pyo3::types::PyBool>() {
-        return Err(err(format!(
-            "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array, not a bool"
-        )));
+        return Err(not_a_field(", not a bool"));
     }
-    let h: f64 = spec.extract().map_err(|_| {
-        err(format!(
-            "{what} must be a number, an expression string in x and y, a mesh file (.node, .msh), (points, triangles, values) arrays, or a callable taking an (n, 2) array"
-        ))
-    })?;
+    let h: f64 = spec.extract().map_err(|_| not_a_field(""))?;
     // Checked here, as given: bounding the field clamps a constant below at 0, so a later
     // check would report 0, not the number given.
     if what == "size" && !(h.is_finite() && h > 0.0) {
