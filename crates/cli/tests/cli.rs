@@ -780,7 +780,7 @@ fn bad_input_is_refused_with_a_clear_message() {
         let t = text(&cvtmesh(&all));
         assert!(!t.contains("unexpected argument"), "{args:?}: {t}");
         assert!(
-            t.contains("positive") || t.contains("size_min"),
+            t.contains("positive") || t.contains("0 < h_min"),
             "{args:?}: {t}"
         );
         assert!(!out.exists());
