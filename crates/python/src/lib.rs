@@ -35,8 +35,8 @@ fn pool() -> Arc<rayon::ThreadPool> {
     match &*slot {
         Some((owner, pool)) if *owner == pid => pool.clone(),
         _ => {
-            // A parent's pool is left alone: its threads are not in this process, so there is
-            // nothing to stop, and stopping it would wait for them.
+            // A parent's pool is forgotten, not dropped: none of its threads are in this
+            // process, and dropping it would signal them.
             if let Some(parent) = slot.take() {
                 std::mem::forget(parent);
             }
