@@ -653,6 +653,12 @@ fn split_at_all(piece: crate::Piece, points: &[DVec2], off: f64) -> Vec<crate::P
     }
 }
 
+/// The angle of `p` about `center` where `p` lies within `off` of the circle of `radius`.
+fn angle_on_circle(center: DVec2, radius: f64, p: DVec2, off: f64) -> Option<f64> {
+    let d = p - center;
+    ((d.length() - radius).abs() <= off).then(|| d.y.atan2(d.x))
+}
+
 /// `piece` split in two at `p`, where `p` lies on it within `off` and not at its ends: a line
 /// or a chain at the point, an arc at the angle of `p`, a circle into two half-circle arcs
 /// from `p` (so that `p` is where pieces meet). `None` otherwise (and for a super-ellipse,
@@ -668,11 +674,7 @@ fn split_point(piece: &crate::Piece, p: DVec2, off: f64) -> Option<(crate::Piece
             radius,
             ccw,
         } => {
-            if ((p - *center).length() - radius).abs() > off {
-                return None;
-            }
-            let d = p - *center;
-            let t = d.y.atan2(d.x);
+            let t = angle_on_circle(*center, *radius, p, off)?;
             let half = if *ccw {
                 std::f64::consts::PI
             } else {
@@ -707,11 +709,7 @@ fn split_point(piece: &crate::Piece, p: DVec2, off: f64) -> Option<(crate::Piece
             from,
             to,
         } => {
-            if ((p - *center).length() - radius).abs() > off {
-                return None;
-            }
-            let d = p - *center;
-            let mut t = d.y.atan2(d.x);
+            let mut t = angle_on_circle(*center, *radius, p, off)?;
             // The angle within the arc's sweep, either way round.
             let (lo, hi) = (from.min(*to), from.max(*to));
             while t < lo {
